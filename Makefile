@@ -1,0 +1,47 @@
+# Thin wrapper around CMake for the README's two commands.
+#   make demo            install missing packages, build, render corridor to out/corridor.png
+#   make test            install missing packages, build, run the whole suite (CTest)
+#   make test SANITIZE=1 the same under ASan + UBSan (separate build folder)
+#   make bench           benchmarks (not part of the test suite)
+#   make fuzz            libFuzzer harnesses with clang (not part of the test suite)
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+ifeq ($(SANITIZE),1)
+BUILD ?= build-san
+CMAKE_FLAGS += -DPERSP_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+else
+BUILD ?= build
+endif
+
+.PHONY: all deps build demo test bench fuzz clean format
+
+all: build
+
+deps:
+	@bash scripts/deps.sh
+
+build: deps
+	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) >/dev/null
+	@cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@mkdir -p out
+	@echo "+ $(BUILD)/persp render corridor -o out/corridor.png"
+	@$(BUILD)/persp render corridor -o out/corridor.png
+
+test: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	@$(BUILD)/persp bench corridor --method all
+
+fuzz:
+	@bash scripts/deps.sh --optional
+	@cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DPERSP_FUZZ=ON -DCMAKE_BUILD_TYPE=Debug >/dev/null
+	@cmake --build build-fuzz -j $(JOBS)
+	@bash scripts/fuzz.sh build-fuzz
+
+format:
+	@clang-format -i include/*.h src/*/*.[ch] tools/persp/*.[ch] tests/*/*.[ch]
+
+clean:
+	rm -rf build build-san build-fuzz out

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Installs the Debian packages persp needs to build and test, only those missing.
+# Optional extras (OSMesa peer, clang for fuzzing) are installed with --optional.
+set -eu
+required="cmake make gcc pkg-config libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev"
+optional="clang libosmesa6-dev"
+want="$required"
+[ "${1:-}" = "--optional" ] && want="$required $optional"
+missing=""
+for p in $want; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+[ -z "$missing" ] && exit 0
+echo "deps: installing:$missing"
+sudo=""
+[ "$(id -u)" -ne 0 ] && sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+# shellcheck disable=SC2086
+$sudo apt-get install -y -qq --no-install-recommends $missing >/dev/null

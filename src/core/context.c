@@ -1,0 +1,107 @@
+/* Context, allocator, status strings and error details. */
+#include "core/internal.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/pool.h"
+
+const char *persp_version(void) { return PERSP_VERSION_STRING; }
+
+const char *persp_status_string(persp_status status)
+{
+    switch (status) {
+    case PERSP_OK: return "ok";
+    case PERSP_ERR_INVALID_ARGUMENT: return "invalid argument";
+    case PERSP_ERR_OUT_OF_MEMORY: return "out of memory";
+    case PERSP_ERR_IO: return "input/output error";
+    case PERSP_ERR_FORMAT: return "malformed data";
+    case PERSP_ERR_TOO_LARGE: return "too large";
+    case PERSP_ERR_UNSUPPORTED: return "unsupported";
+    case PERSP_ERR_NOT_FOUND: return "not found";
+    case PERSP_ERR_UNAVAILABLE: return "not available in this build";
+    }
+    return "unknown status";
+}
+
+static void *default_alloc(void *user, size_t size)
+{
+    (void)user;
+    return malloc(size);
+}
+
+static void default_free(void *user, void *ptr)
+{
+    (void)user;
+    free(ptr);
+}
+
+persp_status persp_context_create(const persp_context_desc *desc, persp_context **out)
+{
+    if (!out) return PERSP_ERR_INVALID_ARGUMENT;
+    *out = NULL;
+    persp_allocator al = {default_alloc, default_free, NULL};
+    int threads = 1;
+    if (desc) {
+        if (desc->allocator) {
+            if (!desc->allocator->alloc || !desc->allocator->free) return PERSP_ERR_INVALID_ARGUMENT;
+            al = *desc->allocator;
+        }
+        if (desc->threads < 0 || desc->threads > 256) return PERSP_ERR_INVALID_ARGUMENT;
+        if (desc->threads > 1) threads = desc->threads;
+    }
+    persp_context *ctx = al.alloc(al.user, sizeof *ctx);
+    if (!ctx) return PERSP_ERR_OUT_OF_MEMORY;
+    memset(ctx, 0, sizeof *ctx);
+    ctx->allocator = al;
+    ctx->threads = threads;
+    *out = ctx;
+    return PERSP_OK;
+}
+
+void persp_context_destroy(persp_context *ctx)
+{
+    if (!ctx) return;
+    persp__pool_destroy(ctx);
+    persp_allocator al = ctx->allocator;
+    al.free(al.user, ctx);
+}
+
+const char *persp_context_error(const persp_context *ctx) { return ctx ? ctx->error : ""; }
+
+void persp__clear_error(persp_context *ctx)
+{
+    if (ctx) ctx->error[0] = '\0';
+}
+
+persp_status persp_context_fail(persp_context *ctx, persp_status status, const char *fmt, ...)
+{
+    if (ctx && fmt) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(ctx->error, sizeof ctx->error, fmt, ap);
+        va_end(ap);
+    }
+    return status;
+}
+
+void *persp_alloc(persp_context *ctx, size_t size)
+{
+    if (!ctx || size == 0) return NULL;
+    return ctx->allocator.alloc(ctx->allocator.user, size);
+}
+
+void persp_free(persp_context *ctx, void *ptr)
+{
+    if (ctx && ptr) ctx->allocator.free(ctx->allocator.user, ptr);
+}
+
+void *persp__calloc(persp_context *ctx, size_t n, size_t size)
+{
+    size_t bytes;
+    if (!persp__size_mul(n, size, &bytes) || bytes == 0) return NULL;
+    void *p = persp_alloc(ctx, bytes);
+    if (p) memset(p, 0, bytes);
+    return p;
+}

@@ -1,0 +1,39 @@
+/* Internal helpers shared by every module; not installed. */
+#ifndef PERSP_CORE_INTERNAL_H
+#define PERSP_CORE_INTERNAL_H
+
+#include "persp.h"
+
+#include <stdarg.h>
+#include <stddef.h>
+
+#define PERSP_ERRMSG_BYTES 512
+
+struct persp_pool;
+
+struct persp_context {
+    persp_allocator allocator;
+    int threads;
+    char error[PERSP_ERRMSG_BYTES];
+    struct persp_pool *pool; /* created lazily for threads > 1 */
+};
+
+/* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
+static inline int persp__size_mul(size_t a, size_t b, size_t *out)
+{
+    if (a != 0 && b > (size_t)-1 / a) return 0;
+    *out = a * b;
+    return 1;
+}
+
+/* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
+void *persp__calloc(persp_context *ctx, size_t n, size_t size);
+
+/* Clears the context's error detail (called at the start of a public call). */
+void persp__clear_error(persp_context *ctx);
+
+#define PERSP_MIN(a, b) ((a) < (b) ? (a) : (b))
+#define PERSP_MAX(a, b) ((a) > (b) ? (a) : (b))
+#define PERSP_CLAMP(x, lo, hi) PERSP_MIN(PERSP_MAX(x, lo), hi)
+
+#endif

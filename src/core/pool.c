@@ -1,0 +1,123 @@
+#include "core/pool.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <string.h>
+
+#define POOL_MAX 256
+
+struct persp_pool {
+    pthread_t thread[POOL_MAX];
+    int nthreads; /* helper threads, excluding the caller */
+    pthread_mutex_t mu;
+    pthread_cond_t wake, done;
+    unsigned long generation;
+    int quit;
+    int busy; /* helpers still working on this generation */
+    persp_task_fn fn;
+    void *user;
+    int tasks;
+    atomic_int next;
+};
+
+typedef struct worker_arg {
+    struct persp_pool *pool;
+    int index;
+} worker_arg;
+
+static void drain(struct persp_pool *p, persp_task_fn fn, void *user, int tasks, int worker)
+{
+    for (;;) {
+        int t = atomic_fetch_add(&p->next, 1);
+        if (t >= tasks) break;
+        fn(user, t, worker);
+    }
+}
+
+static void *worker_main(void *arg)
+{
+    struct persp_pool *p = ((worker_arg *)arg)->pool;
+    int index = ((worker_arg *)arg)->index;
+    unsigned long seen = 0;
+    pthread_mutex_lock(&p->mu);
+    for (;;) {
+        while (!p->quit && p->generation == seen) pthread_cond_wait(&p->wake, &p->mu);
+        if (p->quit) break;
+        seen = p->generation;
+        persp_task_fn fn = p->fn;
+        void *user = p->user;
+        int tasks = p->tasks;
+        pthread_mutex_unlock(&p->mu);
+        drain(p, fn, user, tasks, index);
+        pthread_mutex_lock(&p->mu);
+        if (--p->busy == 0) pthread_cond_signal(&p->done);
+    }
+    pthread_mutex_unlock(&p->mu);
+    return NULL;
+}
+
+
+int persp__pool_workers(const persp_context *ctx) { return ctx && ctx->threads > 1 ? ctx->threads : 1; }
+
+static persp_status pool_start(persp_context *ctx)
+{
+    struct persp_pool *p = persp__calloc(ctx, 1, sizeof *p + (size_t)ctx->threads * sizeof(worker_arg));
+    if (!p) return PERSP_ERR_OUT_OF_MEMORY;
+    worker_arg *args = (worker_arg *)(p + 1);
+    pthread_mutex_init(&p->mu, NULL);
+    pthread_cond_init(&p->wake, NULL);
+    pthread_cond_init(&p->done, NULL);
+    atomic_init(&p->next, 0);
+    for (int i = 0; i < ctx->threads - 1; i++) {
+        args[i].pool = p;
+        args[i].index = i + 1;
+        if (pthread_create(&p->thread[i], NULL, worker_main, &args[i]) != 0) break;
+        p->nthreads++;
+    }
+    ctx->pool = p;
+    return PERSP_OK;
+}
+
+persp_status persp__pool_run(persp_context *ctx, int tasks, persp_task_fn fn, void *user)
+{
+    if (tasks <= 0) return PERSP_OK;
+    if (persp__pool_workers(ctx) == 1 || tasks == 1) {
+        for (int t = 0; t < tasks; t++) fn(user, t, 0);
+        return PERSP_OK;
+    }
+    if (!ctx->pool) {
+        persp_status st = pool_start(ctx);
+        if (st != PERSP_OK) return st;
+    }
+    struct persp_pool *p = ctx->pool;
+    pthread_mutex_lock(&p->mu);
+    p->fn = fn;
+    p->user = user;
+    p->tasks = tasks;
+    atomic_store(&p->next, 0);
+    p->busy = p->nthreads;
+    p->generation++;
+    pthread_cond_broadcast(&p->wake);
+    pthread_mutex_unlock(&p->mu);
+    drain(p, fn, user, tasks, 0);
+    pthread_mutex_lock(&p->mu);
+    while (p->busy > 0) pthread_cond_wait(&p->done, &p->mu);
+    pthread_mutex_unlock(&p->mu);
+    return PERSP_OK;
+}
+
+void persp__pool_destroy(persp_context *ctx)
+{
+    if (!ctx || !ctx->pool) return;
+    struct persp_pool *p = ctx->pool;
+    pthread_mutex_lock(&p->mu);
+    p->quit = 1;
+    pthread_cond_broadcast(&p->wake);
+    pthread_mutex_unlock(&p->mu);
+    for (int i = 0; i < p->nthreads; i++) pthread_join(p->thread[i], NULL);
+    pthread_mutex_destroy(&p->mu);
+    pthread_cond_destroy(&p->wake);
+    pthread_cond_destroy(&p->done);
+    persp_free(ctx, p);
+    ctx->pool = NULL;
+}

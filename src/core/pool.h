@@ -1,0 +1,18 @@
+/* A persistent worker pool (pthreads + C11 atomics). Tasks are claimed from
+ * an atomic counter; which thread runs a task never changes its result, so
+ * rendering is bit-identical for any thread count. */
+#ifndef PERSP_CORE_POOL_H
+#define PERSP_CORE_POOL_H
+
+#include "core/internal.h"
+
+typedef void (*persp_task_fn)(void *user, int task, int worker);
+
+/* Runs fn(user, t, worker) for t in [0, tasks) on up to ctx->threads workers
+ * (the calling thread is worker 0). Starts the pool on first use. */
+persp_status persp__pool_run(persp_context *ctx, int tasks, persp_task_fn fn, void *user);
+void persp__pool_destroy(persp_context *ctx);
+/* Number of workers persp__pool_run may use (>= 1). */
+int persp__pool_workers(const persp_context *ctx);
+
+#endif

@@ -1,0 +1,32 @@
+/* The persp command-line tool: one file per subcommand, public API only. */
+#ifndef PERSP_CLI_H
+#define PERSP_CLI_H
+
+#include "persp.h"
+
+#include <stdio.h>
+
+/* Exit codes: 0 success, 1 a failure while working, 2 bad usage. */
+enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
+
+int cmd_render(int argc, char **argv);
+int cmd_methods(int argc, char **argv);
+int cmd_accuracy(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
+
+/* Prints "persp: " + message to stderr and returns code. */
+int cli_error(int code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+/* Reports a failed library call: "persp: what: detail (status)". */
+int cli_status(persp_context *ctx, persp_status st, const char *what);
+/* Parses "WxH" with 1 <= W, H <= PERSP_IMAGE_MAX_SIDE. */
+int cli_parse_size(const char *text, int *w, int *h);
+/* Parses a whole decimal integer in [lo, hi]. */
+int cli_parse_int(const char *text, long lo, long hi, long *out);
+/* Seconds from a monotonic clock. */
+double cli_now(void);
+
+#endif

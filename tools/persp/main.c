@@ -1,0 +1,105 @@
+#include "cli.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static const struct {
+    const char *name;
+    int (*run)(int, char **);
+    const char *summary;
+} commands[] = {
+    {"render", cmd_render, "render a built-in scene or a scene file to a PNG"},
+    {"methods", cmd_methods, "list the texture-coordinate methods"},
+    {"accuracy", cmd_accuracy, "measure methods against the exact reference"},
+    {"bench", cmd_bench, "measure fill rate, optionally against Mesa llvmpipe"},
+};
+
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: persp COMMAND [OPTIONS]\n\n"
+                 "persp renders and measures perspective-correct texturing, shading and\n"
+                 "filtering methods.\n\ncommands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(out, "  %-10s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out, "\n  persp COMMAND --help   options of one command\n"
+                 "  persp --version        print the version\n");
+}
+
+int cli_error(int code, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("persp: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return code;
+}
+
+int cli_status(persp_context *ctx, persp_status st, const char *what)
+{
+    const char *detail = ctx ? persp_context_error(ctx) : "";
+    if (detail && detail[0])
+        return cli_error(CLI_FAIL, "%s: %s (%s)", what, detail, persp_status_string(st));
+    return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
+}
+
+int cli_parse_int(const char *text, long lo, long hi, long *out)
+{
+    if (!text || !*text) return 0;
+    errno = 0;
+    char *end = NULL;
+    long v = strtol(text, &end, 10);
+    if (errno || *end != '\0' || v < lo || v > hi) return 0;
+    *out = v;
+    return 1;
+}
+
+int cli_parse_size(const char *text, int *w, int *h)
+{
+    if (!text) return 0;
+    const char *x = strchr(text, 'x');
+    if (!x || x == text) return 0;
+    char buf[32];
+    size_t len = (size_t)(x - text);
+    if (len >= sizeof buf) return 0;
+    memcpy(buf, text, len);
+    buf[len] = '\0';
+    long a, b;
+    if (!cli_parse_int(buf, 1, PERSP_IMAGE_MAX_SIDE, &a)) return 0;
+    if (!cli_parse_int(x + 1, 1, PERSP_IMAGE_MAX_SIDE, &b)) return 0;
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+}
+
+double cli_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return CLI_USAGE;
+    }
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        usage(stdout);
+        return CLI_OK;
+    }
+    if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
+        printf("persp %s\n", persp_version());
+        return CLI_OK;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (!strcmp(argv[1], commands[i].name)) return commands[i].run(argc - 1, argv + 1);
+    cli_error(CLI_USAGE, "unknown command '%s'", argv[1]);
+    usage(stderr);
+    return CLI_USAGE;
+}
