@@ -322,6 +322,14 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
                         const persp_vertex *vertices, size_t vertex_count, const uint32_t *indices,
                         size_t index_count);
 
+/* --------------------------------------------------------------- analysis */
+/* @section analysis (src/analysis): accuracy measurement API. */
+/* @end analysis */
+
+/* -------------------------------------------------------------- benchmark */
+/* @section bench (bench/, src/analysis/bench*.c): benchmark API. */
+/* @end bench */
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,114 @@
+/*
+ * In-memory scene (internal): what built-in scenes and the JSON loader
+ * produce and what persp_render consumes. Every array is owned by the scene
+ * and freed by persp_scene_destroy (src/geom/scene.c).
+ */
+#ifndef PERSP_GEOM_SCENE_H
+#define PERSP_GEOM_SCENE_H
+
+#include "persp.h"
+
+/* Limits checked before allocating (absurd counts are refused). */
+#define PERSP_SCENE_MAX_VERTICES (16u * 1024u * 1024u)
+#define PERSP_SCENE_MAX_INDICES (48u * 1024u * 1024u)
+#define PERSP_SCENE_MAX_OBJECTS 65536
+#define PERSP_SCENE_MAX_LIGHTS 8
+#define PERSP_SCENE_MAX_TEXTURES 1024
+
+typedef struct persp_mesh {
+    persp_vertex *vertices;
+    uint32_t *indices; /* triangles, 3 per face, counter-clockwise = front */
+    size_t vertex_count, index_count;
+    int has_normals;   /* 0: normals were computed by persp */
+} persp_mesh;
+
+typedef enum persp_texenv {
+    PERSP_TEXENV_REPLACE = 0, /* fragment colour = texture colour (seed 002) */
+    PERSP_TEXENV_MODULATE     /* fragment colour = lit colour × texture colour */
+} persp_texenv;
+
+typedef enum persp_texgen {
+    PERSP_TEXGEN_UV = 0,      /* the mesh's own coordinates */
+    PERSP_TEXGEN_PLANAR,      /* object-linear: u = P_s·p, v = P_t·p */
+    PERSP_TEXGEN_CYLINDRICAL, /* u = angle about the axis, v = height */
+    PERSP_TEXGEN_SPHERICAL,   /* u = longitude, v = latitude */
+    PERSP_TEXGEN_CUBE,        /* dominant-axis projection */
+    PERSP_TEXGEN_REFLECTION   /* sphere map of the eye-space reflection vector */
+} persp_texgen;
+
+typedef struct persp_material {
+    float ambient[3], diffuse[3], specular[3];
+    float shininess;
+    int texture;          /* index into scene->textures, -1: none */
+    int specular_texture; /* index or -1: texture also modulates specular */
+    persp_texenv env;
+    persp_sampler_desc sampler;
+} persp_material;
+
+typedef struct persp_object {
+    int mesh;       /* index into scene->meshes */
+    int material;   /* index into scene->materials */
+    persp_mat4 model;
+    persp_texgen texgen;
+    float texgen_s[4], texgen_t[4]; /* planes for PERSP_TEXGEN_PLANAR (object space) */
+    float texgen_scale[2];          /* repeats in u, v for generated coordinates (0: 1) */
+} persp_object;
+
+typedef enum persp_light_type { PERSP_LIGHT_DIRECTIONAL = 0, PERSP_LIGHT_POINT } persp_light_type;
+
+typedef struct persp_light {
+    persp_light_type type;
+    float position[3];  /* world space; direction *towards* the light when directional */
+    float color[3];
+    float attenuation[3]; /* constant, linear, quadratic (point lights) */
+} persp_light;
+
+typedef struct persp_camera {
+    int use_matrix;       /* 1: projection/view given directly (built-in benchmarks) */
+    persp_mat4 projection, view;
+    persp_vec3 eye, target, up;
+    float fovy_deg, znear, zfar;
+} persp_camera;
+
+struct persp_scene {
+    persp_context *ctx;
+    persp_camera camera;
+    int width, height;        /* preferred image size, 0 if none */
+    uint8_t clear[4];
+    float ambient[3];         /* global ambient light */
+    persp_shading shading;    /* default shading */
+    int cull_backfaces;
+    persp_mesh *meshes;
+    size_t mesh_count;
+    persp_material *materials;
+    size_t material_count;
+    persp_texture **textures;
+    size_t texture_count;
+    persp_object *objects;
+    size_t object_count;
+    persp_light lights[PERSP_SCENE_MAX_LIGHTS];
+    size_t light_count;
+};
+
+/* Allocates an empty scene with defaults (camera at origin looking down -z). */
+persp_status persp__scene_new(persp_context *ctx, persp_scene **out);
+/* Appends (the scene takes ownership; on failure the item is freed). */
+persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index);
+persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *index);
+persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index);
+persp_status persp__scene_add_object(persp_scene *s, const persp_object *o);
+void persp__mesh_free(persp_context *ctx, persp_mesh *mesh);
+/* Fills in smooth vertex normals from face normals (area-weighted). */
+void persp__mesh_compute_normals(persp_mesh *mesh);
+/* A default material: white, no texture, replace. */
+persp_material persp__material_default(void);
+
+/* Built-in meshes (src/geom/primitives.c). */
+persp_status persp__mesh_plane(persp_context *ctx, int subdiv, persp_mesh *out);
+persp_status persp__mesh_cube(persp_context *ctx, persp_mesh *out);
+persp_status persp__mesh_sphere(persp_context *ctx, int slices, int stacks, persp_mesh *out);
+persp_status persp__mesh_cylinder(persp_context *ctx, int slices, persp_mesh *out);
+persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int slices,
+                               int rings, persp_mesh *out);
+
+#endif
