@@ -111,4 +111,12 @@ persp_status persp__mesh_cylinder(persp_context *ctx, int slices, persp_mesh *ou
 persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int slices,
                                int rings, persp_mesh *out);
 
+/* Texture-coordinate generation (src/geom/texgen.c), per vertex, seed 002
+ * "texture mapping entities" / lecture: object-linear (planar), cylindrical,
+ * spherical, cube and reflection (sphere map; needs eye-space data).
+ * modelview transforms object space to eye space. uv_out holds 2 floats per
+ * vertex. PERSP_TEXGEN_UV copies the vertices' own uv. */
+void persp__texgen_apply(const persp_object *obj, const persp_mat4 *modelview,
+                         const persp_vertex *in, size_t count, float *uv_out);
+
 #endif

@@ -1,0 +1,170 @@
+/* Scene container: ownership, growth and defaults. */
+#include "core/internal.h"
+#include "geom/scene.h"
+
+#include <math.h>
+#include <string.h>
+
+persp_material persp__material_default(void)
+{
+    persp_material m;
+    memset(&m, 0, sizeof m);
+    for (int i = 0; i < 3; i++) {
+        m.ambient[i] = 0.2f;
+        m.diffuse[i] = 0.8f;
+        m.specular[i] = 0.0f;
+    }
+    m.shininess = 32.0f;
+    m.texture = -1;
+    m.specular_texture = -1;
+    m.env = PERSP_TEXENV_REPLACE;
+    return m;
+}
+
+persp_status persp__scene_new(persp_context *ctx, persp_scene **out)
+{
+    if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    persp_scene *s = persp__calloc(ctx, 1, sizeof *s);
+    if (!s) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: out of memory");
+    s->ctx = ctx;
+    s->camera.eye = (persp_vec3){0, 0, 0};
+    s->camera.target = (persp_vec3){0, 0, -1};
+    s->camera.up = (persp_vec3){0, 1, 0};
+    s->camera.fovy_deg = 60.0f;
+    s->camera.znear = 0.1f;
+    s->camera.zfar = 100.0f;
+    s->clear[3] = 255;
+    for (int i = 0; i < 3; i++) s->ambient[i] = 0.1f;
+    *out = s;
+    return PERSP_OK;
+}
+
+void persp__mesh_free(persp_context *ctx, persp_mesh *mesh)
+{
+    if (!mesh) return;
+    persp_free(ctx, mesh->vertices);
+    persp_free(ctx, mesh->indices);
+    memset(mesh, 0, sizeof *mesh);
+}
+
+/* Grows *arr (count elements of size bytes) by one slot; capacity doubles
+ * when count is a power of two, so no separate capacity field is kept. */
+static int grow(persp_context *ctx, void **arr, size_t count, size_t size)
+{
+    if (count & (count - 1)) return 1; /* not a power of two: room left */
+    size_t cap = count ? count * 2 : 1, bytes;
+    if (!persp__size_mul(cap, size, &bytes)) return 0;
+    void *n = persp_alloc(ctx, bytes);
+    if (!n) return 0;
+    if (count) memcpy(n, *arr, count * size);
+    persp_free(ctx, *arr);
+    *arr = n;
+    return 1;
+}
+
+persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
+{
+    if (s->mesh_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->meshes, s->mesh_count, sizeof *s->meshes)) {
+        persp__mesh_free(s->ctx, mesh);
+        return persp_context_fail(s->ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: too many meshes");
+    }
+    s->meshes[s->mesh_count] = *mesh;
+    memset(mesh, 0, sizeof *mesh);
+    if (index) *index = (int)s->mesh_count;
+    s->mesh_count++;
+    return PERSP_OK;
+}
+
+persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *index)
+{
+    if (s->texture_count >= PERSP_SCENE_MAX_TEXTURES || !grow(s->ctx, (void **)&s->textures, s->texture_count, sizeof *s->textures)) {
+        persp_texture_destroy(tex);
+        return persp_context_fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many textures");
+    }
+    s->textures[s->texture_count] = tex;
+    if (index) *index = (int)s->texture_count;
+    s->texture_count++;
+    return PERSP_OK;
+}
+
+persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index)
+{
+    if (s->material_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->materials, s->material_count, sizeof *s->materials))
+        return persp_context_fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many materials");
+    s->materials[s->material_count] = *m;
+    if (index) *index = (int)s->material_count;
+    s->material_count++;
+    return PERSP_OK;
+}
+
+persp_status persp__scene_add_object(persp_scene *s, const persp_object *o)
+{
+    if (o->mesh < 0 || (size_t)o->mesh >= s->mesh_count || o->material < 0 ||
+        (size_t)o->material >= s->material_count)
+        return persp_context_fail(s->ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: object refers to a missing mesh or material");
+    if (s->object_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->objects, s->object_count, sizeof *s->objects))
+        return persp_context_fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many objects");
+    s->objects[s->object_count++] = *o;
+    return PERSP_OK;
+}
+
+void persp_scene_destroy(persp_scene *s)
+{
+    if (!s) return;
+    persp_context *ctx = s->ctx;
+    for (size_t i = 0; i < s->mesh_count; i++) persp__mesh_free(ctx, &s->meshes[i]);
+    for (size_t i = 0; i < s->texture_count; i++) persp_texture_destroy(s->textures[i]);
+    persp_free(ctx, s->meshes);
+    persp_free(ctx, s->textures);
+    persp_free(ctx, s->materials);
+    persp_free(ctx, s->objects);
+    persp_free(ctx, s);
+}
+
+persp_status persp_scene_set_texture(persp_scene *s, const persp_image *img)
+{
+    if (!s || !img) return PERSP_ERR_INVALID_ARGUMENT;
+    persp_texture *tex = NULL;
+    persp_status st = persp_texture_create(s->ctx, img, &tex);
+    if (st != PERSP_OK) return st;
+    int index;
+    st = persp__scene_add_texture(s, tex, &index);
+    if (st != PERSP_OK) return st;
+    for (size_t i = 0; i < s->material_count; i++)
+        if (s->materials[i].texture >= 0) s->materials[i].texture = index;
+    return PERSP_OK;
+}
+
+void persp_scene_default_size(const persp_scene *s, int *width, int *height)
+{
+    if (width) *width = s ? s->width : 0;
+    if (height) *height = s ? s->height : 0;
+}
+
+void persp__mesh_compute_normals(persp_mesh *m)
+{
+    for (size_t i = 0; i < m->vertex_count; i++)
+        m->vertices[i].normal[0] = m->vertices[i].normal[1] = m->vertices[i].normal[2] = 0.0f;
+    for (size_t t = 0; t + 2 < m->index_count; t += 3) {
+        const uint32_t *ix = &m->indices[t];
+        if (ix[0] >= m->vertex_count || ix[1] >= m->vertex_count || ix[2] >= m->vertex_count) continue;
+        const float *p0 = m->vertices[ix[0]].pos, *p1 = m->vertices[ix[1]].pos, *p2 = m->vertices[ix[2]].pos;
+        float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+        float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+        /* The cross product's length is twice the area: area weighting for free. */
+        float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                      e1[0] * e2[1] - e1[1] * e2[0]};
+        for (int k = 0; k < 3; k++)
+            for (int c = 0; c < 3; c++) m->vertices[ix[k]].normal[c] += n[c];
+    }
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        float *n = m->vertices[i].normal;
+        float len = sqrtf(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (len > 0.0f) {
+            n[0] /= len, n[1] /= len, n[2] /= len;
+        } else {
+            n[0] = 0.0f, n[1] = 0.0f, n[2] = 1.0f;
+        }
+    }
+    m->has_normals = 0;
+}

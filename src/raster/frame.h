@@ -1,0 +1,64 @@
+/* One frame being assembled and rasterized (src/raster/render.c). */
+#ifndef PERSP_RASTER_FRAME_H
+#define PERSP_RASTER_FRAME_H
+
+#include "geom/scene.h"
+#include "raster/raster.h"
+#include "raster/render.h"
+#include "texture/texture.h"
+
+/* Lights transformed to eye space once per frame. */
+typedef struct persp_eye_light {
+    persp_light_type type;
+    float pos[3];   /* eye-space position, or unit direction towards the light */
+    float color[3];
+    float atten[3];
+} persp_eye_light;
+
+typedef struct persp_lighting {
+    int count;
+    persp_eye_light light[PERSP_SCENE_MAX_LIGHTS];
+    float ambient[3];
+} persp_lighting;
+
+/* Everything a draw needs, resolved once (ARCHITECTURE.md: choices resolved
+ * once per draw, never a switch per pixel). */
+typedef struct persp_draw_state {
+    persp_method_sel method;          /* texture coordinates */
+    persp_method_sel shade_method;    /* perspective parameter for shading */
+    const struct persp_texture *tex;  /* NULL: untextured */
+    persp_sampler_state sampler;
+    persp_shading shading;
+    persp_material material;
+    persp_lighting lighting;
+    int depth_test, depth_write;
+    /* Span shader chosen from shading and texture environment. */
+    void (*shade)(const struct persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                  const float *q, const uint32_t *texel, uint32_t *out);
+} persp_draw_state;
+
+struct persp_render_cache;
+
+typedef struct persp_frame {
+    persp_context *ctx;
+    persp_framebuffer *fb;
+    persp_depth_mode depth_mode;
+    struct persp_render_cache *cache;
+    size_t state_count, tri_count, prep_count;
+    persp_render_stats stats;
+    persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
+} persp_frame;
+
+persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
+                                persp_frame *f);
+persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index);
+/* Vertex stage, clipping and setup of one mesh. uv (2 per vertex) replaces
+ * the vertices' own coordinates when non-NULL (texture-coordinate generation). */
+persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
+                                   const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
+                                   const float *uv, int cull);
+persp_status persp__frame_flush(persp_frame *f);
+/* The set-up triangles of the frame so far (valid until the next frame). */
+const persp_tri *persp__frame_tris(const persp_frame *f);
+
+#endif

@@ -1,0 +1,401 @@
+/*
+ * The frame pipeline (docs/DESIGN.md):
+ *   vertex stage → homogeneous clip → divide + viewport → setup (record per
+ *   triangle, method prepare) → binning into 64×64 tiles → tiles in parallel:
+ *   spans → depth test → method (u, v) → texture → shading → write.
+ * Tiles own disjoint pixels and process their triangles in submission order,
+ * so the image is bit-identical for any number of threads.
+ */
+#include "core/internal.h"
+#include "core/pool.h"
+#include "geom/scene.h"
+#include "raster/raster.h"
+#include "raster/render.h"
+#include "raster/frame.h"
+#include "shade/shade.h"
+#include "texture/texture.h"
+
+#include <math.h>
+#include <string.h>
+
+struct persp_render_cache {
+    persp_tri *tris;
+    size_t tri_cap;
+    persp_method_prep *preps;
+    size_t prep_cap;
+    persp_clipvert *verts;
+    size_t vert_cap;
+    uint32_t *bin_count, *bin_start, *bin_items;
+    size_t bin_cap, item_cap;
+    persp_draw_state *states;
+    size_t state_cap;
+    persp_render_stats *worker_stats;
+    int worker_cap;
+};
+
+void persp__render_cache_free(persp_context *ctx)
+{
+    struct persp_render_cache *c = ctx ? ctx->render : NULL;
+    if (!c) return;
+    persp_free(ctx, c->tris);
+    persp_free(ctx, c->preps);
+    persp_free(ctx, c->verts);
+    persp_free(ctx, c->bin_count);
+    persp_free(ctx, c->bin_start);
+    persp_free(ctx, c->bin_items);
+    persp_free(ctx, c->states);
+    persp_free(ctx, c->worker_stats);
+    persp_free(ctx, c);
+    ctx->render = NULL;
+}
+
+/* Ensures *buf holds at least need elements; grows geometrically, keeping
+ * contents, so steady-state frames allocate nothing. */
+static int reserve(persp_context *ctx, void **buf, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap) return 1;
+    size_t ncap = *cap ? *cap : 64;
+    while (ncap < need) {
+        if (ncap > ((size_t)-1) / 2) return 0;
+        ncap *= 2;
+    }
+    size_t bytes;
+    if (!persp__size_mul(ncap, elem, &bytes)) return 0;
+    void *n = persp_alloc(ctx, bytes);
+    if (!n) return 0;
+    if (*cap && *buf) memcpy(n, *buf, *cap * elem);
+    persp_free(ctx, *buf);
+    *buf = n;
+    *cap = ncap;
+    return 1;
+}
+
+persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
+                                persp_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    if (!ctx || !fb || !fb->color || !fb->depth || fb->width <= 0 || fb->height <= 0 ||
+        fb->width > PERSP_IMAGE_MAX_SIDE || fb->height > PERSP_IMAGE_MAX_SIDE)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                                  "framebuffer: size must be 1..%d on each side with colour and depth buffers",
+                                  PERSP_IMAGE_MAX_SIDE);
+    if (!ctx->render) {
+        ctx->render = persp__calloc(ctx, 1, sizeof *ctx->render);
+        if (!ctx->render) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    }
+    f->ctx = ctx;
+    f->fb = fb;
+    f->depth_mode = mode;
+    f->cache = ctx->render;
+    return PERSP_OK;
+}
+
+persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index)
+{
+    struct persp_render_cache *c = f->cache;
+    if (!reserve(f->ctx, (void **)&c->states, &c->state_cap, f->state_count + 1, sizeof *c->states))
+        return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    c->states[f->state_count] = *s;
+    *index = (uint32_t)f->state_count++;
+    return PERSP_OK;
+}
+
+/* Emits the clipped polygon as a fan (v0, vi, vi+1) of set-up triangles. */
+static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int n, uint32_t state,
+                                 int cull)
+{
+    struct persp_render_cache *c = f->cache;
+    const persp_draw_state *ds = &c->states[state];
+    const double W = f->fb->width, H = f->fb->height;
+    persp_winvert wv[PERSP_CLIP_MAX];
+    for (int i = 0; i < n; i++) {
+        double q = 1.0 / (double)poly[i].clip[3];
+        wv[i].x = ((double)poly[i].clip[0] * q + 1.0) * 0.5 * W;
+        wv[i].y = ((double)poly[i].clip[1] * q + 1.0) * 0.5 * H;
+        wv[i].z = ((double)poly[i].clip[2] * q + 1.0) * 0.5;
+        wv[i].q = q;
+        wv[i].attr = poly[i].attr;
+    }
+    for (int i = 1; i + 1 < n; i++) {
+        if (!reserve(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris))
+            return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
+        persp_tri *t = &c->tris[f->tri_count];
+        if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) continue;
+        t->state = state;
+        if (ds->tex) {
+            t->rat.scale1 = (float)ds->tex->width;
+            t->rat.scale2 = (float)ds->tex->height;
+            double du1 = (double)t->vattr[1][PERSP_A_U] - t->vattr[0][PERSP_A_U];
+            double dv1 = (double)t->vattr[1][PERSP_A_V] - t->vattr[0][PERSP_A_V];
+            double du2 = (double)t->vattr[2][PERSP_A_U] - t->vattr[0][PERSP_A_U];
+            double dv2 = (double)t->vattr[2][PERSP_A_V] - t->vattr[0][PERSP_A_V];
+            double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
+            double px_area = 0.5 * fabs((t->rat.vx[1] - t->rat.vx[0]) * (t->rat.vy[2] - t->rat.vy[0]) -
+                                        (t->rat.vx[2] - t->rat.vx[0]) * (t->rat.vy[1] - t->rat.vy[0]));
+            t->poly_lambda = persp__polygon_lambda(ds->tex, uv_area, px_area);
+        }
+        if (ds->method.m->prepare) {
+            if (!reserve(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps))
+                return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+            t->prep = (uint32_t)f->prep_count++;
+            ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep], NULL);
+        }
+        f->tri_count++;
+    }
+    return PERSP_OK;
+}
+
+persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
+                                   const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
+                                   const float *uv, int cull)
+{
+    struct persp_render_cache *c = f->cache;
+    if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
+    if (!reserve(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts))
+        return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    persp_mat4 mv = persp_mat4_mul(*view, *model);
+    persp_mat4 mvp = persp_mat4_mul(*proj, mv);
+    float nm[9];
+    if (!persp_mat4_normal_matrix(mv, nm)) memset(nm, 0, sizeof nm);
+    f->stats.triangles_in += mesh->index_count / 3;
+    for (size_t i = 0; i < mesh->vertex_count; i++) {
+        const persp_vertex *v = &mesh->vertices[i];
+        persp_vec4 p = {v->pos[0], v->pos[1], v->pos[2], 1.0f};
+        persp_vec4 cp = persp_mat4_apply(mvp, p), ep = persp_mat4_apply(mv, p);
+        persp_clipvert *o = &c->verts[i];
+        o->clip[0] = cp.x, o->clip[1] = cp.y, o->clip[2] = cp.z, o->clip[3] = cp.w;
+        o->attr[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
+        o->attr[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
+        for (int k = 0; k < 4; k++) o->attr[PERSP_A_R + k] = v->color[k];
+        for (int r = 0; r < 3; r++)
+            o->attr[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
+        o->attr[PERSP_A_EX] = ep.x, o->attr[PERSP_A_EY] = ep.y, o->attr[PERSP_A_EZ] = ep.z;
+    }
+    persp__shade_vertices(&c->states[state], c->verts, mesh->vertex_count);
+    const double gx = PERSP_GUARD_PIXELS / (0.5 * f->fb->width);
+    const double gy = PERSP_GUARD_PIXELS / (0.5 * f->fb->height);
+    for (size_t t = 0; t + 2 < mesh->index_count; t += 3) {
+        const uint32_t *ix = &mesh->indices[t];
+        if (ix[0] >= mesh->vertex_count || ix[1] >= mesh->vertex_count || ix[2] >= mesh->vertex_count)
+            return persp_context_fail(f->ctx, PERSP_ERR_INVALID_ARGUMENT,
+                                      "mesh: index out of range in triangle %zu", t / 3);
+        persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
+        persp_clipvert poly[PERSP_CLIP_MAX];
+        int n = persp__clip_triangle(in, gx, gy, poly);
+        if (n >= 3) {
+            persp_status st = emit_polygon(f, poly, n, state, cull);
+            if (st != PERSP_OK) return st;
+        }
+    }
+    return PERSP_OK;
+}
+
+/* ------------------------------------------------------------ rasterization */
+
+typedef struct tile_job {
+    persp_frame *f;
+    int tiles_x;
+    int workers;
+} tile_job;
+
+typedef struct span_ctx {
+    persp_frame *f;
+    const persp_tri *t;
+    const persp_draw_state *ds;
+    const persp_method_prep *prep;
+    persp_render_stats *stats;
+    int32_t tri_index;
+} span_ctx;
+
+static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
+{
+    const persp_frame *f = sc->f;
+    const persp_tri *t = sc->t;
+    const persp_draw_state *ds = sc->ds;
+    const int n = b->n;
+    const int W = f->fb->width;
+    float q[PERSP_SPAN_MAX], z[PERSP_SPAN_MAX];
+    int32_t idx[PERSP_SPAN_MAX];
+    uint8_t live[PERSP_SPAN_MAX];
+
+    if (!b->px) {
+        double px = b->x0 + 0.5, py = b->y + 0.5;
+        float q0 = (float)(t->rat.g * px + t->rat.h * py + t->rat.i), dq = (float)t->rat.g;
+        float z0 = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]), dz = (float)t->zp[0];
+        for (int k = 0; k < n; k++) {
+            q[k] = q0 + (float)k * dq;
+            z[k] = z0 + (float)k * dz;
+            idx[k] = b->y * W + b->x0 + k;
+        }
+    } else {
+        for (int k = 0; k < n; k++) {
+            double px = b->px[k] + 0.5, py = b->py[k] + 0.5;
+            q[k] = (float)(t->rat.g * px + t->rat.h * py + t->rat.i);
+            z[k] = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
+            idx[k] = b->py[k] * W + b->px[k];
+        }
+    }
+    float *depth = f->fb->depth;
+    int any = 0;
+    if (!ds->depth_test) {
+        for (int k = 0; k < n; k++) live[k] = 1;
+        any = n;
+    } else if (f->depth_mode == PERSP_DEPTH_INVW) {
+        /* "1/z buffering" (seed 002): 1/w grows towards the eye and is
+         * linear in screen space, so the largest value is the nearest. */
+        for (int k = 0; k < n; k++) any += live[k] = q[k] > depth[idx[k]];
+    } else {
+        for (int k = 0; k < n; k++) any += live[k] = z[k] < depth[idx[k]];
+    }
+    sc->stats->fragments += (uint64_t)n;
+    if (!any) return;
+
+    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX];
+    if (b->s1) {
+        memcpy(u, b->s1, (size_t)n * sizeof *u);
+        memcpy(v, b->s2, (size_t)n * sizeof *v);
+    } else {
+        ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, NULL);
+    }
+    uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
+    if (ds->tex) {
+        persp_tex_span_in in = {
+            .n = n, .u = u, .v = v, .q = q,
+            .a = (float)t->rat.a, .b = (float)t->rat.b, .d = (float)t->rat.d,
+            .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
+            .poly_lambda = t->poly_lambda,
+        };
+        persp__sample_span(&ds->sampler, &in, texel);
+    }
+    persp__shade_span(ds, t, b, q, ds->tex ? texel : NULL, out);
+
+    uint32_t *color = (uint32_t *)(void *)f->fb->color;
+    const float *dv = f->depth_mode == PERSP_DEPTH_INVW ? q : z;
+    for (int k = 0; k < n; k++) {
+        if (!live[k]) continue;
+        color[idx[k]] = out[k];
+        if (ds->depth_write) depth[idx[k]] = dv[k];
+    }
+    sc->stats->pixels_written += (uint64_t)any;
+    if (f->capture) {
+        persp_capture *cap = f->capture;
+        for (int k = 0; k < n; k++) {
+            if (!live[k]) continue;
+            cap->tri[idx[k]] = sc->tri_index;
+            cap->s1[idx[k]] = u[k];
+            cap->s2[idx[k]] = v[k];
+        }
+    }
+}
+
+static void sink(void *user, const persp_frag_batch *b) { shade_batch(user, b); }
+
+typedef struct area_tri {
+    const persp_tri *t;
+    int x0, x1;
+} area_tri;
+
+static int row_range_cb(const void *p, int y, int *lo, int *hi)
+{
+    const area_tri *a = p;
+    return persp__tri_row_range(a->t, y, a->x0, a->x1, lo, hi);
+}
+
+static void raster_tile(void *user, int tile, int worker)
+{
+    tile_job *job = user;
+    persp_frame *f = job->f;
+    struct persp_render_cache *c = f->cache;
+    const int tx = tile % job->tiles_x, ty = tile / job->tiles_x;
+    const int x0 = tx * PERSP_TILE, y0 = ty * PERSP_TILE;
+    const int x1 = PERSP_MIN(x0 + PERSP_TILE, f->fb->width) - 1;
+    const int y1 = PERSP_MIN(y0 + PERSP_TILE, f->fb->height) - 1;
+    span_ctx sc = {.f = f, .stats = &c->worker_stats[worker]};
+    const uint32_t *items = c->bin_items + c->bin_start[tile];
+    for (uint32_t k = 0; k < c->bin_count[tile]; k++) {
+        const persp_tri *t = &c->tris[items[k]];
+        sc.t = t;
+        sc.ds = &c->states[t->state];
+        sc.prep = t->prep != UINT32_MAX ? &c->preps[t->prep] : NULL;
+        sc.tri_index = (int32_t)items[k];
+        const persp_method *m = sc.ds->method.m;
+        if (m->traverse) {
+            area_tri at = {t, x0, x1};
+            persp_traverse_area area = {x0, PERSP_MAX(y0, t->ymin), x1, PERSP_MIN(y1, t->ymax),
+                                        row_range_cb, &at};
+            m->traverse(&t->rat, &sc.ds->method.params, sc.prep, &area, sink, &sc, NULL);
+            continue;
+        }
+        const int ya = PERSP_MAX(y0, t->ymin), yb = PERSP_MIN(y1, t->ymax);
+        for (int y = ya; y <= yb; y++) {
+            int lo, hi;
+            if (!persp__tri_row_range(t, y, x0, x1, &lo, &hi)) continue;
+            persp_frag_batch b = {.n = hi - lo + 1, .x0 = lo, .y = y};
+            shade_batch(&sc, &b);
+        }
+    }
+}
+
+persp_status persp__frame_flush(persp_frame *f)
+{
+    struct persp_render_cache *c = f->cache;
+    persp_context *ctx = f->ctx;
+    const int tiles_x = (f->fb->width + PERSP_TILE - 1) / PERSP_TILE;
+    const int tiles_y = (f->fb->height + PERSP_TILE - 1) / PERSP_TILE;
+    const size_t tiles = (size_t)tiles_x * (size_t)tiles_y;
+    size_t start_cap = c->bin_cap;
+    if (!reserve(ctx, (void **)&c->bin_count, &c->bin_cap, tiles, sizeof(uint32_t)) ||
+        !reserve(ctx, (void **)&c->bin_start, &start_cap, tiles, sizeof(uint32_t)))
+        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    if (start_cap != c->bin_cap) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: bins");
+    memset(c->bin_count, 0, tiles * sizeof(uint32_t));
+    /* Two passes: count triangles per tile, then place their indices in
+     * submission order (the order that makes results thread-independent). */
+    size_t total = 0;
+    for (size_t i = 0; i < f->tri_count; i++) {
+        const persp_tri *t = &c->tris[i];
+        int tx0 = t->xmin / PERSP_TILE, tx1 = t->xmax / PERSP_TILE;
+        int ty0 = t->ymin / PERSP_TILE, ty1 = t->ymax / PERSP_TILE;
+        for (int ty = ty0; ty <= ty1; ty++)
+            for (int tx = tx0; tx <= tx1; tx++) c->bin_count[ty * tiles_x + tx]++;
+        total += (size_t)(tx1 - tx0 + 1) * (size_t)(ty1 - ty0 + 1);
+    }
+    if (total > UINT32_MAX)
+        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "render: too many triangle-tile pairs");
+    if (!reserve(ctx, (void **)&c->bin_items, &c->item_cap, total ? total : 1, sizeof(uint32_t)))
+        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    uint32_t acc = 0;
+    for (size_t k = 0; k < tiles; k++) {
+        c->bin_start[k] = acc;
+        acc += c->bin_count[k];
+        c->bin_count[k] = 0;
+    }
+    for (size_t i = 0; i < f->tri_count; i++) {
+        const persp_tri *t = &c->tris[i];
+        int tx0 = t->xmin / PERSP_TILE, tx1 = t->xmax / PERSP_TILE;
+        int ty0 = t->ymin / PERSP_TILE, ty1 = t->ymax / PERSP_TILE;
+        for (int ty = ty0; ty <= ty1; ty++)
+            for (int tx = tx0; tx <= tx1; tx++) {
+                size_t k = (size_t)ty * (size_t)tiles_x + (size_t)tx;
+                c->bin_items[c->bin_start[k] + c->bin_count[k]++] = (uint32_t)i;
+            }
+    }
+    int workers = persp__pool_workers(ctx);
+    size_t wcap = (size_t)c->worker_cap;
+    if (!reserve(ctx, (void **)&c->worker_stats, &wcap, (size_t)workers, sizeof *c->worker_stats))
+        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    c->worker_cap = (int)wcap;
+    memset(c->worker_stats, 0, (size_t)workers * sizeof *c->worker_stats);
+    tile_job job = {f, tiles_x, workers};
+    persp_status st = persp__pool_run(ctx, (int)tiles, raster_tile, &job);
+    if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: cannot start worker threads");
+    f->stats.triangles_drawn += f->tri_count;
+    for (int w = 0; w < workers; w++) {
+        f->stats.fragments += c->worker_stats[w].fragments;
+        f->stats.pixels_written += c->worker_stats[w].pixels_written;
+    }
+    return PERSP_OK;
+}
+
+const persp_tri *persp__frame_tris(const persp_frame *f) { return f->cache->tris; }

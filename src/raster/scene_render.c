@@ -1,0 +1,226 @@
+/* persp_render, persp_draw and the analysis capture: scene → frame. */
+#include "core/internal.h"
+#include "core/pool.h"
+#include "raster/frame.h"
+#include "shade/shade.h"
+
+#include <math.h>
+#include <string.h>
+
+void persp_framebuffer_clear(persp_framebuffer *fb, const uint8_t rgba[4], persp_depth_mode mode)
+{
+    if (!fb || !fb->color || !fb->depth || fb->width <= 0 || fb->height <= 0) return;
+    size_t n = (size_t)fb->width * (size_t)fb->height;
+    uint8_t c[4] = {0, 0, 0, 255};
+    if (rgba) memcpy(c, rgba, 4);
+    for (size_t i = 0; i < n; i++) memcpy(fb->color + 4 * i, c, 4);
+    float d = mode == PERSP_DEPTH_INVW ? 0.0f : 1.0f;
+    for (size_t i = 0; i < n; i++) fb->depth[i] = d;
+}
+
+static void camera_matrices(const persp_scene *s, int w, int h, persp_mat4 *proj, persp_mat4 *view)
+{
+    if (s->camera.use_matrix) {
+        *proj = s->camera.projection;
+        *view = s->camera.view;
+        return;
+    }
+    *proj = persp_perspective(s->camera.fovy_deg, (double)w / (double)h, s->camera.znear, s->camera.zfar);
+    *view = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
+}
+
+static void eye_lights(const persp_scene *s, const persp_mat4 *view, persp_lighting *L)
+{
+    memset(L, 0, sizeof *L);
+    memcpy(L->ambient, s->ambient, sizeof L->ambient);
+    L->count = (int)s->light_count;
+    for (size_t i = 0; i < s->light_count; i++) {
+        const persp_light *in = &s->lights[i];
+        persp_eye_light *o = &L->light[i];
+        o->type = in->type;
+        memcpy(o->color, in->color, sizeof o->color);
+        memcpy(o->atten, in->attenuation, sizeof o->atten);
+        persp_vec4 p = {in->position[0], in->position[1], in->position[2],
+                        in->type == PERSP_LIGHT_POINT ? 1.0f : 0.0f};
+        persp_vec4 e = persp_mat4_apply(*view, p);
+        o->pos[0] = e.x, o->pos[1] = e.y, o->pos[2] = e.z;
+        if (in->type == PERSP_LIGHT_DIRECTIONAL) {
+            float len = sqrtf(e.x * e.x + e.y * e.y + e.z * e.z);
+            if (len > 0.0f) o->pos[0] /= len, o->pos[1] /= len, o->pos[2] /= len;
+        }
+    }
+}
+
+static persp_status set_threads(persp_context *ctx, int threads)
+{
+    if (threads <= 0) return PERSP_OK;
+    if (threads > 256) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "threads must be 1..256");
+    if (threads != ctx->threads) {
+        persp__pool_destroy(ctx);
+        ctx->threads = threads;
+    }
+    return PERSP_OK;
+}
+
+static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
+                                 const persp_render_desc *desc, persp_framebuffer *fb,
+                                 persp_frame *f, persp_capture *cap)
+{
+    persp_render_desc dd;
+    memset(&dd, 0, sizeof dd);
+    if (desc) dd = *desc;
+    persp_status st = set_threads(ctx, dd.threads);
+    if (st != PERSP_OK) return st;
+    if (dd.pipeline != PERSP_PIPELINE_SCREEN && dd.pipeline != PERSP_PIPELINE_OBJECT)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown pipeline");
+    if (dd.pipeline == PERSP_PIPELINE_OBJECT)
+        return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED, "render: the object-space pipeline is not available");
+    persp_method_sel method;
+    st = persp__method_resolve(ctx, dd.method ? dd.method : "exact", &method);
+    if (st != PERSP_OK) return st;
+    if (dd.depth_mode != PERSP_DEPTH_Z && dd.depth_mode != PERSP_DEPTH_INVW)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown depth mode");
+
+    st = persp__frame_begin(ctx, fb, dd.depth_mode, f);
+    if (st != PERSP_OK) return st;
+    f->capture = cap;
+    persp_framebuffer_clear(fb, scene->clear, dd.depth_mode);
+
+    persp_mat4 proj, view;
+    camera_matrices(scene, fb->width, fb->height, &proj, &view);
+    persp_draw_state ds;
+    memset(&ds, 0, sizeof ds);
+    eye_lights(scene, &view, &ds.lighting);
+    int cull = dd.cull_backfaces > 0 || (dd.cull_backfaces == 0 && scene->cull_backfaces);
+
+    for (size_t i = 0; i < scene->object_count; i++) {
+        const persp_object *o = &scene->objects[i];
+        const persp_material *mat = &scene->materials[o->material];
+        ds.method = method;
+        ds.material = *mat;
+        ds.shading = dd.shading_set ? dd.shading : scene->shading;
+        ds.depth_test = ds.depth_write = 1;
+        ds.tex = mat->texture >= 0 && (size_t)mat->texture < scene->texture_count
+                     ? scene->textures[mat->texture]
+                     : NULL;
+        if (ds.tex) {
+            persp_sampler_desc sd = mat->sampler;
+            if (dd.filter_set) {
+                sd.filter = dd.filter;
+                sd.max_aniso = dd.max_aniso;
+            }
+            if (dd.wrap_set) sd.wrap_s = sd.wrap_t = dd.wrap;
+            sd.lod_mode = dd.lod_mode;
+            sd.lod_bias += dd.lod_bias;
+            st = persp__sampler_init(&ds.sampler, ds.tex, &sd);
+            if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: bad sampler settings");
+        }
+        st = persp__shade_resolve(ctx, &ds);
+        if (st != PERSP_OK) return st;
+        uint32_t si;
+        st = persp__frame_add_state(f, &ds, &si);
+        if (st != PERSP_OK) return st;
+        st = persp__frame_add_mesh(f, &scene->meshes[o->mesh], &o->model, &view, &proj, si, NULL, cull);
+        if (st != PERSP_OK) return st;
+    }
+    return persp__frame_flush(f);
+}
+
+persp_status persp_render(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
+                          persp_framebuffer *fb, persp_render_stats *stats)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!scene || !fb) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: no scene or framebuffer");
+    persp_frame f;
+    persp_status st = render_frame(ctx, scene, desc, fb, &f, NULL);
+    if (st == PERSP_OK && stats) *stats = f.stats;
+    return st;
+}
+
+void persp__capture_free(persp_context *ctx, persp_capture *cap)
+{
+    if (!cap) return;
+    persp_free(ctx, cap->tri);
+    persp_free(ctx, cap->s1);
+    persp_free(ctx, cap->s2);
+    persp_free(ctx, cap->rats);
+    memset(cap, 0, sizeof *cap);
+}
+
+persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
+                                   const persp_render_desc *desc, int width, int height,
+                                   persp_capture *cap)
+{
+    if (!ctx || !scene || !cap || width <= 0 || height <= 0 || width > PERSP_IMAGE_MAX_SIDE ||
+        height > PERSP_IMAGE_MAX_SIDE)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "capture: bad arguments");
+    memset(cap, 0, sizeof *cap);
+    size_t n = (size_t)width * (size_t)height;
+    cap->width = width;
+    cap->height = height;
+    cap->tri = persp__calloc(ctx, n, sizeof *cap->tri);
+    cap->s1 = persp__calloc(ctx, n, sizeof *cap->s1);
+    cap->s2 = persp__calloc(ctx, n, sizeof *cap->s2);
+    persp_framebuffer fb = {width, height, persp__calloc(ctx, n, 4), persp__calloc(ctx, n, sizeof(float))};
+    persp_status st = PERSP_OK;
+    if (!cap->tri || !cap->s1 || !cap->s2 || !fb.color || !fb.depth) {
+        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
+    } else {
+        for (size_t i = 0; i < n; i++) cap->tri[i] = -1;
+        persp_frame f;
+        st = render_frame(ctx, scene, desc, &fb, &f, cap);
+        if (st == PERSP_OK && f.tri_count) {
+            cap->rats = persp__calloc(ctx, f.tri_count, sizeof *cap->rats);
+            if (!cap->rats) {
+                st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
+            } else {
+                const persp_tri *t = persp__frame_tris(&f);
+                for (size_t i = 0; i < f.tri_count; i++) cap->rats[i] = t[i].rat;
+                cap->rat_count = f.tri_count;
+            }
+        }
+    }
+    persp_free(ctx, fb.color);
+    persp_free(ctx, fb.depth);
+    if (st != PERSP_OK) persp__capture_free(ctx, cap);
+    return st;
+}
+
+persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_draw_desc *desc,
+                        const persp_vertex *vertices, size_t vertex_count, const uint32_t *indices,
+                        size_t index_count)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!fb || !desc || (!vertices && vertex_count) || (!indices && index_count) || index_count % 3)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                                  "draw: need a framebuffer, a desc and 3 indices per triangle");
+    if (vertex_count > PERSP_IMAGE_MAX_PIXELS || index_count > 3u * PERSP_IMAGE_MAX_PIXELS)
+        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "draw: too many vertices or indices");
+    persp_frame f;
+    persp_status st = persp__frame_begin(ctx, fb, desc->depth_mode, &f);
+    if (st != PERSP_OK) return st;
+    persp_draw_state ds;
+    memset(&ds, 0, sizeof ds);
+    st = persp__method_resolve(ctx, desc->method ? desc->method : "exact", &ds.method);
+    if (st != PERSP_OK) return st;
+    ds.material = persp__material_default();
+    ds.material.diffuse[0] = ds.material.diffuse[1] = ds.material.diffuse[2] = 1.0f;
+    ds.tex = desc->texture;
+    ds.depth_test = ds.depth_write = desc->depth_test >= 0;
+    if (ds.tex) {
+        st = persp__sampler_init(&ds.sampler, ds.tex, &desc->sampler);
+        if (st != PERSP_OK) return persp_context_fail(ctx, st, "draw: bad sampler settings");
+    }
+    st = persp__shade_resolve(ctx, &ds);
+    if (st != PERSP_OK) return st;
+    uint32_t si;
+    st = persp__frame_add_state(&f, &ds, &si);
+    if (st != PERSP_OK) return st;
+    persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1};
+    persp_mat4 id = persp_mat4_identity();
+    st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL, desc->cull_backfaces > 0);
+    if (st != PERSP_OK) return st;
+    return persp__frame_flush(&f);
+}

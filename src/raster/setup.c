@@ -1,0 +1,138 @@
+/*
+ * Triangle setup: fixed-point edge functions (Pineda 1988) with 8 sub-pixel
+ * bits, the top-left fill rule, and the screen-space planes of 1/w, u/w, v/w
+ * (Heckbert 1989 §2.3.2: u = (a·x + b·y + c)/(g·x + h·y + i)) that every
+ * texture-coordinate method reads from the setup record.
+ */
+#include "interp/methods.h"
+#include "raster/raster.h"
+
+#include <math.h>
+#include <string.h>
+
+/* floor(a / b) and ceil(a / b) for b > 0 in 64-bit integers. */
+static int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+static int64_t ceil_div(int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
+
+#define COORD_LIMIT ((double)(1 << 22)) /* |window coordinate| in pixels, far beyond the guard band */
+
+int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int cull, persp_tri *t)
+{
+    int64_t X[3], Y[3];
+    for (int i = 0; i < 3; i++) {
+        if (!(fabs(vin[i].x) < COORD_LIMIT && fabs(vin[i].y) < COORD_LIMIT) || !isfinite(vin[i].z) ||
+            !(vin[i].q > 0.0) || !isfinite(vin[i].q))
+            return 0;
+        X[i] = (int64_t)llround(vin[i].x * PERSP_SUBPIXEL);
+        Y[i] = (int64_t)llround(vin[i].y * PERSP_SUBPIXEL);
+    }
+    int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area == 0) return 0;
+    int back = area < 0; /* counter-clockwise in window space (y up) is front, as glFrontFace(GL_CCW) */
+    if (back && cull) return 0;
+    int order[3] = {0, 1, 2};
+    if (back) {
+        order[1] = 2;
+        order[2] = 1;
+    }
+    int64_t x[3], y[3];
+    for (int i = 0; i < 3; i++) {
+        x[i] = X[order[i]];
+        y[i] = Y[order[i]];
+    }
+
+    int64_t minx = x[0], maxx = x[0], miny = y[0], maxy = y[0];
+    for (int i = 1; i < 3; i++) {
+        if (x[i] < minx) minx = x[i];
+        if (x[i] > maxx) maxx = x[i];
+        if (y[i] < miny) miny = y[i];
+        if (y[i] > maxy) maxy = y[i];
+    }
+    /* Pixel p is a candidate if its centre p·256 + 128 lies inside the box. */
+    const int64_t half = PERSP_SUBPIXEL / 2;
+    int64_t bx0 = ceil_div(minx - half, PERSP_SUBPIXEL), bx1 = floor_div(maxx - half, PERSP_SUBPIXEL);
+    int64_t by0 = ceil_div(miny - half, PERSP_SUBPIXEL), by1 = floor_div(maxy - half, PERSP_SUBPIXEL);
+    if (bx0 < 0) bx0 = 0;
+    if (by0 < 0) by0 = 0;
+    if (bx1 > width - 1) bx1 = width - 1;
+    if (by1 > height - 1) by1 = height - 1;
+    if (bx0 > bx1 || by0 > by1) return 0;
+
+    memset(t, 0, sizeof *t);
+    t->backfacing = back;
+    t->xmin = (int)bx0, t->xmax = (int)bx1, t->ymin = (int)by0, t->ymax = (int)by1;
+    for (int k = 0; k < 3; k++) {
+        int i = k, j = (k + 1) % 3;
+        int64_t dx = x[j] - x[i], dy = y[j] - y[i];
+        t->ea[k] = -dy;
+        t->eb[k] = dx;
+        t->ec[k] = -(t->ea[k] * x[i] + t->eb[k] * y[i]);
+        /* Top-left rule in y-up window space for a counter-clockwise
+         * triangle: a left edge runs downwards, a top edge runs towards -x.
+         * Pixels exactly on other edges belong to the neighbour. */
+        int top_left = dy < 0 || (dy == 0 && dx < 0);
+        if (!top_left) t->ec[k] -= 1;
+    }
+
+    double vx[3], vy[3], q[3], zz[3], uq[3], vq[3], b1[3], b2[3];
+    for (int i = 0; i < 3; i++) {
+        const persp_winvert *w = &vin[order[i]];
+        vx[i] = (double)x[i] / PERSP_SUBPIXEL;
+        vy[i] = (double)y[i] / PERSP_SUBPIXEL;
+        q[i] = w->q;
+        zz[i] = w->z;
+        uq[i] = (double)w->attr[PERSP_A_U] * w->q;
+        vq[i] = (double)w->attr[PERSP_A_V] * w->q;
+        b1[i] = i == 1 ? w->q : 0.0;
+        b2[i] = i == 2 ? w->q : 0.0;
+        memcpy(t->vattr[i], w->attr, sizeof t->vattr[i]);
+        t->rat.vx[i] = t->bary.vx[i] = vx[i];
+        t->rat.vy[i] = t->bary.vy[i] = vy[i];
+        t->rat.qv[i] = t->bary.qv[i] = q[i];
+        t->rat.s1v[i] = w->attr[PERSP_A_U];
+        t->rat.s2v[i] = w->attr[PERSP_A_V];
+        t->bary.s1v[i] = i == 1;
+        t->bary.s2v[i] = i == 2;
+    }
+    persp__plane_through(vx, vy, uq, &t->rat.a, &t->rat.b, &t->rat.c);
+    persp__plane_through(vx, vy, vq, &t->rat.d, &t->rat.e, &t->rat.f);
+    persp__plane_through(vx, vy, q, &t->rat.g, &t->rat.h, &t->rat.i);
+    persp__plane_through(vx, vy, b1, &t->bary.a, &t->bary.b, &t->bary.c);
+    persp__plane_through(vx, vy, b2, &t->bary.d, &t->bary.e, &t->bary.f);
+    t->bary.g = t->rat.g, t->bary.h = t->rat.h, t->bary.i = t->rat.i;
+    persp__plane_through(vx, vy, zz, &t->zp[0], &t->zp[1], &t->zp[2]);
+    t->rat.xmin = t->bary.xmin = t->xmin;
+    t->rat.xmax = t->bary.xmax = t->xmax;
+    t->rat.ymin = t->bary.ymin = t->ymin;
+    t->rat.ymax = t->bary.ymax = t->ymax;
+    t->rat.scale1 = t->rat.scale2 = 1.0f;
+    t->bary.scale1 = t->bary.scale2 = 1.0f;
+    t->prep = UINT32_MAX;
+    return 1;
+}
+
+int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int *hi)
+{
+    if (y < t->ymin || y > t->ymax) return 0;
+    int64_t l = x0 > t->xmin ? x0 : t->xmin;
+    int64_t h = x1 < t->xmax ? x1 : t->xmax;
+    const int64_t Y = (int64_t)y * PERSP_SUBPIXEL + PERSP_SUBPIXEL / 2;
+    for (int k = 0; k < 3 && l <= h; k++) {
+        int64_t A = t->ea[k];
+        /* Edge value at pixel px's centre: A·256·px + R, R = B·Y + C + 128·A. */
+        int64_t R = t->eb[k] * Y + t->ec[k] + A * (PERSP_SUBPIXEL / 2);
+        if (A > 0) {
+            int64_t m = ceil_div(-R, A * PERSP_SUBPIXEL);
+            if (m > l) l = m;
+        } else if (A < 0) {
+            int64_t m = floor_div(R, -A * PERSP_SUBPIXEL);
+            if (m < h) h = m;
+        } else if (R < 0) {
+            return 0;
+        }
+    }
+    if (l > h) return 0;
+    *lo = (int)l;
+    *hi = (int)h;
+    return 1;
+}

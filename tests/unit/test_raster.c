@@ -1,0 +1,203 @@
+/* Clipping, setup, fill rule and watertightness. */
+#include "support.h"
+
+#include "raster/raster.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static persp_clipvert cv(float x, float y, float z, float w)
+{
+    persp_clipvert v;
+    memset(&v, 0, sizeof v);
+    v.clip[0] = x, v.clip[1] = y, v.clip[2] = z, v.clip[3] = w;
+    v.attr[PERSP_A_U] = x;
+    v.attr[PERSP_A_V] = w;
+    return v;
+}
+
+static void test_clip_inside_unchanged(void **state)
+{
+    (void)state;
+    persp_clipvert in[3] = {cv(-0.5f, -0.5f, 0, 1), cv(0.5f, -0.5f, 0, 1), cv(0, 0.5f, 0, 1)}, out[PERSP_CLIP_MAX];
+    assert_int_equal(persp__clip_triangle(in, 8, 8, out), 3);
+    assert_memory_equal(in, out, sizeof in);
+}
+
+static void test_clip_all_outside(void **state)
+{
+    (void)state;
+    /* Entirely behind the eye (w < 0) and entirely beyond far. */
+    persp_clipvert a[3] = {cv(0, 0, 0, -1), cv(1, 0, 0, -2), cv(0, 1, 0, -1)}, out[PERSP_CLIP_MAX];
+    assert_int_equal(persp__clip_triangle(a, 8, 8, out), 0);
+    persp_clipvert b[3] = {cv(0, 0, 3, 1), cv(1, 0, 3, 1), cv(0, 1, 3, 1)};
+    assert_int_equal(persp__clip_triangle(b, 8, 8, out), 0);
+}
+
+static void test_clip_near_plane(void **state)
+{
+    (void)state;
+    /* One vertex behind the near plane (z < -w): the result is a quad whose
+     * new vertices lie exactly on z = -w, and attributes follow linearly. */
+    persp_clipvert in[3] = {cv(0, 0, -3, 1), cv(0.5f, 0, 0.5f, 1), cv(0, 0.5f, 0.5f, 1)}, out[PERSP_CLIP_MAX];
+    int n = persp__clip_triangle(in, 8, 8, out);
+    assert_int_equal(n, 4);
+    int on_plane = 0;
+    for (int i = 0; i < n; i++) {
+        assert_true(out[i].clip[2] + out[i].clip[3] >= -1e-6f);
+        if (fabsf(out[i].clip[2] + out[i].clip[3]) < 1e-6f) {
+            on_plane++;
+            assert_true(fabsf(out[i].attr[PERSP_A_U] - out[i].clip[0]) < 1e-6f);
+        }
+    }
+    assert_int_equal(on_plane, 2);
+}
+
+static void test_clip_rejects_nan_inf(void **state)
+{
+    (void)state;
+    persp_clipvert out[PERSP_CLIP_MAX];
+    persp_clipvert a[3] = {cv(NAN, 0, 0, 1), cv(1, 0, 0, 1), cv(0, 1, 0, 1)};
+    assert_int_equal(persp__clip_triangle(a, 8, 8, out), 0);
+    persp_clipvert b[3] = {cv(0, 0, 0, INFINITY), cv(1, 0, 0, 1), cv(0, 1, 0, 1)};
+    assert_int_equal(persp__clip_triangle(b, 8, 8, out), 0);
+    persp_clipvert c[3] = {cv(0, 0, 0, 1), cv(1, 0, 0, 1), cv(0, 1, 0, 1)};
+    c[2].attr[PERSP_A_U] = NAN;
+    assert_int_equal(persp__clip_triangle(c, 8, 8, out), 0);
+}
+
+static void test_clip_guard_band(void **state)
+{
+    (void)state;
+    /* Far outside in x: clipped to |x| <= g·w, not rejected. */
+    persp_clipvert in[3] = {cv(-100, -0.5f, 0, 1), cv(100, -0.5f, 0, 1), cv(0, 0.5f, 0, 1)}, out[PERSP_CLIP_MAX];
+    int n = persp__clip_triangle(in, 8, 8, out);
+    assert_true(n >= 4);
+    for (int i = 0; i < n; i++) assert_true(fabsf(out[i].clip[0]) <= 8.0f * out[i].clip[3] + 1e-4f);
+}
+
+static float zero_attr[PERSP_A_COUNT];
+
+static persp_winvert wv(double x, double y)
+{
+    persp_winvert v = {x, y, 0.5, 1.0, zero_attr};
+    return v;
+}
+
+static void test_setup_degenerate_and_cull(void **state)
+{
+    (void)state;
+    persp_tri t;
+    persp_winvert line[3] = {wv(1, 1), wv(5, 5), wv(9, 9)};
+    assert_int_equal(persp__setup_triangle(line, 16, 16, 0, &t), 0);
+    persp_winvert ccw[3] = {wv(1, 1), wv(9, 1), wv(1, 9)};
+    persp_winvert cw[3] = {wv(1, 1), wv(1, 9), wv(9, 1)};
+    assert_int_equal(persp__setup_triangle(ccw, 16, 16, 1, &t), 1);
+    assert_int_equal(t.backfacing, 0);
+    assert_int_equal(persp__setup_triangle(cw, 16, 16, 1, &t), 0);
+    assert_int_equal(persp__setup_triangle(cw, 16, 16, 0, &t), 1);
+    assert_int_equal(t.backfacing, 1);
+    persp_winvert off[3] = {wv(-20, -20), wv(-10, -20), wv(-20, -10)};
+    assert_int_equal(persp__setup_triangle(off, 16, 16, 0, &t), 0);
+    persp_winvert bad[3] = {wv(NAN, 1), wv(9, 1), wv(1, 9)};
+    assert_int_equal(persp__setup_triangle(bad, 16, 16, 0, &t), 0);
+}
+
+/* Counts coverage of a triangle into cnt (w×h). */
+static void cover(const persp_winvert v[3], int w, int h, int *cnt)
+{
+    persp_tri t;
+    if (!persp__setup_triangle(v, w, h, 0, &t)) return;
+    for (int y = 0; y < h; y++) {
+        int lo, hi;
+        if (!persp__tri_row_range(&t, y, 0, w - 1, &lo, &hi)) continue;
+        for (int x = lo; x <= hi; x++) cnt[y * w + x]++;
+    }
+}
+
+static void test_fill_rule_pixel_centres(void **state)
+{
+    (void)state;
+    /* The square (0,0)-(4,4) split on its diagonal: every pixel exactly once,
+     * including centres lying on the shared diagonal. */
+    int cnt[36] = {0};
+    persp_winvert a[3] = {wv(0, 0), wv(4, 0), wv(4, 4)}, b[3] = {wv(0, 0), wv(4, 4), wv(0, 4)};
+    cover(a, 6, 6, cnt);
+    cover(b, 6, 6, cnt);
+    for (int y = 0; y < 6; y++)
+        for (int x = 0; x < 6; x++) assert_int_equal(cnt[y * 6 + x], (x < 4 && y < 4) ? 1 : 0);
+    /* Top-left rule: a triangle whose left edge passes exactly through pixel
+     * centres (x = 2.5) owns them; one whose right edge does does not. */
+    persp_tri t;
+    persp_winvert left[3] = {wv(2.5, 0), wv(6, 0), wv(2.5, 4)};
+    assert_int_equal(persp__setup_triangle(left, 8, 8, 0, &t), 1);
+    int lo, hi;
+    assert_int_equal(persp__tri_row_range(&t, 0, 0, 7, &lo, &hi), 1);
+    assert_int_equal(lo, 2);
+    persp_winvert right[3] = {wv(0, 0), wv(2.5, 0), wv(2.5, 4)};
+    assert_int_equal(persp__setup_triangle(right, 8, 8, 0, &t), 1);
+    assert_int_equal(persp__tri_row_range(&t, 1, 0, 7, &lo, &hi), 1);
+    assert_int_equal(hi, 1);
+}
+
+static void test_watertight_random_mesh(void **state)
+{
+    (void)state;
+    /* A jittered grid of shared vertices: the union of its triangles is the
+     * hull, and every pixel centre inside is covered exactly once. */
+    enum { W = 200, H = 160, GX = 9, GY = 7 };
+    test_rng rng = {12345};
+    double px[GY + 1][GX + 1], py[GY + 1][GX + 1];
+    for (int j = 0; j <= GY; j++)
+        for (int i = 0; i <= GX; i++) {
+            double jx = (i > 0 && i < GX) ? test_rng_uniform(&rng, -7, 7) : 0;
+            double jy = (j > 0 && j < GY) ? test_rng_uniform(&rng, -7, 7) : 0;
+            /* Off-grid in sub-pixel terms, and some exactly on pixel centres. */
+            if (test_rng_next(&rng) % 4 == 0) jx = floor(jx) + 0.5;
+            px[j][i] = 10 + i * 20.0 + jx;
+            py[j][i] = 5 + j * 20.0 + jy;
+        }
+    int *cnt = calloc(W * H, sizeof *cnt);
+    assert_non_null(cnt);
+    for (int j = 0; j < GY; j++)
+        for (int i = 0; i < GX; i++) {
+            persp_winvert a = wv(px[j][i], py[j][i]), b = wv(px[j][i + 1], py[j][i + 1]);
+            persp_winvert c = wv(px[j + 1][i + 1], py[j + 1][i + 1]), d = wv(px[j + 1][i], py[j + 1][i]);
+            int flip = (int)(test_rng_next(&rng) & 1);
+            persp_winvert t1[3] = {a, b, flip ? d : c}, t2[3] = {flip ? b : a, c, d};
+            /* Mixed winding: half the triangles are given clockwise. */
+            if (test_rng_next(&rng) & 1) {
+                persp_winvert s = t1[1];
+                t1[1] = t1[2];
+                t1[2] = s;
+            }
+            cover(t1, W, H, cnt);
+            cover(t2, W, H, cnt);
+        }
+    int inside = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double cx = x + 0.5, cy = y + 0.5;
+            int in = cx > 10 && cx < 10 + GX * 20.0 && cy > 5 && cy < 5 + GY * 20.0;
+            if (in) {
+                inside++;
+                if (cnt[y * W + x] != 1) fail_msg("pixel (%d,%d) covered %d times", x, y, cnt[y * W + x]);
+            } else if (cnt[y * W + x] != 0 && !(cx == 10 || cy == 5)) {
+                fail_msg("pixel (%d,%d) outside the hull covered %d times", x, y, cnt[y * W + x]);
+            }
+        }
+    assert_true(inside > 20000);
+    free(cnt);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_clip_inside_unchanged), cmocka_unit_test(test_clip_all_outside),
+        cmocka_unit_test(test_clip_near_plane), cmocka_unit_test(test_clip_rejects_nan_inf),
+        cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
+        cmocka_unit_test(test_fill_rule_pixel_centres), cmocka_unit_test(test_watertight_random_mesh),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
