@@ -47,6 +47,7 @@ typedef struct persp_frame {
     size_t state_count, tri_count, prep_count;
     persp_render_stats stats;
     persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
+    persp_mat4 proj;        /* projection of the scene's camera */
 } persp_frame;
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
@@ -60,5 +61,15 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
 persp_status persp__frame_flush(persp_frame *f);
 /* The set-up triangles of the frame so far (valid until the next frame). */
 const persp_tri *persp__frame_tris(const persp_frame *f);
+const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index);
+
+/* Object-space texturing with screen-space filtering (seed 004), run after
+ * the screen pipeline has filled fb and cap (visible triangle per pixel):
+ * re-colours every pixel from splatted texels (src/objspace/objspace.c). */
+typedef struct persp_objspace_stats {
+    uint64_t splats, texels_walked, holes, triangles_split;
+} persp_objspace_stats;
+persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
+                                     persp_objspace_stats *stats);
 
 #endif

@@ -54,6 +54,7 @@ typedef struct persp_tri {
     persp_rational rat;          /* s1 = u, s2 = v */
     persp_rational bary;         /* s1 = b1, s2 = b2 (perspective-correct barycentrics) */
     double zp[3];                /* window depth plane: z = zp0·x + zp1·y + zp2 */
+    double lb1[3], lb2[3];       /* screen-linear barycentric planes (classical Gouraud/Phong) */
     uint32_t state;              /* index of the draw state */
     uint32_t prep;               /* index into the method prep array, or UINT32_MAX */
     float poly_lambda;           /* per-polygon level of detail */

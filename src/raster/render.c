@@ -399,3 +399,8 @@ persp_status persp__frame_flush(persp_frame *f)
 }
 
 const persp_tri *persp__frame_tris(const persp_frame *f) { return f->cache->tris; }
+
+const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index)
+{
+    return &f->cache->states[index];
+}

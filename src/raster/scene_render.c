@@ -73,8 +73,6 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     if (st != PERSP_OK) return st;
     if (dd.pipeline != PERSP_PIPELINE_SCREEN && dd.pipeline != PERSP_PIPELINE_OBJECT)
         return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown pipeline");
-    if (dd.pipeline == PERSP_PIPELINE_OBJECT)
-        return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED, "render: the object-space pipeline is not available");
     persp_method_sel method;
     st = persp__method_resolve(ctx, dd.method ? dd.method : "exact", &method);
     if (st != PERSP_OK) return st;
@@ -88,6 +86,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
 
     persp_mat4 proj, view;
     camera_matrices(scene, fb->width, fb->height, &proj, &view);
+    f->proj = proj;
     persp_draw_state ds;
     memset(&ds, 0, sizeof ds);
     eye_lights(scene, &view, &ds.lighting);
@@ -133,6 +132,30 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
     persp__clear_error(ctx);
     if (!scene || !fb) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: no scene or framebuffer");
     persp_frame f;
+    if (desc && desc->pipeline == PERSP_PIPELINE_OBJECT) {
+        /* Seed 004: the screen pipeline decides visibility (which triangle
+         * owns each pixel), then texels walked in object space re-colour it. */
+        persp_capture cap;
+        memset(&cap, 0, sizeof cap);
+        size_t n = (size_t)fb->width * (size_t)fb->height;
+        cap.width = fb->width;
+        cap.height = fb->height;
+        cap.tri = persp__calloc(ctx, n, sizeof *cap.tri);
+        cap.s1 = persp__calloc(ctx, n, sizeof *cap.s1);
+        cap.s2 = persp__calloc(ctx, n, sizeof *cap.s2);
+        persp_status st = PERSP_ERR_OUT_OF_MEMORY;
+        if (cap.tri && cap.s1 && cap.s2) {
+            for (size_t i = 0; i < n; i++) cap.tri[i] = -1;
+            st = render_frame(ctx, scene, desc, fb, &f, &cap);
+            persp_objspace_stats os;
+            if (st == PERSP_OK) st = persp__objspace_resolve(&f, &cap, &os);
+            if (st == PERSP_OK && stats) *stats = f.stats;
+        } else {
+            persp_context_fail(ctx, st, "render: out of memory for the object-space pipeline");
+        }
+        persp__capture_free(ctx, &cap);
+        return st;
+    }
     persp_status st = render_frame(ctx, scene, desc, fb, &f, NULL);
     if (st == PERSP_OK && stats) *stats = f.stats;
     return st;

@@ -101,6 +101,9 @@ int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int
     persp__plane_through(vx, vy, b2, &t->bary.d, &t->bary.e, &t->bary.f);
     t->bary.g = t->rat.g, t->bary.h = t->rat.h, t->bary.i = t->rat.i;
     persp__plane_through(vx, vy, zz, &t->zp[0], &t->zp[1], &t->zp[2]);
+    const double e1[3] = {0, 1, 0}, e2[3] = {0, 0, 1};
+    persp__plane_through(vx, vy, e1, &t->lb1[0], &t->lb1[1], &t->lb1[2]);
+    persp__plane_through(vx, vy, e2, &t->lb2[0], &t->lb2[1], &t->lb2[2]);
     t->rat.xmin = t->bary.xmin = t->xmin;
     t->rat.xmax = t->bary.xmax = t->xmax;
     t->rat.ymin = t->bary.ymin = t->ymin;

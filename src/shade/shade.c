@@ -1,8 +1,21 @@
-/* Shading modes and the span shaders they resolve to. */
+/*
+ * Shading modes (seed 000 §4.2–4.3, seed 003) and the span shaders they
+ * resolve to.
+ *
+ * Every mode reduces to barycentric weights (b0, b1, b2) per pixel:
+ *  - screen-linear weights give classical Gouraud / Phong;
+ *  - perspective-correct weights are the rational form b_k = (b_k/w)/(1/w),
+ *    i.e. the perspective parameter t_w of (4.6) in two dimensions, computed
+ *    by a texture-coordinate method run on the planes of b1/w, b2/w. The
+ *    polynomial t_w approximations of §4.3 are therefore the span methods
+ *    `quadratic`, `cubic` and the piecewise quadratic one: the same code.
+ * Lighting is Blinn–Phong with ambient, diffuse and specular terms.
+ */
 #include "shade/shade.h"
 
 #include "core/internal.h"
 
+#include <math.h>
 #include <string.h>
 
 static const char *const shading_names[PERSP_SHADING_COUNT] = {
@@ -37,7 +50,135 @@ static uint32_t pack(const float c[4])
     return r;
 }
 
-/* Texture replaces the fragment colour (seed 002 "texture environment"). */
+static void unpack(uint32_t p, float c[4])
+{
+    for (int k = 0; k < 4; k++) c[k] = (float)((p >> (8 * k)) & 255u) * (1.0f / 255.0f);
+}
+
+/* Blinn–Phong at eye-space point e with unit normal n. Writes the ambient +
+ * diffuse part (which a texture modulates) and the specular part. */
+static void light_point(const persp_draw_state *ds, const float n_in[3], const float e[3],
+                        float diff[3], float spec[3])
+{
+    const persp_material *m = &ds->material;
+    const persp_lighting *L = &ds->lighting;
+    float n[3] = {n_in[0], n_in[1], n_in[2]};
+    /* Two-sided: a normal facing away from the eye is flipped. */
+    if (n[0] * e[0] + n[1] * e[1] + n[2] * e[2] > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+    float vlen = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    float v[3] = {0.0f, 0.0f, 1.0f};
+    if (vlen > 0.0f) v[0] = -e[0] / vlen, v[1] = -e[1] / vlen, v[2] = -e[2] / vlen;
+    for (int c = 0; c < 3; c++) {
+        diff[c] = L->ambient[c] * m->ambient[c];
+        spec[c] = 0.0f;
+    }
+    for (int i = 0; i < L->count; i++) {
+        const persp_eye_light *l = &L->light[i];
+        float d[3], att = 1.0f;
+        if (l->type == PERSP_LIGHT_DIRECTIONAL) {
+            d[0] = l->pos[0], d[1] = l->pos[1], d[2] = l->pos[2];
+        } else {
+            d[0] = l->pos[0] - e[0], d[1] = l->pos[1] - e[1], d[2] = l->pos[2] - e[2];
+            float dist = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+            if (dist > 0.0f) d[0] /= dist, d[1] /= dist, d[2] /= dist;
+            float den = l->atten[0] + l->atten[1] * dist + l->atten[2] * dist * dist;
+            att = den > 0.0f ? 1.0f / den : 1.0f;
+        }
+        float ndl = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+        if (ndl <= 0.0f) continue;
+        float h[3] = {d[0] + v[0], d[1] + v[1], d[2] + v[2]};
+        float hl = sqrtf(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
+        float ndh = hl > 0.0f ? (n[0] * h[0] + n[1] * h[1] + n[2] * h[2]) / hl : 0.0f;
+        float sp = ndh > 0.0f && m->shininess > 0.0f ? powf(ndh, m->shininess) : 0.0f;
+        for (int c = 0; c < 3; c++) {
+            diff[c] += att * l->color[c] * m->diffuse[c] * ndl;
+            spec[c] += att * l->color[c] * m->specular[c] * sp;
+        }
+    }
+}
+
+/* Combines lighting with the texel per the texture environment (seed 002):
+ * replace takes the texel, modulate multiplies the lit diffuse colour by it
+ * and adds the specular highlight. */
+static uint32_t combine(const persp_draw_state *ds, const float diff[3], const float spec[3],
+                        const uint32_t *texel, int k)
+{
+    float c[4] = {diff[0] + spec[0], diff[1] + spec[1], diff[2] + spec[2], 1.0f};
+    if (texel) {
+        float t[4];
+        unpack(texel[k], t);
+        if (ds->material.env == PERSP_TEXENV_REPLACE) return texel[k];
+        for (int i = 0; i < 3; i++) c[i] = diff[i] * t[i] + spec[i];
+        c[3] = t[3];
+    }
+    return pack(c);
+}
+
+/* ----------------------------------------------------------- barycentrics */
+
+/* Screen-linear weights b1, b2 at the batch's pixels. */
+static void bary_linear(const persp_tri *t, const persp_frag_batch *b, float *b1, float *b2)
+{
+    if (!b->px) {
+        double px = b->x0 + 0.5, py = b->y + 0.5;
+        double s1 = t->lb1[0] * px + t->lb1[1] * py + t->lb1[2];
+        double s2 = t->lb2[0] * px + t->lb2[1] * py + t->lb2[2];
+        for (int k = 0; k < b->n; k++) {
+            b1[k] = (float)(s1 + k * t->lb1[0]);
+            b2[k] = (float)(s2 + k * t->lb2[0]);
+        }
+        return;
+    }
+    for (int k = 0; k < b->n; k++) {
+        double px = b->px[k] + 0.5, py = b->py[k] + 0.5;
+        b1[k] = (float)(t->lb1[0] * px + t->lb1[1] * py + t->lb1[2]);
+        b2[k] = (float)(t->lb2[0] * px + t->lb2[1] * py + t->lb2[2]);
+    }
+}
+
+/* Perspective-correct weights: the draw's shading method on the barycentric
+ * rational. Batches with explicit pixel positions (custom traversals) have
+ * no span for a span method to work along, so they use the exact form. */
+static void bary_perspective(const persp_draw_state *ds, const persp_tri *t,
+                             const persp_frag_batch *b, float *b1, float *b2)
+{
+    if (!b->px) {
+        ds->shade_method.m->span(&t->bary, &ds->shade_method.params, NULL, b->x0, b->y, b->n, b1,
+                                 b2, NULL);
+        return;
+    }
+    for (int k = 0; k < b->n; k++) {
+        double s1, s2;
+        persp__rational_eval(&t->bary, b->px[k], b->py[k], &s1, &s2);
+        b1[k] = (float)s1;
+        b2[k] = (float)s2;
+    }
+}
+
+static void bary_for(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                     float *b1, float *b2)
+{
+    if (ds->shade_method.m)
+        bary_perspective(ds, t, b, b1, b2);
+    else
+        bary_linear(t, b, b1, b2);
+}
+
+static void interp3(const persp_tri *t, int attr, float b1, float b2, float out[3])
+{
+    float b0 = 1.0f - b1 - b2;
+    for (int c = 0; c < 3; c++)
+        out[c] = b0 * t->vattr[0][attr + c] + b1 * t->vattr[1][attr + c] + b2 * t->vattr[2][attr + c];
+}
+
+static void normalize3(float v[3])
+{
+    float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0.0f) v[0] /= l, v[1] /= l, v[2] /= l;
+}
+
+/* ------------------------------------------------------------ span shaders */
+
 static void shade_replace(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                           const float *q, const uint32_t *texel, uint32_t *out)
 {
@@ -45,6 +186,7 @@ static void shade_replace(const persp_draw_state *ds, const persp_tri *t, const 
     memcpy(out, texel, (size_t)b->n * sizeof *out);
 }
 
+/* Untextured, unlit: the material's diffuse colour. */
 static void shade_constant(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                            const float *q, const uint32_t *texel, uint32_t *out)
 {
@@ -54,19 +196,201 @@ static void shade_constant(const persp_draw_state *ds, const persp_tri *t, const
     for (int k = 0; k < b->n; k++) out[k] = p;
 }
 
+/* Flat: one lighting evaluation with the face normal at the centroid. */
+static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                       const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    const float *p0 = &t->vattr[0][PERSP_A_EX], *p1 = &t->vattr[1][PERSP_A_EX], *p2 = &t->vattr[2][PERSP_A_EX];
+    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    normalize3(n);
+    float c[3] = {(p0[0] + p1[0] + p2[0]) / 3.0f, (p0[1] + p1[1] + p2[1]) / 3.0f, (p0[2] + p1[2] + p2[2]) / 3.0f};
+    float diff[3], spec[3];
+    light_point(ds, n, c, diff, spec);
+    for (int k = 0; k < b->n; k++) out[k] = combine(ds, diff, spec, texel, k);
+}
+
+/* Gouraud: colours lit per vertex (persp__shade_vertices), interpolated with
+ * screen-linear (classical) or perspective-correct (§4.2) weights. The
+ * vertex colour carries ambient + diffuse + specular, so modulate scales all. */
+static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                          const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_for(ds, t, b, b1, b2);
+    const float zero[3] = {0, 0, 0};
+    for (int k = 0; k < b->n; k++) {
+        float c[3];
+        interp3(t, PERSP_A_R, b1[k], b2[k], c);
+        out[k] = combine(ds, c, zero, texel, k);
+    }
+}
+
+/* Phong: normals and eye positions interpolated, normal renormalised, lit
+ * per pixel. */
+static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                        const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_for(ds, t, b, b1, b2);
+    for (int k = 0; k < b->n; k++) {
+        float n[3], e[3], diff[3], spec[3];
+        interp3(t, PERSP_A_NX, b1[k], b2[k], n);
+        normalize3(n);
+        /* Eye position is always perspective-correct: it is where the pixel's
+         * ray meets the triangle's plane, whatever the normal scheme. */
+        interp3(t, PERSP_A_EX, b1[k], b2[k], e);
+        light_point(ds, n, e, diff, spec);
+        out[k] = combine(ds, diff, spec, texel, k);
+    }
+}
+
+/*
+ * Spherical-angular interpolation of unit normals along the span (seed 000
+ * §4.3). The end normals Na, Nb are exact (perspective-correct weights at
+ * the span's first and last pixels, normalised); ψ = ∠(Na, Nb) and Nk is the
+ * unit vector orthogonal to Na in their plane. With η the screen parameter
+ * along the span and ħ = z_b/z_a the depth ratio of the span's ends,
+ *     b = ctg ψ + ħ·(ctg(ηψ) − ctg ψ),   N = (Na·b + Nk) / sqrt(1 + b²),
+ * which has unit length by construction (no renormalisation). With ħ = 1
+ * this is plain slerp in screen space (the `-screen` counterpart).
+ */
+static void shade_slerp_common(const persp_draw_state *ds, const persp_tri *t,
+                               const persp_frag_batch *b, const uint32_t *texel, uint32_t *out,
+                               int perspective)
+{
+    if (b->px || b->n < 2) {
+        /* No span to interpolate along: exact per-pixel normals. */
+        float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+        bary_perspective(ds, t, b, b1, b2);
+        for (int k = 0; k < b->n; k++) {
+            float n[3], e[3], diff[3], spec[3];
+            interp3(t, PERSP_A_NX, b1[k], b2[k], n);
+            normalize3(n);
+            interp3(t, PERSP_A_EX, b1[k], b2[k], e);
+            light_point(ds, n, e, diff, spec);
+            out[k] = combine(ds, diff, spec, texel, k);
+        }
+        return;
+    }
+    const int n = b->n, last = n - 1;
+    double sa1, sa2, sb1, sb2;
+    persp__rational_eval(&t->bary, b->x0, b->y, &sa1, &sa2);
+    persp__rational_eval(&t->bary, b->x0 + last, b->y, &sb1, &sb2);
+    float na[3], nb[3];
+    interp3(t, PERSP_A_NX, (float)sa1, (float)sa2, na);
+    interp3(t, PERSP_A_NX, (float)sb1, (float)sb2, nb);
+    normalize3(na);
+    normalize3(nb);
+    double px = b->x0 + 0.5, py = b->y + 0.5;
+    double qa = t->rat.g * px + t->rat.h * py + t->rat.i;
+    double qb = qa + t->rat.g * last;
+    double hbar = perspective ? qa / qb : 1.0; /* z_b / z_a = (1/q_b)/(1/q_a) */
+    double cosp = (double)na[0] * nb[0] + (double)na[1] * nb[1] + (double)na[2] * nb[2];
+    cosp = cosp > 1.0 ? 1.0 : cosp < -1.0 ? -1.0 : cosp;
+    double psi = acos(cosp);
+    double nk[3] = {nb[0] - cosp * na[0], nb[1] - cosp * na[1], nb[2] - cosp * na[2]};
+    double nkl = sqrt(nk[0] * nk[0] + nk[1] * nk[1] + nk[2] * nk[2]);
+    int straight = !(psi > 1e-6) || !(nkl > 1e-9);
+    if (!straight) nk[0] /= nkl, nk[1] /= nkl, nk[2] /= nkl;
+    double ctg_psi = straight ? 0.0 : cos(psi) / sin(psi);
+    float e[3], diff[3], spec[3];
+    /* Eye positions stay perspective-correct (exact weights) so only the
+     * normal scheme differs between shading modes. */
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_perspective(ds, t, b, b1, b2);
+    for (int k = 0; k < n; k++) {
+        float nn[3];
+        if (straight || k == 0) {
+            nn[0] = na[0], nn[1] = na[1], nn[2] = na[2];
+        } else {
+            double eta = (double)k / last;
+            double c = ctg_psi + hbar * (cos(eta * psi) / sin(eta * psi) - ctg_psi);
+            double s = 1.0 / sqrt(1.0 + c * c);
+            for (int i = 0; i < 3; i++) nn[i] = (float)((na[i] * c + nk[i]) * s);
+        }
+        interp3(t, PERSP_A_EX, b1[k], b2[k], e);
+        light_point(ds, nn, e, diff, spec);
+        out[k] = combine(ds, diff, spec, texel, k);
+    }
+}
+
+static void shade_slerp(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                        const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    shade_slerp_common(ds, t, b, texel, out, 1);
+}
+
+static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
+                               const persp_frag_batch *b, const float *q, const uint32_t *texel,
+                               uint32_t *out)
+{
+    (void)q;
+    shade_slerp_common(ds, t, b, texel, out, 0);
+}
+
+/* The method computing perspective-correct weights for each mode (NULL:
+ * screen-linear). Approximations of t_w are the span methods themselves. */
+static const char *shade_method_spec(persp_shading s)
+{
+    switch (s) {
+    case PERSP_SHADING_GOURAUD_PC:
+    case PERSP_SHADING_PHONG_PC:
+    case PERSP_SHADING_PHONG_SLERP:
+    case PERSP_SHADING_PHONG_SLERP_SCREEN: return "exact";
+    case PERSP_SHADING_PHONG_PC_QUAD: return "quadratic";
+    case PERSP_SHADING_PHONG_PC_PWQUAD: return "quadratic-pw";
+    case PERSP_SHADING_PHONG_PC_CUBIC: return "cubic";
+    default: return NULL;
+    }
+}
+
 persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
 {
-    switch (ds->shading) {
-    case PERSP_SHADING_NONE:
-        ds->shade = ds->tex ? shade_replace : shade_constant;
-        return PERSP_OK;
-    default:
-        return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED, "shading '%s' is not supported",
-                                  persp_shading_name(ds->shading));
+    memset(&ds->shade_method, 0, sizeof ds->shade_method);
+    const char *spec = shade_method_spec(ds->shading);
+    if (spec) {
+        persp_status st = persp__method_resolve(ctx, spec, &ds->shade_method);
+        if (st != PERSP_OK)
+            return persp_context_fail(ctx, PERSP_ERR_UNAVAILABLE, "shading '%s' needs the method '%s'",
+                                      persp_shading_name(ds->shading), spec);
+        if (ds->shade_method.m->prepare || !ds->shade_method.m->span)
+            return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED,
+                                      "shading '%s': method '%s' needs per-triangle preparation",
+                                      persp_shading_name(ds->shading), spec);
     }
+    switch (ds->shading) {
+    case PERSP_SHADING_NONE: ds->shade = ds->tex ? shade_replace : shade_constant; break;
+    case PERSP_SHADING_FLAT: ds->shade = shade_flat; break;
+    case PERSP_SHADING_GOURAUD:
+    case PERSP_SHADING_GOURAUD_PC: ds->shade = shade_gouraud; break;
+    case PERSP_SHADING_PHONG:
+    case PERSP_SHADING_PHONG_PC:
+    case PERSP_SHADING_PHONG_PC_QUAD:
+    case PERSP_SHADING_PHONG_PC_PWQUAD:
+    case PERSP_SHADING_PHONG_PC_CUBIC: ds->shade = shade_phong; break;
+    case PERSP_SHADING_PHONG_SLERP: ds->shade = shade_slerp; break;
+    case PERSP_SHADING_PHONG_SLERP_SCREEN: ds->shade = shade_slerp_screen; break;
+    default:
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "unknown shading mode %d", (int)ds->shading);
+    }
+    return PERSP_OK;
 }
 
 void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n)
 {
-    (void)ds, (void)v, (void)n;
+    if (ds->shading != PERSP_SHADING_GOURAUD && ds->shading != PERSP_SHADING_GOURAUD_PC) return;
+    for (size_t i = 0; i < n; i++) {
+        float nn[3] = {v[i].attr[PERSP_A_NX], v[i].attr[PERSP_A_NY], v[i].attr[PERSP_A_NZ]};
+        normalize3(nn);
+        float diff[3], spec[3];
+        light_point(ds, nn, &v[i].attr[PERSP_A_EX], diff, spec);
+        for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_R + c] = diff[c] + spec[c];
+        v[i].attr[PERSP_A_A] = 1.0f;
+    }
 }
