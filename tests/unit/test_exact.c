@@ -83,9 +83,11 @@ static void test_exact_against_double(void **state)
         }
     print_message("exact: max error %.3g texels over %ld pixels\n", worst, pixels);
     assert_true(pixels > 100000);
-    /* Documented bound (docs/METHODS.md): single-precision evaluation of
-     * U/Q with u in [0,1] keeps the error under 1/500 texel on 256 texels. */
-    assert_true(worst < 2e-3);
+    /* Documented bound (docs/METHODS.md): single precision with the span
+     * start taken from double planes and k·step per pixel keeps a few ulps
+     * of relative error in U, V and Q; for u in [0,1] on 256 texels that is
+     * under 5e-4 texel (measured: about 1.1e-4). */
+    assert_true(worst < 5e-4);
 }
 
 static void test_affine_is_wrong_under_perspective(void **state)
