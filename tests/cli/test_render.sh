@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# CLI behaviour of `persp render`, `persp methods`, `--help` and `--version`:
+# successful renders write a PNG, bad usage exits 2 with a message naming the
+# problem, failures exit 1 and leave no output file behind.
+set -u
+persp="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok()   { pass=$((pass + 1)); }
+bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+# expect CODE PATTERN -- command...: exit code and a stderr/stdout pattern
+expect() {
+    local code="$1" pattern="$2"; shift 3
+    local out rc
+    out=$("$@" 2>&1); rc=$?
+    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
+    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
+    ok
+}
+
+expect 0 "usage: persp" -- "$persp" --help
+expect 0 "^persp [0-9]+\.[0-9]+\.[0-9]+" -- "$persp" --version
+expect 2 "unknown command 'frobnicate'" -- "$persp" frobnicate
+expect 2 "usage" -- "$persp"
+expect 0 "--method" -- "$persp" render --help
+expect 0 "^exact " -- "$persp" methods
+expect 0 "^affine " -- "$persp" methods
+
+expect 0 "1024x768, method exact, filter bilinear" -- "$persp" render corridor --method exact --filter bilinear -o "$tmp/c.png"
+[ -s "$tmp/c.png" ] && [ "$(head -c 8 "$tmp/c.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && ok || bad "corridor PNG missing or not a PNG"
+expect 0 "64x48" -- "$persp" render floor --size 64x48 --depth invw -o "$tmp/f.png"
+expect 0 "method affine" -- "$persp" render cube --method affine --size 40x30 --threads 3 -o "$tmp/k.png"
+expect 0 "" -- "$persp" render corridor --size 32x24 --pipeline object -q -o "$tmp/o.png"
+[ -s "$tmp/o.png" ] && ok || bad "object-space render wrote nothing"
+
+expect 2 "unknown option '--bogus'" -- "$persp" render --bogus
+expect 2 "unknown method 'nosuch'" -- "$persp" render --method nosuch -o "$tmp/x.png"
+expect 2 "bad parameters in method 'exact:3'" -- "$persp" render --method exact:3 -o "$tmp/x.png"
+expect 2 "unknown filter 'blurry'" -- "$persp" render --filter blurry -o "$tmp/x.png"
+expect 2 "unknown wrap mode 'sideways'" -- "$persp" render --wrap sideways -o "$tmp/x.png"
+expect 2 "bad --size '0x10'" -- "$persp" render --size 0x10 -o "$tmp/x.png"
+expect 2 "bad --size '100000x100000'" -- "$persp" render --size 100000x100000 -o "$tmp/x.png"
+expect 2 "bad --size 'axb'" -- "$persp" render --size axb -o "$tmp/x.png"
+expect 2 "bad --depth 'w'" -- "$persp" render --depth w -o "$tmp/x.png"
+expect 2 "bad --threads '0'" -- "$persp" render --threads 0 -o "$tmp/x.png"
+expect 2 "needs a value" -- "$persp" render -o
+expect 2 "more than one scene" -- "$persp" render corridor cube
+expect 1 "nowhere/x.png" -- "$persp" render corridor --size 8x8 -o "$tmp/nowhere/x.png"
+expect 1 "missing.png" -- "$persp" render corridor --texture "$tmp/missing.png" -o "$tmp/x.png"
+printf 'not an image at all' > "$tmp/junk.png"
+expect 1 "junk.png" -- "$persp" render corridor --texture "$tmp/junk.png" -o "$tmp/x.png"
+[ ! -e "$tmp/x.png" ] && ok || bad "a failed render left $tmp/x.png behind"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
