@@ -186,14 +186,24 @@ static void shade_replace(const persp_draw_state *ds, const persp_tri *t, const 
     memcpy(out, texel, (size_t)b->n * sizeof *out);
 }
 
-/* Untextured, unlit: the material's diffuse colour. */
-static void shade_constant(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                           const float *q, const uint32_t *texel, uint32_t *out)
+/* Untextured, unlit: the vertex colour, interpolated perspective-correctly
+ * as OpenGL does for varyings, times the material's diffuse colour. */
+static void shade_vertex_color(const persp_draw_state *ds, const persp_tri *t,
+                               const persp_frag_batch *b, const float *q, const uint32_t *texel,
+                               uint32_t *out)
 {
-    (void)t, (void)q, (void)texel;
-    float c[4] = {ds->material.diffuse[0], ds->material.diffuse[1], ds->material.diffuse[2], 1.0f};
-    uint32_t p = pack(c);
-    for (int k = 0; k < b->n; k++) out[k] = p;
+    (void)q, (void)texel;
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_perspective(ds, t, b, b1, b2);
+    for (int k = 0; k < b->n; k++) {
+        float c[4], a[3];
+        interp3(t, PERSP_A_R, b1[k], b2[k], c);
+        float b0 = 1.0f - b1[k] - b2[k];
+        c[3] = b0 * t->vattr[0][PERSP_A_A] + b1[k] * t->vattr[1][PERSP_A_A] + b2[k] * t->vattr[2][PERSP_A_A];
+        for (int i = 0; i < 3; i++) a[i] = c[i] * ds->material.diffuse[i];
+        float o[4] = {a[0], a[1], a[2], c[3]};
+        out[k] = pack(o);
+    }
 }
 
 /* Flat: one lighting evaluation with the face normal at the centroid. */
@@ -249,24 +259,58 @@ static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const pe
     }
 }
 
-/*
- * Spherical-angular interpolation of unit normals along the span (seed 000
- * §4.3). The end normals Na, Nb are exact (perspective-correct weights at
- * the span's first and last pixels, normalised); ψ = ∠(Na, Nb) and Nk is the
- * unit vector orthogonal to Na in their plane. With η the screen parameter
- * along the span and ħ = z_b/z_a the depth ratio of the span's ends,
- *     b = ctg ψ + ħ·(ctg(ηψ) − ctg ψ),   N = (Na·b + Nk) / sqrt(1 + b²),
- * which has unit length by construction (no renormalisation). With ħ = 1
- * this is plain slerp in screen space (the `-screen` counterpart).
- */
+void persp__slerp_init(persp_slerp *s, const float na[3], const float nb[3], double hbar)
+{
+    double a[3] = {na[0], na[1], na[2]}, b[3] = {nb[0], nb[1], nb[2]};
+    double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    double lb = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+    memset(s, 0, sizeof *s);
+    s->hbar = hbar;
+    if (!(la > 0.0) || !(lb > 0.0)) {
+        s->straight = 1;
+        s->na[2] = 1.0;
+        return;
+    }
+    for (int i = 0; i < 3; i++) a[i] /= la, b[i] /= lb;
+    memcpy(s->na, a, sizeof a);
+    double c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    c = c > 1.0 ? 1.0 : c < -1.0 ? -1.0 : c;
+    double k[3] = {b[0] - c * a[0], b[1] - c * a[1], b[2] - c * a[2]};
+    double kl = sqrt(k[0] * k[0] + k[1] * k[1] + k[2] * k[2]);
+    s->psi = acos(c);
+    if (!(s->psi > 1e-7) || !(kl > 1e-12)) {
+        s->straight = 1;
+        return;
+    }
+    for (int i = 0; i < 3; i++) s->nk[i] = k[i] / kl;
+    s->inv_sin_psi = 1.0 / sin(s->psi);
+    s->ctg_psi = cos(s->psi) * s->inv_sin_psi;
+}
+
+void persp__slerp_eval(const persp_slerp *s, double tv, int perspective, float out[3])
+{
+    if (s->straight || !(tv > 0.0)) {
+        for (int i = 0; i < 3; i++) out[i] = (float)s->na[i];
+        return;
+    }
+    double b = perspective ? s->ctg_psi + s->hbar * (1.0 / tv - 1.0) * s->inv_sin_psi
+                           : cos(tv * s->psi) / sin(tv * s->psi);
+    double r = 1.0 / sqrt(1.0 + b * b);
+    for (int i = 0; i < 3; i++) out[i] = (float)((s->na[i] * b + s->nk[i]) * r);
+}
+
+/* Phong with spherical-angular normals along the span. The end normals are
+ * exact (perspective-correct weights at the span's first and last pixels,
+ * normalised); eye positions stay perspective-correct so that only the
+ * normal scheme differs between shading modes. */
 static void shade_slerp_common(const persp_draw_state *ds, const persp_tri *t,
                                const persp_frag_batch *b, const uint32_t *texel, uint32_t *out,
                                int perspective)
 {
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_perspective(ds, t, b, b1, b2);
     if (b->px || b->n < 2) {
         /* No span to interpolate along: exact per-pixel normals. */
-        float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
-        bary_perspective(ds, t, b, b1, b2);
         for (int k = 0; k < b->n; k++) {
             float n[3], e[3], diff[3], spec[3];
             interp3(t, PERSP_A_NX, b1[k], b2[k], n);
@@ -278,41 +322,17 @@ static void shade_slerp_common(const persp_draw_state *ds, const persp_tri *t,
         return;
     }
     const int n = b->n, last = n - 1;
-    double sa1, sa2, sb1, sb2;
-    persp__rational_eval(&t->bary, b->x0, b->y, &sa1, &sa2);
-    persp__rational_eval(&t->bary, b->x0 + last, b->y, &sb1, &sb2);
     float na[3], nb[3];
-    interp3(t, PERSP_A_NX, (float)sa1, (float)sa2, na);
-    interp3(t, PERSP_A_NX, (float)sb1, (float)sb2, nb);
-    normalize3(na);
-    normalize3(nb);
+    interp3(t, PERSP_A_NX, b1[0], b2[0], na);
+    interp3(t, PERSP_A_NX, b1[last], b2[last], nb);
     double px = b->x0 + 0.5, py = b->y + 0.5;
     double qa = t->rat.g * px + t->rat.h * py + t->rat.i;
     double qb = qa + t->rat.g * last;
-    double hbar = perspective ? qa / qb : 1.0; /* z_b / z_a = (1/q_b)/(1/q_a) */
-    double cosp = (double)na[0] * nb[0] + (double)na[1] * nb[1] + (double)na[2] * nb[2];
-    cosp = cosp > 1.0 ? 1.0 : cosp < -1.0 ? -1.0 : cosp;
-    double psi = acos(cosp);
-    double nk[3] = {nb[0] - cosp * na[0], nb[1] - cosp * na[1], nb[2] - cosp * na[2]};
-    double nkl = sqrt(nk[0] * nk[0] + nk[1] * nk[1] + nk[2] * nk[2]);
-    int straight = !(psi > 1e-6) || !(nkl > 1e-9);
-    if (!straight) nk[0] /= nkl, nk[1] /= nkl, nk[2] /= nkl;
-    double ctg_psi = straight ? 0.0 : cos(psi) / sin(psi);
-    float e[3], diff[3], spec[3];
-    /* Eye positions stay perspective-correct (exact weights) so only the
-     * normal scheme differs between shading modes. */
-    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
-    bary_perspective(ds, t, b, b1, b2);
+    persp_slerp sl;
+    persp__slerp_init(&sl, na, nb, qa / qb); /* ħ = z_b/z_a = q_a/q_b */
     for (int k = 0; k < n; k++) {
-        float nn[3];
-        if (straight || k == 0) {
-            nn[0] = na[0], nn[1] = na[1], nn[2] = na[2];
-        } else {
-            double eta = (double)k / last;
-            double c = ctg_psi + hbar * (cos(eta * psi) / sin(eta * psi) - ctg_psi);
-            double s = 1.0 / sqrt(1.0 + c * c);
-            for (int i = 0; i < 3; i++) nn[i] = (float)((na[i] * c + nk[i]) * s);
-        }
+        float nn[3], e[3], diff[3], spec[3];
+        persp__slerp_eval(&sl, (double)k / last, perspective, nn);
         interp3(t, PERSP_A_EX, b1[k], b2[k], e);
         light_point(ds, nn, e, diff, spec);
         out[k] = combine(ds, diff, spec, texel, k);
@@ -339,6 +359,7 @@ static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
 static const char *shade_method_spec(persp_shading s)
 {
     switch (s) {
+    case PERSP_SHADING_NONE:
     case PERSP_SHADING_GOURAUD_PC:
     case PERSP_SHADING_PHONG_PC:
     case PERSP_SHADING_PHONG_SLERP:
@@ -365,7 +386,7 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
                                       persp_shading_name(ds->shading), spec);
     }
     switch (ds->shading) {
-    case PERSP_SHADING_NONE: ds->shade = ds->tex ? shade_replace : shade_constant; break;
+    case PERSP_SHADING_NONE: ds->shade = ds->tex ? shade_replace : shade_vertex_color; break;
     case PERSP_SHADING_FLAT: ds->shade = shade_flat; break;
     case PERSP_SHADING_GOURAUD:
     case PERSP_SHADING_GOURAUD_PC: ds->shade = shade_gouraud; break;

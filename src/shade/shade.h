@@ -18,4 +18,26 @@ static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri
     ds->shade(ds, t, b, q, texel, out);
 }
 
+/*
+ * Spherical-angular interpolation of unit normals along a span (seed 000
+ * §4.3), in the cotangent form that yields unit vectors without
+ * renormalisation: with ψ = ∠(Na, Nb), Nk the unit vector orthogonal to Na
+ * in their plane, and b = ctg(angle from Na), N = (Na·b + Nk)/sqrt(1 + b²).
+ * Perspective-correct: b = ctg ψ + ħ·(ctg(ηψ) − ctg ψ) (§4.3), where ηψ is
+ * the angle whose chord parameter is the screen parameter t_v, i.e.
+ * ctg(ηψ) − ctg ψ = (1/t_v − 1)/sin ψ; so b = ctg ψ + ħ·(1/t_v − 1)/sin ψ,
+ * ħ = z_b/z_a. Screen-space counterpart: b = ctg(t_v·ψ) (angle linear on
+ * screen, plain slerp).
+ */
+typedef struct persp_slerp {
+    double na[3], nk[3];
+    double psi, ctg_psi, inv_sin_psi, hbar;
+    int straight; /* Na ∥ Nb: nothing to interpolate */
+} persp_slerp;
+
+void persp__slerp_init(persp_slerp *s, const float na[3], const float nb[3], double hbar);
+/* Normal at screen parameter tv in [0, 1]; perspective != 0 for the
+ * perspective-correct form. */
+void persp__slerp_eval(const persp_slerp *s, double tv, int perspective, float out[3]);
+
 #endif
