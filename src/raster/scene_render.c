@@ -13,7 +13,10 @@ void persp_framebuffer_clear(persp_framebuffer *fb, const uint8_t rgba[4], persp
     size_t n = (size_t)fb->width * (size_t)fb->height;
     uint8_t c[4] = {0, 0, 0, 255};
     if (rgba) memcpy(c, rgba, 4);
-    for (size_t i = 0; i < n; i++) memcpy(fb->color + 4 * i, c, 4);
+    uint32_t packed;
+    memcpy(&packed, c, 4);
+    uint32_t *px = (uint32_t *)(void *)fb->color;
+    for (size_t i = 0; i < n; i++) px[i] = packed;
     float d = mode == PERSP_DEPTH_INVW ? 0.0f : 1.0f;
     for (size_t i = 0; i < n; i++) fb->depth[i] = d;
 }
