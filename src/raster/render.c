@@ -218,15 +218,30 @@ static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
     float q[PERSP_SPAN_MAX], z[PERSP_SPAN_MAX];
     int32_t idx[PERSP_SPAN_MAX];
     uint8_t live[PERSP_SPAN_MAX];
+    const int invw = f->depth_mode == PERSP_DEPTH_INVW;
+    float *depth = f->fb->depth;
+    int any = 0;
 
     if (!b->px) {
+        /* Span form: contiguous pixels; loops written to vectorise. */
         double px = b->x0 + 0.5, py = b->y + 0.5;
         float q0 = (float)(t->rat.g * px + t->rat.h * py + t->rat.i), dq = (float)t->rat.g;
         float z0 = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]), dz = (float)t->zp[0];
+        const int32_t base = b->y * W + b->x0;
+        float *drow = depth + base;
         for (int k = 0; k < n; k++) {
             q[k] = q0 + (float)k * dq;
             z[k] = z0 + (float)k * dz;
-            idx[k] = b->y * W + b->x0 + k;
+            idx[k] = base + k;
+        }
+        if (!ds->depth_test) {
+            for (int k = 0; k < n; k++) live[k] = 1;
+        } else if (invw) {
+            /* "1/z buffering" (seed 002): 1/w grows towards the eye and is
+             * linear in screen space, so the largest value is the nearest. */
+            for (int k = 0; k < n; k++) live[k] = q[k] > drow[k];
+        } else {
+            for (int k = 0; k < n; k++) live[k] = z[k] < drow[k];
         }
     } else {
         for (int k = 0; k < n; k++) {
@@ -235,33 +250,25 @@ static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
             z[k] = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
             idx[k] = b->py[k] * W + b->px[k];
         }
+        for (int k = 0; k < n; k++)
+            live[k] = !ds->depth_test ? 1 : invw ? q[k] > depth[idx[k]] : z[k] < depth[idx[k]];
     }
-    float *depth = f->fb->depth;
-    int any = 0;
-    if (!ds->depth_test) {
-        for (int k = 0; k < n; k++) live[k] = 1;
-        any = n;
-    } else if (f->depth_mode == PERSP_DEPTH_INVW) {
-        /* "1/z buffering" (seed 002): 1/w grows towards the eye and is
-         * linear in screen space, so the largest value is the nearest. */
-        for (int k = 0; k < n; k++) any += live[k] = q[k] > depth[idx[k]];
-    } else {
-        for (int k = 0; k < n; k++) any += live[k] = z[k] < depth[idx[k]];
-    }
+    for (int k = 0; k < n; k++) any += live[k];
     sc->stats->fragments += (uint64_t)n;
     if (!any) return;
 
     float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX];
+    const float *su = u, *sv = v;
     if (b->s1) {
-        memcpy(u, b->s1, (size_t)n * sizeof *u);
-        memcpy(v, b->s2, (size_t)n * sizeof *v);
+        su = b->s1;
+        sv = b->s2;
     } else {
         ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, NULL);
     }
     uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
     if (ds->tex) {
         persp_tex_span_in in = {
-            .n = n, .u = u, .v = v, .q = q,
+            .n = n, .u = su, .v = sv, .q = q,
             .a = (float)t->rat.a, .b = (float)t->rat.b, .d = (float)t->rat.d,
             .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
             .poly_lambda = t->poly_lambda,
@@ -271,11 +278,16 @@ static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
     persp__shade_span(ds, t, b, q, ds->tex ? texel : NULL, out);
 
     uint32_t *color = (uint32_t *)(void *)f->fb->color;
-    const float *dv = f->depth_mode == PERSP_DEPTH_INVW ? q : z;
-    for (int k = 0; k < n; k++) {
-        if (!live[k]) continue;
-        color[idx[k]] = out[k];
-        if (ds->depth_write) depth[idx[k]] = dv[k];
+    const float *dv = invw ? q : z;
+    if (!b->px && any == n) {
+        memcpy(color + idx[0], out, (size_t)n * sizeof *out);
+        if (ds->depth_write) memcpy(depth + idx[0], dv, (size_t)n * sizeof *dv);
+    } else {
+        for (int k = 0; k < n; k++) {
+            if (!live[k]) continue;
+            color[idx[k]] = out[k];
+            if (ds->depth_write) depth[idx[k]] = dv[k];
+        }
     }
     sc->stats->pixels_written += (uint64_t)any;
     if (f->capture) {
@@ -283,8 +295,8 @@ static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
         for (int k = 0; k < n; k++) {
             if (!live[k]) continue;
             cap->tri[idx[k]] = sc->tri_index;
-            cap->s1[idx[k]] = u[k];
-            cap->s2[idx[k]] = v[k];
+            cap->s1[idx[k]] = su[k];
+            cap->s2[idx[k]] = sv[k];
         }
     }
 }
