@@ -324,6 +324,74 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
 
 /* --------------------------------------------------------------- analysis */
 /* @section analysis (src/analysis): accuracy measurement API. */
+
+/* persp accuracy: every texture-coordinate method measured against the exact
+ * rational form (Heckbert 1989 §2.3.2) evaluated in double precision at each
+ * pixel centre. Cases (BENCHMARKS.md): "paper-quad" (seed 000 §4.6 Fig. 4.10:
+ * the line y = 32 of the quad (1,1), (32,96), (96,128), (128,32), resampled
+ * to one span of PERSP_ACCURACY_LINE_SAMPLES points from edge to edge),
+ * "paper-quad-full" (every pixel of that quad, spans as the renderer cuts
+ * them), "random-triangles" (one row per depth ratio 1.25 ... 8) and any
+ * built-in scene name (rendered at desc.width × desc.height). */
+#define PERSP_ACCURACY_LINE_SAMPLES 64
+
+typedef struct persp_accuracy_desc {
+    const char *const *methods; /* method specs; NULL or none: every registered method */
+    size_t method_count;
+    const char *const *cases;   /* NULL or none: "paper-quad", "random-triangles" */
+    size_t case_count;
+    int width, height;          /* scene cases; 0: 1024×768 */
+    uint64_t seed;              /* random-triangles; 0: 1 */
+    int triangles;              /* random triangles per depth-ratio group; 0: 40 */
+    double rel_floor;           /* relative errors count |s| >= rel_floor (normalised units); 0: 0.01 */
+    const char *heatmap_dir;    /* NULL: no heat maps; else one PNG per method and case */
+} persp_accuracy_desc;
+
+/* One method on one case. Errors of u (s1) and v (s2) separately;
+ * absolute errors in texels of the case's texture. */
+typedef struct persp_accuracy_row {
+    char method[64];
+    char case_name[48];
+    double hbar;                 /* depth ratio of the random-triangles group; 0 elsewhere */
+    uint64_t pixels, spans, triangles;
+    double max_u, max_v, mean_u, mean_v, p99_u, p99_v;
+    double texel_miss;           /* share of pixels whose nearest texel differs from the exact one's */
+    double relpt_u, relpt_v;     /* max |Δs| / |s| over pixels with |s| >= rel_floor */
+    double relspan_u, relspan_v; /* max |Δs| / (max s - min s) per span, spans with range >= rel_floor */
+    double rel_floor;
+    int ops_measured;            /* 0: the operation counts below are not available */
+    double div_px, mul_px, add_px, cmp_px; /* per pixel, per-triangle and per-span work included */
+} persp_accuracy_row;
+
+typedef struct persp_accuracy_result persp_accuracy_result;
+
+/* Runs the measurement. Unknown methods: PERSP_ERR_NOT_FOUND (bad method
+ * parameters: PERSP_ERR_INVALID_ARGUMENT); unknown cases: PERSP_ERR_NOT_FOUND.
+ * With no methods given, registered methods that need parameters are
+ * measured with their default or skipped if they have none. */
+persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *desc,
+                                persp_accuracy_result **out);
+size_t persp_accuracy_row_count(const persp_accuracy_result *res);
+const persp_accuracy_row *persp_accuracy_row_at(const persp_accuracy_result *res, size_t index);
+void persp_accuracy_destroy(persp_accuracy_result *res);
+
+/* Case names for --help and validation. */
+size_t persp_accuracy_case_count(void);
+const char *persp_accuracy_case_name(size_t index);
+const char *persp_accuracy_case_summary(size_t index);
+/* PERSP_OK if name is a case (a fixed case or a built-in scene). */
+persp_status persp_accuracy_case_check(const char *name);
+
+typedef enum persp_report_format {
+    PERSP_REPORT_TABLE = 0, /* aligned text with the metric definitions below it */
+    PERSP_REPORT_CSV,
+    PERSP_REPORT_JSON
+} persp_report_format;
+
+/* Writes the result to a stdio stream (FILE *, passed as void * so that this
+ * header does not need <stdio.h>). PERSP_ERR_IO if writing fails. */
+persp_status persp_accuracy_write(persp_context *ctx, const persp_accuracy_result *res,
+                                  persp_report_format format, void *stream);
 /* @end analysis */
 
 /* -------------------------------------------------------------- benchmark */

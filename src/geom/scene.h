@@ -52,6 +52,8 @@ typedef struct persp_object {
     persp_texgen texgen;
     float texgen_s[4], texgen_t[4]; /* planes for PERSP_TEXGEN_PLANAR (object space) */
     float texgen_scale[2];          /* repeats in u, v for generated coordinates (0: 1) */
+    int texgen_axis;                /* cylindrical/spherical axis: 0 x, 1 y, 2 z */
+    float texgen_center[3];         /* origin of cylindrical/spherical/cube (object space) */
 } persp_object;
 
 typedef enum persp_light_type { PERSP_LIGHT_DIRECTIONAL = 0, PERSP_LIGHT_POINT } persp_light_type;
@@ -78,6 +80,10 @@ struct persp_scene {
     float ambient[3];         /* global ambient light */
     persp_shading shading;    /* default shading */
     int cull_backfaces;
+    char method[64];          /* texture-coordinate method spec from the scene file, "" if none */
+    int filter_set;           /* nonzero: the scene file chose a default texture filter */
+    persp_filter filter;
+    int max_aniso;
     persp_mesh *meshes;
     size_t mesh_count;
     persp_material *materials;

@@ -8,6 +8,10 @@
 static const persp_method *const registry[] = {
     &persp__method_affine,
     &persp__method_exact,
+    &persp__method_incremental, &persp__method_subdiv, &persp__method_subdiv_quad, &persp__method_quadratic, &persp__method_quadratic_shifted, &persp__method_quadratic_unnorm, &persp__method_cubic, &persp__method_biquadratic, &persp__method_bicubic, &persp__method_bezier,
+    &persp__method_midpoint,
+    &persp__method_constz,
+    &persp__method_adaptive,
 };
 
 size_t persp__method_count(void) { return sizeof registry / sizeof registry[0]; }

@@ -10,6 +10,7 @@
 #include "persp.h"
 
 #define PERSP_TEX_MAX_LEVELS 16
+#define PERSP_EWA_TABLE 256
 
 typedef struct persp_tex_level {
     int w, h;
@@ -44,6 +45,10 @@ typedef struct persp_sampler_state {
     int max_aniso;
     float min_lod, max_lod;
     uint32_t border;
+    float lod_bias;
+    /* Heckbert's Gaussian weight exp(-alpha·r²) sampled at r² = k/(TABLE-1),
+     * filled once by persp__sampler_init for PERSP_FILTER_EWA. */
+    float ewa_weight[PERSP_EWA_TABLE];
     /* Span sampler chosen from the filter once per draw. */
     void (*span)(const struct persp_sampler_state *st, const struct persp_tex_span_in *in,
                  uint32_t *out);
@@ -63,5 +68,34 @@ int persp__sampler_needs_lod(const persp_sampler_state *st);
  * lambda = 0.5·log2(texel area / pixel area), areas of the same triangle in
  * texels (uv area × W × H) and in pixels. */
 float persp__polygon_lambda(const struct persp_texture *tex, double uv_area, double pixel_area);
+
+/* For tests and tools: the level of detail of one footprint (derivatives of
+ * normalised u, v per pixel) after bias and clamping, and the
+ * EXT_texture_filter_anisotropic tap count N with its lambda'. */
+float persp__pixel_lambda(const persp_sampler_state *st, float dudx, float dvdx, float dudy,
+                          float dvdy);
+/* The rotated rectangular window of seed 000 §4.8 on one mip level
+ * (src/texture/window.c): len texels per row along the major axis, rows
+ * rows, rows offset by the major axis' digital steps rotated by 90 degrees.
+ * The major axis' digital line has slope dy/dx (0 <= dy <= dx) along x when
+ * x_major, else along y, with signs sx, sy. */
+typedef struct persp_tex_window {
+    int level;
+    int x0, y0; /* start corner A, texel indices on the level (before wrapping) */
+    int len, rows;
+    int x_major, sx, sy;
+    int dx, dy;
+} persp_tex_window;
+/* Builds the window of a footprint (derivatives of normalised u, v); 0 when
+ * it is magnified (the filter is then bilinear on w->level). */
+int persp__window_setup(const persp_sampler_state *st, float u, float v, float dudx, float dvdx,
+                        float dudy, float dvdy, persp_tex_window *w);
+/* Texel indices visited by the daisy-chain traversal (daisy != 0) or by the
+ * direct traversal, as x,y pairs in xy[0..2·cap-1] in visiting order;
+ * returns the number visited (len·rows). */
+size_t persp__window_visit(const persp_sampler_state *st, const persp_tex_window *w, int daisy,
+                           int *xy, size_t cap);
+int persp__aniso_taps(const persp_sampler_state *st, float dudx, float dvdx, float dudy,
+                      float dvdy, float *lambda);
 
 #endif

@@ -1,7 +1,831 @@
+/*
+ * `persp bench`: fill rate of persp_render on a scene (BENCHMARKS.md), per
+ * texture-coordinate method, optionally against Mesa llvmpipe / softpipe
+ * rendering the same `corridor` frame through OSMesa (bench/peer_osmesa.c).
+ *
+ * Fill rate = width·height·frames / seconds. One untimed warm-up frame, one
+ * timed calibration frame that sets the frame count when --frames is not
+ * given, then --reps runs of that many frames; the median and the spread
+ * (min / max) of the runs are reported.
+ *
+ * Mesa reads GALLIUM_DRIVER and LP_NUM_THREADS once per process, so the peer
+ * runs in a child: this same executable started with the hidden option
+ * --peer-child, its environment set for the driver and thread count asked
+ * for. The child reports its timings and, when asked, its image through a
+ * pipe; its memory stays out of persp's peak resident size.
+ */
 #include "cli.h"
+
+#ifdef PERSP_HAVE_OSMESA
+#include "../../bench/peer.h"
+#endif
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define BENCH_MAX_REPS 100
+#define BENCH_MAX_FRAMES 1000000L
+#define BENCH_MAX_METHODS 64
+
+typedef struct run_stats {
+    int frames, reps;
+    double mpix[BENCH_MAX_REPS];
+    double median, min, max;
+} run_stats;
+
+typedef struct method_result {
+    char spec[64];
+    int ok;
+    char error[256];
+    run_stats stats;
+} method_result;
+
+typedef struct peer_result {
+    int ok;
+    char renderer[128], version[128];
+    double aniso;
+    run_stats stats;
+    double maxrss_mib;
+    int width, height;
+    uint8_t *pixels; /* when the image was asked for */
+} peer_result;
+
+typedef struct image_diff {
+    int max_abs[4];
+    double pct_gt1, pct_gt2, pct_gt8;
+    double psnr; /* INFINITY when identical */
+} image_diff;
+
+typedef struct bench_opts {
+    const char *scene, *method, *filter_name, *peer, *peer_image;
+    persp_filter filter;
+    int max_aniso;
+    int threads, peer_threads, width, height, reps, json;
+    long frames; /* 0: calibrate */
+    double run_seconds;
+} bench_opts;
+
+static void bench_usage(FILE *out)
+{
+    fprintf(out,
+            "usage: persp bench [SCENE] [options]\n\n"
+            "Measures fill rate (Mpixels/s = width*height*frames/seconds) of persp_render.\n"
+            "SCENE is a built-in scene or a JSON scene file (default: corridor).\n\n"
+            "options:\n"
+            "  --method M|all      texture-coordinate method, or every registered one with its\n"
+            "                      ratio to exact (default exact)\n"
+            "  --filter F          texture filter for every texture (default bilinear)\n"
+            "  --threads N         persp worker threads (default 1)\n"
+            "  --frames N          frames per run (default: as many as fill --time seconds)\n"
+            "  --reps N            timed runs; median and min/max are reported (default 5)\n"
+            "  --time S            target seconds per run when --frames is not given (default 0.5)\n"
+            "  --size WxH          image size (default: the scene's, corridor 1024x768)\n"
+            "  --peer D            also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
+            "                      corridor, in a child process, and report persp's ratio to it\n"
+            "  --peer-threads N    LP_NUM_THREADS for the peer (default: --threads)\n"
+            "  --peer-image FILE   write the peer's frame as PNG and print its difference to\n"
+            "                      persp's exact image with the same filter\n"
+            "  --json              print the results as one JSON object\n"
+#ifndef PERSP_HAVE_OSMESA
+            "\nthis persp was not built with OSMesa: --peer is unavailable\n"
+#endif
+    );
+}
+
+static int is_builtin(const char *name)
+{
+    for (size_t i = 0; i < persp_builtin_scene_count(); i++)
+        if (!strcmp(name, persp_builtin_scene_name(i))) return 1;
+    return 0;
+}
+
+static double peak_rss_mib(int who)
+{
+    struct rusage ru;
+    if (getrusage(who, &ru) != 0) return 0.0;
+    return (double)ru.ru_maxrss / 1024.0; /* Linux reports KiB */
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static void finish_stats(run_stats *s)
+{
+    double sorted[BENCH_MAX_REPS];
+    memcpy(sorted, s->mpix, (size_t)s->reps * sizeof(double));
+    qsort(sorted, (size_t)s->reps, sizeof(double), cmp_double);
+    s->min = sorted[0];
+    s->max = sorted[s->reps - 1];
+    s->median = s->reps % 2 ? sorted[s->reps / 2]
+                            : 0.5 * (sorted[s->reps / 2 - 1] + sorted[s->reps / 2]);
+}
+
+/* Frames per run so that one run lasts about `target` seconds, from the time
+ * of one frame. */
+static int calibrate_frames(double frame_seconds, double target)
+{
+    if (!(frame_seconds > 0.0)) return (int)BENCH_MAX_FRAMES;
+    double n = ceil(target / frame_seconds);
+    if (n < 1.0) n = 1.0;
+    if (n > (double)BENCH_MAX_FRAMES) n = (double)BENCH_MAX_FRAMES;
+    return (int)n;
+}
+
+static double mpix(int w, int h, int frames, double seconds)
+{
+    if (!(seconds > 0.0)) seconds = 1e-9;
+    return (double)w * (double)h * (double)frames / seconds / 1e6;
+}
+
+/* ---------------------------------------------------------------- persp side */
+
+typedef struct persp_bench {
+    persp_context *ctx;
+    persp_scene *scene;
+    persp_framebuffer fb;
+} persp_bench;
+
+static persp_status render_frames(persp_bench *b, const persp_render_desc *desc, int frames)
+{
+    for (int f = 0; f < frames; f++) {
+        persp_status st = persp_render(b->ctx, b->scene, desc, &b->fb, NULL);
+        if (st != PERSP_OK) return st;
+    }
+    return PERSP_OK;
+}
+
+static void measure_method(persp_bench *b, const bench_opts *o, method_result *r)
+{
+    persp_render_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.method = r->spec;
+    desc.filter_set = 1;
+    desc.filter = o->filter;
+    desc.max_aniso = o->max_aniso;
+    desc.threads = o->threads;
+    r->ok = 0;
+    persp_status st = render_frames(b, &desc, 1); /* warm-up */
+    double t0 = cli_now();
+    if (st == PERSP_OK) st = render_frames(b, &desc, 1);
+    double t1 = cli_now();
+    if (st != PERSP_OK) {
+        const char *detail = persp_context_error(b->ctx);
+        snprintf(r->error, sizeof r->error, "%s%s(%s)", detail ? detail : "",
+                 detail && detail[0] ? " " : "", persp_status_string(st));
+        return;
+    }
+    int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
+    r->stats.frames = frames;
+    r->stats.reps = o->reps;
+    for (int rep = 0; rep < o->reps; rep++) {
+        double a = cli_now();
+        st = render_frames(b, &desc, frames);
+        double z = cli_now();
+        if (st != PERSP_OK) {
+            snprintf(r->error, sizeof r->error, "%s (%s)", persp_context_error(b->ctx),
+                     persp_status_string(st));
+            return;
+        }
+        r->stats.mpix[rep] = mpix(b->fb.width, b->fb.height, frames, z - a);
+    }
+    finish_stats(&r->stats);
+    r->ok = 1;
+}
+
+/* ----------------------------------------------------------------- peer side */
+
+#ifdef PERSP_HAVE_OSMESA
+extern char **environ;
+
+/* The child: renders with the driver its environment names and prints
+ * "key value" lines, then the raw image after "pixels W H" if --dump. */
+static int peer_child(const bench_opts *o, int dump)
+{
+    char err[256] = "";
+    bench_peer_desc pd = {o->width, o->height, o->filter, o->max_aniso};
+    bench_peer *p = bench_peer_create(&pd, err, sizeof err);
+    if (!p) return cli_error(CLI_FAIL, "%s", err);
+    bench_peer_render(p, 1); /* warm-up */
+    double t0 = cli_now();
+    bench_peer_render(p, 1);
+    double t1 = cli_now();
+    int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
+    printf("renderer %s\nversion %s\naniso %g\nframes %d\nseconds", bench_peer_renderer(p),
+           bench_peer_version(p), (double)bench_peer_aniso(p), frames);
+    for (int rep = 0; rep < o->reps; rep++) {
+        double a = cli_now();
+        bench_peer_render(p, frames);
+        printf(" %.9f", cli_now() - a);
+    }
+    printf("\nmaxrss_mib %.3f\n", peak_rss_mib(RUSAGE_SELF));
+    if (dump) {
+        printf("pixels %d %d\n", o->width, o->height);
+        fwrite(bench_peer_pixels(p), 4, (size_t)o->width * (size_t)o->height, stdout);
+    }
+    fflush(stdout);
+    bench_peer_destroy(p);
+    return CLI_OK;
+}
+
+/* Finds "key " at a line start within text[0..len) and returns what follows. */
+static const char *peer_field(const char *text, size_t len, const char *key)
+{
+    size_t k = strlen(key);
+    for (size_t i = 0; i + k < len; i++) {
+        if ((i == 0 || text[i - 1] == '\n') && !strncmp(text + i, key, k) && text[i + k] == ' ')
+            return text + i + k + 1;
+    }
+    return NULL;
+}
+
+static void copy_line(char *dst, size_t size, const char *src)
+{
+    size_t n = src ? strcspn(src, "\n") : 0;
+    if (n >= size) n = size - 1;
+    if (n) memcpy(dst, src, n);
+    dst[n] = '\0';
+}
+
+static int run_peer(const bench_opts *o, int dump, peer_result *r)
+{
+    char size[40], threads[32], frames[32], reps[16], seconds[32], driver[64];
+    snprintf(size, sizeof size, "%dx%d", o->width, o->height);
+    snprintf(frames, sizeof frames, "%ld", o->frames);
+    snprintf(reps, sizeof reps, "%d", o->reps);
+    snprintf(seconds, sizeof seconds, "%.6f", o->run_seconds);
+    snprintf(driver, sizeof driver, "GALLIUM_DRIVER=%s", o->peer);
+    snprintf(threads, sizeof threads, "LP_NUM_THREADS=%d", o->peer_threads);
+    char *argv[16] = {"persp", "bench", "--peer-child", (char *)o->peer, "--size", size,
+                      "--filter", (char *)o->filter_name, "--reps", reps, "--time", seconds};
+    int argc = 12;
+    if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
+    if (dump) argv[argc++] = "--dump";
+    argv[argc] = NULL;
+
+    size_t nenv = 0;
+    while (environ && environ[nenv]) nenv++;
+    char **envp = calloc(nenv + 3, sizeof *envp);
+    if (!envp) return cli_error(CLI_FAIL, "bench: out of memory");
+    size_t e = 0;
+    for (size_t i = 0; i < nenv; i++)
+        if (strncmp(environ[i], "GALLIUM_DRIVER=", 15) && strncmp(environ[i], "LP_NUM_THREADS=", 15))
+            envp[e++] = environ[i];
+    envp[e++] = driver;
+    envp[e++] = threads;
+    envp[e] = NULL;
+
+    int fds[2];
+    if (pipe(fds) != 0) {
+        free(envp);
+        return cli_error(CLI_FAIL, "bench: cannot create a pipe for the peer");
+    }
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]), close(fds[1]);
+        free(envp);
+        return cli_error(CLI_FAIL, "bench: cannot start the peer process");
+    }
+    if (pid == 0) {
+        dup2(fds[1], STDOUT_FILENO);
+        close(fds[0]);
+        close(fds[1]);
+        execve("/proc/self/exe", argv, envp);
+        _exit(127);
+    }
+    free(envp);
+    close(fds[1]);
+    size_t cap = 1 << 16, len = 0;
+    char *buf = malloc(cap);
+    int oom = !buf;
+    for (;;) {
+        if (!oom && len == cap) {
+            char *bigger = realloc(buf, cap * 2);
+            if (!bigger) oom = 1;
+            else buf = bigger, cap *= 2;
+        }
+        char sink[4096];
+        ssize_t n = oom ? read(fds[0], sink, sizeof sink) : read(fds[0], buf + len, cap - len);
+        if (n <= 0) break;
+        if (!oom) len += (size_t)n;
+    }
+    close(fds[0]);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    int rc = CLI_OK;
+    if (oom) {
+        rc = cli_error(CLI_FAIL, "bench: out of memory reading the peer's output");
+    } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+        rc = cli_error(CLI_FAIL, "bench: the %s peer failed (%s %d)", o->peer,
+                       WIFEXITED(status) ? "exit status" : "signal",
+                       WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+    } else {
+        const char *pix = peer_field(buf, len, "pixels");
+        size_t text_len = pix ? (size_t)(pix - buf) : len;
+        const char *f = peer_field(buf, text_len, "frames");
+        const char *s = peer_field(buf, text_len, "seconds");
+        const char *m = peer_field(buf, text_len, "maxrss_mib");
+        const char *an = peer_field(buf, text_len, "aniso");
+        copy_line(r->renderer, sizeof r->renderer, peer_field(buf, text_len, "renderer"));
+        copy_line(r->version, sizeof r->version, peer_field(buf, text_len, "version"));
+        r->stats.frames = f ? atoi(f) : 0;
+        r->stats.reps = 0;
+        r->aniso = an ? atof(an) : 0.0;
+        r->maxrss_mib = m ? atof(m) : 0.0;
+        char *end = (char *)s;
+        while (s && r->stats.reps < o->reps) {
+            double sec = strtod(s, &end);
+            if (end == s) break;
+            r->stats.mpix[r->stats.reps++] = mpix(o->width, o->height, r->stats.frames, sec);
+            s = end;
+        }
+        if (r->stats.frames < 1 || r->stats.reps != o->reps) {
+            rc = cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+        } else {
+            finish_stats(&r->stats);
+            r->ok = 1;
+        }
+        if (rc == CLI_OK && dump) {
+            size_t need = (size_t)o->width * (size_t)o->height * 4;
+            const char *nl = pix ? memchr(pix, '\n', len - (size_t)(pix - buf)) : NULL;
+            if (!nl || (size_t)(buf + len - (nl + 1)) != need) {
+                rc = cli_error(CLI_FAIL, "bench: the %s peer sent no complete image", o->peer);
+            } else if (!(r->pixels = malloc(need))) {
+                rc = cli_error(CLI_FAIL, "bench: out of memory for the peer image");
+            } else {
+                memcpy(r->pixels, nl + 1, need);
+                r->width = o->width;
+                r->height = o->height;
+            }
+        }
+    }
+    free(buf);
+    return rc;
+}
+
+/* Per-channel and per-pixel differences of two RGBA8 images of equal size. */
+static image_diff compare_images(const uint8_t *a, const uint8_t *b, size_t pixels)
+{
+    image_diff d;
+    memset(&d, 0, sizeof d);
+    size_t gt1 = 0, gt2 = 0, gt8 = 0;
+    double sq = 0.0;
+    for (size_t i = 0; i < pixels; i++) {
+        int worst = 0;
+        for (int c = 0; c < 4; c++) {
+            int x = abs((int)a[4 * i + (size_t)c] - (int)b[4 * i + (size_t)c]);
+            if (x > d.max_abs[c]) d.max_abs[c] = x;
+            if (x > worst) worst = x;
+            if (c < 3) sq += (double)x * (double)x;
+        }
+        gt1 += worst > 1, gt2 += worst > 2, gt8 += worst > 8;
+    }
+    double n = pixels ? (double)pixels : 1.0;
+    d.pct_gt1 = 100.0 * (double)gt1 / n;
+    d.pct_gt2 = 100.0 * (double)gt2 / n;
+    d.pct_gt8 = 100.0 * (double)gt8 / n;
+    double mse = sq / (3.0 * n);
+    /* PSNR over R, G, B with peak 255. */
+    d.psnr = mse > 0.0 ? 10.0 * log10(255.0 * 255.0 / mse) : INFINITY;
+    return d;
+}
+#endif
+
+
+/* ------------------------------------------------------------------ output */
+
+static void json_string(const char *s)
+{
+    putchar('"');
+    for (; s && *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\') printf("\\%c", c);
+        else if (c < 0x20) printf("\\u%04x", c);
+        else putchar(c);
+    }
+    putchar('"');
+}
+
+static void json_number(double x)
+{
+    if (isfinite(x)) printf("%.6g", x);
+    else printf("null");
+}
+
+static void json_stats(const run_stats *s)
+{
+    printf("\"frames\": %d, \"reps\": %d, \"mpix_median\": ", s->frames, s->reps);
+    json_number(s->median);
+    printf(", \"mpix_min\": ");
+    json_number(s->min);
+    printf(", \"mpix_max\": ");
+    json_number(s->max);
+    printf(", \"mpix_runs\": [");
+    for (int i = 0; i < s->reps; i++) {
+        if (i) printf(", ");
+        json_number(s->mpix[i]);
+    }
+    printf("]");
+}
+
+typedef struct bench_report {
+    const bench_opts *o;
+    const method_result *results;
+    size_t count;
+    const method_result *exact;
+    const peer_result *peer;
+    const image_diff *diff;
+    double rss_mib, rss_start_mib;
+} bench_report;
+
+static void print_json(const bench_report *r)
+{
+    const bench_opts *o = r->o;
+    printf("{\"scene\": ");
+    json_string(o->scene);
+    printf(", \"width\": %d, \"height\": %d, \"filter\": ", o->width, o->height);
+    json_string(o->filter_name);
+    printf(", \"threads\": %d, \"peak_rss_mib\": ", o->threads);
+    json_number(r->rss_mib);
+    printf(", \"rss_at_start_mib\": ");
+    json_number(r->rss_start_mib);
+    printf(",\n \"results\": [");
+    for (size_t i = 0; i < r->count; i++) {
+        const method_result *m = &r->results[i];
+        printf("%s\n  {\"method\": ", i ? "," : "");
+        json_string(m->spec);
+        if (!m->ok) {
+            printf(", \"error\": ");
+            json_string(m->error);
+            printf("}");
+            continue;
+        }
+        printf(", ");
+        json_stats(&m->stats);
+        if (r->exact) {
+            printf(", \"vs_exact\": ");
+            json_number(m->stats.median / r->exact->stats.median);
+        }
+        if (r->peer && r->peer->ok) {
+            printf(", \"vs_peer\": ");
+            json_number(m->stats.median / r->peer->stats.median);
+        }
+        printf("}");
+    }
+    printf("\n ]");
+    if (r->peer && r->peer->ok) {
+        const peer_result *p = r->peer;
+        printf(",\n \"peer\": {\"driver\": ");
+        json_string(o->peer);
+        printf(", \"renderer\": ");
+        json_string(p->renderer);
+        printf(", \"version\": ");
+        json_string(p->version);
+        printf(", \"lp_num_threads\": %d, \"aniso\": ", o->peer_threads);
+        json_number(p->aniso);
+        printf(", \"peak_rss_mib\": ");
+        json_number(p->maxrss_mib);
+        printf(", ");
+        json_stats(&p->stats);
+        printf("}");
+    }
+    if (r->diff) {
+        const image_diff *d = r->diff;
+        printf(",\n \"peer_image\": {\"file\": ");
+        json_string(o->peer_image);
+        printf(", \"compared_with\": \"exact\", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
+               d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
+        json_number(d->pct_gt1);
+        printf(", \"pct_gt2\": ");
+        json_number(d->pct_gt2);
+        printf(", \"pct_gt8\": ");
+        json_number(d->pct_gt8);
+        printf(", \"psnr_db\": ");
+        json_number(d->psnr);
+        printf("}");
+    }
+    printf("\n}\n");
+}
+
+static void print_text(const bench_report *r)
+{
+    const bench_opts *o = r->o;
+    const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
+    printf("bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
+           o->filter_name, o->threads, o->reps);
+    printf("%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
+           "vs_exact");
+    if (peer_col) printf(" %9s", "vs_peer");
+    printf("   (Mpixels/s)\n");
+    for (size_t i = 0; i < r->count; i++) {
+        const method_result *m = &r->results[i];
+        if (!m->ok) {
+            printf("%-20s error: %s\n", m->spec, m->error);
+            continue;
+        }
+        printf("%-20s %8d %10.2f %10.2f %10.2f", m->spec, m->stats.frames, m->stats.median,
+               m->stats.min, m->stats.max);
+        if (r->exact) printf(" %9.3f", m->stats.median / r->exact->stats.median);
+        else printf(" %9s", "-");
+        if (peer_col) printf(" %9.3f", m->stats.median / r->peer->stats.median);
+        printf("\n");
+    }
+    if (peer_col) {
+        const peer_result *p = r->peer;
+        char label[40];
+        snprintf(label, sizeof label, "peer:%s", o->peer);
+        printf("%-20s %8d %10.2f %10.2f %10.2f %9s %9.3f\n", label, p->stats.frames,
+               p->stats.median, p->stats.min, p->stats.max, "-", 1.0);
+        printf("peer renderer: %s, OpenGL %s, LP_NUM_THREADS=%d", p->renderer, p->version,
+               o->peer_threads);
+        if (p->aniso > 0.0) printf(", anisotropy %g", p->aniso);
+        printf("\n");
+    }
+    printf("peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
+           r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
+    if (peer_col) printf(", peer process %.1f MiB", r->peer->maxrss_mib);
+    printf("\n");
+    if (r->diff) {
+        const image_diff *d = r->diff;
+        printf("peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
+               "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
+               o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
+               d->pct_gt1, d->pct_gt2, d->pct_gt8);
+        if (isfinite(d->psnr)) printf("%.2f dB\n", d->psnr);
+        else printf("inf (identical)\n");
+    }
+}
+
+/* ------------------------------------------------------------------ driver */
+
+static int parse_args(int argc, char **argv, bench_opts *o, int *child_mode, int *dump)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
+        long n;
+#define NEED_VALUE()                                                                               \
+    do {                                                                                           \
+        if (!val) return cli_error(CLI_USAGE, "bench: option %s needs a value", a);              \
+        i++;                                                                                       \
+    } while (0)
+        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
+            bench_usage(stdout);
+            return -1;
+        } else if (!strcmp(a, "--method")) {
+            NEED_VALUE();
+            o->method = val;
+        } else if (!strcmp(a, "--filter")) {
+            NEED_VALUE();
+            o->filter_name = val;
+        } else if (!strcmp(a, "--threads")) {
+            NEED_VALUE();
+            if (!cli_parse_int(val, 1, 256, &n))
+                return cli_error(CLI_USAGE, "bench: bad --threads '%s' (expected 1..256)", val);
+            o->threads = (int)n;
+        } else if (!strcmp(a, "--peer-threads")) {
+            NEED_VALUE();
+            if (!cli_parse_int(val, 0, 256, &n))
+                return cli_error(CLI_USAGE, "bench: bad --peer-threads '%s' (expected 0..256)", val);
+            o->peer_threads = (int)n;
+        } else if (!strcmp(a, "--frames")) {
+            NEED_VALUE();
+            if (!cli_parse_int(val, 1, BENCH_MAX_FRAMES, &n))
+                return cli_error(CLI_USAGE, "bench: bad --frames '%s' (expected 1..%ld)", val,
+                                 BENCH_MAX_FRAMES);
+            o->frames = n;
+        } else if (!strcmp(a, "--reps")) {
+            NEED_VALUE();
+            if (!cli_parse_int(val, 1, BENCH_MAX_REPS, &n))
+                return cli_error(CLI_USAGE, "bench: bad --reps '%s' (expected 1..%d)", val,
+                                 BENCH_MAX_REPS);
+            o->reps = (int)n;
+        } else if (!strcmp(a, "--time")) {
+            NEED_VALUE();
+            char *end;
+            double s = strtod(val, &end);
+            if (*end || !(s >= 0.001 && s <= 60.0))
+                return cli_error(CLI_USAGE, "bench: bad --time '%s' (expected 0.001..60 seconds)", val);
+            o->run_seconds = s;
+        } else if (!strcmp(a, "--size")) {
+            NEED_VALUE();
+            if (!cli_parse_size(val, &o->width, &o->height))
+                return cli_error(CLI_USAGE, "bench: bad --size '%s' (expected WxH, each 1..%d)", val,
+                                 PERSP_IMAGE_MAX_SIDE);
+        } else if (!strcmp(a, "--peer")) {
+            NEED_VALUE();
+            if (strcmp(val, "llvmpipe") && strcmp(val, "softpipe"))
+                return cli_error(CLI_USAGE, "bench: bad --peer '%s' (expected llvmpipe or softpipe)", val);
+            o->peer = val;
+        } else if (!strcmp(a, "--peer-image")) {
+            NEED_VALUE();
+            o->peer_image = val;
+        } else if (!strcmp(a, "--json")) {
+            o->json = 1;
+        } else if (!strcmp(a, "--peer-child")) {
+            NEED_VALUE();
+            o->peer = val;
+            *child_mode = 1;
+        } else if (!strcmp(a, "--dump")) {
+            *dump = 1;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return cli_error(CLI_USAGE, "bench: unknown option '%s' (see persp bench --help)", a);
+        } else if (!o->scene) {
+            o->scene = a;
+        } else {
+            return cli_error(CLI_USAGE, "bench: more than one scene given ('%s', '%s')", o->scene, a);
+        }
+#undef NEED_VALUE
+    }
+    return CLI_OK;
+}
+
+/* The methods to measure: one spec, or every registry entry for "all". */
+static int collect_methods(const char *method, method_result *out, size_t *count)
+{
+    *count = 0;
+    if (strcmp(method, "all") != 0) {
+        persp_status st = persp_method_check(method);
+        if (st == PERSP_ERR_NOT_FOUND)
+            return cli_error(CLI_USAGE, "bench: unknown method '%s' (see persp methods)", method);
+        if (st != PERSP_OK) return cli_error(CLI_USAGE, "bench: bad parameters in method '%s'", method);
+        if (strlen(method) >= sizeof out[0].spec)
+            return cli_error(CLI_USAGE, "bench: method spec too long");
+        snprintf(out[0].spec, sizeof out[0].spec, "%s", method);
+        *count = 1;
+        return CLI_OK;
+    }
+    persp_method_info info;
+    for (size_t i = 0; *count < BENCH_MAX_METHODS && persp_method_get(i, &info) == PERSP_OK; i++) {
+        if (persp_method_check(info.name) != PERSP_OK) {
+            cli_error(CLI_OK, "bench: leaving out method %s (its parameters %s have no default)",
+                      info.name, info.params);
+            continue;
+        }
+        snprintf(out[*count].spec, sizeof out[0].spec, "%s", info.name);
+        (*count)++;
+    }
+    return CLI_OK;
+}
 
 int cmd_bench(int argc, char **argv)
 {
-    (void)argc, (void)argv;
-    return cli_error(CLI_FAIL, "bench: this command is not available yet");
+    /* Resident size before any rendering: shared libraries (with OSMesa
+     * linked in, mostly libLLVM's relocated pages) that persp does not use. */
+    double rss_start = peak_rss_mib(RUSAGE_SELF);
+    bench_opts o;
+    memset(&o, 0, sizeof o);
+    o.method = "exact";
+    o.filter_name = "bilinear";
+    o.threads = 1;
+    o.peer_threads = -1;
+    o.reps = 5;
+    o.run_seconds = 0.5;
+    int child_mode = 0, dump = 0;
+    int rc = parse_args(argc, argv, &o, &child_mode, &dump);
+    if (rc < 0) return CLI_OK;
+    if (rc != CLI_OK) return rc;
+    if (!o.scene) o.scene = "corridor";
+    if (o.peer_threads < 0) o.peer_threads = o.threads;
+    if (persp_filter_parse(o.filter_name, &o.filter, &o.max_aniso) != PERSP_OK)
+        return cli_error(CLI_USAGE, "bench: unknown filter '%s' (see persp render --help)", o.filter_name);
+    if (o.peer_image && !o.peer)
+        return cli_error(CLI_USAGE, "bench: --peer-image needs --peer llvmpipe|softpipe");
+    if (o.peer && strcmp(o.scene, "corridor") != 0)
+        return cli_error(CLI_USAGE, "bench: the peer renders only the corridor scene, not '%s'", o.scene);
+#ifndef PERSP_HAVE_OSMESA
+    if (o.peer || child_mode)
+        return cli_error(CLI_FAIL, "bench: --peer is unavailable: persp was not built with OSMesa "
+                                   "(install libosmesa6-dev and rebuild)");
+#else
+    if (o.peer && !bench_peer_supports(o.filter))
+        return cli_error(CLI_USAGE, "bench: filter '%s' has no OpenGL counterpart for the peer",
+                         o.filter_name);
+    if (child_mode) {
+        if (!o.width) o.width = 1024, o.height = 768;
+        return peer_child(&o, dump);
+    }
+#endif
+
+    method_result *results = calloc(BENCH_MAX_METHODS, sizeof *results);
+    if (!results) return cli_error(CLI_FAIL, "bench: out of memory");
+    size_t count = 0;
+    if ((rc = collect_methods(o.method, results, &count)) != CLI_OK) {
+        free(results);
+        return rc;
+    }
+
+    persp_bench b;
+    memset(&b, 0, sizeof b);
+    peer_result peer;
+    memset(&peer, 0, sizeof peer);
+    uint8_t *exact_image = NULL;
+    image_diff diff;
+    int have_diff = 0;
+    persp_context_desc cd = {NULL, o.threads};
+    persp_status st = persp_context_create(&cd, &b.ctx);
+    if (st != PERSP_OK) {
+        free(results);
+        return cli_status(NULL, st, "bench");
+    }
+    if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
+    else st = persp_scene_load(b.ctx, o.scene, &b.scene);
+    if (st != PERSP_OK) {
+        rc = cli_status(b.ctx, st, o.scene);
+        goto done;
+    }
+    if (!o.width) persp_scene_default_size(b.scene, &o.width, &o.height);
+    if (!o.width) o.width = 1024, o.height = 768;
+    size_t pixels = (size_t)o.width * (size_t)o.height;
+    if (pixels > PERSP_IMAGE_MAX_PIXELS) {
+        rc = cli_error(CLI_USAGE, "bench: %dx%d exceeds %u pixels", o.width, o.height,
+                       PERSP_IMAGE_MAX_PIXELS);
+        goto done;
+    }
+    b.fb.width = o.width;
+    b.fb.height = o.height;
+    b.fb.color = malloc(pixels * 4);
+    b.fb.depth = malloc(pixels * sizeof(float));
+    if (!b.fb.color || !b.fb.depth) {
+        rc = cli_error(CLI_FAIL, "bench: out of memory for a %dx%d framebuffer", o.width, o.height);
+        goto done;
+    }
+
+    const method_result *exact = NULL;
+    int failures = 0;
+    for (size_t i = 0; i < count; i++) {
+        measure_method(&b, &o, &results[i]);
+        if (!results[i].ok) {
+            failures++;
+            continue;
+        }
+        if (!strcmp(results[i].spec, "exact")) {
+            exact = &results[i];
+            if (o.peer_image && !exact_image && (exact_image = malloc(pixels * 4)))
+                memcpy(exact_image, b.fb.color, pixels * 4);
+        }
+    }
+    if (o.peer_image && !exact_image) {
+        /* The reference image is exact's even when exact was not timed. */
+        method_result r;
+        memset(&r, 0, sizeof r);
+        persp_render_desc desc;
+        memset(&desc, 0, sizeof desc);
+        desc.method = "exact";
+        desc.filter_set = 1;
+        desc.filter = o.filter;
+        desc.max_aniso = o.max_aniso;
+        desc.threads = o.threads;
+        if ((st = persp_render(b.ctx, b.scene, &desc, &b.fb, NULL)) != PERSP_OK) {
+            cli_status(b.ctx, st, "bench: exact reference image");
+            failures++;
+        } else if ((exact_image = malloc(pixels * 4)) != NULL) {
+            memcpy(exact_image, b.fb.color, pixels * 4);
+        }
+    }
+    double rss = peak_rss_mib(RUSAGE_SELF);
+
+#ifdef PERSP_HAVE_OSMESA
+    /* A failing peer still leaves persp's results to print. */
+    if (o.peer) {
+        rc = run_peer(&o, o.peer_image != NULL, &peer);
+        if (rc == CLI_OK && o.peer_image && peer.pixels) {
+            persp_image img = {o.width, o.height, (size_t)o.width * 4, peer.pixels};
+            if ((st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK) {
+                rc = cli_status(b.ctx, st, o.peer_image);
+            } else if (exact_image) {
+                diff = compare_images(exact_image, peer.pixels, pixels);
+                have_diff = 1;
+            }
+        }
+    }
+#endif
+
+    bench_report report = {&o, results, count, exact, o.peer && peer.ok ? &peer : NULL,
+                           have_diff ? &diff : NULL, rss, rss_start};
+    if (o.json) print_json(&report);
+    else print_text(&report);
+    if (failures && rc == CLI_OK) rc = CLI_FAIL;
+    if (failures) {
+        for (size_t i = 0; i < count; i++)
+            if (!results[i].ok)
+                cli_error(CLI_FAIL, "bench: method %s failed: %s", results[i].spec, results[i].error);
+    }
+done:
+    free(exact_image);
+    free(peer.pixels);
+    free(b.fb.color);
+    free(b.fb.depth);
+    persp_scene_destroy(b.scene);
+    persp_context_destroy(b.ctx);
+    free(results);
+    return rc;
 }

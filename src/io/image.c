@@ -1,0 +1,294 @@
+/*
+ * RGBA8 images: allocation, PNG and JPEG decoding (format detected from the
+ * content), PNG encoding through a temporary file.
+ *
+ * Rows are stored bottom-to-top (row 0 = bottom of the displayed image,
+ * docs/CONVENTIONS.md); both file formats store the top row first, so every
+ * decode and encode flips. Sizes read from a file header are checked against
+ * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS before anything is allocated,
+ * so a forged header cannot make persp allocate gigabytes.
+ */
+#include "core/internal.h"
+#include "io/text.h"
+
+#include <errno.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <jpeglib.h>
+#include <png.h>
+
+static const char *display_name(const char *name)
+{
+    return name && name[0] ? name : "<memory>";
+}
+
+static persp_status check_size(persp_context *ctx, const char *name, long long w, long long h)
+{
+    if (w <= 0 || h <= 0)
+        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: image has an empty size %lldx%lld",
+                                  display_name(name), w, h);
+    if (w > PERSP_IMAGE_MAX_SIDE || h > PERSP_IMAGE_MAX_SIDE ||
+        (unsigned long long)w * (unsigned long long)h > PERSP_IMAGE_MAX_PIXELS)
+        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE,
+                                  "%s: image size %lldx%lld exceeds the limit (side %d, %u pixels)",
+                                  display_name(name), w, h, PERSP_IMAGE_MAX_SIDE,
+                                  PERSP_IMAGE_MAX_PIXELS);
+    return PERSP_OK;
+}
+
+persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out)
+{
+    if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    if (width <= 0 || height <= 0)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                                  "image: invalid size %dx%d", width, height);
+    persp_status st = check_size(ctx, "image", width, height);
+    if (st != PERSP_OK) return st;
+    size_t stride = (size_t)width * 4u;
+    uint8_t *px = persp__calloc(ctx, (size_t)height, stride);
+    if (!px)
+        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "image: out of memory for %dx%d",
+                                  width, height);
+    out->width = width;
+    out->height = height;
+    out->stride = stride;
+    out->pixels = px;
+    return PERSP_OK;
+}
+
+void persp_image_free(persp_context *ctx, persp_image *img)
+{
+    if (!img) return;
+    persp_free(ctx, img->pixels);
+    memset(img, 0, sizeof *img);
+}
+
+/* ------------------------------------------------------------------ PNG */
+
+static persp_status load_png(persp_context *ctx, const void *data, size_t size, const char *name,
+                             persp_image *out)
+{
+    png_image pi;
+    memset(&pi, 0, sizeof pi);
+    pi.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_memory(&pi, data, size)) {
+        persp_status st = persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: %s",
+                                             display_name(name), pi.message);
+        png_image_free(&pi);
+        return st;
+    }
+    persp_status st = check_size(ctx, name, (long long)pi.width, (long long)pi.height);
+    if (st != PERSP_OK) {
+        png_image_free(&pi);
+        return st;
+    }
+    pi.format = PNG_FORMAT_RGBA;
+    st = persp_image_alloc(ctx, (int)pi.width, (int)pi.height, out);
+    if (st != PERSP_OK) {
+        png_image_free(&pi);
+        return st;
+    }
+    /* A negative row stride makes libpng store the file's first (top) row
+     * last, which is exactly the bottom-up layout of persp_image. */
+    png_int_32 stride = -(png_int_32)out->stride;
+    if (!png_image_finish_read(&pi, NULL, out->pixels, stride, NULL)) {
+        st = persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt or truncated PNG: %s",
+                                display_name(name), pi.message);
+        png_image_free(&pi);
+        persp_image_free(ctx, out);
+        return st;
+    }
+    png_image_free(&pi);
+    return PERSP_OK;
+}
+
+/* ----------------------------------------------------------------- JPEG */
+
+/* libjpeg's default error handler calls exit(); this one jumps back to the
+ * decoder so a corrupt file becomes a status code. Warnings (e.g. premature
+ * end of data, which libjpeg pads with grey) are counted and reported as
+ * errors too: a silently patched image is not the file the user gave. */
+typedef struct jpeg_err {
+    struct jpeg_error_mgr pub;
+    jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+    int warnings;
+} jpeg_err;
+
+static void jpeg_error_exit(j_common_ptr cinfo)
+{
+    jpeg_err *e = (jpeg_err *)(void *)cinfo->err;
+    cinfo->err->format_message(cinfo, e->message);
+    longjmp(e->jump, 1);
+}
+
+static void jpeg_emit_message(j_common_ptr cinfo, int level)
+{
+    jpeg_err *e = (jpeg_err *)(void *)cinfo->err;
+    if (level < 0 && e->warnings++ == 0) cinfo->err->format_message(cinfo, e->message);
+}
+
+static void jpeg_output_message(j_common_ptr cinfo)
+{
+    (void)cinfo;
+}
+
+typedef struct jpeg_job {
+    struct jpeg_decompress_struct cinfo;
+    jpeg_err err;
+    persp_image img;
+} jpeg_job;
+
+/* The setjmp lives in its own function whose locals are all in *job (not in
+ * registers), so nothing it needs after a longjmp is indeterminate. */
+static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, size_t size,
+                                const char *name, jpeg_job *job)
+{
+    if (setjmp(job->err.jump)) {
+        persp_image_free(ctx, &job->img);
+        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
+                                  display_name(name), job->err.message);
+    }
+    jpeg_create_decompress(&job->cinfo);
+    jpeg_mem_src(&job->cinfo, data, (unsigned long)size);
+    jpeg_read_header(&job->cinfo, TRUE);
+    persp_status st = check_size(ctx, name, (long long)job->cinfo.image_width,
+                                 (long long)job->cinfo.image_height);
+    if (st != PERSP_OK) return st;
+    /* libjpeg-turbo's extended colour spaces convert grey and YCbCr input
+     * straight to RGBA with an opaque alpha. */
+    job->cinfo.out_color_space = JCS_EXT_RGBA;
+    jpeg_start_decompress(&job->cinfo);
+    if (job->cinfo.output_components != 4)
+        return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED, "%s: unsupported JPEG colour layout",
+                                  display_name(name));
+    st = persp_image_alloc(ctx, (int)job->cinfo.output_width, (int)job->cinfo.output_height,
+                           &job->img);
+    if (st != PERSP_OK) return st;
+    while (job->cinfo.output_scanline < job->cinfo.output_height) {
+        size_t row = (size_t)(job->cinfo.output_height - 1u - job->cinfo.output_scanline);
+        JSAMPROW rp = job->img.pixels + row * job->img.stride;
+        jpeg_read_scanlines(&job->cinfo, &rp, 1);
+    }
+    jpeg_finish_decompress(&job->cinfo);
+    if (job->err.warnings > 0) {
+        persp_image_free(ctx, &job->img);
+        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
+                                  display_name(name), job->err.message);
+    }
+    return PERSP_OK;
+}
+
+static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size, const char *name,
+                              persp_image *out)
+{
+    jpeg_job *job = persp__calloc(ctx, 1, sizeof *job);
+    if (!job) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
+                                        display_name(name));
+    job->cinfo.err = jpeg_std_error(&job->err.pub);
+    job->err.pub.error_exit = jpeg_error_exit;
+    job->err.pub.emit_message = jpeg_emit_message;
+    job->err.pub.output_message = jpeg_output_message;
+    persp_status st = decode_jpeg(ctx, data, size, name, job);
+    jpeg_destroy_decompress(&job->cinfo);
+    if (st == PERSP_OK) {
+        *out = job->img;
+    } else {
+        persp_image_free(ctx, &job->img);
+    }
+    persp_free(ctx, job);
+    return st;
+}
+
+/* ----------------------------------------------------------------- entry */
+
+persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
+                                     const char *name, persp_image *out)
+{
+    if (!ctx || !out || (!data && size)) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    memset(out, 0, sizeof *out);
+    static const unsigned char png_sig[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
+    const unsigned char *b = data;
+    if (size >= 8 && memcmp(b, png_sig, 8) == 0) return load_png(ctx, data, size, name, out);
+    if (size >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff)
+        return load_jpeg(ctx, data, size, name, out);
+    return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: not a PNG or JPEG image",
+                              display_name(name));
+}
+
+persp_status persp_image_load(persp_context *ctx, const char *path, persp_image *out)
+{
+    if (!ctx || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    memset(out, 0, sizeof *out);
+    char *data = NULL;
+    size_t size = 0;
+    persp_status st = persp__read_file(ctx, path, &data, &size);
+    if (st != PERSP_OK) return st;
+    st = persp_image_load_memory(ctx, data, size, path, out);
+    persp_free(ctx, data);
+    return st;
+}
+
+persp_status persp_image_write_png(persp_context *ctx, const char *path, const persp_image *img)
+{
+    if (!ctx || !path || !img) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!img->pixels || img->width <= 0 || img->height <= 0 ||
+        img->stride < (size_t)img->width * 4u || img->stride > 0x7fffffffu)
+        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: invalid image to write",
+                                  path);
+    size_t len = strlen(path);
+    char *tmp = persp_alloc(ctx, len + 16);
+    if (!tmp) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    memcpy(tmp, path, len);
+    memcpy(tmp + len, ".tmp-XXXXXX", 12);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        persp_status st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot create file: %s", path,
+                                             strerror(errno));
+        persp_free(ctx, tmp);
+        return st;
+    }
+    /* mkstemp creates the file private (0600); an output image is not. */
+    (void)fchmod(fd, 0644);
+    FILE *f = fdopen(fd, "wb");
+    if (!f) {
+        persp_status st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path,
+                                             strerror(errno));
+        close(fd);
+        unlink(tmp);
+        persp_free(ctx, tmp);
+        return st;
+    }
+    png_image pi;
+    memset(&pi, 0, sizeof pi);
+    pi.version = PNG_IMAGE_VERSION;
+    pi.width = (png_uint_32)img->width;
+    pi.height = (png_uint_32)img->height;
+    pi.format = PNG_FORMAT_RGBA;
+    /* Negative stride: libpng writes the last stored row (the top) first. */
+    png_int_32 stride = -(png_int_32)img->stride;
+    int ok = png_image_write_to_stdio(&pi, f, 0, img->pixels, stride, NULL);
+    persp_status st = PERSP_OK;
+    if (!ok)
+        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: PNG encoding failed: %s", path, pi.message);
+    png_image_free(&pi);
+    if (fflush(f) != 0 && st == PERSP_OK)
+        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+    if (fclose(f) != 0 && st == PERSP_OK)
+        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+    if (st == PERSP_OK && rename(tmp, path) != 0)
+        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot rename temporary file: %s", path,
+                                strerror(errno));
+    if (st != PERSP_OK) unlink(tmp);
+    persp_free(ctx, tmp);
+    return st;
+}

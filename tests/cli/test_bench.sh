@@ -1,0 +1,119 @@
+#!/usr/bin/env bash
+# CLI behaviour of `persp bench`: a tiny run prints a parsable table and valid
+# JSON, `--method all` covers the registry with exact as the unit of the
+# ratios, bad options exit 2 naming the problem, and --peer either measures
+# Mesa through OSMesa (and matches persp's image) or, in a build without
+# OSMesa, fails clearly. No assertion depends on timings.
+set -u
+persp="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok()   { pass=$((pass + 1)); }
+bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+expect() {
+    local code="$1" pattern="$2"; shift 3
+    local out rc
+    out=$("$@" 2>&1); rc=$?
+    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
+    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
+    ok
+}
+
+# check_json FILE PYTHON-EXPR: the file is valid JSON and the expression
+# (over the parsed object `j`) holds.
+check_json() {
+    local file="$1" expr="$2"
+    if ! python3 -m json.tool "$file" >/dev/null 2>&1; then bad "$file is not valid JSON: $(cat "$file")"; return; fi
+    if python3 -c "import json,sys,math; j=json.load(open(sys.argv[1])); sys.exit(0 if ($expr) else 1)" "$file"; then ok
+    else bad "$file fails: $expr: $(cat "$file")"; fi
+}
+
+tiny=(--size 32x24 --frames 1 --reps 1)
+
+expect 0 "usage: persp bench" -- "$persp" bench --help
+
+# Text table: header, then "exact FRAMES MEDIAN MIN MAX ..." with numbers.
+out=$("$persp" bench corridor "${tiny[@]}" 2>&1); rc=$?
+if [ "$rc" -ne 0 ]; then bad "tiny bench exited $rc: $out"
+else
+    row=$(awk '$1 == "exact"' <<<"$out")
+    if awk '{ exit !($2 == 1 && $3 > 0 && $4 > 0 && $5 > 0 && $4 <= $3 && $3 <= $5 && $6 == 1.000) }' <<<"$row"
+    then ok; else bad "no parsable exact row (frames 1, min <= median <= max, vs_exact 1): $out"; fi
+    grep -qE "^bench corridor 32x24 filter bilinear threads 1 reps 1$" <<<"$out" && ok || bad "header line: $out"
+    grep -qE "^peak resident memory: persp [0-9.]+ MiB" <<<"$out" && ok || bad "no peak memory line: $out"
+fi
+
+# JSON, single method, several runs: median between min and max, one entry per run.
+if "$persp" bench --size 40x30 --frames 2 --reps 3 --filter nearest --threads 2 --json >"$tmp/one.json" 2>"$tmp/err"; then
+    check_json "$tmp/one.json" "j['width'] == 40 and j['height'] == 30 and j['threads'] == 2 and j['filter'] == 'nearest' \
+        and len(j['results']) == 1 and j['results'][0]['method'] == 'exact' and j['results'][0]['frames'] == 2 \
+        and len(j['results'][0]['mpix_runs']) == 3 \
+        and min(j['results'][0]['mpix_runs']) == j['results'][0]['mpix_min'] \
+        and max(j['results'][0]['mpix_runs']) == j['results'][0]['mpix_max'] \
+        and j['results'][0]['mpix_min'] <= j['results'][0]['mpix_median'] <= j['results'][0]['mpix_max'] \
+        and sorted(j['results'][0]['mpix_runs'])[1] == j['results'][0]['mpix_median'] \
+        and j['peak_rss_mib'] > 0"
+else bad "bench --json exited non-zero: $(cat "$tmp/err")"; fi
+
+# --method all: one entry per method `persp methods` lists, exact's ratio 1.
+# (Methods whose parameters have no default are left out.)
+methods=$("$persp" methods | awk '/^[a-z]/ { sub(/:.*/, "", $1); print $1 }' | tr '\n' ' ')
+if "$persp" bench --method all "${tiny[@]}" --json >"$tmp/all.json" 2>"$tmp/err"; then
+    check_json "$tmp/all.json" "set(r['method'] for r in j['results']) <= set('$methods'.split()) \
+        and len(set(r['method'] for r in j['results'])) == len(j['results']) \
+        and {'exact', 'affine'} <= set(r['method'] for r in j['results']) \
+        and all(r['vs_exact'] > 0 for r in j['results']) \
+        and [r['vs_exact'] for r in j['results'] if r['method'] == 'exact'] == [1]"
+else bad "bench --method all exited non-zero: $(cat "$tmp/err")"; fi
+
+expect 2 "unknown option '--bogus'" -- "$persp" bench --bogus
+expect 2 "bad --frames '0'" -- "$persp" bench --frames 0
+expect 2 "bad --reps '1000'" -- "$persp" bench --reps 1000
+expect 2 "bad --time 'x'" -- "$persp" bench --time x
+expect 2 "bad --threads '0'" -- "$persp" bench --threads 0
+expect 2 "bad --size '0x10'" -- "$persp" bench --size 0x10
+expect 2 "unknown filter 'blurry'" -- "$persp" bench --filter blurry
+expect 2 "unknown method 'nosuch'" -- "$persp" bench --method nosuch
+expect 2 "bad --peer 'mesa'" -- "$persp" bench --peer mesa
+expect 2 "needs --peer" -- "$persp" bench --peer-image "$tmp/p.png"
+expect 2 "needs a value" -- "$persp" bench --frames
+expect 2 "more than one scene" -- "$persp" bench corridor cube
+expect 1 "missing.json" -- "$persp" bench "$tmp/missing.json" "${tiny[@]}"
+
+if "$persp" bench --help | grep -q "not built with OSMesa"; then
+    # Build without the peer: --peer fails with exit 1 and says why.
+    expect 1 "not built with OSMesa" -- "$persp" bench "${tiny[@]}" --peer llvmpipe
+    expect 1 "not built with OSMesa" -- "$persp" bench "${tiny[@]}" --peer softpipe --json
+else
+    expect 2 "only the corridor scene" -- "$persp" bench floor --peer llvmpipe
+    # The peer's frame is written and compared with persp's: with nearest
+    # sampling both pick the same texel except on the one-pixel lines where
+    # two walls meet at equal depth (which wall wins is a depth tie) and
+    # where a pixel centre lies within rounding distance of a texel edge.
+    # A wrong projection, texture orientation or wrap mode differs in far
+    # more pixels.
+    out=$("$persp" bench "${tiny[@]}" --size 128x96 --filter nearest --peer llvmpipe \
+          --peer-image "$tmp/peer.png" 2>&1); rc=$?
+    if [ "$rc" -ne 0 ]; then bad "bench --peer llvmpipe exited $rc: $out"
+    else
+        grep -qE "^peer:llvmpipe +1 +[0-9.]+ " <<<"$out" && ok || bad "no peer row: $out"
+        grep -qE "^peer renderer: llvmpipe" <<<"$out" && ok || bad "no peer renderer line: $out"
+        [ "$(head -c 8 "$tmp/peer.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && ok \
+            || bad "peer image is not a PNG"
+        pct=$(sed -nE 's/.*>8: ([0-9.]+)%.*/\1/p' <<<"$out")
+        awk -v p="${pct:-100}" 'BEGIN { exit !(p < 2.0) }' && ok \
+            || bad "persp and llvmpipe nearest images differ by >8 levels in ${pct:-?}% of pixels: $out"
+    fi
+    if "$persp" bench "${tiny[@]}" --peer softpipe --peer-threads 0 --json >"$tmp/peer.json" 2>"$tmp/err"; then
+        check_json "$tmp/peer.json" "j['peer']['driver'] == 'softpipe' and 'softpipe' in j['peer']['renderer'] \
+            and j['peer']['frames'] == 1 and j['peer']['mpix_median'] > 0 and j['peer']['lp_num_threads'] == 0 \
+            and j['results'][0]['vs_peer'] > 0"
+    else bad "bench --peer softpipe --json exited non-zero: $(cat "$tmp/err")"; fi
+    # A filter without an OpenGL counterpart is refused before anything runs.
+    expect 2 "no OpenGL counterpart" -- "$persp" bench "${tiny[@]}" --filter ewa --peer llvmpipe
+fi
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
