@@ -13,6 +13,7 @@
 #ifndef PERSP_TEXTURE_SAMPLE_H
 #define PERSP_TEXTURE_SAMPLE_H
 
+#include "core/fmath.h"
 #include "texture/texture.h"
 
 #include <math.h>
@@ -143,12 +144,15 @@ static inline float persp__clamp_lod(const persp_sampler_state *st, float lam)
     return lam;
 }
 
-/* GL 4.6 eq. 8.6 with rho = max of the two footprint lengths (eq. 8.7). */
+/* GL 4.6 eq. 8.6 with rho = max of the two footprint lengths (eq. 8.7).
+ * log2 is persp__log2f (error < 1e-5 of a level, well inside the latitude
+ * §8.14 allows for lambda) so that the vectorised samplers of fastspan.c
+ * compute the same level bit for bit. */
 static inline float persp__jac_lambda(const persp_sampler_state *st, persp_tex_jac j)
 {
     float rx = j.ux * j.ux + j.vx * j.vx, ry = j.uy * j.uy + j.vy * j.vy;
     float r2 = rx > ry ? rx : ry;
-    return persp__clamp_lod(st, 0.5f * log2f(r2) + st->lod_bias);
+    return persp__clamp_lod(st, 0.5f * persp__log2f(r2) + st->lod_bias);
 }
 
 /* Trilinear filtering at an already clamped lambda (GL 4.6 §8.14.3), used as

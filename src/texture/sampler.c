@@ -223,10 +223,18 @@ persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_tex
         st->span = persp__window_spans[wrap];
         break;
     default:
-        st->span = span_table[desc->filter][wrap];
+        st->span = persp__fast_span_select(st);
+        if (!st->span) st->span = span_table[desc->filter][wrap];
         break;
     }
     return PERSP_OK;
+}
+
+persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt)
+{
+    if ((unsigned)filter > (unsigned)PERSP_FILTER_ANISO || (unsigned)ws > 3u || (unsigned)wt > 3u)
+        return NULL;
+    return span_table[filter][(int)ws * 4 + (int)wt];
 }
 
 int persp__sampler_needs_lod(const persp_sampler_state *st)

@@ -37,8 +37,23 @@ typedef struct persp_tex_span_in {
     float poly_lambda;  /* level of detail for PERSP_LOD_POLYGON */
 } persp_tex_span_in;
 
+/* Per-level addressing of a power-of-two texture for the vectorised span
+ * samplers (fastspan.c): texel (i, j) of level l is storage[off[l] +
+ * (j << shift[l]) + i]; valid when pot != 0. */
+typedef struct persp_tex_pot {
+    int pot;
+    float fw[PERSP_TEX_MAX_LEVELS], fh[PERSP_TEX_MAX_LEVELS];
+    int32_t wmask[PERSP_TEX_MAX_LEVELS], hmask[PERSP_TEX_MAX_LEVELS];
+    int32_t shift[PERSP_TEX_MAX_LEVELS], off[PERSP_TEX_MAX_LEVELS];
+} persp_tex_pot;
+
 /* A sampler resolved once per draw against one texture: everything the
  * per-span code needs, so nothing is decided per pixel. */
+struct persp_sampler_state;
+struct persp_tex_span_in;
+typedef void (*persp_tex_span_fn)(const struct persp_sampler_state *st,
+                                    const struct persp_tex_span_in *in, uint32_t *out);
+
 typedef struct persp_sampler_state {
     const struct persp_texture *tex;
     persp_sampler_desc desc;
@@ -49,6 +64,7 @@ typedef struct persp_sampler_state {
     /* Heckbert's Gaussian weight exp(-alpha·r²) sampled at r² = k/(TABLE-1),
      * filled once by persp__sampler_init for PERSP_FILTER_EWA. */
     float ewa_weight[PERSP_EWA_TABLE];
+    persp_tex_pot pot;
     /* Span sampler chosen from the filter once per draw. */
     void (*span)(const struct persp_sampler_state *st, const struct persp_tex_span_in *in,
                  uint32_t *out);
@@ -64,6 +80,14 @@ static inline void persp__sample_span(const persp_sampler_state *st, const persp
 }
 /* Whether the sampler needs q and the Jacobian (any mip or anisotropic filter). */
 int persp__sampler_needs_lod(const persp_sampler_state *st);
+/* The vectorised span sampler for this state (fastspan.c): power-of-two
+ * textures, repeat or clamp-to-edge, nearest / bilinear / trilinear; fills
+ * st->pot. NULL when the state is not of that kind. Its output equals the
+ * general sampler's bit for bit (tests/unit/test_fastspan.c). */
+persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st);
+/* The general (table-driven) span sampler of a filter and wrap pair, for
+ * comparing the vectorised one against it. */
+persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt);
 /* Per-polygon level of detail (seed 002, "mipmap level selection"):
  * lambda = 0.5·log2(texel area / pixel area), areas of the same triangle in
  * texels (uv area × W × H) and in pixels. */

@@ -1,0 +1,54 @@
+/*
+ * Small float functions written so that GCC vectorises the loops that call
+ * them, and so that the scalar and the vectorised span code give identical
+ * bits (both call these, never libm, for the values they must agree on).
+ */
+#ifndef PERSP_CORE_FMATH_H
+#define PERSP_CORE_FMATH_H
+
+#include <stdint.h>
+#include <string.h>
+
+/* Vectorised variants of the hottest span loops: an AVX2 clone picked at
+ * load time by the dynamic loader on CPUs that have it (GCC function
+ * multi-versioning), the baseline x86-64 code elsewhere. Only floating-point
+ * operations that are exactly rounded in IEEE 754 are used in such loops and
+ * -ffp-contract=off forbids fused multiply-adds, so every clone computes the
+ * same bits. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__)
+#define PERSP_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define PERSP_SIMD_CLONES
+#endif
+
+/* log2(x) for normal positive x with an absolute error below 1e-6: x =
+ * m·2^e, m in [1, 2), log2 x = e + p(m - 1), p the degree-7 polynomial
+ * interpolating log2(1 + t) at the Chebyshev-Lobatto points of [0, 1]
+ * (p(0) = 0 and p(1) = 1, so exact powers of two give exact integers,
+ * which keeps mip levels exact at level boundaries). Zero, negative,
+ * subnormal and NaN arguments give -1e30 and +Inf gives +1e30, which every
+ * caller clamps. */
+static inline float persp__log2f(float x)
+{
+    uint32_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    int32_t e = (int32_t)(bits >> 23) - 127;
+    uint32_t mb = (bits & 0x007fffffu) | 0x3f800000u;
+    float m;
+    memcpy(&m, &mb, sizeof m);
+    float t = m - 1.0f;
+    float p = 0.014778720765862436f;
+    p = p * t + -0.07740339450744271f;
+    p = p * t + 0.1921059850316152f;
+    p = p * t + -0.3250416278946991f;
+    p = p * t + 0.47351812105207003f;
+    p = p * t + -0.720631704101052f;
+    p = p * t + 1.4426738996536466f;
+    p = p * t;
+    float r = (float)e + p;
+    r = x > 3.40282347e38f ? 1e30f : r;
+    r = x >= 1.17549435e-38f ? r : -1e30f;
+    return r;
+}
+
+#endif
