@@ -3,6 +3,7 @@
  * non-perspective baseline) and `exact` (Heckbert 1989 §2.3.2: interpolate
  * 1/w, u/w, v/w linearly in screen space, one reciprocal per pixel).
  */
+#include "core/fmath.h"
 #include "interp/method.h"
 #include "interp/methods.h"
 
@@ -62,7 +63,7 @@ static void affine_span(const persp_rational *r, const persp_method_params *para
 /* Exact: numerators and denominator start at the span's first pixel centre
  * and are advanced as k·step from that start (not by repeated addition), so
  * the only rounding per pixel is one multiply-add per plane and the divide. */
-static void exact_span(const persp_rational *r, const persp_method_params *params,
+PERSP_SIMD_CLONES static void exact_span(const persp_rational *r, const persp_method_params *params,
                        const persp_method_prep *prep, int x0, int y, int n, float *s1, float *s2,
                        persp_opcount *ops)
 {

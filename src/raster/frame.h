@@ -48,10 +48,18 @@ typedef struct persp_frame {
     persp_render_stats stats;
     persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
     persp_mat4 proj;        /* projection of the scene's camera */
+    /* Clear deferred to the tiles: each tile fills its own rectangle just
+     * before drawing into it, while it is in cache, and in parallel. */
+    int clear_pending;
+    uint32_t clear_color;
+    float clear_depth;
 } persp_frame;
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
                                 persp_frame *f);
+/* Clears fb to rgba (NULL: opaque black) and the far depth of the frame's
+ * mode, tile by tile during persp__frame_flush. */
+void persp__frame_clear(persp_frame *f, const uint8_t rgba[4]);
 persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index);
 /* Vertex stage, clipping and setup of one mesh. uv (2 per vertex) replaces
  * the vertices' own coordinates when non-NULL (texture-coordinate generation). */

@@ -6,6 +6,7 @@
  * Tiles own disjoint pixels and process their triangles in submission order,
  * so the image is bit-identical for any number of threads.
  */
+#include "core/fmath.h"
 #include "core/internal.h"
 #include "core/pool.h"
 #include "geom/scene.h"
@@ -88,6 +89,15 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
     f->depth_mode = mode;
     f->cache = ctx->render;
     return PERSP_OK;
+}
+
+void persp__frame_clear(persp_frame *f, const uint8_t rgba[4])
+{
+    uint8_t c[4] = {0, 0, 0, 255};
+    if (rgba) memcpy(c, rgba, 4);
+    memcpy(&f->clear_color, c, 4);
+    f->clear_depth = f->depth_mode == PERSP_DEPTH_INVW ? 0.0f : 1.0f;
+    f->clear_pending = 1;
 }
 
 persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index)
@@ -208,7 +218,7 @@ typedef struct span_ctx {
     int32_t tri_index;
 } span_ctx;
 
-static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
+PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
 {
     const persp_frame *f = sc->f;
     const persp_tri *t = sc->t;
@@ -323,6 +333,16 @@ static void raster_tile(void *user, int tile, int worker)
     const int x0 = tx * PERSP_TILE, y0 = ty * PERSP_TILE;
     const int x1 = PERSP_MIN(x0 + PERSP_TILE, f->fb->width) - 1;
     const int y1 = PERSP_MIN(y0 + PERSP_TILE, f->fb->height) - 1;
+    if (f->clear_pending) {
+        const int W = f->fb->width;
+        uint32_t *color = (uint32_t *)(void *)f->fb->color;
+        for (int y = y0; y <= y1; y++) {
+            uint32_t *cr = color + (size_t)y * (size_t)W;
+            float *dr = f->fb->depth + (size_t)y * (size_t)W;
+            for (int x = x0; x <= x1; x++) cr[x] = f->clear_color;
+            for (int x = x0; x <= x1; x++) dr[x] = f->clear_depth;
+        }
+    }
     span_ctx sc = {.f = f, .stats = &c->worker_stats[worker]};
     const uint32_t *items = c->bin_items + c->bin_start[tile];
     for (uint32_t k = 0; k < c->bin_count[tile]; k++) {
@@ -402,6 +422,7 @@ persp_status persp__frame_flush(persp_frame *f)
     tile_job job = {f, tiles_x, workers};
     persp_status st = persp__pool_run(ctx, (int)tiles, raster_tile, &job);
     if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: cannot start worker threads");
+    f->clear_pending = 0;
     f->stats.triangles_drawn += f->tri_count;
     for (int w = 0; w < workers; w++) {
         f->stats.fragments += c->worker_stats[w].fragments;

@@ -85,7 +85,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     st = persp__frame_begin(ctx, fb, dd.depth_mode, f);
     if (st != PERSP_OK) return st;
     f->capture = cap;
-    persp_framebuffer_clear(fb, scene->clear, dd.depth_mode);
+    persp__frame_clear(f, scene->clear);
 
     persp_mat4 proj, view;
     camera_matrices(scene, fb->width, fb->height, &proj, &view);

@@ -61,15 +61,22 @@ linear_taps(const persp_tex_pot *restrict p, int ws, int wt, int n, const float 
             int32_t *restrict a10, int32_t *restrict a01, int32_t *restrict a11,
             float *restrict fa, float *restrict fb)
 {
+    const int32_t w0 = p->wmask[0] + 1, h0 = p->hmask[0] + 1, s0 = p->shift[0];
     for (int k = 0; k < n; k++) {
+        /* Level l of a power-of-two chain is max(w0 >> l, 1) wide: shifts
+         * rather than table look-ups, which would each be a gather. */
         int32_t l = lev ? lev[k] : 0;
-        float x = safe_coord(u[k] * p->fw[l] - 0.5f);
-        float y = safe_coord(v[k] * p->fh[l] - 0.5f);
+        int32_t wl = w0 >> l, hl = h0 >> l, sh = s0 - l;
+        wl = wl > 1 ? wl : 1;
+        hl = hl > 1 ? hl : 1;
+        sh = sh > 0 ? sh : 0;
+        float x = safe_coord(u[k] * (float)wl - 0.5f);
+        float y = safe_coord(v[k] * (float)hl - 0.5f);
         float fx = floorf(x), fy = floorf(y);
         int32_t i0 = (int32_t)fx, j0 = (int32_t)fy;
         fa[k] = x - fx;
         fb[k] = y - fy;
-        int32_t wm = p->wmask[l], hm = p->hmask[l], sh = p->shift[l], off = p->off[l];
+        int32_t wm = wl - 1, hm = hl - 1, off = lev ? p->off[l] : 0;
         int32_t x0 = wrap_i(ws, i0, wm), x1 = wrap_i(ws, i0 + 1, wm);
         int32_t r0 = off + (wrap_i(wt, j0, hm) << sh), r1 = off + (wrap_i(wt, j0 + 1, hm) << sh);
         a00[k] = r0 + x0;
