@@ -55,6 +55,108 @@ static void test_threads_bit_identical(void **state)
     }
 }
 
+/* Bit-identical images for 1, 2 and 3 threads across the filters whose span
+ * samplers differ (vectorised, general, anisotropic) and methods with their
+ * own traversal (constz) or per-triangle fits (bezier). */
+static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int w, int h)
+{
+    persp_context *ctx = test_context();
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
+    uint8_t *color = malloc((size_t)w * h * 4);
+    float *depth = malloc((size_t)w * h * sizeof(float));
+    assert_non_null(color);
+    assert_non_null(depth);
+    persp_framebuffer fb = {w, h, color, depth};
+    persp_status s = persp_render(ctx, scene, d, &fb, NULL);
+    if (s != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
+    uint64_t hash = fnv(color, (size_t)w * h * 4);
+    free(color);
+    free(depth);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+    return hash;
+}
+
+static void test_threads_bit_identical_filters(void **state)
+{
+    (void)state;
+    const char *filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear", "aniso:4"};
+    const char *methods[] = {"exact", "constz", "bezier"};
+    for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
+        for (size_t mi = 0; mi < sizeof methods / sizeof *methods; mi++) {
+            persp_render_desc d;
+            memset(&d, 0, sizeof d);
+            d.method = methods[mi];
+            d.filter_set = 1;
+            assert_int_equal(persp_filter_parse(filters[fi], &d.filter, &d.max_aniso), PERSP_OK);
+            d.threads = 1;
+            uint64_t h1 = render_hash_desc("corridor", &d, 301, 203);
+            d.threads = 2;
+            uint64_t h2 = render_hash_desc("corridor", &d, 301, 203);
+            d.threads = 3;
+            uint64_t h3 = render_hash_desc("corridor", &d, 301, 203);
+            if (h1 != h2 || h1 != h3)
+                fail_msg("%s / %s: hashes %016llx %016llx %016llx for 1, 2, 3 threads", filters[fi],
+                         methods[mi], (unsigned long long)h1, (unsigned long long)h2,
+                         (unsigned long long)h3);
+        }
+}
+
+/* After the first frame the renderer reuses its buffers: rendering the same
+ * scene again allocates nothing (counted through the user allocator). */
+typedef struct counting_alloc {
+    long allocs;
+} counting_alloc;
+
+static void *count_alloc(void *user, size_t size)
+{
+    ((counting_alloc *)user)->allocs++;
+    return malloc(size);
+}
+
+static void count_free(void *user, void *ptr)
+{
+    (void)user;
+    free(ptr);
+}
+
+static void test_no_allocation_after_first_frame(void **state)
+{
+    (void)state;
+    counting_alloc counter = {0};
+    persp_allocator a = {count_alloc, count_free, &counter};
+    for (int threads = 1; threads <= 2; threads++) {
+        persp_context_desc cd = {&a, threads};
+        persp_context *ctx = NULL;
+        assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
+        persp_scene *scene = NULL;
+        assert_int_equal(persp_scene_builtin(ctx, "corridor", &scene), PERSP_OK);
+        const int w = 256, h = 192;
+        uint8_t *color = malloc((size_t)w * h * 4);
+        float *depth = malloc((size_t)w * h * sizeof(float));
+        assert_non_null(color);
+        assert_non_null(depth);
+        persp_framebuffer fb = {w, h, color, depth};
+        persp_render_desc d;
+        memset(&d, 0, sizeof d);
+        d.filter_set = 1;
+        d.filter = PERSP_FILTER_TRILINEAR;
+        assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
+        long first = counter.allocs;
+        assert_true(first > 0);
+        for (int frame = 0; frame < 3; frame++)
+            assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
+        if (counter.allocs != first)
+            fail_msg("%d thread(s): %ld allocations in frames after the first", threads,
+                     counter.allocs - first);
+        free(color);
+        free(depth);
+        persp_scene_destroy(scene);
+        persp_context_destroy(ctx);
+    }
+}
+
 static void test_every_pixel_covered_corridor(void **state)
 {
     (void)state;
@@ -173,6 +275,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_bit_identical),
+        cmocka_unit_test(test_threads_bit_identical_filters),
+        cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
