@@ -226,23 +226,23 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
     const int n = b->n;
     const int W = f->fb->width;
     float q[PERSP_SPAN_MAX], z[PERSP_SPAN_MAX];
-    int32_t idx[PERSP_SPAN_MAX];
-    uint8_t live[PERSP_SPAN_MAX];
+    int32_t idx[PERSP_SPAN_MAX], live[PERSP_SPAN_MAX];
     const int invw = f->depth_mode == PERSP_DEPTH_INVW;
     float *depth = f->fb->depth;
     int any = 0;
+    int32_t base = 0;
 
     if (!b->px) {
-        /* Span form: contiguous pixels; loops written to vectorise. */
+        /* Span form: contiguous pixels, pixel k at base + k; every loop is
+         * branch-free so that it vectorises. */
         double px = b->x0 + 0.5, py = b->y + 0.5;
         float q0 = (float)(t->rat.g * px + t->rat.h * py + t->rat.i), dq = (float)t->rat.g;
         float z0 = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]), dz = (float)t->zp[0];
-        const int32_t base = b->y * W + b->x0;
-        float *drow = depth + base;
+        base = b->y * W + b->x0;
+        const float *drow = depth + base;
         for (int k = 0; k < n; k++) {
             q[k] = q0 + (float)k * dq;
             z[k] = z0 + (float)k * dz;
-            idx[k] = base + k;
         }
         if (!ds->depth_test) {
             for (int k = 0; k < n; k++) live[k] = 1;
@@ -289,9 +289,17 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
 
     uint32_t *color = (uint32_t *)(void *)f->fb->color;
     const float *dv = invw ? q : z;
-    if (!b->px && any == n) {
-        memcpy(color + idx[0], out, (size_t)n * sizeof *out);
-        if (ds->depth_write) memcpy(depth + idx[0], dv, (size_t)n * sizeof *dv);
+    if (!b->px) {
+        uint32_t *crow = color + base;
+        float *drow = depth + base;
+        if (any == n) {
+            memcpy(crow, out, (size_t)n * sizeof *out);
+            if (ds->depth_write) memcpy(drow, dv, (size_t)n * sizeof *dv);
+        } else {
+            for (int k = 0; k < n; k++) crow[k] = live[k] ? out[k] : crow[k];
+            if (ds->depth_write)
+                for (int k = 0; k < n; k++) drow[k] = live[k] ? dv[k] : drow[k];
+        }
     } else {
         for (int k = 0; k < n; k++) {
             if (!live[k]) continue;
@@ -304,9 +312,10 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         persp_capture *cap = f->capture;
         for (int k = 0; k < n; k++) {
             if (!live[k]) continue;
-            cap->tri[idx[k]] = sc->tri_index;
-            cap->s1[idx[k]] = su[k];
-            cap->s2[idx[k]] = sv[k];
+            int32_t i = b->px ? idx[k] : base + k;
+            cap->tri[i] = sc->tri_index;
+            cap->s1[i] = su[k];
+            cap->s2[i] = sv[k];
         }
     }
 }
@@ -324,7 +333,7 @@ static int row_range_cb(const void *p, int y, int *lo, int *hi)
     return persp__tri_row_range(a->t, y, a->x0, a->x1, lo, hi);
 }
 
-static void raster_tile(void *user, int tile, int worker)
+PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
 {
     tile_job *job = user;
     persp_frame *f = job->f;
@@ -334,13 +343,15 @@ static void raster_tile(void *user, int tile, int worker)
     const int x1 = PERSP_MIN(x0 + PERSP_TILE, f->fb->width) - 1;
     const int y1 = PERSP_MIN(y0 + PERSP_TILE, f->fb->height) - 1;
     if (f->clear_pending) {
-        const int W = f->fb->width;
+        const size_t W = (size_t)f->fb->width;
+        const uint32_t cc = f->clear_color;
+        const float cd = f->clear_depth;
         uint32_t *color = (uint32_t *)(void *)f->fb->color;
         for (int y = y0; y <= y1; y++) {
-            uint32_t *cr = color + (size_t)y * (size_t)W;
-            float *dr = f->fb->depth + (size_t)y * (size_t)W;
-            for (int x = x0; x <= x1; x++) cr[x] = f->clear_color;
-            for (int x = x0; x <= x1; x++) dr[x] = f->clear_depth;
+            uint32_t *cr = color + (size_t)y * W;
+            float *dr = f->fb->depth + (size_t)y * W;
+            for (int x = x0; x <= x1; x++) cr[x] = cc;
+            for (int x = x0; x <= x1; x++) dr[x] = cd;
         }
     }
     span_ctx sc = {.f = f, .stats = &c->worker_stats[worker]};

@@ -4,8 +4,8 @@
  * nearest, bilinear and trilinear filters.
  *
  * They compute exactly what the general samplers of sampler.c compute (GL
- * 4.6 §8.14: texel i = wrap(floor(s·W)), linear taps at floor(s·W - 1/2)
- * with weight frac(s·W - 1/2), lambda from the analytic Jacobian), with the
+ * 4.6 §8.14: texel i = wrap(floor(s * (float)(int32_t)(tW)), linear taps at floor(s * (float)(int32_t)(tW - 1/2)
+ * with weight frac(s * (float)(int32_t)(tW - 1/2), lambda from the analytic Jacobian), with the
  * same floating-point operations in the same order, so the two agree bit for
  * bit; what differs is the shape of the code. Every stage is a loop over the
  * whole span (structure of arrays, at most PERSP_SPAN_MAX pixels) without
@@ -86,25 +86,43 @@ linear_taps(const persp_tex_pot *restrict p, int ws, int wt, int n, const float 
     }
 }
 
-/* Stages 3-4: fetch and weigh, in the order persp__bilinear accumulates
- * (00, 10, 01, 11), one float sum per channel. */
-static inline PERSP_INLINE void linear_sum(const uint32_t *tex, int n, const int32_t *a00, const int32_t *a10,
-                              const int32_t *a01, const int32_t *a11, const float *fa,
-                              const float *fb, float c[4][N])
+/* Stages 3-4: fetch and weigh in the order persp__bilinear accumulates
+ * (00, 10, 01, 11), one float sum per channel. Channels 1 and 2 are masked
+ * in place rather than shifted down, i.e. scaled by 2^8 and 2^16, and the
+ * sum is scaled back at the end: scaling every term of a float sum by a
+ * power of two scales each rounded product and partial sum exactly, so the
+ * result has the same bits and the loop saves eight shifts per pixel. */
+static inline PERSP_INLINE void linear_sum(const uint32_t *restrict tex, int n,
+                                           const int32_t *restrict a00, const int32_t *restrict a10,
+                                           const int32_t *restrict a01, const int32_t *restrict a11,
+                                           const float *restrict fa, const float *restrict fb,
+                                           float c[4][N])
 {
     for (int k = 0; k < n; k++) {
         uint32_t t00 = tex[a00[k]], t10 = tex[a10[k]], t01 = tex[a01[k]], t11 = tex[a11[k]];
         float a = fa[k], b = fb[k];
         float w00 = (1.0f - a) * (1.0f - b), w10 = a * (1.0f - b);
         float w01 = (1.0f - a) * b, w11 = a * b;
-        for (int ch = 0; ch < 4; ch++) {
-            int sh = 8 * ch;
-            float s = w00 * (float)(int32_t)(t00 >> sh & 0xffu);
-            s += w10 * (float)(int32_t)(t10 >> sh & 0xffu);
-            s += w01 * (float)(int32_t)(t01 >> sh & 0xffu);
-            s += w11 * (float)(int32_t)(t11 >> sh & 0xffu);
-            c[ch][k] = s;
-        }
+        float s0 = w00 * (float)(int32_t)(t00 & 0xffu);
+        s0 += w10 * (float)(int32_t)(t10 & 0xffu);
+        s0 += w01 * (float)(int32_t)(t01 & 0xffu);
+        s0 += w11 * (float)(int32_t)(t11 & 0xffu);
+        float s1 = w00 * (float)(int32_t)(t00 & 0xff00u);
+        s1 += w10 * (float)(int32_t)(t10 & 0xff00u);
+        s1 += w01 * (float)(int32_t)(t01 & 0xff00u);
+        s1 += w11 * (float)(int32_t)(t11 & 0xff00u);
+        float s2 = w00 * (float)(int32_t)(t00 & 0xff0000u);
+        s2 += w10 * (float)(int32_t)(t10 & 0xff0000u);
+        s2 += w01 * (float)(int32_t)(t01 & 0xff0000u);
+        s2 += w11 * (float)(int32_t)(t11 & 0xff0000u);
+        float s3 = w00 * (float)(int32_t)(t00 >> 24);
+        s3 += w10 * (float)(int32_t)(t10 >> 24);
+        s3 += w01 * (float)(int32_t)(t01 >> 24);
+        s3 += w11 * (float)(int32_t)(t11 >> 24);
+        c[0][k] = s0;
+        c[1][k] = s1 * 0x1p-8f;
+        c[2][k] = s2 * 0x1p-16f;
+        c[3][k] = s3;
     }
 }
 
@@ -146,7 +164,7 @@ static inline PERSP_INLINE void span_bilinear(const persp_sampler_state *st, con
 /* Trilinear (GL 4.6 §8.14.3) with lambda per pixel from the Jacobian
  * (persp__span_jacobian, persp__jac_lambda) or once per polygon. A pixel
  * whose lambda is <= 0 (magnified) or at the last level takes one level with
- * blend factor 0, for which c1 + 0·(c2 - c1) = c1 exactly; the second level
+ * blend factor 0, for which c1 + 0 * (float)(int32_t)(t(c2 - c1) = c1 exactly; the second level
  * is fetched only when some pixel of the span blends. */
 static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, const persp_tex_span_in *in,
                                   uint32_t *out, int ws, int wt)

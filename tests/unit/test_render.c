@@ -2,6 +2,8 @@
  * immediate drawing, bad framebuffers. */
 #include "support.h"
 
+#include "raster/raster.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -157,6 +159,59 @@ static void test_no_allocation_after_first_frame(void **state)
     }
 }
 
+/* The covered range of a row (found from the edge equations with a rounded
+ * quotient and an exact correction) equals the pixels whose centres pass
+ * all three edge tests, evaluated one by one. */
+static void test_row_range_brute_force(void **state)
+{
+    (void)state;
+    test_rng rng = {77};
+    long rows = 0, pixels = 0;
+    for (int tri = 0; tri < 3000; tri++) {
+        persp_winvert v[3];
+        float attr[PERSP_A_COUNT] = {0};
+        double span = tri % 3 == 0 ? 4.0 : tri % 3 == 1 ? 200.0 : 30000.0;
+        for (int i = 0; i < 3; i++) {
+            v[i].x = test_rng_uniform(&rng, 100.0 - span, 100.0 + span);
+            v[i].y = test_rng_uniform(&rng, 60.0 - span, 60.0 + span);
+            if (tri % 5 == 0) v[i].x = floor(v[i].x) + 0.5; /* edges through pixel centres */
+            v[i].z = 0.5;
+            v[i].q = 1.0;
+            v[i].attr = attr;
+        }
+        persp_tri t;
+        if (!persp__setup_triangle(v, 200, 120, 0, &t)) continue;
+        for (int y = t.ymin; y <= t.ymax; y++) {
+            int x0 = (int)(test_rng_next(&rng) % 64), x1 = x0 + 64 + (int)(test_rng_next(&rng) % 100);
+            int want_lo = -1, want_hi = -2;
+            for (int x = x0 < t.xmin ? t.xmin : x0; x <= x1 && x <= t.xmax; x++) {
+                int64_t X = (int64_t)x * PERSP_SUBPIXEL + PERSP_SUBPIXEL / 2;
+                int64_t Y = (int64_t)y * PERSP_SUBPIXEL + PERSP_SUBPIXEL / 2;
+                int in = 1;
+                for (int k = 0; k < 3; k++) in &= t.ea[k] * X + t.eb[k] * Y + t.ec[k] >= 0;
+                if (in) {
+                    if (want_lo < 0) want_lo = x;
+                    if (want_hi != x - 1 && want_hi >= 0) fail_msg("row %d of triangle %d is not convex", y, tri);
+                    want_hi = x;
+                }
+            }
+            int lo = -1, hi = -2;
+            int got = persp__tri_row_range(&t, y, x0, x1, &lo, &hi);
+            if (want_lo < 0) {
+                if (got) fail_msg("triangle %d row %d: got [%d, %d], expected empty", tri, y, lo, hi);
+            } else if (!got || lo != want_lo || hi != want_hi) {
+                fail_msg("triangle %d row %d in [%d, %d]: got %d [%d, %d], expected [%d, %d]", tri, y,
+                         x0, x1, got, lo, hi, want_lo, want_hi);
+            } else {
+                pixels += hi - lo + 1;
+            }
+            rows++;
+        }
+    }
+    print_message("%ld rows, %ld pixels compared\n", rows, pixels);
+    assert_true(rows > 10000);
+}
+
 static void test_every_pixel_covered_corridor(void **state)
 {
     (void)state;
@@ -277,6 +332,7 @@ int main(void)
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_threads_bit_identical_filters),
         cmocka_unit_test(test_no_allocation_after_first_frame),
+        cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
