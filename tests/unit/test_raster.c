@@ -67,6 +67,25 @@ static void test_clip_rejects_nan_inf(void **state)
     assert_int_equal(persp__clip_triangle(c, 8, 8, out), 0);
 }
 
+static void test_clip_w_not_positive(void **state)
+{
+    (void)state;
+    /* One vertex behind the eye (w < 0) and one exactly on the eye plane
+     * (w = 0): clipping happens before any divide, so every output vertex
+     * has w > 0 and lies on the visible side of the near plane. */
+    persp_clipvert out[PERSP_CLIP_MAX];
+    persp_clipvert a[3] = {cv(0.2f, 0.1f, 0.5f, -0.5f), cv(0.5f, -0.5f, 0.5f, 1), cv(-0.5f, 0.5f, 0.5f, 2)};
+    persp_clipvert b[3] = {cv(0.2f, 0.1f, 0, 0), cv(0.5f, -0.5f, 0.5f, 1), cv(-0.5f, 0.5f, 0.5f, 2)};
+    for (int t = 0; t < 2; t++) {
+        int n = persp__clip_triangle(t ? b : a, 8, 8, out);
+        assert_true(n >= 3);
+        for (int i = 0; i < n; i++) {
+            assert_true(out[i].clip[3] > 0.0f);
+            assert_true(out[i].clip[2] + out[i].clip[3] >= -1e-6f);
+        }
+    }
+}
+
 static void test_clip_guard_band(void **state)
 {
     (void)state;
@@ -191,13 +210,37 @@ static void test_watertight_random_mesh(void **state)
     free(cnt);
 }
 
+static void test_watertight_guard_band_fan(void **state)
+{
+    (void)state;
+    /* A fan of triangles whose outer vertices lie thousands of pixels
+     * outside the viewport (inside the guard band, so set up without
+     * clipping, with the 64-bit edge products): every pixel of the viewport
+     * is covered exactly once. */
+    enum { W = 160, H = 120, N = 13 };
+    int *cnt = calloc(W * H, sizeof *cnt);
+    assert_non_null(cnt);
+    const double cx = 77.3, cy = 51.9, R = 9000.0;
+    for (int k = 0; k < N; k++) {
+        double a0 = 2.0 * 3.14159265358979323846 * k / N + 0.1;
+        double a1 = 2.0 * 3.14159265358979323846 * (k + 1) / N + 0.1;
+        persp_winvert t[3] = {wv(cx, cy), wv(cx + R * cos(a0), cy + R * sin(a0)),
+                              wv(cx + R * cos(a1), cy + R * sin(a1))};
+        cover(t, W, H, cnt);
+    }
+    for (int i = 0; i < W * H; i++)
+        if (cnt[i] != 1) fail_msg("pixel (%d,%d) covered %d times", i % W, i / W, cnt[i]);
+    free(cnt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_clip_inside_unchanged), cmocka_unit_test(test_clip_all_outside),
         cmocka_unit_test(test_clip_near_plane), cmocka_unit_test(test_clip_rejects_nan_inf),
-        cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
+        cmocka_unit_test(test_clip_w_not_positive), cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
         cmocka_unit_test(test_fill_rule_pixel_centres), cmocka_unit_test(test_watertight_random_mesh),
+        cmocka_unit_test(test_watertight_guard_band_fan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
