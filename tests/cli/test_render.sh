@@ -70,6 +70,10 @@ expect 1 "bad.jpg: corrupt JPEG" -- "$persp" render corridor --size 8x8 --textur
 expect 1 "neither a built-in scene \(corridor, floor, cube\) nor a file" -- "$persp" render nosuchscene -o "$tmp/x.png"
 expect 2 "bad parameters in method 'subdiv:5' \(expected subdiv:N" -- "$persp" render --method subdiv:5 -o "$tmp/x.png"
 
+# Without -o the image goes to out/SCENE.png, the folder created if needed.
+mkdir "$tmp/fresh"
+(cd "$tmp/fresh" && "$persp" render cube --size 16x12 -q) && [ -s "$tmp/fresh/out/cube.png" ] && ok || bad "default output out/cube.png not written"
+
 # A valid PNG as --texture replaces the scene's texture: the image changes.
 expect 0 "" -- "$persp" render floor --size 64x48 -q -o "$tmp/f1.png"
 expect 0 "" -- "$persp" render floor --size 64x48 -q --texture "$tmp/c.png" -o "$tmp/f2.png"

@@ -59,13 +59,16 @@ static int starts_method(const char *text)
     return 0;
 }
 
-/* Like add_list, but a comma starts a new method only where a method name
- * follows it, so parameter lists such as "midpoint:int,edge" stay whole. */
+/* Like add_list, but inside a method's parameters (after its ':') a comma
+ * starts a new method only where a method name follows it, so parameter
+ * lists such as "midpoint:int,edge" stay whole. */
 static int add_method_list(char *text, const char **list, size_t *n)
 {
     for (char *p = text;;) {
         char *comma = strchr(p, ',');
-        while (comma && !starts_method(comma + 1)) comma = strchr(comma + 1, ',');
+        const char *colon = strchr(p, ':');
+        while (comma && colon && colon < comma && !starts_method(comma + 1))
+            comma = strchr(comma + 1, ',');
         if (comma) *comma = '\0';
         if (!*p || *n >= MAX_LIST) return 0;
         list[(*n)++] = p;

@@ -3,6 +3,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static void render_usage(FILE *out)
@@ -214,6 +215,11 @@ int cmd_render(int argc, char **argv)
         size_t len = strcspn(base, ".");
         snprintf(default_out, sizeof default_out, "out/%.*s.png", (int)len, base);
         output = default_out;
+        /* The default folder is persp's own; an -o path's folder is the user's. */
+        if (mkdir("out", 0777) != 0 && errno != EEXIST) {
+            rc = cli_error(CLI_FAIL, "render: cannot create the folder 'out': %s", strerror(errno));
+            goto done;
+        }
     }
     if ((st = persp_image_write_png(ctx, output, &img)) != PERSP_OK) {
         rc = cli_status(ctx, st, output);
