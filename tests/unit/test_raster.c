@@ -217,15 +217,19 @@ static void test_watertight_guard_band_fan(void **state)
      * outside the viewport (inside the guard band, so set up without
      * clipping, with the 64-bit edge products): every pixel of the viewport
      * is covered exactly once. */
-    enum { W = 160, H = 120, N = 13 };
+    enum { W = 160, H = 120, N = 10 };
     int *cnt = calloc(W * H, sizeof *cnt);
     assert_non_null(cnt);
-    const double cx = 77.3, cy = 51.9, R = 9000.0;
+    /* The centre is a pixel centre and the edges run along rows, columns,
+     * diagonals and other rational slopes, so many pixel centres lie
+     * exactly on shared edges and only the fill rule decides them. */
+    const double cx = 77.5, cy = 51.5, R = 3000.0;
+    static const int dir[N][2] = {{1, 0}, {2, 1}, {1, 1}, {0, 1},  {-1, 2},
+                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {3, -1}};
     for (int k = 0; k < N; k++) {
-        double a0 = 2.0 * 3.14159265358979323846 * k / N + 0.1;
-        double a1 = 2.0 * 3.14159265358979323846 * (k + 1) / N + 0.1;
-        persp_winvert t[3] = {wv(cx, cy), wv(cx + R * cos(a0), cy + R * sin(a0)),
-                              wv(cx + R * cos(a1), cy + R * sin(a1))};
+        const int *a = dir[k], *b = dir[(k + 1) % N];
+        persp_winvert t[3] = {wv(cx, cy), wv(cx + R * a[0], cy + R * a[1]),
+                              wv(cx + R * b[0], cy + R * b[1])};
         cover(t, W, H, cnt);
     }
     for (int i = 0; i < W * H; i++)
