@@ -1,8 +1,9 @@
 /*
  * Heat maps of per-pixel error for persp accuracy --heatmap: a logarithmic
  * colour scale over five decades ending at the decade above the largest
- * error, with a legend (colour bar and decade tick labels in texels) drawn
- * with a small built-in bitmap font.
+ * error, with a legend (colour bar, decade tick labels in texels and a
+ * caption naming the quantity: max(|Δu|, |Δv|) per pixel) drawn with a small
+ * built-in bitmap font.
  */
 #include "analysis/analysis.h"
 #include "core/internal.h"
@@ -21,7 +22,15 @@ static const struct {
     {'6', {7, 4, 7, 5, 7}}, {'7', {7, 1, 2, 2, 2}}, {'8', {7, 5, 7, 5, 7}},
     {'9', {7, 5, 7, 1, 7}}, {'.', {0, 0, 0, 0, 2}}, {'-', {0, 0, 7, 0, 0}},
     {'+', {0, 2, 7, 2, 0}}, {'e', {0, 7, 7, 4, 7}}, {' ', {0, 0, 0, 0, 0}},
+    {'a', {0, 6, 1, 5, 7}}, {'d', {1, 1, 7, 5, 7}}, {'i', {2, 0, 2, 2, 2}},
+    {'l', {6, 2, 2, 2, 7}}, {'m', {0, 6, 7, 5, 5}}, {'n', {0, 0, 6, 5, 5}},
+    {'s', {0, 3, 4, 1, 6}}, {'t', {2, 7, 2, 2, 3}}, {'u', {0, 0, 5, 5, 7}},
+    {'v', {0, 0, 5, 5, 2}}, {'x', {0, 0, 5, 2, 5}}, {'(', {1, 2, 2, 2, 1}},
+    {')', {4, 2, 2, 2, 4}}, {'|', {2, 2, 2, 2, 2}}, {',', {0, 0, 0, 2, 4}},
 };
+
+/* The quantity mapped, printed under the scale. */
+#define HEATMAP_CAPTION "max(|du|,|dv|) in texels"
 
 static const uint8_t *glyph(char c)
 {
@@ -108,7 +117,8 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
     if (h * fy < 48) fy = (48 + h - 1) / h;
     if (fx > 64) fx = 64;
     if (fy > 64) fy = 64;
-    const int ts = 2, margin = 16, bar_h = 12, legend_h = 8 + bar_h + 4 + 5 * ts + 8;
+    const int ts = 2, margin = 16, bar_h = 12;
+    const int legend_h = 8 + bar_h + 4 + 5 * ts + 6 + 5 * ts + 8;
     int iw = w * fx, ih = h * fy + legend_h;
     if (iw < 256) iw = 256;
     if (iw > PERSP_IMAGE_MAX_SIDE || ih > PERSP_IMAGE_MAX_SIDE)
@@ -153,6 +163,8 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
         if (tx + tw > iw - 1) tx = iw - 1 - tw;
         persp__heatmap_text(&img, tx, by + bar_h + 4, ts, label, white);
     }
+    int cw = persp__heatmap_text_width(HEATMAP_CAPTION, ts);
+    persp__heatmap_text(&img, (iw - cw) / 2, by + bar_h + 4 + 5 * ts + 6, ts, HEATMAP_CAPTION, white);
     st = persp_image_write_png(ctx, path, &img);
     persp_image_free(ctx, &img);
     return st;

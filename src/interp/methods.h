@@ -10,11 +10,18 @@ void persp__plane_through(const double vx[3], const double vy[3], const double v
 
 extern const persp_method persp__method_affine;
 extern const persp_method persp__method_exact;
-extern const persp_method persp__method_incremental, persp__method_subdiv, persp__method_subdiv_quad, persp__method_quadratic, persp__method_quadratic_shifted, persp__method_quadratic_unnorm, persp__method_cubic, persp__method_biquadratic, persp__method_bicubic, persp__method_bezier; /* incremental.c subdiv.c quadratic.c bipoly.c bezier.c */
+/* incremental.c, subdiv.c, quadratic.c, bipoly.c, bezier.c */
+extern const persp_method persp__method_incremental;
+extern const persp_method persp__method_subdiv, persp__method_subdiv_quad;
+extern const persp_method persp__method_quadratic, persp__method_quadratic_shifted;
+extern const persp_method persp__method_quadratic_unnorm, persp__method_cubic;
+extern const persp_method persp__method_biquadratic, persp__method_bicubic;
+extern const persp_method persp__method_bezier;
 extern const persp_method persp__method_midpoint; /* midpoint.c */
 extern const persp_method persp__method_constz;   /* constz.c */
 extern const persp_method persp__method_adaptive; /* adaptive.c */
-/* midpoint.c: r with its planes rounded to the fixed-point format of midpoint:int at den_bits (42 there). */
+/* midpoint.c: r with its planes rounded to the fixed-point format of
+ * midpoint:int at den_bits (42 there). */
 void persp__midpoint_quantize(const persp_rational *r, int den_bits, persp_rational *out);
 
 #endif

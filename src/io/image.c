@@ -71,9 +71,61 @@ void persp_image_free(persp_context *ctx, persp_image *img)
 
 /* ------------------------------------------------------------------ PNG */
 
+static uint32_t be32(const unsigned char *p)
+{
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | (uint32_t)p[3];
+}
+
+/* Walks the chunk structure (PNG specification §5.3: length, type, data,
+ * CRC) from the signature to IEND. The IHDR size is checked here, before
+ * libpng sees the file, so a forged header is refused whatever follows it;
+ * and a file cut anywhere, even after the last image data (which libpng's
+ * simplified reader accepts), is reported as truncated. */
+static persp_status check_png_structure(persp_context *ctx, const unsigned char *b, size_t size,
+                                        const char *name)
+{
+    size_t pos = 8;
+    int first = 1;
+    for (;;) {
+        if (size - pos < 12)
+            return persp_context_fail(ctx, PERSP_ERR_FORMAT,
+                                      "%s: truncated PNG: the file ends inside a chunk at byte %zu "
+                                      "(no IEND chunk)",
+                                      display_name(name), pos);
+        uint32_t len = be32(b + pos);
+        const unsigned char *type = b + pos + 4;
+        if (len > 0x7fffffffu)
+            return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: chunk length %u at byte %zu",
+                                      display_name(name), (unsigned)len, pos);
+        if (first) {
+            if (memcmp(type, "IHDR", 4) != 0 || len != 13)
+                return persp_context_fail(ctx, PERSP_ERR_FORMAT,
+                                          "%s: invalid PNG: the first chunk is not IHDR",
+                                          display_name(name));
+            if (size - pos < 20)
+                return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: truncated PNG header",
+                                          display_name(name));
+            persp_status st = check_size(ctx, name, (long long)be32(b + pos + 8),
+                                         (long long)be32(b + pos + 12));
+            if (st != PERSP_OK) return st;
+            first = 0;
+        }
+        if ((size - pos - 12) < (size_t)len)
+            return persp_context_fail(ctx, PERSP_ERR_FORMAT,
+                                      "%s: truncated PNG: chunk %.4s at byte %zu needs %u bytes, "
+                                      "%zu remain",
+                                      display_name(name), (const char *)type, pos, (unsigned)len,
+                                      size - pos - 12);
+        if (memcmp(type, "IEND", 4) == 0) return PERSP_OK;
+        pos += 12 + (size_t)len;
+    }
+}
+
 static persp_status load_png(persp_context *ctx, const void *data, size_t size, const char *name,
                              persp_image *out)
 {
+    persp_status cst = check_png_structure(ctx, data, size, name);
+    if (cst != PERSP_OK) return cst;
     png_image pi;
     memset(&pi, 0, sizeof pi);
     pi.version = PNG_IMAGE_VERSION;
@@ -228,6 +280,11 @@ persp_status persp_image_load(persp_context *ctx, const char *path, persp_image 
     if (!ctx || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
     memset(out, 0, sizeof *out);
+    /* A directory opens and seeks on some systems and then reports a
+     * nonsense size; name the problem instead. */
+    struct stat sb;
+    if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
+        return persp_context_fail(ctx, PERSP_ERR_IO, "%s: is a directory, not an image file", path);
     char *data = NULL;
     size_t size = 0;
     persp_status st = persp__read_file(ctx, path, &data, &size);

@@ -53,5 +53,38 @@ printf 'not an image at all' > "$tmp/junk.png"
 expect 1 "junk.png" -- "$persp" render corridor --texture "$tmp/junk.png" -o "$tmp/x.png"
 [ ! -e "$tmp/x.png" ] && ok || bad "a failed render left $tmp/x.png behind"
 
+# Bad texture files: each a clear message naming the file and the problem,
+# exit 1, no output file.
+head -c 100 "$tmp/c.png" > "$tmp/trunc.png"
+expect 1 "trunc.png: truncated PNG" -- "$persp" render corridor --size 8x8 --texture "$tmp/trunc.png" -o "$tmp/x.png"
+# Signature and a valid IHDR chunk (CRC included) claiming 100000x100000 RGBA8.
+printf '\x89\x50\x4e\x47\x0d\x0a\x1a\x0a\x00\x00\x00\x0d\x49\x48\x44\x52\x00\x01\x86\xa0\x00\x01\x86\xa0\x08\x06\x00\x00\x00\xa8\x52\x0b\xc8' > "$tmp/huge.png"
+expect 1 "huge.png: image size 100000x100000 exceeds the limit" -- "$persp" render corridor --size 8x8 --texture "$tmp/huge.png" -o "$tmp/x.png"
+expect 1 "junk.png: not a PNG or JPEG image" -- "$persp" render corridor --size 8x8 --texture "$tmp/junk.png" -o "$tmp/x.png"
+expect 1 "missing.png: cannot open" -- "$persp" render corridor --size 8x8 --texture "$tmp/missing.png" -o "$tmp/x.png"
+mkdir "$tmp/dir.png"
+expect 1 "dir.png: is a directory" -- "$persp" render corridor --size 8x8 --texture "$tmp/dir.png" -o "$tmp/x.png"
+printf '\xff\xd8\xff\xe0 not really a JPEG' > "$tmp/bad.jpg"
+expect 1 "bad.jpg: corrupt JPEG" -- "$persp" render corridor --size 8x8 --texture "$tmp/bad.jpg" -o "$tmp/x.png"
+[ ! -e "$tmp/x.png" ] && ok || bad "a failed texture load left $tmp/x.png behind"
+expect 1 "neither a built-in scene \(corridor, floor, cube\) nor a file" -- "$persp" render nosuchscene -o "$tmp/x.png"
+expect 2 "bad parameters in method 'subdiv:5' \(expected subdiv:N" -- "$persp" render --method subdiv:5 -o "$tmp/x.png"
+
+# Without -o the image goes to out/SCENE.png, the folder created if needed.
+mkdir "$tmp/fresh"
+(cd "$tmp/fresh" && "$persp" render cube --size 16x12 -q) && [ -s "$tmp/fresh/out/cube.png" ] && ok || bad "default output out/cube.png not written"
+
+# A valid PNG as --texture replaces the scene's texture: the image changes.
+expect 0 "" -- "$persp" render floor --size 64x48 -q -o "$tmp/f1.png"
+expect 0 "" -- "$persp" render floor --size 64x48 -q --texture "$tmp/c.png" -o "$tmp/f2.png"
+cmp -s "$tmp/f1.png" "$tmp/f2.png" && bad "--texture did not change the image" || ok
+
+# Every wrap mode renders; on the corridor (u up to 2, v up to 64) repeat and
+# clamp-to-edge give different images.
+for w in repeat clamp-to-edge mirrored-repeat clamp-to-border; do
+    expect 0 "" -- "$persp" render corridor --size 64x48 -q --wrap "$w" -o "$tmp/w-$w.png"
+done
+cmp -s "$tmp/w-repeat.png" "$tmp/w-clamp-to-edge.png" && bad "--wrap clamp-to-edge had no effect" || ok
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

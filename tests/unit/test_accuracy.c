@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int cmp_double(const void *a, const void *b)
 {
@@ -379,6 +380,75 @@ static void test_bad_input(void **state)
     persp_context_destroy(ctx);
 }
 
+static int same_rgb(const uint8_t *p, const uint8_t rgb[3])
+{
+    return p[0] == rgb[0] && p[1] == rgb[1] && p[2] == rgb[2];
+}
+
+/* A heat map carries its legend: a colour bar running through the whole
+ * scale (from the colour of the lowest decade at its left end to that of
+ * the highest at its right end) below the map, and white tick labels and
+ * caption below the bar; uncovered pixels are grey; grid row 0 is drawn at
+ * the bottom of the map. */
+static void test_heatmap_legend(void **state)
+{
+    (void)state;
+    enum { W = 8, H = 4 };
+    float err[W * H];
+    for (int i = 0; i < W * H; i++) err[i] = (i / W == H - 1) ? NAN : 1e-3f * (float)(i + 1);
+    err[0] = 100.0f; /* bottom-left: the largest error, the top of the scale */
+    persp_context *ctx = test_context();
+    char path[256];
+    snprintf(path, sizeof path, "/tmp/persp-heatmap-%ld.png", (long)getpid());
+    assert_int_equal(persp__heatmap_write(ctx, path, err, W, H), PERSP_OK);
+    persp_image img;
+    assert_int_equal(persp_image_load(ctx, path, &img), PERSP_OK);
+    remove(path);
+    uint8_t lo[3], hi[3];
+    persp__heatmap_color(0.0, lo);
+    persp__heatmap_color(1.0, hi);
+    const uint8_t grey[3] = {48, 48, 48}, white[3] = {255, 255, 255};
+    int bar_top = -1, bar_rows = 0, map_bottom = -1;
+    for (int y = 0; y < img.height; y++) {
+        const uint8_t *row = img.pixels + (size_t)y * img.stride;
+        /* The bar: the scale's two end colours at the two ends of the row,
+         * and colours in between that change monotonically in green. */
+        int first = -1, last = -1;
+        for (int x = 0; x < img.width; x++)
+            if (row[4 * x] || row[4 * x + 1] || row[4 * x + 2]) {
+                if (first < 0) first = x;
+                last = x;
+            }
+        if (first >= 0 && same_rgb(row + 4 * first, lo) && same_rgb(row + 4 * last, hi) &&
+            last - first > img.width / 2) {
+            int monotone = 1;
+            for (int x = first + 1; x <= last; x++) monotone &= row[4 * x + 1] >= row[4 * (x - 1) + 1];
+            if (monotone) {
+                bar_rows++;
+                if (y > bar_top) bar_top = y;
+            }
+        }
+        /* The map's bottom row starts with the colour of err[0]. */
+        if (map_bottom < 0 && same_rgb(row, hi) && same_rgb(row + 4 * (img.width / W - 1), hi) &&
+            bar_top >= 0 && y > bar_top + 2)
+            map_bottom = y;
+    }
+    print_message("heat map %dx%d: bar %d rows, top at %d; map from row %d\n", img.width, img.height,
+                  bar_rows, bar_top, map_bottom);
+    assert_true(bar_rows >= 8);
+    assert_true(map_bottom > bar_top);
+    /* Labels: white pixels below the bar. */
+    long labels = 0;
+    for (int y = 0; y < bar_top - bar_rows; y++)
+        for (int x = 0; x < img.width; x++) labels += same_rgb(img.pixels + (size_t)y * img.stride + 4u * (size_t)x, white);
+    assert_true(labels > 100);
+    /* The top row of the image is grid row H - 1: uncovered, grey. */
+    const uint8_t *top = img.pixels + (size_t)(img.height - 1) * img.stride;
+    assert_true(same_rgb(top, grey) && same_rgb(top + 4 * (img.width - 1), grey));
+    persp_image_free(ctx, &img);
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -386,6 +456,7 @@ int main(void)
         cmocka_unit_test(test_paper_quad_corners),  cmocka_unit_test(test_exact_is_exact),
         cmocka_unit_test(test_affine_far_off),      cmocka_unit_test(test_writers_parse),
         cmocka_unit_test(test_scene_case),         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_heatmap_legend),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -96,7 +96,7 @@ static void measure(const persp_method_sel *sel, const persp_tri *t, const persp
     }
 }
 
-/* Bound (docs/methods/divfree.md): half a texel step, plus the float rounding
+/* Bound (docs/METHODS.md, midpoint): half a texel step, plus the float rounding
  * of the output lattice value (values ≤ 256 texels: 2^-24·256 ≈ 1.5e-5) and
  * the rounding of the double reference; 1e-4 texel covers both. */
 #define HALF_STEP_BOUND (0.5 + 1e-4)

@@ -67,6 +67,25 @@ static void test_clip_rejects_nan_inf(void **state)
     assert_int_equal(persp__clip_triangle(c, 8, 8, out), 0);
 }
 
+static void test_clip_w_not_positive(void **state)
+{
+    (void)state;
+    /* One vertex behind the eye (w < 0) and one exactly on the eye plane
+     * (w = 0): clipping happens before any divide, so every output vertex
+     * has w > 0 and lies on the visible side of the near plane. */
+    persp_clipvert out[PERSP_CLIP_MAX];
+    persp_clipvert a[3] = {cv(0.2f, 0.1f, 0.5f, -0.5f), cv(0.5f, -0.5f, 0.5f, 1), cv(-0.5f, 0.5f, 0.5f, 2)};
+    persp_clipvert b[3] = {cv(0.2f, 0.1f, 0, 0), cv(0.5f, -0.5f, 0.5f, 1), cv(-0.5f, 0.5f, 0.5f, 2)};
+    for (int t = 0; t < 2; t++) {
+        int n = persp__clip_triangle(t ? b : a, 8, 8, out);
+        assert_true(n >= 3);
+        for (int i = 0; i < n; i++) {
+            assert_true(out[i].clip[3] > 0.0f);
+            assert_true(out[i].clip[2] + out[i].clip[3] >= -1e-6f);
+        }
+    }
+}
+
 static void test_clip_guard_band(void **state)
 {
     (void)state;
@@ -191,13 +210,41 @@ static void test_watertight_random_mesh(void **state)
     free(cnt);
 }
 
+static void test_watertight_guard_band_fan(void **state)
+{
+    (void)state;
+    /* A fan of triangles whose outer vertices lie thousands of pixels
+     * outside the viewport (inside the guard band, so set up without
+     * clipping, with the 64-bit edge products): every pixel of the viewport
+     * is covered exactly once. */
+    enum { W = 160, H = 120, N = 10 };
+    int *cnt = calloc(W * H, sizeof *cnt);
+    assert_non_null(cnt);
+    /* The centre is a pixel centre and the edges run along rows, columns,
+     * diagonals and other rational slopes, so many pixel centres lie
+     * exactly on shared edges and only the fill rule decides them. */
+    const double cx = 77.5, cy = 51.5, R = 3000.0;
+    static const int dir[N][2] = {{1, 0}, {2, 1}, {1, 1}, {0, 1},  {-1, 2},
+                                  {-1, 0}, {-1, -1}, {0, -1}, {1, -1}, {3, -1}};
+    for (int k = 0; k < N; k++) {
+        const int *a = dir[k], *b = dir[(k + 1) % N];
+        persp_winvert t[3] = {wv(cx, cy), wv(cx + R * a[0], cy + R * a[1]),
+                              wv(cx + R * b[0], cy + R * b[1])};
+        cover(t, W, H, cnt);
+    }
+    for (int i = 0; i < W * H; i++)
+        if (cnt[i] != 1) fail_msg("pixel (%d,%d) covered %d times", i % W, i / W, cnt[i]);
+    free(cnt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_clip_inside_unchanged), cmocka_unit_test(test_clip_all_outside),
         cmocka_unit_test(test_clip_near_plane), cmocka_unit_test(test_clip_rejects_nan_inf),
-        cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
+        cmocka_unit_test(test_clip_w_not_positive), cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
         cmocka_unit_test(test_fill_rule_pixel_centres), cmocka_unit_test(test_watertight_random_mesh),
+        cmocka_unit_test(test_watertight_guard_band_fan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -49,6 +49,34 @@ static int add_list(char *text, const char **list, size_t *n)
     }
 }
 
+/* Whether text (up to the next ':' or ',') is a registered method name. */
+static int starts_method(const char *text)
+{
+    size_t len = strcspn(text, ":,");
+    persp_method_info info;
+    for (size_t i = 0; persp_method_get(i, &info) == PERSP_OK; i++)
+        if (strlen(info.name) == len && !strncmp(info.name, text, len)) return 1;
+    return 0;
+}
+
+/* Like add_list, but inside a method's parameters (after its ':') a comma
+ * starts a new method only where a method name follows it, so parameter
+ * lists such as "midpoint:int,edge" stay whole. */
+static int add_method_list(char *text, const char **list, size_t *n)
+{
+    for (char *p = text;;) {
+        char *comma = strchr(p, ',');
+        const char *colon = strchr(p, ':');
+        while (comma && colon && colon < comma && !starts_method(comma + 1))
+            comma = strchr(comma + 1, ',');
+        if (comma) *comma = '\0';
+        if (!*p || *n >= MAX_LIST) return 0;
+        list[(*n)++] = p;
+        if (!comma) return 1;
+        p = comma + 1;
+    }
+}
+
 int cmd_accuracy(int argc, char **argv)
 {
     const char *methods[MAX_LIST], *cases[MAX_LIST];
@@ -70,7 +98,7 @@ int cmd_accuracy(int argc, char **argv)
             return CLI_OK;
         } else if (!strcmp(a, "--method")) {
             NEED_VALUE();
-            if (!add_list(val, methods, &nmethods))
+            if (!add_method_list(val, methods, &nmethods))
                 return cli_error(CLI_USAGE, "accuracy: bad --method '%s' (empty name or too many)", val);
         } else if (!strcmp(a, "--case")) {
             NEED_VALUE();
@@ -118,12 +146,8 @@ int cmd_accuracy(int argc, char **argv)
 
     /* Usage errors first, before any work. */
     for (size_t i = 0; i < nmethods; i++) {
-        persp_status st = persp_method_check(methods[i]);
-        if (st == PERSP_ERR_NOT_FOUND)
-            return cli_error(CLI_USAGE, "accuracy: unknown method '%s' (see persp methods)", methods[i]);
-        if (st != PERSP_OK)
-            return cli_error(CLI_USAGE, "accuracy: bad parameters in method '%s' (see persp methods)",
-                             methods[i]);
+        int bad = cli_check_method("accuracy", methods[i]);
+        if (bad) return bad;
     }
     for (size_t i = 0; i < ncases; i++)
         if (persp_accuracy_case_check(cases[i]) != PERSP_OK)

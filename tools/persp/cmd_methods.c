@@ -16,8 +16,29 @@ int cmd_methods(int argc, char **argv)
     for (size_t i = 0; persp_method_get(i, &info) == PERSP_OK; i++) {
         char name[64];
         snprintf(name, sizeof name, "%s%s%s", info.name, info.params[0] ? ":" : "", info.params);
-        printf("%-24s %s\n%-24s   source: %s\n%-24s   cost:   %s\n", name, info.summary, "",
-               info.source, "", info.cost);
+        /* Long parameter lists get a line of their own so the columns stay aligned. */
+        if (strlen(name) < 24) printf("%-24s %s\n", name, info.summary);
+        else printf("%s\n%-24s %s\n", name, "", info.summary);
+        printf("%-24s   source: %s\n%-24s   cost:   %s\n", "", info.source, "", info.cost);
     }
     return CLI_OK;
+}
+
+int cli_check_method(const char *command, const char *spec)
+{
+    persp_status st = persp_method_check(spec);
+    if (st == PERSP_OK) return CLI_OK;
+    if (st == PERSP_ERR_NOT_FOUND)
+        return cli_error(CLI_USAGE, "%s: unknown method '%s' (see persp methods)", command, spec);
+    size_t len = strcspn(spec, ":");
+    persp_method_info info;
+    for (size_t i = 0; persp_method_get(i, &info) == PERSP_OK; i++) {
+        if (strlen(info.name) != len || strncmp(info.name, spec, len) != 0) continue;
+        if (!info.params[0])
+            return cli_error(CLI_USAGE, "%s: bad parameters in method '%s' (%s takes none)", command,
+                             spec, info.name);
+        return cli_error(CLI_USAGE, "%s: bad parameters in method '%s' (expected %s:%s)", command,
+                         spec, info.name, info.params);
+    }
+    return cli_error(CLI_USAGE, "%s: bad method '%s' (see persp methods)", command, spec);
 }

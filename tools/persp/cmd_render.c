@@ -1,7 +1,10 @@
 #include "cli.h"
 
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static void render_usage(FILE *out)
 {
@@ -126,11 +129,20 @@ int cmd_render(int argc, char **argv)
 #undef NEED_VALUE
     }
     if (!scene_name) scene_name = "corridor";
+    if (!is_builtin(scene_name) && access(scene_name, F_OK) != 0) {
+        char names[256] = "";
+        for (size_t i = 0; i < persp_builtin_scene_count(); i++) {
+            size_t used = strlen(names);
+            snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "",
+                     persp_builtin_scene_name(i));
+        }
+        return cli_error(CLI_FAIL, "render: '%s' is neither a built-in scene (%s) nor a file: %s",
+                         scene_name, names, strerror(errno));
+    }
 
-    persp_status st = persp_method_check(method);
-    if (st == PERSP_ERR_NOT_FOUND)
-        return cli_error(CLI_USAGE, "render: unknown method '%s' (see persp methods)", method);
-    if (st != PERSP_OK) return cli_error(CLI_USAGE, "render: bad parameters in method '%s'", method);
+    int bad = cli_check_method("render", method);
+    if (bad) return bad;
+    persp_status st;
     desc.method = method;
     if (filter_name) {
         if (persp_filter_parse(filter_name, &desc.filter, &desc.max_aniso) != PERSP_OK)
@@ -203,6 +215,11 @@ int cmd_render(int argc, char **argv)
         size_t len = strcspn(base, ".");
         snprintf(default_out, sizeof default_out, "out/%.*s.png", (int)len, base);
         output = default_out;
+        /* The default folder is persp's own; an -o path's folder is the user's. */
+        if (mkdir("out", 0777) != 0 && errno != EEXIST) {
+            rc = cli_error(CLI_FAIL, "render: cannot create the folder 'out': %s", strerror(errno));
+            goto done;
+        }
     }
     if ((st = persp_image_write_png(ctx, output, &img)) != PERSP_OK) {
         rc = cli_status(ctx, st, output);

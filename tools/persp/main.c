@@ -42,6 +42,10 @@ int cli_error(int code, const char *fmt, ...)
 int cli_status(persp_context *ctx, persp_status st, const char *what)
 {
     const char *detail = ctx ? persp_context_error(ctx) : "";
+    /* Library details start with the file they concern; do not name it twice. */
+    size_t wl = strlen(what);
+    if (detail && !strncmp(detail, what, wl) && detail[wl] == ':')
+        return cli_error(CLI_FAIL, "%s (%s)", detail, persp_status_string(st));
     if (detail && detail[0])
         return cli_error(CLI_FAIL, "%s: %s (%s)", what, detail, persp_status_string(st));
     return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
