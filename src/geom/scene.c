@@ -127,7 +127,7 @@ persp_status persp_scene_set_texture(persp_scene *s, const persp_image *img)
     persp_texture *tex = NULL;
     persp_status st = persp_texture_create(s->ctx, img, &tex);
     if (st != PERSP_OK) return st;
-    int index;
+    int index = -1;
     st = persp__scene_add_texture(s, tex, &index);
     if (st != PERSP_OK) return st;
     for (size_t i = 0; i < s->material_count; i++)
