@@ -135,7 +135,14 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     const uint64_t seed = desc->seed ? desc->seed : 1;
     const int tris = desc->triangles > 0 ? desc->triangles : 20;
     persp_shade_err e[PERSP_SHADE_MODES];
-    persp_status st;
+    /* The scene is loaded first so that a bad file fails before any output. */
+    persp_scene *scene = NULL;
+    persp_status st = desc->scene ? persp_scene_load(ctx, desc->scene, &scene)
+                                  : persp__shading_test_scene(ctx, &scene);
+    if (st != PERSP_OK) return st;
+    int w = desc->width, h = desc->height;
+    if (w <= 0 || h <= 0) persp_scene_default_size(scene, &w, &h);
+    if (w <= 0 || h <= 0) w = 640, h = 480;
 
     fprintf(f, "Shading modes against the exact per-pixel reference (seed 000 §4.2-4.3)\n\n");
     fprintf(f, "1. Random lit triangles (seed %llu, %d per depth ratio hbar = z_far/z_near;\n"
@@ -144,7 +151,10 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     fprintf(f, "  hbar  mode                   pixels  col max col mean  >1 lvl  own max   ang max  ang mean  ||N|-1| max\n");
     for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
         st = persp__shading_random(ctx, seed, persp__hbar_groups[g], tris, e);
-        if (st != PERSP_OK) return st;
+        if (st != PERSP_OK) {
+            persp_scene_destroy(scene);
+            return st;
+        }
         write_modes(f, e, persp__hbar_groups[g], 1);
     }
     fprintf(f,
@@ -158,12 +168,6 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
             "  exact one. ||N|-1|: length error of that normal (after the mode's own\n"
             "  normalisation; none for phong-slerp).\n\n");
 
-    persp_scene *scene = NULL;
-    st = desc->scene ? persp_scene_load(ctx, desc->scene, &scene) : persp__shading_test_scene(ctx, &scene);
-    if (st != PERSP_OK) return st;
-    int w = desc->width, h = desc->height;
-    if (w <= 0 || h <= 0) persp_scene_default_size(scene, &w, &h);
-    if (w <= 0 || h <= 0) w = 640, h = 480;
     st = persp__shading_scene_compare(ctx, scene, w, h, e);
     persp_scene_destroy(scene);
     if (st != PERSP_OK) return st;
