@@ -153,9 +153,10 @@ static void unit3(double v[3])
     for (int i = 0; i < 3; i++) v[i] /= l;
 }
 
-/* The light set and material of the random-triangle case: a point light
- * above and to the right of the eye, a directional fill light, a glossy
- * material so that normal errors show in the highlight. */
+/* The light set and material of the random-triangle case: a white point
+ * light above and to the right of the eye, a warm attenuated point light to
+ * the left, a directional fill light, and a glossy material so that normal
+ * errors show in the highlights. */
 static void random_case_state(persp_draw_state *ds)
 {
     memset(ds, 0, sizeof *ds);
@@ -169,12 +170,15 @@ static void random_case_state(persp_draw_state *ds)
     }
     m->shininess = 24.0f;
     m->texture = m->specular_texture = -1;
-    ds->lighting.count = 2;
-    persp_eye_light *p = &ds->lighting.light[0], *d = &ds->lighting.light[1];
-    p->type = PERSP_LIGHT_POINT;
+    ds->lighting.count = 3;
+    persp_eye_light *p = &ds->lighting.light[0], *q = &ds->lighting.light[1], *d = &ds->lighting.light[2];
+    p->type = q->type = PERSP_LIGHT_POINT;
     p->pos[0] = 2.0f, p->pos[1] = 4.0f, p->pos[2] = -1.0f;
     p->atten[0] = 1.0f;
-    for (int c = 0; c < 3; c++) p->color[c] = 0.9f, d->color[c] = 0.35f;
+    q->pos[0] = -3.0f, q->pos[1] = 0.5f, q->pos[2] = -2.0f;
+    q->atten[0] = 0.6f, q->atten[1] = 0.05f, q->atten[2] = 0.01f;
+    const float warm[3] = {0.5f, 0.35f, 0.2f};
+    for (int c = 0; c < 3; c++) p->color[c] = 0.7f, q->color[c] = warm[c], d->color[c] = 0.3f;
     d->type = PERSP_LIGHT_DIRECTIONAL;
     double dir[3] = {-0.3, 0.6, 0.7};
     unit3(dir);
