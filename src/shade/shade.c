@@ -58,14 +58,13 @@ static void unpack(uint32_t p, float c[4])
 
 /* Blinn–Phong at eye-space point e with unit normal n. Writes the ambient +
  * diffuse part (which a texture modulates) and the specular part. */
-static void light_point(const persp_draw_state *ds, const float n_in[3], const float e[3],
+static void light_point(const persp_draw_state *ds, const float n_in[3], const float e[3], float side,
                         float diff[3], float spec[3])
 {
     const persp_material *m = &ds->material;
     const persp_lighting *L = &ds->lighting;
-    float n[3] = {n_in[0], n_in[1], n_in[2]};
-    /* Two-sided: a normal facing away from the eye is flipped. */
-    if (n[0] * e[0] + n[1] * e[1] + n[2] * e[2] > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+    /* Two-sided lighting: side = −1 lights the other face (see face_side). */
+    float n[3] = {side * n_in[0], side * n_in[1], side * n_in[2]};
     float vlen = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     float v[3] = {0.0f, 0.0f, 1.0f};
     if (vlen > 0.0f) v[0] = -e[0] / vlen, v[1] = -e[1] / vlen, v[2] = -e[2] / vlen;
@@ -302,6 +301,22 @@ static void bary_exact(const persp_tri *t, const persp_frag_batch *b, float *b1,
     }
 }
 
+/* Two-sided lighting decided once per triangle, as OpenGL picks the front
+ * or back colour by the polygon's facing: −1 when the triangle's vertex
+ * normals, summed, face away from the eye at its centroid. A per-pixel test
+ * of N·E would flip the smooth normals of front faces near silhouettes
+ * (where they turn away from the eye) and light a rim on the dark side. */
+static float face_side(const persp_tri *t)
+{
+    float d = 0.0f;
+    for (int c = 0; c < 3; c++) {
+        float n = t->vattr[0][PERSP_A_NX + c] + t->vattr[1][PERSP_A_NX + c] + t->vattr[2][PERSP_A_NX + c];
+        float e = t->vattr[0][PERSP_A_EX + c] + t->vattr[1][PERSP_A_EX + c] + t->vattr[2][PERSP_A_EX + c];
+        d += n * e;
+    }
+    return d > 0.0f ? -1.0f : 1.0f;
+}
+
 /* Flat: the face normal, lit at the centroid. */
 static void flat_normals(const persp_tri *t, int n, float (*nrm)[3], float (*eye)[3])
 {
@@ -393,12 +408,13 @@ int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const p
     }
 }
 
-static void light_span(const persp_draw_state *ds, int n, const float (*nrm)[3],
+static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, const float (*nrm)[3],
                        const float (*eye)[3], const uint32_t *texel, uint32_t *out)
 {
+    const float side = face_side(t);
     for (int k = 0; k < n; k++) {
         float diff[3], spec[3];
-        light_point(ds, nrm[k], eye[k], diff, spec);
+        light_point(ds, nrm[k], eye[k], side, diff, spec);
         out[k] = combine(ds, diff, spec, texel, k);
     }
 }
@@ -410,7 +426,8 @@ static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const per
     (void)q;
     float nrm[1][3], eye[1][3], diff[3], spec[3];
     flat_normals(t, 1, nrm, eye);
-    light_point(ds, nrm[0], eye[0], diff, spec);
+    const float *f = nrm[0], *c = eye[0];
+    light_point(ds, f, c, f[0] * c[0] + f[1] * c[1] + f[2] * c[2] > 0.0f ? -1.0f : 1.0f, diff, spec);
     for (int k = 0; k < b->n; k++) out[k] = combine(ds, diff, spec, texel, k);
 }
 
@@ -420,7 +437,7 @@ static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const pe
     (void)q;
     float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
     phong_normals(ds, t, b, nrm, eye);
-    light_span(ds, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
+    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
 }
 
 static void shade_slerp(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
@@ -429,7 +446,7 @@ static void shade_slerp(const persp_draw_state *ds, const persp_tri *t, const pe
     (void)q;
     float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
     slerp_normals(ds, t, b, 1, nrm, eye);
-    light_span(ds, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
+    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
 }
 
 static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
@@ -439,7 +456,7 @@ static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
     (void)q;
     float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
     slerp_normals(ds, t, b, 0, nrm, eye);
-    light_span(ds, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
+    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
 }
 
 /* The method computing perspective-correct weights for each mode (NULL:
@@ -498,7 +515,11 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
         float nn[3] = {v[i].attr[PERSP_A_NX], v[i].attr[PERSP_A_NY], v[i].attr[PERSP_A_NZ]};
         normalize3(nn);
         float diff[3], spec[3];
-        light_point(ds, nn, &v[i].attr[PERSP_A_EX], diff, spec);
+        /* Vertices are lit before their triangles are known (render.c), so
+         * the side is chosen per vertex: a normal facing away is flipped. */
+        const float *e = &v[i].attr[PERSP_A_EX];
+        float side = nn[0] * e[0] + nn[1] * e[1] + nn[2] * e[2] > 0.0f ? -1.0f : 1.0f;
+        light_point(ds, nn, e, side, diff, spec);
         for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_R + c] = diff[c] + spec[c];
         v[i].attr[PERSP_A_A] = 1.0f;
     }
