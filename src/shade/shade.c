@@ -99,7 +99,8 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
 
 /* Combines lighting with the texel per the texture environment (seed 002):
  * replace takes the texel, modulate multiplies the lit diffuse colour by it
- * and adds the specular highlight. */
+ * and adds the specular highlight, itself multiplied by the texel when the
+ * material uses the texture as specular colour too. */
 static uint32_t combine(const persp_draw_state *ds, const float diff[3], const float spec[3],
                         const uint32_t *texel, int k)
 {
@@ -108,7 +109,8 @@ static uint32_t combine(const persp_draw_state *ds, const float diff[3], const f
         float t[4];
         unpack(texel[k], t);
         if (ds->material.env == PERSP_TEXENV_REPLACE) return texel[k];
-        for (int i = 0; i < 3; i++) c[i] = diff[i] * t[i] + spec[i];
+        const int spec_tex = ds->material.specular_texture >= 0;
+        for (int i = 0; i < 3; i++) c[i] = diff[i] * t[i] + (spec_tex ? spec[i] * t[i] : spec[i]);
         c[3] = t[3];
     }
     return pack(c);

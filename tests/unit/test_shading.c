@@ -159,7 +159,7 @@ static void test_vertex_colour_perspective_correct(void **state)
  * facing the eye, lit head-on by a directional light, so every term is
  * known: ambient 0.2·0.5 + diffuse 0.6·1 = 0.7; specular 0.25·(N·H)^1 with
  * H ≈ N at the centre pixel. */
-static void render_env(persp_context *ctx, persp_texenv env, persp_shading shading, uint8_t px[4])
+static void render_env(persp_context *ctx, persp_texenv env, int spec_tex, persp_shading shading, uint8_t px[4])
 {
     enum { W = 64, H = 64 };
     persp_scene *s = NULL;
@@ -188,6 +188,7 @@ static void render_env(persp_context *ctx, persp_texenv env, persp_shading shadi
     for (int c = 0; c < 3; c++) m.ambient[c] = 0.5f, m.diffuse[c] = 0.6f, m.specular[c] = 0.25f;
     m.shininess = 1.0f;
     m.texture = ti;
+    m.specular_texture = spec_tex ? ti : -1;
     m.env = env;
     assert_int_equal(persp__scene_add_material(s, &m, &mi), PERSP_OK);
     persp_mesh mesh;
@@ -219,16 +220,21 @@ static void test_texture_env(void **state)
     const persp_shading modes[] = {PERSP_SHADING_FLAT, PERSP_SHADING_PHONG_PC, PERSP_SHADING_PHONG_SLERP};
     for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++) {
         uint8_t px[4];
-        render_env(ctx, PERSP_TEXENV_REPLACE, modes[i], px);
+        render_env(ctx, PERSP_TEXENV_REPLACE, 1, modes[i], px);
         assert_true(px[0] == 200 && px[1] == 100 && px[2] == 50);
-        render_env(ctx, PERSP_TEXENV_MODULATE, modes[i], px);
-        /* 0.7·texel + 0.25·255, within a level (N·H at the pixel centre of a
-         * flat-lit face differs from 1 by less than 1e-3). */
-        const double want[3] = {0.7 * 200 + 63.75, 0.7 * 100 + 63.75, 0.7 * 50 + 63.75};
-        for (int c = 0; c < 3; c++)
-            if (fabs(px[c] - want[c]) > 1.0)
-                fail_msg("%s modulate: channel %d = %d, expected %.2f", persp_shading_name(modes[i]), c, px[c],
-                         want[c]);
+        for (int st = 0; st < 2; st++) {
+            render_env(ctx, PERSP_TEXENV_MODULATE, st, modes[i], px);
+            /* 0.7·texel + 0.25·255 (0.25·texel when the texture is also the
+             * specular colour), within a level: N·H at the centre pixel
+             * differs from 1 by less than 1e-3. */
+            const double tex[3] = {200, 100, 50};
+            for (int c = 0; c < 3; c++) {
+                double want = 0.7 * tex[c] + 0.25 * (st ? tex[c] : 255.0);
+                if (fabs(px[c] - want) > 1.0)
+                    fail_msg("%s modulate (specular texture %d): channel %d = %d, expected %.2f",
+                             persp_shading_name(modes[i]), st, c, px[c], want);
+            }
+        }
     }
     persp_context_destroy(ctx);
 }
