@@ -394,6 +394,25 @@ typedef enum persp_report_format {
  * header does not need <stdio.h>). PERSP_ERR_IO if writing fails. */
 persp_status persp_accuracy_write(persp_context *ctx, const persp_accuracy_result *res,
                                   persp_report_format format, void *stream);
+/* persp accuracy --shading (src/analysis/shading*.c): every shading mode
+ * against the exact per-pixel reference (seeded random lit triangles per
+ * depth ratio: colour error in 8-bit levels and normal angle error in
+ * degrees; a lit scene: colour against its phong-pc render), the t_w
+ * polynomial approximations of seed 000 §4.3 and the ΔI analysis of §4.2
+ * (Fig. 4.3-4.4), written as a text report; the figures as SVG on request. */
+typedef struct persp_shading_accuracy_desc {
+    uint64_t seed;        /* random triangles; 0: 1 */
+    int triangles;        /* random triangles per depth-ratio group; 0: 20 */
+    int width, height;    /* lit-scene image; 0: the scene's size, else 640×480 */
+    const char *scene;    /* JSON scene for the lit-scene case; NULL: the built-in lit test scene */
+    const char *svg_path; /* NULL: no plot; else Fig. 4.3-4.4 (and t_w errors) written there */
+} persp_shading_accuracy_desc;
+
+/* Runs every measurement and writes the report to stream (a FILE *).
+ * PERSP_ERR_IO if writing the report or the SVG fails (no partial SVG is
+ * left behind). */
+persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
+                                           void *stream);
 /* @end analysis */
 
 /* -------------------------------------------------------------- benchmark */

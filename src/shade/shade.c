@@ -14,6 +14,7 @@
 #include "shade/shade.h"
 
 #include "core/internal.h"
+#include "interp/poly.h"
 
 #include <math.h>
 #include <string.h>
@@ -57,14 +58,13 @@ static void unpack(uint32_t p, float c[4])
 
 /* Blinn–Phong at eye-space point e with unit normal n. Writes the ambient +
  * diffuse part (which a texture modulates) and the specular part. */
-static void light_point(const persp_draw_state *ds, const float n_in[3], const float e[3],
+static void light_point(const persp_draw_state *ds, const float n_in[3], const float e[3], float side,
                         float diff[3], float spec[3])
 {
     const persp_material *m = &ds->material;
     const persp_lighting *L = &ds->lighting;
-    float n[3] = {n_in[0], n_in[1], n_in[2]};
-    /* Two-sided: a normal facing away from the eye is flipped. */
-    if (n[0] * e[0] + n[1] * e[1] + n[2] * e[2] > 0.0f) n[0] = -n[0], n[1] = -n[1], n[2] = -n[2];
+    /* Two-sided lighting: side = −1 lights the other face (see face_side). */
+    float n[3] = {side * n_in[0], side * n_in[1], side * n_in[2]};
     float vlen = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     float v[3] = {0.0f, 0.0f, 1.0f};
     if (vlen > 0.0f) v[0] = -e[0] / vlen, v[1] = -e[1] / vlen, v[2] = -e[2] / vlen;
@@ -99,7 +99,8 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
 
 /* Combines lighting with the texel per the texture environment (seed 002):
  * replace takes the texel, modulate multiplies the lit diffuse colour by it
- * and adds the specular highlight. */
+ * and adds the specular highlight, itself multiplied by the texel when the
+ * material uses the texture as specular colour too. */
 static uint32_t combine(const persp_draw_state *ds, const float diff[3], const float spec[3],
                         const uint32_t *texel, int k)
 {
@@ -108,7 +109,8 @@ static uint32_t combine(const persp_draw_state *ds, const float diff[3], const f
         float t[4];
         unpack(texel[k], t);
         if (ds->material.env == PERSP_TEXENV_REPLACE) return texel[k];
-        for (int i = 0; i < 3; i++) c[i] = diff[i] * t[i] + spec[i];
+        const int spec_tex = ds->material.specular_texture >= 0;
+        for (int i = 0; i < 3; i++) c[i] = diff[i] * t[i] + (spec_tex ? spec[i] * t[i] : spec[i]);
         c[3] = t[3];
     }
     return pack(c);
@@ -136,6 +138,20 @@ static void bary_linear(const persp_tri *t, const persp_frag_batch *b, float *b1
     }
 }
 
+/* Piecewise-quadratic t_w (seed 000 §4.3): two quadratics on the halves of
+ * the span, each through its ends and middle, fitted to the 1-D rationals of
+ * b1 and b2 along the span by the shared span-polynomial code (poly.c). b1
+ * and b2 are affine in t_w, so this is the seed's polynomial in t_v mapped
+ * through the barycentric planes. */
+static void bary_pwquad(const persp_tri *t, const persp_frag_batch *b, float *b1, float *b2)
+{
+    persp_span_rat s;
+    persp__span_rat_init(&t->bary, b->x0, b->y, &s);
+    persp_rat1 f1 = persp__span_rat1(&s, 0), f2 = persp__span_rat1(&s, 1);
+    persp__approx_span(&f1, PERSP_APPROX_PWQUAD, 0.5, b->n, b1, NULL);
+    persp__approx_span(&f2, PERSP_APPROX_PWQUAD, 0.5, b->n, b2, NULL);
+}
+
 /* Perspective-correct weights: the draw's shading method on the barycentric
  * rational. Batches with explicit pixel positions (custom traversals) have
  * no span for a span method to work along, so they use the exact form. */
@@ -143,8 +159,11 @@ static void bary_perspective(const persp_draw_state *ds, const persp_tri *t,
                              const persp_frag_batch *b, float *b1, float *b2)
 {
     if (!b->px) {
-        ds->shade_method.m->span(&t->bary, &ds->shade_method.params, NULL, b->x0, b->y, b->n, b1,
-                                 b2, NULL);
+        if (ds->shading == PERSP_SHADING_PHONG_PC_PWQUAD)
+            bary_pwquad(t, b, b1, b2);
+        else
+            ds->shade_method.m->span(&t->bary, &ds->shade_method.params, NULL, b->x0, b->y,
+                                     b->n, b1, b2, NULL);
         return;
     }
     for (int k = 0; k < b->n; k++) {
@@ -206,22 +225,6 @@ static void shade_vertex_color(const persp_draw_state *ds, const persp_tri *t,
     }
 }
 
-/* Flat: one lighting evaluation with the face normal at the centroid. */
-static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                       const float *q, const uint32_t *texel, uint32_t *out)
-{
-    (void)q;
-    const float *p0 = &t->vattr[0][PERSP_A_EX], *p1 = &t->vattr[1][PERSP_A_EX], *p2 = &t->vattr[2][PERSP_A_EX];
-    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-    float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-    normalize3(n);
-    float c[3] = {(p0[0] + p1[0] + p2[0]) / 3.0f, (p0[1] + p1[1] + p2[1]) / 3.0f, (p0[2] + p1[2] + p2[2]) / 3.0f};
-    float diff[3], spec[3];
-    light_point(ds, n, c, diff, spec);
-    for (int k = 0; k < b->n; k++) out[k] = combine(ds, diff, spec, texel, k);
-}
-
 /* Gouraud: colours lit per vertex (persp__shade_vertices), interpolated with
  * screen-linear (classical) or perspective-correct (§4.2) weights. The
  * vertex colour carries ambient + diffuse + specular, so modulate scales all. */
@@ -236,26 +239,6 @@ static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const 
         float c[3];
         interp3(t, PERSP_A_R, b1[k], b2[k], c);
         out[k] = combine(ds, c, zero, texel, k);
-    }
-}
-
-/* Phong: normals and eye positions interpolated, normal renormalised, lit
- * per pixel. */
-static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                        const float *q, const uint32_t *texel, uint32_t *out)
-{
-    (void)q;
-    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
-    bary_for(ds, t, b, b1, b2);
-    for (int k = 0; k < b->n; k++) {
-        float n[3], e[3], diff[3], spec[3];
-        interp3(t, PERSP_A_NX, b1[k], b2[k], n);
-        normalize3(n);
-        /* Eye position is always perspective-correct: it is where the pixel's
-         * ray meets the triangle's plane, whatever the normal scheme. */
-        interp3(t, PERSP_A_EX, b1[k], b2[k], e);
-        light_point(ds, n, e, diff, spec);
-        out[k] = combine(ds, diff, spec, texel, k);
     }
 }
 
@@ -299,51 +282,173 @@ void persp__slerp_eval(const persp_slerp *s, double tv, int perspective, float o
     for (int i = 0; i < 3; i++) out[i] = (float)((s->na[i] * b + s->nk[i]) * r);
 }
 
-/* Phong with spherical-angular normals along the span. The end normals are
- * exact (perspective-correct weights at the span's first and last pixels,
- * normalised); eye positions stay perspective-correct so that only the
- * normal scheme differs between shading modes. */
-static void shade_slerp_common(const persp_draw_state *ds, const persp_tri *t,
-                               const persp_frag_batch *b, const uint32_t *texel, uint32_t *out,
-                               int perspective)
+/* Exact perspective-correct weights in double (Heckbert's form along the
+ * span); used for eye positions under screen-linear normal schemes. */
+static void bary_exact(const persp_tri *t, const persp_frag_batch *b, float *b1, float *b2)
 {
-    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
-    bary_perspective(ds, t, b, b1, b2);
-    if (b->px || b->n < 2) {
-        /* No span to interpolate along: exact per-pixel normals. */
+    if (b->px) {
         for (int k = 0; k < b->n; k++) {
-            float n[3], e[3], diff[3], spec[3];
-            interp3(t, PERSP_A_NX, b1[k], b2[k], n);
-            normalize3(n);
-            interp3(t, PERSP_A_EX, b1[k], b2[k], e);
-            light_point(ds, n, e, diff, spec);
-            out[k] = combine(ds, diff, spec, texel, k);
+            double s1, s2;
+            persp__rational_eval(&t->bary, b->px[k], b->py[k], &s1, &s2);
+            b1[k] = (float)s1, b2[k] = (float)s2;
         }
         return;
     }
-    const int n = b->n, last = n - 1;
+    persp_span_rat s;
+    persp__span_rat_init(&t->bary, b->x0, b->y, &s);
+    for (int k = 0; k < b->n; k++) {
+        double s1, s2;
+        persp__span_rat_at(&s, (double)k, &s1, &s2);
+        b1[k] = (float)s1, b2[k] = (float)s2;
+    }
+}
+
+/* Two-sided lighting decided once per triangle, as OpenGL picks the front
+ * or back colour by the polygon's facing: −1 when the triangle's vertex
+ * normals, summed, face away from the eye at its centroid. A per-pixel test
+ * of N·E would flip the smooth normals of front faces near silhouettes
+ * (where they turn away from the eye) and light a rim on the dark side. */
+static float face_side(const persp_tri *t)
+{
+    float d = 0.0f;
+    for (int c = 0; c < 3; c++) {
+        float n = t->vattr[0][PERSP_A_NX + c] + t->vattr[1][PERSP_A_NX + c] + t->vattr[2][PERSP_A_NX + c];
+        float e = t->vattr[0][PERSP_A_EX + c] + t->vattr[1][PERSP_A_EX + c] + t->vattr[2][PERSP_A_EX + c];
+        d += n * e;
+    }
+    return d > 0.0f ? -1.0f : 1.0f;
+}
+
+/* Flat: the face normal, lit at the centroid. */
+static void flat_normals(const persp_tri *t, int n, float (*nrm)[3], float (*eye)[3])
+{
+    const float *p0 = &t->vattr[0][PERSP_A_EX], *p1 = &t->vattr[1][PERSP_A_EX],
+                *p2 = &t->vattr[2][PERSP_A_EX];
+    float e1[3] = {p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+    float e2[3] = {p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+    float f[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                  e1[0] * e2[1] - e1[1] * e2[0]};
+    normalize3(f);
+    float c[3] = {(p0[0] + p1[0] + p2[0]) / 3.0f, (p0[1] + p1[1] + p2[1]) / 3.0f,
+                  (p0[2] + p1[2] + p2[2]) / 3.0f};
+    for (int k = 0; k < n; k++) {
+        memcpy(nrm[k], f, sizeof f);
+        memcpy(eye[k], c, sizeof c);
+    }
+}
+
+/* Phong: normals interpolated with the mode's weights (screen-linear, exact
+ * t_w or its polynomial approximations, §4.3) and renormalised. The eye
+ * position is always perspective-correct (where the pixel's ray meets the
+ * triangle's plane) so that modes differ only in the normal scheme. */
+static void phong_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                          float (*nrm)[3], float (*eye)[3])
+{
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_for(ds, t, b, b1, b2);
+    for (int k = 0; k < b->n; k++) {
+        interp3(t, PERSP_A_NX, b1[k], b2[k], nrm[k]);
+        normalize3(nrm[k]);
+    }
+    if (!ds->shade_method.m || ds->shading != PERSP_SHADING_PHONG_PC) bary_exact(t, b, b1, b2);
+    for (int k = 0; k < b->n; k++) interp3(t, PERSP_A_EX, b1[k], b2[k], eye[k]);
+}
+
+/* Spherical-angular normals along the span (§4.3). The end normals are
+ * exact (perspective-correct weights at the span's first and last pixels,
+ * normalised); ħ = z_b/z_a = q_a/q_b from the 1/w plane. Batches without a
+ * span (custom traversals) or of one pixel get exact per-pixel normals. */
+static void slerp_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                          int perspective, float (*nrm)[3], float (*eye)[3])
+{
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_exact(t, b, b1, b2);
+    (void)ds;
+    for (int k = 0; k < b->n; k++) interp3(t, PERSP_A_EX, b1[k], b2[k], eye[k]);
+    if (b->px || b->n < 2) {
+        for (int k = 0; k < b->n; k++) {
+            interp3(t, PERSP_A_NX, b1[k], b2[k], nrm[k]);
+            normalize3(nrm[k]);
+        }
+        return;
+    }
+    const int last = b->n - 1;
     float na[3], nb[3];
     interp3(t, PERSP_A_NX, b1[0], b2[0], na);
     interp3(t, PERSP_A_NX, b1[last], b2[last], nb);
     double px = b->x0 + 0.5, py = b->y + 0.5;
     double qa = t->rat.g * px + t->rat.h * py + t->rat.i;
     double qb = qa + t->rat.g * last;
+    /* The end normals are blends of unit vertex normals, so |na| ≠ |nb| in
+     * general, while the cotangent form assumes unit ends. The exact normal
+     * normalise(na + t_w·(nb − na)) = normalise((1 − t_w)|na|·n̂a + t_w|nb|·n̂b)
+     * has (1 − t')/t' = ħ·(|na|/|nb|)·(1/t_v − 1) along the unit arc, so
+     * folding |na|/|nb| into ħ keeps the form exact (§4.3 with unit ends is
+     * the case |na| = |nb|). */
+    double la = sqrt((double)na[0] * na[0] + (double)na[1] * na[1] + (double)na[2] * na[2]);
+    double lb = sqrt((double)nb[0] * nb[0] + (double)nb[1] * nb[1] + (double)nb[2] * nb[2]);
+    double hbar = qa / qb;
+    if (perspective && la > 0.0 && lb > 0.0) hbar *= la / lb;
     persp_slerp sl;
-    persp__slerp_init(&sl, na, nb, qa / qb); /* ħ = z_b/z_a = q_a/q_b */
+    persp__slerp_init(&sl, na, nb, hbar);
+    for (int k = 0; k < b->n; k++) persp__slerp_eval(&sl, (double)k / last, perspective, nrm[k]);
+}
+
+int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                         float (*nrm)[3], float (*eye)[3])
+{
+    switch (ds->shading) {
+    case PERSP_SHADING_FLAT: flat_normals(t, b->n, nrm, eye); return 1;
+    case PERSP_SHADING_PHONG:
+    case PERSP_SHADING_PHONG_PC:
+    case PERSP_SHADING_PHONG_PC_QUAD:
+    case PERSP_SHADING_PHONG_PC_PWQUAD:
+    case PERSP_SHADING_PHONG_PC_CUBIC: phong_normals(ds, t, b, nrm, eye); return 1;
+    case PERSP_SHADING_PHONG_SLERP: slerp_normals(ds, t, b, 1, nrm, eye); return 1;
+    case PERSP_SHADING_PHONG_SLERP_SCREEN: slerp_normals(ds, t, b, 0, nrm, eye); return 1;
+    default: return 0;
+    }
+}
+
+static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, const float (*nrm)[3],
+                       const float (*eye)[3], const uint32_t *texel, uint32_t *out)
+{
+    const float side = face_side(t);
     for (int k = 0; k < n; k++) {
-        float nn[3], e[3], diff[3], spec[3];
-        persp__slerp_eval(&sl, (double)k / last, perspective, nn);
-        interp3(t, PERSP_A_EX, b1[k], b2[k], e);
-        light_point(ds, nn, e, diff, spec);
+        float diff[3], spec[3];
+        light_point(ds, nrm[k], eye[k], side, diff, spec);
         out[k] = combine(ds, diff, spec, texel, k);
     }
+}
+
+/* Flat: one lighting evaluation per triangle. */
+static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                       const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    float nrm[1][3], eye[1][3], diff[3], spec[3];
+    flat_normals(t, 1, nrm, eye);
+    const float *f = nrm[0], *c = eye[0];
+    light_point(ds, f, c, f[0] * c[0] + f[1] * c[1] + f[2] * c[2] > 0.0f ? -1.0f : 1.0f, diff, spec);
+    for (int k = 0; k < b->n; k++) out[k] = combine(ds, diff, spec, texel, k);
+}
+
+static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                        const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
+    phong_normals(ds, t, b, nrm, eye);
+    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
 }
 
 static void shade_slerp(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                         const float *q, const uint32_t *texel, uint32_t *out)
 {
     (void)q;
-    shade_slerp_common(ds, t, b, texel, out, 1);
+    float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
+    slerp_normals(ds, t, b, 1, nrm, eye);
+    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
 }
 
 static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
@@ -351,7 +456,9 @@ static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
                                uint32_t *out)
 {
     (void)q;
-    shade_slerp_common(ds, t, b, texel, out, 0);
+    float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
+    slerp_normals(ds, t, b, 0, nrm, eye);
+    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
 }
 
 /* The method computing perspective-correct weights for each mode (NULL:
@@ -365,7 +472,7 @@ static const char *shade_method_spec(persp_shading s)
     case PERSP_SHADING_PHONG_SLERP:
     case PERSP_SHADING_PHONG_SLERP_SCREEN: return "exact";
     case PERSP_SHADING_PHONG_PC_QUAD: return "quadratic";
-    case PERSP_SHADING_PHONG_PC_PWQUAD: return "quadratic-pw";
+    case PERSP_SHADING_PHONG_PC_PWQUAD: return "exact"; /* span: bary_pwquad; no span: exact */
     case PERSP_SHADING_PHONG_PC_CUBIC: return "cubic";
     default: return NULL;
     }
@@ -410,7 +517,11 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
         float nn[3] = {v[i].attr[PERSP_A_NX], v[i].attr[PERSP_A_NY], v[i].attr[PERSP_A_NZ]};
         normalize3(nn);
         float diff[3], spec[3];
-        light_point(ds, nn, &v[i].attr[PERSP_A_EX], diff, spec);
+        /* Vertices are lit before their triangles are known (render.c), so
+         * the side is chosen per vertex: a normal facing away is flipped. */
+        const float *e = &v[i].attr[PERSP_A_EX];
+        float side = nn[0] * e[0] + nn[1] * e[1] + nn[2] * e[2] > 0.0f ? -1.0f : 1.0f;
+        light_point(ds, nn, e, side, diff, spec);
         for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_R + c] = diff[c] + spec[c];
         v[i].attr[PERSP_A_A] = 1.0f;
     }

@@ -18,6 +18,13 @@ static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri
     ds->shade(ds, t, b, q, texel, out);
 }
 
+/* The unit normal and eye-space position each pixel of batch b is lit with
+ * under ds->shading (the same code the span shaders use), for accuracy
+ * analysis. Returns 0 for modes without per-pixel normals (none, gouraud,
+ * gouraud-pc); nrm and eye then stay untouched. */
+int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                         float (*nrm)[3], float (*eye)[3]);
+
 /*
  * Spherical-angular interpolation of unit normals along a span (seed 000
  * §4.3), in the cotangent form that yields unit vectors without

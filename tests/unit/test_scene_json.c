@@ -300,6 +300,10 @@ static void test_example_scenes(void **state)
     assert_int_equal(s->light_count, 2);
     assert_int_equal(s->texture_count, 3);
     assert_int_equal(s->objects[2].texgen, PERSP_TEXGEN_REFLECTION);
+    /* the torus's stripes are its specular colour too; the globe's are not */
+    const persp_material *ring = &s->materials[s->objects[3].material];
+    assert_true(ring->texture >= 0 && ring->specular_texture == ring->texture);
+    assert_int_equal(s->materials[s->objects[1].material].specular_texture, -1);
     persp_scene_destroy(s);
     persp_context_destroy(ctx);
 }

@@ -2,6 +2,7 @@
  * vertex colours against independent double-precision references. */
 #include "support.h"
 
+#include "geom/scene.h"
 #include "shade/shade.h"
 
 #include <math.h>
@@ -152,6 +153,92 @@ static void test_vertex_colour_perspective_correct(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Texture environment (seed 002): replace shows the texel whatever the
+ * lighting; modulate multiplies the lit ambient + diffuse colour by it and
+ * adds the specular highlight (Blinn–Phong). A uniform texture on a square
+ * facing the eye, lit head-on by a directional light, so every term is
+ * known: ambient 0.2·0.5 + diffuse 0.6·1 = 0.7; specular 0.25·(N·H)^1 with
+ * H ≈ N at the centre pixel. */
+static void render_env(persp_context *ctx, persp_texenv env, int spec_tex, persp_shading shading, uint8_t px[4])
+{
+    enum { W = 64, H = 64 };
+    persp_scene *s = NULL;
+    assert_int_equal(persp__scene_new(ctx, &s), PERSP_OK);
+    s->camera.eye = (persp_vec3){0, 0, 3};
+    s->camera.target = (persp_vec3){0, 0, 0};
+    s->camera.fovy_deg = 40.0f;
+    for (int c = 0; c < 3; c++) s->ambient[c] = 0.2f;
+    s->light_count = 1;
+    s->lights[0].type = PERSP_LIGHT_DIRECTIONAL;
+    s->lights[0].position[2] = 1.0f;
+    for (int c = 0; c < 3; c++) s->lights[0].color[c] = 1.0f;
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, 4, 4, &img), PERSP_OK);
+    for (int y = 0; y < 4; y++)
+        for (int x = 0; x < 4; x++) {
+            uint8_t *p = img.pixels + (size_t)y * img.stride + 4 * (size_t)x;
+            p[0] = 200, p[1] = 100, p[2] = 50, p[3] = 255;
+        }
+    persp_texture *tex = NULL;
+    assert_int_equal(persp_texture_create(ctx, &img, &tex), PERSP_OK);
+    persp_image_free(ctx, &img);
+    int ti, mi, me;
+    assert_int_equal(persp__scene_add_texture(s, tex, &ti), PERSP_OK);
+    persp_material m = persp__material_default();
+    for (int c = 0; c < 3; c++) m.ambient[c] = 0.5f, m.diffuse[c] = 0.6f, m.specular[c] = 0.25f;
+    m.shininess = 1.0f;
+    m.texture = ti;
+    m.specular_texture = spec_tex ? ti : -1;
+    m.env = env;
+    assert_int_equal(persp__scene_add_material(s, &m, &mi), PERSP_OK);
+    persp_mesh mesh;
+    assert_int_equal(persp__mesh_plane(ctx, 1, &mesh), PERSP_OK);
+    assert_int_equal(persp__scene_add_mesh(s, &mesh, &me), PERSP_OK);
+    persp_object o;
+    memset(&o, 0, sizeof o);
+    o.mesh = me, o.material = mi;
+    o.model = persp_mat4_rotate(90.0f, 1.0f, 0.0f, 0.0f); /* normal +y -> +z, facing the eye */
+    assert_int_equal(persp__scene_add_object(s, &o), PERSP_OK);
+    uint8_t *color = calloc(W * H, 4);
+    float *depth = calloc(W * H, sizeof(float));
+    persp_framebuffer fb = {W, H, color, depth};
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.shading_set = 1;
+    d.shading = shading;
+    assert_int_equal(persp_render(ctx, s, &d, &fb, NULL), PERSP_OK);
+    memcpy(px, color + 4 * ((H / 2) * W + W / 2), 4);
+    free(color);
+    free(depth);
+    persp_scene_destroy(s);
+}
+
+static void test_texture_env(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    const persp_shading modes[] = {PERSP_SHADING_FLAT, PERSP_SHADING_PHONG_PC, PERSP_SHADING_PHONG_SLERP};
+    for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++) {
+        uint8_t px[4];
+        render_env(ctx, PERSP_TEXENV_REPLACE, 1, modes[i], px);
+        assert_true(px[0] == 200 && px[1] == 100 && px[2] == 50);
+        for (int st = 0; st < 2; st++) {
+            render_env(ctx, PERSP_TEXENV_MODULATE, st, modes[i], px);
+            /* 0.7·texel + 0.25·255 (0.25·texel when the texture is also the
+             * specular colour), within a level: N·H at the centre pixel
+             * differs from 1 by less than 1e-3. */
+            const double tex[3] = {200, 100, 50};
+            for (int c = 0; c < 3; c++) {
+                double want = 0.7 * tex[c] + 0.25 * (st ? tex[c] : 255.0);
+                if (fabs(px[c] - want) > 1.0)
+                    fail_msg("%s modulate (specular texture %d): channel %d = %d, expected %.2f",
+                             persp_shading_name(modes[i]), st, c, px[c], want);
+            }
+        }
+    }
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -159,6 +246,7 @@ int main(void)
         cmocka_unit_test(test_slerp_perspective_is_exact_nlerp),
         cmocka_unit_test(test_shading_names),
         cmocka_unit_test(test_vertex_colour_perspective_correct),
+        cmocka_unit_test(test_texture_env),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,7 +11,8 @@
 static void accuracy_usage(FILE *out)
 {
     fprintf(out,
-            "usage: persp accuracy [options]\n\n"
+            "usage: persp accuracy [options]\n"
+            "       persp accuracy --shading [options]  (shading modes; see --shading --help)\n\n"
             "Measures texture-coordinate methods against the exact rational form\n"
             "u = (a*x+b*y+c)/(g*x+h*y+i), v likewise, evaluated in double precision at\n"
             "each pixel centre: max, mean and 99th-percentile absolute error in texels of\n"
@@ -84,6 +85,7 @@ int cmd_accuracy(int argc, char **argv)
     persp_report_format format = PERSP_REPORT_TABLE;
     persp_accuracy_desc desc;
     memset(&desc, 0, sizeof desc);
+    if (argc > 1 && !strcmp(argv[1], "--shading")) return cmd_accuracy_shading(argc - 1, argv + 1);
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];

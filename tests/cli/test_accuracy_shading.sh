@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# CLI behaviour of `persp accuracy --shading`: the four report sections for
+# every shading mode, the SVG figure (well-formed XML, three panels), a scene
+# file for the lit-scene case, and bad usage or a bad scene exiting non-zero
+# with a message naming the problem and leaving no SVG behind.
+set -u
+persp="$1"
+src="${PERSP_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+pass=0 fail=0
+ok()   { pass=$((pass + 1)); }
+bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+expect() {
+    local code="$1" pattern="$2"; shift 3
+    local out rc
+    out=$("$@" 2>&1); rc=$?
+    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
+    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
+    ok
+}
+
+expect 0 "usage: persp accuracy --shading" -- "$persp" accuracy --shading --help
+expect 0 "accuracy --shading" -- "$persp" accuracy --help
+expect 2 "unknown option '--bogus'" -- "$persp" accuracy --shading --bogus
+expect 2 "bad --triangles" -- "$persp" accuracy --shading --triangles 0
+expect 2 "bad --size" -- "$persp" accuracy --shading --size 3
+expect 2 "needs a value" -- "$persp" accuracy --shading --svg
+expect 2 "unexpected argument 'x'" -- "$persp" accuracy --shading x
+expect 1 "nope.json" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/nope.json" --svg "$tmp/no.svg"
+[ ! -e "$tmp/no.svg" ] || bad "an SVG was written although the run failed"
+expect 1 "cannot write" -- "$persp" accuracy --shading --triangles 1 --size 64x48 --svg "$tmp/missing/dir/f.svg"
+[ -z "$(ls "$tmp/missing" 2>/dev/null)" ] || bad "a temporary SVG was left behind"
+
+out="$tmp/report.txt"
+if "$persp" accuracy --shading --triangles 2 --size 160x120 --svg "$tmp/fig.svg" >"$out" 2>"$tmp/err"; then
+    ok
+    for section in "1. Random lit triangles" "2. Lit scene" "3. t_w = " "4. Delta I"; do
+        grep -qF "$section" "$out" && ok || bad "report lacks section '$section'"
+    done
+    # Every mode appears once per depth-ratio group (7) and once for the scene.
+    for m in flat gouraud gouraud-pc phong phong-pc phong-pc:quad phong-pc:pwquad phong-pc:cubic \
+             phong-slerp phong-slerp-screen; do
+        n=$(grep -cE "^ *([0-9.]+ +)?$m +[0-9]" "$out")
+        [ "$n" -eq 8 ] && ok || bad "mode $m appears $n times, expected 8"
+    done
+    # The extremum of Delta for z2/z1 = 2 is (sqrt 2 - 1)/(sqrt 2 + 1) = 0.1716.
+    grep -qE "^ +2\.00 .* 0\.1716 0\.5858 +0\.1716" "$out" && ok || bad "Delta table row for z2/z1 = 2 is wrong"
+    if python3 - "$tmp/fig.svg" <<'PY'
+import sys, xml.dom.minidom
+d = xml.dom.minidom.parse(sys.argv[1])
+assert d.documentElement.tagName == "svg"
+assert len(d.getElementsByTagName("polyline")) == 8 + 2 + 3
+PY
+    then ok; else bad "SVG is not well-formed or lacks its 13 curves"; fi
+else
+    bad "accuracy --shading failed: $(cat "$tmp/err")"
+fi
+
+# A scene file for the lit-scene case; its size is the default.
+"$persp" accuracy --shading --triangles 1 --scene "$src/scenes/spheres.json" --size 200x150 >"$tmp/s.txt" 2>"$tmp/err" \
+    && grep -qF "scenes/spheres.json at 200x150" "$tmp/s.txt" && ok || bad "scene run failed: $(cat "$tmp/err")"
+
+echo "accuracy --shading: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
