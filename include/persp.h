@@ -282,6 +282,8 @@ typedef struct persp_render_desc {
     persp_depth_mode depth_mode;
     persp_lod_mode lod_mode;
     float lod_bias;
+    int lod_clamp_set;       /* nonzero: clamp every texture's lambda to [min_lod, max_lod] */
+    float min_lod, max_lod;
     persp_pipeline pipeline;
     int threads;             /* 0: the context's */
     int cull_backfaces;      /* -1: off, 1: on, 0: scene default */
@@ -290,6 +292,10 @@ typedef struct persp_render_desc {
 typedef struct persp_render_stats {
     uint64_t triangles_in, triangles_drawn, fragments, pixels_written;
     persp_opcount ops; /* filled only in an instrumented build (PERSP_COUNT_OPS) */
+    /* Object-space pipeline (seed 004): samples walked (texels or sub-texel
+     * positions of the chosen levels), splats onto pixels, polygon pieces
+     * (one mip level each), covered pixels that received no sample. */
+    uint64_t objspace_samples, objspace_splats, objspace_pieces, objspace_holes;
 } persp_render_stats;
 
 /* Clears fb and renders the scene into it. */
