@@ -12,6 +12,7 @@ enum { CLI_OK = 0, CLI_FAIL = 1, CLI_USAGE = 2 };
 int cmd_render(int argc, char **argv);
 int cmd_methods(int argc, char **argv);
 int cmd_accuracy(int argc, char **argv);
+int cmd_accuracy_filter(int argc, char **argv); /* persp accuracy --filter */
 int cmd_bench(int argc, char **argv);
 
 /* Prints "persp: " + message to stderr and returns code. */
