@@ -282,6 +282,8 @@ typedef struct persp_render_desc {
     persp_depth_mode depth_mode;
     persp_lod_mode lod_mode;
     float lod_bias;
+    int lod_clamp_set;       /* nonzero: clamp every texture's lambda to [min_lod, max_lod] */
+    float min_lod, max_lod;
     persp_pipeline pipeline;
     int threads;             /* 0: the context's */
     int cull_backfaces;      /* -1: off, 1: on, 0: scene default */
@@ -292,6 +294,10 @@ typedef struct persp_render_stats {
     persp_opcount ops; /* zero: persp_render runs the methods without counting, so counting
                           costs nothing there; each method's own counts are measured by
                           persp_accuracy_run (persp_accuracy_row.div_px ...) */
+    /* Object-space pipeline (seed 004): samples walked (texels or sub-texel
+     * positions of the chosen levels), splats onto pixels, polygon pieces
+     * (one mip level each), covered pixels that received no sample. */
+    uint64_t objspace_samples, objspace_splats, objspace_pieces, objspace_holes;
 } persp_render_stats;
 
 /* Clears fb and renders the scene into it. */
@@ -414,6 +420,68 @@ typedef struct persp_shading_accuracy_desc {
 persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
                                            void *stream);
 /* @end analysis */
+
+/* ------------------------------------------------------ filter accuracy */
+/* @section filtering (src/analysis/filtering.c): texture filters measured
+ * against a supersampled reference. */
+
+/* persp accuracy --filter: each texture filter (screen pipeline) and the
+ * object-space pipeline (seed 004) rendered at width × height and compared
+ * with a reference rendered at samples × samples points per pixel (the exact
+ * mapping, bilinear reconstruction on level 0), box-filtered to the pixel.
+ * Cases: the built-in scenes ("corridor", "floor", "cube") and textured
+ * planes tilted away from the viewer ("tilt-0" ... "tilt-85", degrees). */
+typedef struct persp_filter_accuracy_desc {
+    const char *const *filters; /* persp_filter_parse names, or "object" for the object-space
+                                   pipeline; NULL or none: all nine filters (aniso:16,
+                                   aniso-window:16) and "object" */
+    size_t filter_count;
+    const char *const *cases;   /* NULL or none: corridor, floor and every tilt case */
+    size_t case_count;
+    int width, height;          /* 0: 256×192 */
+    int samples;                /* reference samples per pixel along each axis, 1..64; 0: 16 */
+    int repeats;                /* timed renders per filter, the fastest kept; 0: 3 */
+    int threads;                /* 0: 1 */
+    persp_lod_mode lod_mode;
+    float lod_bias;
+    const char *heatmap_dir;    /* NULL: none; else one PNG per filter and case */
+} persp_filter_accuracy_desc;
+
+typedef struct persp_filter_accuracy_row {
+    char filter[32];
+    char pipeline[8];            /* "screen" or "object" */
+    char case_name[48];
+    int tex_width, tex_height, tex_levels;
+    double mip_overhead;         /* bytes of the whole mip chain / bytes of level 0, minus 1 */
+    int samples;                 /* reference samples per pixel along each axis */
+    uint64_t pixels;             /* covered pixels measured */
+    double psnr;                 /* dB over R, G, B of covered pixels; 0 error: +inf */
+    double ssim;                 /* mean SSIM of luma over 8×8 windows (stride 4) */
+    double max_err, mean_err;    /* |filter - reference| in 8-bit levels, over channels */
+    double fetches_px;           /* texels read per covered pixel (object: samples walked) */
+    double ms, ns_px;            /* fastest render time; per pixel of the image */
+} persp_filter_accuracy_row;
+
+typedef struct persp_filter_accuracy_result persp_filter_accuracy_result;
+
+/* Unknown filter or case: PERSP_ERR_NOT_FOUND; bad sizes or counts:
+ * PERSP_ERR_INVALID_ARGUMENT. */
+persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_accuracy_desc *desc,
+                                       persp_filter_accuracy_result **out);
+size_t persp_filter_accuracy_row_count(const persp_filter_accuracy_result *res);
+const persp_filter_accuracy_row *persp_filter_accuracy_row_at(const persp_filter_accuracy_result *res,
+                                                              size_t index);
+void persp_filter_accuracy_destroy(persp_filter_accuracy_result *res);
+size_t persp_filter_accuracy_case_count(void);
+const char *persp_filter_accuracy_case_name(size_t index);
+const char *persp_filter_accuracy_case_summary(size_t index);
+persp_status persp_filter_accuracy_case_check(const char *name);
+/* PERSP_OK for a filter name of persp_filter_parse or "object". */
+persp_status persp_filter_accuracy_filter_check(const char *name);
+/* Table (with definitions), CSV or JSON to a FILE * passed as void *. */
+persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_accuracy_result *res,
+                                         persp_report_format format, void *stream);
+/* @end filtering */
 
 /* -------------------------------------------------------------- benchmark */
 /* @section bench (bench/, src/analysis/bench*.c): benchmark API. */

@@ -8,66 +8,90 @@
  * pixels around it with the area weights S1..S4; each pixel resolves to
  * Σ S_i·I_i / Σ S_i.
  *
- * Choices the seed leaves open, made here:
+ * The seed forms the rotation back and the projection as one matrix per
+ * polygon, [P·R_xy⁻¹] (seed 004, after (7)); the texel walk adds the affine
+ * map from texel indices to the rotated plane, so each texel costs one 3×3
+ * projective map (two multiply-add rows and a division), evaluated
+ * incrementally along a texel row.
+ *
+ * Choices the seed leaves open, made here (docs/TEXTURES.md):
  *  - Pixel centres are at +0.5, so the weights are bilinear about centres
  *    (the seed's floor(x) corners shifted by half a pixel).
  *  - Visibility: the screen pipeline's depth test decides which triangle is
  *    visible at each pixel; a splat lands only on pixels where its own
  *    triangle is the visible one (no bleeding across silhouettes).
- *  - Density: the level is chosen so the projected texel spacing is at most
- *    0.75 pixel at the polygon's nearest point (sub-texel steps when even
- *    level 0 is magnified), so no covered pixel is left without samples.
- *    A polygon whose spacing varies by more than 4× over its area (strong
- *    perspective, e.g. the corridor's walls) is split at its edge midpoints,
- *    recursively, so "one level per polygon" holds per piece.
- *  - Accumulation uses 64-bit integer sums with atomic adds, so the result is
- *    the same for any order of polygons and any number of threads.
+ *  - Density: the level is chosen so that the projected texel spacing is at
+ *    most 0.75 pixel everywhere on the piece (sub-texel steps, reconstructed
+ *    by the sampler's in-level filter, when even level 0 is magnified), so
+ *    no covered pixel is left without samples.
+ *  - Pieces: under strong perspective one level cannot serve a whole polygon
+ *    (the corridor's walls span depths 0.1 to 64: a level fine enough for the
+ *    near end walks hundreds of texels per pixel at the far end). Each
+ *    polygon is therefore cut by the planes of constant eye depth
+ *    w = 2^(k/2) into slabs whose depth ratio is at most √2, and the level is
+ *    chosen once per slab ("once per polygon" holds per piece); the slab
+ *    planes do not depend on the polygon, so neighbouring polygons change
+ *    level at the same depths. Pieces are also clipped to the viewport.
+ *  - The walk extends MARGIN_PX pixels beyond the triangle's screen edges
+ *    (the surface continued), so edge pixels get samples on both sides.
+ *  - Parallelism: the screen is cut into 64×64 tiles, each resolved by one
+ *    task that walks, in a fixed order, the samples of every piece that can
+ *    reach its pixels. A sample's membership in a piece is decided by the
+ *    same arithmetic in every tile, so the image is identical for any number
+ *    of threads.
  */
 #include "core/internal.h"
 #include "core/pool.h"
 #include "raster/frame.h"
 #include "shade/shade.h"
+#include "texture/sample.h"
 
 #include <math.h>
-#include <stdatomic.h>
 #include <string.h>
 
-#define MAX_SPLIT_DEPTH 10
-#define SPACING_TARGET 0.75  /* pixels between neighbouring samples, at most */
-#define SPLIT_RATIO 4.0      /* largest spacing ratio over one polygon */
-#define MARGIN_PX 1.5        /* walk this far outside the polygon's edges */
-#define WEIGHT_ONE 4096.0    /* fixed-point scale of the weights S_i */
+#define OS_TILE 64
+#define SPACING_TARGET 0.75 /* pixels between neighbouring samples, at most */
+#define MARGIN_PX 1.5       /* walk this far outside the triangle's screen edges */
+#define MAX_SUB 64          /* sub-texel steps per texel when level 0 is magnified */
+#define SLAB_STEPS 2        /* slab planes at w = 2^(k / SLAB_STEPS) */
+#define MAX_SLABS 96
+#define MAX_PLANES 12
+#define MAX_POLY 24
+/* Samples of one piece at the top of the pyramid beyond which it is walked
+ * with a stride (every sample there has the same single-texel colour). */
+#define TOP_LEVEL_CAP 4.0e6
 
-typedef struct accum {
-    _Atomic uint64_t w, r, g, b, a;
-} accum;
+/* A half-plane A·i + B·j + C >= 0 in sample-index space. */
+typedef struct hplane {
+    double a, b, c;
+} hplane;
 
-typedef struct job {
+/* A 3×3 projective map. */
+typedef struct map3 {
+    double m[3][3];
+} map3;
+
+typedef struct os_piece {
+    int tri;
+    int level, sub, nearest, stride;
+    map3 H;               /* (i, j, 1) -> (X·w, Y·w, w), window coordinates */
+    hplane pl[MAX_PLANES]; /* inside: all >= 0 */
+    int planes;
+    int j0, j1;            /* sample rows to visit */
+    double bx0, by0, bx1, by1; /* window bounding box (reach included) */
+} os_piece;
+
+typedef struct os_job {
     persp_frame *f;
     const persp_capture *cap;
-    accum *acc;
-    persp_mat4 proj;
-    _Atomic uint64_t walked, splats, splits;
-} job;
+    const os_piece *pieces;
+    size_t piece_count;
+    float *acc;            /* per worker: OS_TILE² × 5 */
+    int tiles_x, tiles_y;
+    uint64_t *walked, *splats, *holes; /* per tile */
+} os_job;
 
-/* A polygon piece in eye space with its texture coordinates. */
-typedef struct piece {
-    double p[3][3];
-    double uv[3][2];
-} piece;
-
-/* Window position of eye-space point e; returns 0 behind the eye. */
-static int project(const persp_mat4 *P, int W, int H, const double e[3], double out[2])
-{
-    const float *m = P->m;
-    double cx = m[0] * e[0] + m[4] * e[1] + m[8] * e[2] + m[12];
-    double cy = m[1] * e[0] + m[5] * e[1] + m[9] * e[2] + m[13];
-    double cw = m[3] * e[0] + m[7] * e[1] + m[11] * e[2] + m[15];
-    if (!(cw > 1e-9)) return 0;
-    out[0] = (cx / cw + 1.0) * 0.5 * W;
-    out[1] = (cy / cw + 1.0) * 0.5 * H;
-    return 1;
-}
+/* ---------------------------------------------------------- seed 004 maths */
 
 /* Rotation of seed 004 that makes the polygon parallel to the xy plane.
  * With the unit normal N and d = sqrt(Ny² + Nz²):
@@ -76,8 +100,9 @@ static int project(const persp_mat4 *P, int W, int H, const double e[3], double 
  *   x' = x cos β − y sin α sin β − z cos α sin β
  *   y' = y cos α − z sin α
  *   z' = x sin β + y cos β sin α + z cos α cos β = x·Nx + y·Ny + z·Nz  (seed (7)).
- * Errata: the printed d = sqrt(Ny² − Nz²) must be a sum; (7)'s second line
- * prints sin α = Nz/d for Ny/d; [Ry]'s last diagonal entry must be 1. */
+ * Errata (docs/REPRODUCTION.md): the printed d = sqrt(Ny² − Nz²) must be a
+ * sum; (7)'s second line prints sin α = Nz/d for Ny/d; [Ry]'s last diagonal
+ * entry must be 1. */
 typedef struct rotation {
     double ca, sa, cb, sb, nx, ny, nz;
 } rotation;
@@ -85,7 +110,7 @@ typedef struct rotation {
 static int make_rotation(const double n_in[3], rotation *r)
 {
     double l = sqrt(n_in[0] * n_in[0] + n_in[1] * n_in[1] + n_in[2] * n_in[2]);
-    if (!(l > 0.0)) return 0;
+    if (!(l > 0.0) || !isfinite(l)) return 0;
     r->nx = n_in[0] / l, r->ny = n_in[1] / l, r->nz = n_in[2] / l;
     double d = sqrt(r->ny * r->ny + r->nz * r->nz);
     if (d > 1e-12) {
@@ -104,183 +129,279 @@ static void rotate(const rotation *r, const double p[3], double o[3])
     o[2] = p[0] * r->nx + p[1] * r->ny + p[2] * r->nz;
 }
 
-/* Inverse rotation: the transpose (seed 004, [Rxy]^-1 = [Ry]^-1 Rx^-1). */
-static void rotate_back(const rotation *r, const double p[3], double o[3])
+/* The inverse rotation [Rxy]⁻¹ = [Ry]⁻¹·Rx⁻¹ (the transpose) as a matrix
+ * acting on column vectors: eye = Rinv · rotated. */
+static void rotation_inverse(const rotation *r, double m[3][3])
 {
-    o[0] = p[0] * r->cb + p[2] * r->sb;
-    o[1] = -p[0] * r->sa * r->sb + p[1] * r->ca + p[2] * r->cb * r->sa;
-    o[2] = -p[0] * r->ca * r->sb - p[1] * r->sa + p[2] * r->ca * r->cb;
+    m[0][0] = r->cb, m[0][1] = 0.0, m[0][2] = r->sb;
+    m[1][0] = -r->sa * r->sb, m[1][1] = r->ca, m[1][2] = r->cb * r->sa;
+    m[2][0] = -r->ca * r->sb, m[2][1] = -r->sa, m[2][2] = r->ca * r->cb;
 }
 
-/* Pixels per level-0 texel at uv corner k: length of the projected texel
- * steps along u and v. */
-static double spacing_at(const piece *pc, int k, const persp_mat4 *P, int W, int H, double tw,
-                         double th)
+/* ------------------------------------------------------------- geometry */
+
+static inline double hp_eval(const hplane *p, double x, double y)
 {
-    /* Eye position as an affine function of uv over the piece. */
-    double du1 = pc->uv[1][0] - pc->uv[0][0], dv1 = pc->uv[1][1] - pc->uv[0][1];
-    double du2 = pc->uv[2][0] - pc->uv[0][0], dv2 = pc->uv[2][1] - pc->uv[0][1];
-    double det = du1 * dv2 - du2 * dv1;
-    if (fabs(det) < 1e-300) return INFINITY;
-    double dpdu[3], dpdv[3];
-    for (int c = 0; c < 3; c++) {
-        double e1 = pc->p[1][c] - pc->p[0][c], e2 = pc->p[2][c] - pc->p[0][c];
-        dpdu[c] = (e1 * dv2 - e2 * dv1) / det;
-        dpdv[c] = (e2 * du1 - e1 * du2) / det;
+    return p->a * x + p->b * y + p->c;
+}
+
+/* Sutherland–Hodgman clip of a convex polygon (x, y pairs) by one
+ * half-plane; returns the new vertex count. */
+static int clip_poly(const double *in, int n, const hplane *p, double *out)
+{
+    int m = 0;
+    for (int k = 0; k < n; k++) {
+        const double *a = in + 2 * k, *b = in + 2 * ((k + 1) % n);
+        double da = hp_eval(p, a[0], a[1]), db = hp_eval(p, b[0], b[1]);
+        if (da >= 0.0 && m < MAX_POLY) {
+            out[2 * m] = a[0], out[2 * m + 1] = a[1];
+            m++;
+        }
+        if ((da >= 0.0) != (db >= 0.0) && m < MAX_POLY) {
+            double t = da / (da - db);
+            out[2 * m] = a[0] + t * (b[0] - a[0]);
+            out[2 * m + 1] = a[1] + t * (b[1] - a[1]);
+            m++;
+        }
     }
-    double a[2], b[2], c2[2], e[3];
-    if (!project(P, W, H, pc->p[k], a)) return INFINITY;
-    for (int c = 0; c < 3; c++) e[c] = pc->p[k][c] + dpdu[c] / tw;
-    if (!project(P, W, H, e, b)) return INFINITY;
-    for (int c = 0; c < 3; c++) e[c] = pc->p[k][c] + dpdv[c] / th;
-    if (!project(P, W, H, e, c2)) return INFINITY;
-    double su = hypot(b[0] - a[0], b[1] - a[1]), sv = hypot(c2[0] - a[0], c2[1] - a[1]);
-    return su > sv ? su : sv;
+    return m;
 }
 
-static void splat(job *j, int tri_index, double x, double y, const uint8_t rgba[4])
+/* Half-plane of the homogeneous window-space plane (ax, ay, aw)·(X·w, Y·w, w)
+ * + c·1 >= 0 pulled back through H (rows map (x, y, 1) to X·w, Y·w, w). */
+static hplane pull_back(const map3 *M, double ax, double ay, double aw, double c)
 {
-    const persp_capture *cap = j->cap;
-    const int W = cap->width, H = cap->height;
-    double fx = x - 0.5, fy = y - 0.5;
-    double ix = floor(fx), iy = floor(fy);
-    double tx = fx - ix, ty = fy - iy;
-    const double w4[4] = {(1 - tx) * (1 - ty), tx * (1 - ty), (1 - tx) * ty, tx * ty};
-    const int ox[4] = {0, 1, 0, 1}, oy[4] = {0, 0, 1, 1};
-    uint64_t n = 0;
-    for (int k = 0; k < 4; k++) {
-        double px = ix + ox[k], py = iy + oy[k];
-        if (px < 0 || py < 0 || px >= W || py >= H) continue;
-        size_t idx = (size_t)py * (size_t)W + (size_t)px;
-        if (cap->tri[idx] != tri_index) continue;
-        uint64_t wq = (uint64_t)(w4[k] * WEIGHT_ONE + 0.5);
-        if (!wq) continue;
-        accum *a = &j->acc[idx];
-        atomic_fetch_add_explicit(&a->w, wq, memory_order_relaxed);
-        atomic_fetch_add_explicit(&a->r, wq * rgba[0], memory_order_relaxed);
-        atomic_fetch_add_explicit(&a->g, wq * rgba[1], memory_order_relaxed);
-        atomic_fetch_add_explicit(&a->b, wq * rgba[2], memory_order_relaxed);
-        atomic_fetch_add_explicit(&a->a, wq * rgba[3], memory_order_relaxed);
-        n++;
-    }
-    if (n) atomic_fetch_add_explicit(&j->splats, n, memory_order_relaxed);
+    const double (*H)[3] = M->m;
+    hplane p;
+    p.a = ax * H[0][0] + ay * H[1][0] + aw * H[2][0];
+    p.b = ax * H[0][1] + ay * H[1][1] + aw * H[2][1];
+    p.c = ax * H[0][2] + ay * H[1][2] + aw * H[2][2] + c;
+    return p;
 }
 
-static void walk_piece(job *j, int tri_index, const persp_draw_state *ds, const piece *pc, int depth)
+/* Window position and the two column lengths of the map's Jacobian (pixels
+ * per unit step of x and of y) at (x, y). Returns 0 behind the eye. */
+static int map_at(const map3 *M, double x, double y, double win[2], double *sx, double *sy,
+                  double *smin)
 {
-    const persp_texture *tex = ds->tex;
-    const int W = j->cap->width, H = j->cap->height;
-    const double tw = tex->width, th = tex->height;
-    double smax = 0.0, smin = INFINITY;
+    const double (*H)[3] = M->m;
+    double w = H[2][0] * x + H[2][1] * y + H[2][2];
+    if (!(w > 0.0)) return 0;
+    double X = (H[0][0] * x + H[0][1] * y + H[0][2]) / w;
+    double Y = (H[1][0] * x + H[1][1] * y + H[1][2]) / w;
+    win[0] = X, win[1] = Y;
+    double jxx = (H[0][0] - X * H[2][0]) / w, jyx = (H[1][0] - Y * H[2][0]) / w;
+    double jxy = (H[0][1] - X * H[2][1]) / w, jyy = (H[1][1] - Y * H[2][1]) / w;
+    *sx = hypot(jxx, jyx);
+    *sy = hypot(jxy, jyy);
+    /* Smallest singular value: |det| / largest. */
+    double s = jxx * jxx + jyx * jyx + jxy * jxy + jyy * jyy;
+    double det = fabs(jxx * jyy - jxy * jyx);
+    double disc = s * s - 4.0 * det * det;
+    double big = sqrt(0.5 * (s + sqrt(disc > 0.0 ? disc : 0.0)));
+    *smin = big > 0.0 ? det / big : 0.0;
+    return 1;
+}
+
+/* ------------------------------------------------------- piece building */
+
+typedef struct tri_setup {
+    map3 Huv;           /* (u, v, 1) -> window homogeneous */
+    hplane edge[3];     /* in uv, offset by MARGIN_PX in window space */
+    hplane view[4];     /* viewport plus reach, in uv */
+    double uv[3][2];
+    double wmin, wmax;  /* clip w over the (visible) triangle */
+} tri_setup;
+
+/* The seed's composed map for one triangle: uv -> rotated plane (affine)
+ * -> eye ([Rxy]⁻¹) -> clip (P) -> window (viewport), as one 3×3 matrix. */
+static int triangle_setup(const persp_frame *f, int W, int H, const persp_tri *t, tri_setup *ts)
+{
+    double p[3][3];
     for (int k = 0; k < 3; k++) {
-        double s = spacing_at(pc, k, &j->proj, W, H, tw, th);
-        if (s > smax) smax = s;
-        if (s < smin) smin = s;
+        for (int c = 0; c < 3; c++) p[k][c] = t->vattr[k][PERSP_A_EX + c];
+        ts->uv[k][0] = t->vattr[k][PERSP_A_U];
+        ts->uv[k][1] = t->vattr[k][PERSP_A_V];
     }
-    if (!isfinite(smax) || !(smin > 0.0)) return;
-    if (smax > SPLIT_RATIO * smin && depth < MAX_SPLIT_DEPTH) {
-        /* Split at the edge midpoints into four pieces. */
-        piece m;
-        for (int k = 0; k < 3; k++) {
-            int l = (k + 1) % 3;
-            for (int c = 0; c < 3; c++) m.p[k][c] = 0.5 * (pc->p[k][c] + pc->p[l][c]);
-            for (int c = 0; c < 2; c++) m.uv[k][c] = 0.5 * (pc->uv[k][c] + pc->uv[l][c]);
-        }
-        atomic_fetch_add_explicit(&j->splits, 1, memory_order_relaxed);
-        for (int k = 0; k < 3; k++) {
-            piece s;
-            int prev = (k + 2) % 3;
-            memcpy(s.p[0], pc->p[k], sizeof s.p[0]);
-            memcpy(s.uv[0], pc->uv[k], sizeof s.uv[0]);
-            memcpy(s.p[1], m.p[k], sizeof s.p[1]);
-            memcpy(s.uv[1], m.uv[k], sizeof s.uv[1]);
-            memcpy(s.p[2], m.p[prev], sizeof s.p[2]);
-            memcpy(s.uv[2], m.uv[prev], sizeof s.uv[2]);
-            walk_piece(j, tri_index, ds, &s, depth + 1);
-        }
-        walk_piece(j, tri_index, ds, &m, depth + 1);
-        return;
-    }
-    /* One level for the whole piece (seed 004: "LOD once per polygon"). */
-    int level = 0;
-    if (smax < SPACING_TARGET) level = (int)floor(log2(SPACING_TARGET / smax));
-    if (level > tex->levels - 1) level = tex->levels - 1;
-    double spacing = smax * ldexp(1.0, level);
-    int sub = spacing > SPACING_TARGET ? (int)ceil(spacing / SPACING_TARGET) : 1;
-    if (sub > 64) sub = 64;
-    const double lw = tex->level[level].w, lh = tex->level[level].h;
-    const double step_u = 1.0 / (lw * sub), step_v = 1.0 / (lh * sub);
-
-    /* The rotation into a screen-parallel plane and the affine map from uv
-     * to the rotated plane's (x', y'). */
     double e1[3], e2[3], n[3];
-    for (int c = 0; c < 3; c++) e1[c] = pc->p[1][c] - pc->p[0][c], e2[c] = pc->p[2][c] - pc->p[0][c];
+    for (int c = 0; c < 3; c++) e1[c] = p[1][c] - p[0][c], e2[c] = p[2][c] - p[0][c];
     n[0] = e1[1] * e2[2] - e1[2] * e2[1];
     n[1] = e1[2] * e2[0] - e1[0] * e2[2];
     n[2] = e1[0] * e2[1] - e1[1] * e2[0];
     rotation rot;
-    if (!make_rotation(n, &rot)) return;
+    if (!make_rotation(n, &rot)) return 0;
     double r[3][3];
-    for (int k = 0; k < 3; k++) rotate(&rot, pc->p[k], r[k]);
-    const double zc = r[0][2]; /* equal for all three: the plane is now z' = zc */
-    double du1 = pc->uv[1][0] - pc->uv[0][0], dv1 = pc->uv[1][1] - pc->uv[0][1];
-    double du2 = pc->uv[2][0] - pc->uv[0][0], dv2 = pc->uv[2][1] - pc->uv[0][1];
+    for (int k = 0; k < 3; k++) rotate(&rot, p[k], r[k]);
+    const double zc = r[0][2]; /* the plane is now z' = zc (seed: one vertex suffices) */
+    double du1 = ts->uv[1][0] - ts->uv[0][0], dv1 = ts->uv[1][1] - ts->uv[0][1];
+    double du2 = ts->uv[2][0] - ts->uv[0][0], dv2 = ts->uv[2][1] - ts->uv[0][1];
     double det = du1 * dv2 - du2 * dv1;
-    if (fabs(det) < 1e-300) return;
-    double dxdu = ((r[1][0] - r[0][0]) * dv2 - (r[2][0] - r[0][0]) * dv1) / det;
-    double dxdv = ((r[2][0] - r[0][0]) * du1 - (r[1][0] - r[0][0]) * du2) / det;
-    double dydu = ((r[1][1] - r[0][1]) * dv2 - (r[2][1] - r[0][1]) * dv1) / det;
-    double dydv = ((r[2][1] - r[0][1]) * du1 - (r[1][1] - r[0][1]) * du2) / det;
-
-    /* Barycentrics in uv, with the walk extended MARGIN_PX beyond each edge
-     * (converted to barycentric units with the piece's smallest spacing). */
-    double margin_uv = MARGIN_PX / (smin * (tw > th ? tw : th));
-    double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
-    for (int k = 0; k < 3; k++) {
-        umin = fmin(umin, pc->uv[k][0]), umax = fmax(umax, pc->uv[k][0]);
-        vmin = fmin(vmin, pc->uv[k][1]), vmax = fmax(vmax, pc->uv[k][1]);
+    if (!(fabs(det) > 1e-300)) return 0;
+    /* Affine uv -> (x', y', zc). */
+    double A[3][3];
+    for (int c = 0; c < 2; c++) {
+        double a1 = r[1][c] - r[0][c], a2 = r[2][c] - r[0][c];
+        A[c][0] = (a1 * dv2 - a2 * dv1) / det;
+        A[c][1] = (a2 * du1 - a1 * du2) / det;
+        A[c][2] = r[0][c] - A[c][0] * ts->uv[0][0] - A[c][1] * ts->uv[0][1];
     }
-    double el[3];
-    for (int k = 0; k < 3; k++) {
-        int a = (k + 1) % 3, b = (k + 2) % 3;
-        el[k] = hypot(pc->uv[b][0] - pc->uv[a][0], pc->uv[b][1] - pc->uv[a][1]);
+    A[2][0] = 0.0, A[2][1] = 0.0, A[2][2] = zc;
+    double Ri[3][3], E[3][3]; /* E: (u, v, 1) -> eye */
+    rotation_inverse(&rot, Ri);
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) E[a][b] = Ri[a][0] * A[0][b] + Ri[a][1] * A[1][b] + Ri[a][2] * A[2][b];
+    /* Window rows: X·w = W/2·(x_c + w_c), Y·w = H/2·(y_c + w_c), w = w_c. */
+    const float *m = f->proj.m;
+    double P[3][4];
+    for (int c = 0; c < 4; c++) {
+        P[0][c] = 0.5 * W * ((double)m[c * 4 + 0] + (double)m[c * 4 + 3]);
+        P[1][c] = 0.5 * H * ((double)m[c * 4 + 1] + (double)m[c * 4 + 3]);
+        P[2][c] = (double)m[c * 4 + 3];
     }
-    double eps[3];
-    for (int k = 0; k < 3; k++) eps[k] = el[k] > 0 ? margin_uv * el[k] / fabs(det) : 0.0;
-    umin -= margin_uv, umax += margin_uv, vmin -= margin_uv, vmax += margin_uv;
-    /* Sample positions on the level's texel-centre grid (sub-steps if magnified). */
-    double u0 = (floor(umin / step_u - 0.5) + 0.5) * step_u;
-    double v0 = (floor(vmin / step_v - 0.5) + 0.5) * step_v;
-    long nu = (long)ceil((umax - u0) / step_u) + 1, nv = (long)ceil((vmax - v0) / step_v) + 1;
-    if (nu <= 0 || nv <= 0 || (double)nu * (double)nv > 1e8) return;
-
-    persp_sampler_desc sd = ds->sampler.desc;
-    sd.filter = sub > 1 ? PERSP_FILTER_BILINEAR_MIP_NEAREST : PERSP_FILTER_NEAREST_MIP_NEAREST;
-    sd.min_lod = sd.max_lod = (float)level;
-    sd.lod_bias = 0.0f;
-    sd.lod_mode = PERSP_LOD_PIXEL;
-    /* Derivatives that select exactly `level`. */
-    const float dsel = (float)(ldexp(1.0, level) / tw);
-    uint64_t walked = 0;
-    for (long jv = 0; jv < nv; jv++) {
-        double v = v0 + (double)jv * step_v;
-        for (long iu = 0; iu < nu; iu++) {
-            double u = u0 + (double)iu * step_u;
-            double pu = u - pc->uv[0][0], pv = v - pc->uv[0][1];
-            double b1 = (pu * dv2 - du2 * pv) / det, b2 = (du1 * pv - pu * dv1) / det;
-            double b0 = 1.0 - b1 - b2;
-            if (b0 < -eps[0] || b1 < -eps[1] || b2 < -eps[2]) continue;
-            double rp[3] = {r[0][0] + dxdu * pu + dxdv * pv, r[0][1] + dydu * pu + dydv * pv, zc};
-            double ep[3], win[2];
-            rotate_back(&rot, rp, ep);
-            if (!project(&j->proj, W, H, ep, win)) continue;
-            uint8_t rgba[4];
-            persp_texture_sample(tex, &sd, (float)u, (float)v, dsel, 0.0f, 0.0f, dsel, rgba);
-            splat(j, tri_index, win[0], win[1], rgba);
-            walked++;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            ts->Huv.m[a][b] = P[a][0] * E[0][b] + P[a][1] * E[1][b] + P[a][2] * E[2][b] +
+                            (b == 2 ? P[a][3] : 0.0);
         }
+    /* Screen edges of the triangle, offset outwards by MARGIN_PX. */
+    double win[3][2];
+    for (int k = 0; k < 3; k++) {
+        double w = ts->Huv.m[2][0] * ts->uv[k][0] + ts->Huv.m[2][1] * ts->uv[k][1] + ts->Huv.m[2][2];
+        if (!(w > 0.0)) return 0;
+        for (int c = 0; c < 2; c++)
+            win[k][c] = (ts->Huv.m[c][0] * ts->uv[k][0] + ts->Huv.m[c][1] * ts->uv[k][1] + ts->Huv.m[c][2]) / w;
+        if (k == 0 || w < ts->wmin) ts->wmin = w;
+        if (k == 0 || w > ts->wmax) ts->wmax = w;
     }
-    atomic_fetch_add_explicit(&j->walked, walked, memory_order_relaxed);
+    double area = (win[1][0] - win[0][0]) * (win[2][1] - win[0][1]) -
+                  (win[2][0] - win[0][0]) * (win[1][1] - win[0][1]);
+    if (!(fabs(area) > 0.0)) return 0;
+    double sgn = area > 0.0 ? 1.0 : -1.0;
+    for (int k = 0; k < 3; k++) {
+        const double *a = win[(k + 1) % 3], *b = win[(k + 2) % 3];
+        double nx = -(b[1] - a[1]) * sgn, ny = (b[0] - a[0]) * sgn; /* inward normal */
+        double len = hypot(nx, ny);
+        if (!(len > 0.0)) return 0;
+        nx /= len, ny /= len;
+        double c = -(nx * a[0] + ny * a[1]) + MARGIN_PX;
+        ts->edge[k] = pull_back(&ts->Huv, nx, ny, c, 0.0);
+    }
+    /* Viewport plus the splat reach (pixel centres within one pixel). */
+    const double reach = 1.0 + MARGIN_PX;
+    ts->view[0] = pull_back(&ts->Huv, 1.0, 0.0, reach, 0.0);               /* X >= -reach */
+    ts->view[1] = pull_back(&ts->Huv, -1.0, 0.0, (double)W + reach, 0.0);  /* X <= W + reach */
+    ts->view[2] = pull_back(&ts->Huv, 0.0, 1.0, reach, 0.0);
+    ts->view[3] = pull_back(&ts->Huv, 0.0, -1.0, (double)H + reach, 0.0);
+    return 1;
+}
+
+/* Builds the piece of slab [wlo, whi) of a triangle; returns 0 if empty. */
+static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp_sampler_state *ss,
+                      int tri, double wlo, double whi, os_piece *pc)
+{
+    hplane uvp[MAX_PLANES];
+    int np = 0;
+    for (int k = 0; k < 3; k++) uvp[np++] = ts->edge[k];
+    for (int k = 0; k < 4; k++) uvp[np++] = ts->view[k];
+    uvp[np++] = pull_back(&ts->Huv, 0.0, 0.0, 1.0, -wlo); /* w >= wlo */
+    uvp[np++] = pull_back(&ts->Huv, 0.0, 0.0, -1.0, whi); /* w <= whi */
+    /* The piece's polygon in uv: the triangle itself (no margin) cut by the
+     * slab and the viewport, for the level choice. */
+    double poly[2 * MAX_POLY], tmp[2 * MAX_POLY];
+    int n = 3;
+    for (int k = 0; k < 3; k++) poly[2 * k] = ts->uv[k][0], poly[2 * k + 1] = ts->uv[k][1];
+    for (int k = 3; k < np && n > 0; k++) {
+        n = clip_poly(poly, n, &uvp[k], tmp);
+        memcpy(poly, tmp, sizeof(double) * 2 * (size_t)n);
+    }
+    if (n < 3) return 0;
+    /* Largest and smallest projected level-0 texel steps over the piece. */
+    double tw = tex->width, th = tex->height;
+    double smax = 0.0, smin = INFINITY, bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+    double cu = 0.0, cv = 0.0;
+    for (int k = 0; k <= n; k++) {
+        double u, v;
+        if (k < n) {
+            u = poly[2 * k], v = poly[2 * k + 1];
+            cu += u / n, cv += v / n;
+        } else {
+            u = cu, v = cv; /* and the centroid */
+        }
+        double win[2], su, sv, sm;
+        if (!map_at(&ts->Huv, u, v, win, &su, &sv, &sm)) return 0;
+        su /= tw, sv /= th;
+        sm /= (tw > th ? tw : th);
+        double s = su > sv ? su : sv;
+        if (s > smax) smax = s;
+        if (sm < smin) smin = sm;
+        if (win[0] < bx0) bx0 = win[0];
+        if (win[0] > bx1) bx1 = win[0];
+        if (win[1] < by0) by0 = win[1];
+        if (win[1] > by1) by1 = win[1];
+    }
+    if (!(smax > 0.0) || !isfinite(smax)) return 0;
+    /* One level for the piece (seed 004: "LOD once per polygon"). */
+    int top = tex->levels - 1, level = 0;
+    if (smax < SPACING_TARGET) level = (int)floor(log2(SPACING_TARGET / smax));
+    if (level > top) level = top;
+    double spacing = smax * ldexp(1.0, level);
+    int sub = 1;
+    if (spacing > SPACING_TARGET) {
+        double s = ceil(spacing / SPACING_TARGET);
+        sub = s > MAX_SUB ? MAX_SUB : (int)s;
+    }
+    const double lw = tex->level[level].w, lh = tex->level[level].h;
+    const double step_u = 1.0 / (lw * sub), step_v = 1.0 / (lh * sub);
+    /* Sample (i, j) sits at u = (i + 1/2)·step_u, v = (j + 1/2)·step_v: the
+     * level's texel centres (or sub-texel positions). */
+    double S[3][3] = {{step_u, 0.0, 0.5 * step_u}, {0.0, step_v, 0.5 * step_v}, {0.0, 0.0, 1.0}};
+    memset(pc, 0, sizeof *pc);
+    pc->tri = tri;
+    pc->level = level;
+    pc->sub = sub;
+    pc->nearest = ss->desc.filter == PERSP_FILTER_NEAREST ||
+                  ss->desc.filter == PERSP_FILTER_NEAREST_MIP_NEAREST ||
+                  ss->desc.filter == PERSP_FILTER_NEAREST_MIP_LINEAR;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            pc->H.m[a][b] = ts->Huv.m[a][0] * S[0][b] + ts->Huv.m[a][1] * S[1][b] + ts->Huv.m[a][2] * S[2][b];
+    for (int k = 0; k < np; k++) {
+        hplane q = uvp[k];
+        pc->pl[k].a = q.a * step_u;
+        pc->pl[k].b = q.b * step_v;
+        pc->pl[k].c = q.a * 0.5 * step_u + q.b * 0.5 * step_v + q.c;
+    }
+    pc->planes = np;
+    /* Rows: the polygon's, widened by the margin measured with the
+     * smallest singular value of the map (the shortest pixel distance a
+     * sample step can cover). */
+    double smin_sample = smin * ldexp(1.0, level) / sub;
+    double jlo = INFINITY, jhi = -INFINITY;
+    for (int k = 0; k < n; k++) {
+        double j = poly[2 * k + 1] / step_v - 0.5;
+        if (j < jlo) jlo = j;
+        if (j > jhi) jhi = j;
+    }
+    double mj = smin_sample > 0.0 ? (MARGIN_PX + 1.0) / smin_sample + 1.0 : 1e9;
+    if (mj > 1e8) mj = 1e8;
+    jlo = floor(jlo - mj), jhi = ceil(jhi + mj);
+    if (!(jlo > -2e9) || !(jhi < 2e9)) return 0;
+    pc->j0 = (int)jlo, pc->j1 = (int)jhi;
+    const double reach = MARGIN_PX + 2.0;
+    pc->bx0 = bx0 - reach, pc->bx1 = bx1 + reach, pc->by0 = by0 - reach, pc->by1 = by1 + reach;
+    /* Walked samples ≈ polygon area in samples; at the top of the pyramid
+     * (where every sample has the one texel's colour) bound it by a stride. */
+    pc->stride = 1;
+    if (level == top) {
+        double area = 0.0;
+        for (int k = 0; k < n; k++) {
+            const double *a = poly + 2 * k, *b = poly + 2 * ((k + 1) % n);
+            area += a[0] * b[1] - a[1] * b[0];
+        }
+        double samples = 0.5 * fabs(area) / (step_u * step_v);
+        if (samples > TOP_LEVEL_CAP) pc->stride = (int)ceil(sqrt(samples / TOP_LEVEL_CAP));
+    }
+    return 1;
 }
 
 /* The object-space pipeline produces texture colour; it applies to
@@ -291,64 +412,252 @@ static int objspace_applies(const persp_draw_state *ds)
     return ds->tex && ds->shading == PERSP_SHADING_NONE;
 }
 
-static void walk_task(void *user, int task, int worker)
+/* Pieces of every triangle, in triangle order then slab order. */
+static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_piece **out,
+                                 size_t *count, uint64_t *split)
 {
-    (void)worker;
-    job *j = user;
-    const persp_tri *t = &persp__frame_tris(j->f)[task];
-    const persp_draw_state *ds = persp__frame_state(j->f, t->state);
-    if (!objspace_applies(ds)) return;
-    piece pc;
-    for (int k = 0; k < 3; k++) {
-        for (int c = 0; c < 3; c++) pc.p[k][c] = t->vattr[k][PERSP_A_EX + c];
-        pc.uv[k][0] = t->vattr[k][PERSP_A_U];
-        pc.uv[k][1] = t->vattr[k][PERSP_A_V];
+    persp_context *ctx = f->ctx;
+    size_t cap_n = 0, n = 0;
+    os_piece *pcs = NULL;
+    const persp_tri *tris = persp__frame_tris(f);
+    *split = 0;
+    for (size_t ti = 0; ti < f->tri_count; ti++) {
+        const persp_tri *t = &tris[ti];
+        const persp_draw_state *ds = persp__frame_state(f, t->state);
+        if (!objspace_applies(ds)) continue;
+        tri_setup ts;
+        memset(&ts, 0, sizeof ts);
+        if (!triangle_setup(f, cap->width, cap->height, t, &ts)) continue;
+        /* Slab planes w = 2^(k / SLAB_STEPS) covering [wmin, wmax]. */
+        double k0 = floor(log2(ts.wmin) * SLAB_STEPS), k1 = ceil(log2(ts.wmax) * SLAB_STEPS);
+        if (!(k1 >= k0)) continue;
+        if (k1 - k0 > MAX_SLABS) k0 = k1 - MAX_SLABS;
+        size_t made = 0;
+        for (double k = k0; k < k1 || k == k0; k += 1.0) {
+            double wlo = k == k0 ? 0.0 : exp2(k / SLAB_STEPS);
+            double whi = k + 1.0 >= k1 ? INFINITY : exp2((k + 1.0) / SLAB_STEPS);
+            if (n == cap_n) {
+                size_t nc = cap_n ? 2 * cap_n : 64;
+                os_piece *np = persp__calloc(ctx, nc, sizeof *np);
+                if (!np) {
+                    persp_free(ctx, pcs);
+                    return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+                                              "object-space pipeline: out of memory");
+                }
+                if (n) memcpy(np, pcs, n * sizeof *np);
+                persp_free(ctx, pcs);
+                pcs = np;
+                cap_n = nc;
+            }
+            if (make_piece(&ts, ds->tex, &ds->sampler, (int)ti, wlo,
+                           isfinite(whi) ? whi : 1e300, &pcs[n])) {
+                n++;
+                made++;
+            }
+            if (k + 1.0 >= k1) break;
+        }
+        if (made > 1) (*split)++;
     }
-    walk_piece(j, task, ds, &pc, 0);
+    *out = pcs;
+    *count = n;
+    return PERSP_OK;
+}
+
+/* ------------------------------------------------------------- the walk */
+
+/* Row interval [lo, hi] of samples inside all planes at row j; empty when
+ * lo > hi. */
+static void row_interval(const hplane *pl, int np, double j, double *lo, double *hi)
+{
+    double l = -INFINITY, h = INFINITY;
+    for (int k = 0; k < np; k++) {
+        double r = pl[k].b * j + pl[k].c;
+        if (pl[k].a > 0.0) {
+            double x = -r / pl[k].a;
+            if (x > l) l = x;
+        } else if (pl[k].a < 0.0) {
+            double x = -r / pl[k].a;
+            if (x < h) h = x;
+        } else if (r < 0.0) {
+            l = INFINITY;
+        }
+    }
+    *lo = l, *hi = h;
+}
+
+static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, int tx1, int ty1,
+                       float *acc, uint64_t *walked, uint64_t *splats)
+{
+    const persp_tri *t = &persp__frame_tris(j->f)[pc->tri];
+    const persp_draw_state *ds = persp__frame_state(j->f, t->state);
+    const persp_sampler_state *ss = &ds->sampler;
+    const persp_texture *tex = ds->tex;
+    const persp_tex_level *lv = &tex->level[pc->level];
+    const int ws = (int)ss->desc.wrap_s, wt = (int)ss->desc.wrap_t;
+    const int W = j->cap->width, tw = tx1 - tx0;
+    const int32_t *owner = j->cap->tri;
+    /* The tile's reach: samples within one pixel of its pixel centres. */
+    hplane tp[4] = {
+        pull_back(&pc->H, 1.0, 0.0, -(double)tx0 + 1.0, 0.0),
+        pull_back(&pc->H, -1.0, 0.0, (double)tx1 + 1.0, 0.0),
+        pull_back(&pc->H, 0.0, 1.0, -(double)ty0 + 1.0, 0.0),
+        pull_back(&pc->H, 0.0, -1.0, (double)ty1 + 1.0, 0.0),
+    };
+    const double inv_u = 1.0 / ((double)lv->w * pc->sub), inv_v = 1.0 / ((double)lv->h * pc->sub);
+    uint64_t nw = 0, ns = 0;
+    for (int jj = pc->j0; jj <= pc->j1; jj += pc->stride) {
+        double lo, hi, tlo, thi;
+        row_interval(pc->pl, pc->planes, (double)jj, &lo, &hi);
+        if (!(lo <= hi)) continue;
+        row_interval(tp, 4, (double)jj, &tlo, &thi);
+        if (tlo > lo) lo = tlo;
+        if (thi < hi) hi = thi;
+        if (!(lo <= hi) || lo > 2e9 || hi < -2e9) continue;
+        int i0 = (int)ceil(lo < -2e9 ? -2e9 : lo), i1 = (int)floor(hi > 2e9 ? 2e9 : hi);
+        if (pc->stride > 1) i0 -= ((i0 % pc->stride) + pc->stride) % pc->stride;
+        /* Texel row of this sample row (sub == 1: the level's row j). */
+        const uint32_t *row = NULL;
+        int rowb = 0;
+        if (pc->sub == 1) {
+            int y = persp__wrap_index(wt, jj, lv->h);
+            if (y < 0) rowb = 1;
+            else row = lv->texels + (size_t)y * (size_t)lv->w;
+        }
+        const double v = ((double)jj + 0.5) * inv_v;
+        for (int ii = i0; ii <= i1; ii += pc->stride) {
+            double x = (double)ii, y = (double)jj;
+            double w = pc->H.m[2][0] * x + pc->H.m[2][1] * y + pc->H.m[2][2];
+            if (!(w > 0.0)) continue;
+            double iw = 1.0 / w;
+            double X = (pc->H.m[0][0] * x + pc->H.m[0][1] * y + pc->H.m[0][2]) * iw - 0.5;
+            double Y = (pc->H.m[1][0] * x + pc->H.m[1][1] * y + pc->H.m[1][2]) * iw - 0.5;
+            double fx = floor(X), fy = floor(Y);
+            if (fx < (double)tx0 - 1.0 || fx >= (double)tx1 || fy < (double)ty0 - 1.0 ||
+                fy >= (double)ty1)
+                continue;
+            nw++;
+            uint32_t texel;
+            if (pc->sub == 1) {
+                if (rowb) {
+                    texel = ss->border;
+                } else {
+                    int xi = persp__wrap_index(ws, ii, lv->w);
+                    texel = xi < 0 ? ss->border : row[xi];
+                }
+            } else {
+                float c[4];
+                float u = (float)(((double)ii + 0.5) * inv_u);
+                if (pc->nearest) persp__nearest(ss, 0, ws, wt, u, (float)v, c);
+                else persp__bilinear(ss, 0, ws, wt, u, (float)v, c);
+                texel = persp__pack(c);
+            }
+            const float cr = (float)(texel & 0xffu), cg = (float)(texel >> 8 & 0xffu);
+            const float cb = (float)(texel >> 16 & 0xffu), ca = (float)(texel >> 24);
+            /* Seed 004's S1..S4: the sample's share of the four pixels
+             * around it (pixel centres at +0.5). */
+            const float ax = (float)(X - fx), ay = (float)(Y - fy);
+            const int px0 = (int)fx, py0 = (int)fy;
+            for (int k = 0; k < 4; k++) {
+                int px = px0 + (k & 1), py = py0 + (k >> 1);
+                if (px < tx0 || px >= tx1 || py < ty0 || py >= ty1) continue;
+                if (owner[(size_t)py * (size_t)W + (size_t)px] != pc->tri) continue;
+                float s = ((k & 1) ? ax : 1.0f - ax) * ((k >> 1) ? ay : 1.0f - ay);
+                float *a = acc + 5 * ((size_t)(py - ty0) * (size_t)tw + (size_t)(px - tx0));
+                a[0] += s;
+                a[1] += s * cr;
+                a[2] += s * cg;
+                a[3] += s * cb;
+                a[4] += s * ca;
+                ns++;
+            }
+        }
+    }
+    *walked += nw;
+    *splats += ns;
+}
+
+static void tile_task(void *user, int task, int worker)
+{
+    os_job *j = user;
+    const int W = j->cap->width, H = j->cap->height;
+    int tx = task % j->tiles_x, ty = task / j->tiles_x;
+    int x0 = tx * OS_TILE, y0 = ty * OS_TILE;
+    int x1 = x0 + OS_TILE < W ? x0 + OS_TILE : W, y1 = y0 + OS_TILE < H ? y0 + OS_TILE : H;
+    float *acc = j->acc + (size_t)worker * OS_TILE * OS_TILE * 5;
+    memset(acc, 0, sizeof(float) * OS_TILE * OS_TILE * 5);
+    uint64_t walked = 0, splats = 0, holes = 0;
+    for (size_t k = 0; k < j->piece_count; k++) {
+        const os_piece *pc = &j->pieces[k];
+        if (pc->bx1 < (double)x0 - 1.0 || pc->bx0 > (double)x1 + 1.0 || pc->by1 < (double)y0 - 1.0 ||
+            pc->by0 > (double)y1 + 1.0)
+            continue;
+        walk_piece(j, pc, x0, y0, x1, y1, acc, &walked, &splats);
+    }
+    uint32_t *color = (uint32_t *)(void *)j->f->fb->color;
+    const persp_tri *tris = persp__frame_tris(j->f);
+    const int tw = x1 - x0;
+    for (int y = y0; y < y1; y++)
+        for (int x = x0; x < x1; x++) {
+            size_t i = (size_t)y * (size_t)W + (size_t)x;
+            int32_t t = j->cap->tri[i];
+            if (t < 0 || !objspace_applies(persp__frame_state(j->f, tris[t].state))) continue;
+            const float *a = acc + 5 * ((size_t)(y - y0) * (size_t)tw + (size_t)(x - x0));
+            if (!(a[0] > 0.0f)) {
+                holes++; /* keeps the screen pipeline's colour */
+                continue;
+            }
+            float c[4];
+            float inv = 1.0f / a[0];
+            for (int m = 0; m < 4; m++) c[m] = a[1 + m] * inv;
+            color[i] = persp__pack(c);
+        }
+    j->walked[task] = walked;
+    j->splats[task] = splats;
+    j->holes[task] = holes;
 }
 
 persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
                                      persp_objspace_stats *stats)
 {
     persp_context *ctx = f->ctx;
-    const size_t n = (size_t)cap->width * (size_t)cap->height;
-    job *j = persp__calloc(ctx, 1, sizeof *j);
-    accum *acc = persp__calloc(ctx, n, sizeof *acc);
-    if (!j || !acc) {
-        persp_free(ctx, j);
-        persp_free(ctx, acc);
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "object-space pipeline: out of memory");
+    os_job j;
+    memset(&j, 0, sizeof j);
+    j.f = f;
+    j.cap = cap;
+    uint64_t split = 0;
+    os_piece *pieces = NULL;
+    size_t npieces = 0;
+    persp_status st = build_pieces(f, cap, &pieces, &npieces, &split);
+    if (st != PERSP_OK) return st;
+    j.pieces = pieces;
+    j.piece_count = npieces;
+
+    j.tiles_x = (cap->width + OS_TILE - 1) / OS_TILE;
+    j.tiles_y = (cap->height + OS_TILE - 1) / OS_TILE;
+    int tiles = j.tiles_x * j.tiles_y, workers = persp__pool_workers(ctx);
+    j.acc = persp__calloc(ctx, (size_t)workers * OS_TILE * OS_TILE * 5, sizeof(float));
+    j.walked = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
+    j.splats = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
+    j.holes = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
+    if (!j.acc || !j.walked || !j.splats || !j.holes) {
+        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "object-space pipeline: out of memory");
+    } else {
+        st = persp__pool_run(ctx, tiles, tile_task, &j);
     }
-    j->f = f;
-    j->cap = cap;
-    j->acc = acc;
-    j->proj = f->proj;
-    persp_status st = persp__pool_run(ctx, (int)f->tri_count, walk_task, j);
-    uint64_t holes = 0;
-    if (st == PERSP_OK) {
-        uint32_t *color = (uint32_t *)(void *)f->fb->color;
-        const persp_tri *tris = persp__frame_tris(f);
-        for (size_t i = 0; i < n; i++) {
-            int32_t t = cap->tri[i];
-            if (t < 0 || !objspace_applies(persp__frame_state(f, tris[t].state))) continue;
-            uint64_t w = atomic_load_explicit(&acc[i].w, memory_order_relaxed);
-            if (!w) {
-                holes++; /* keeps the screen pipeline's colour */
-                continue;
-            }
-            uint64_t h = w / 2;
-            uint32_t r = (uint32_t)((acc[i].r + h) / w), g = (uint32_t)((acc[i].g + h) / w);
-            uint32_t b = (uint32_t)((acc[i].b + h) / w), a = (uint32_t)((acc[i].a + h) / w);
-            color[i] = r | g << 8 | b << 16 | a << 24;
+    if (st == PERSP_OK && stats) {
+        memset(stats, 0, sizeof *stats);
+        for (int k = 0; k < tiles; k++) {
+            stats->texels_walked += j.walked[k];
+            stats->splats += j.splats[k];
+            stats->holes += j.holes[k];
         }
+        stats->triangles_split = split;
+        stats->pieces = npieces;
     }
-    if (stats) {
-        stats->splats = j->splats;
-        stats->texels_walked = j->walked;
-        stats->triangles_split = j->splits;
-        stats->holes = holes;
-    }
-    persp_free(ctx, acc);
-    persp_free(ctx, j);
+    persp_free(ctx, j.acc);
+    persp_free(ctx, j.walked);
+    persp_free(ctx, j.splats);
+    persp_free(ctx, j.holes);
+    persp_free(ctx, pieces);
     return st;
 }

@@ -75,7 +75,7 @@ const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index)
  * the screen pipeline has filled fb and cap (visible triangle per pixel):
  * re-colours every pixel from splatted texels (src/objspace/objspace.c). */
 typedef struct persp_objspace_stats {
-    uint64_t splats, texels_walked, holes, triangles_split;
+    uint64_t splats, texels_walked, holes, triangles_split, pieces;
 } persp_objspace_stats;
 persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
                                      persp_objspace_stats *stats);

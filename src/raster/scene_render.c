@@ -114,6 +114,10 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
             if (dd.wrap_set) sd.wrap_s = sd.wrap_t = dd.wrap;
             sd.lod_mode = dd.lod_mode;
             sd.lod_bias += dd.lod_bias;
+            if (dd.lod_clamp_set) {
+                sd.min_lod = dd.min_lod;
+                sd.max_lod = dd.max_lod;
+            }
             st = persp__sampler_init(&ds.sampler, ds.tex, &sd);
             if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: bad sampler settings");
         }
@@ -152,7 +156,13 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
             st = render_frame(ctx, scene, desc, fb, &f, &cap);
             persp_objspace_stats os;
             if (st == PERSP_OK) st = persp__objspace_resolve(&f, &cap, &os);
-            if (st == PERSP_OK && stats) *stats = f.stats;
+            if (st == PERSP_OK && stats) {
+                *stats = f.stats;
+                stats->objspace_samples = os.texels_walked;
+                stats->objspace_splats = os.splats;
+                stats->objspace_pieces = os.pieces;
+                stats->objspace_holes = os.holes;
+            }
         } else {
             persp_context_fail(ctx, st, "render: out of memory for the object-space pipeline");
         }

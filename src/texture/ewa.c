@@ -36,8 +36,10 @@ void persp__ewa_init(persp_sampler_state *st)
     }
 }
 
+/* count != NULL: also counts the texels read (persp__ewa_fetches); the
+ * span functions pass a constant NULL, so the count is compiled out. */
 static inline void ewa_pixel(const persp_sampler_state *st, int ws, int wt, float u, float v,
-                             persp_tex_jac j, float c[4])
+                             persp_tex_jac j, float c[4], int *count)
 {
     const persp_texture *tex = st->tex;
     int top = tex->levels - 1;
@@ -47,6 +49,7 @@ static inline void ewa_pixel(const persp_sampler_state *st, int ws, int wt, floa
     if (!(s < 1e30)) {
         /* Unbounded (or NaN) footprint: the whole texture's average. */
         persp__bilinear(st, top, ws, wt, u, v, c);
+        if (count) *count += 4;
         return;
     }
     double det = fabs(ux * vy - uy * vx);
@@ -103,6 +106,7 @@ static inline void ewa_pixel(const persp_sampler_state *st, int ws, int wt, floa
             float w = st->ewa_weight[t];
             persp__acc(acc, persp__texel(st, lv, ws, wt, ii, jj), w);
             wsum += w;
+            if (count) (*count)++;
         }
     }
     if (wsum > 0.0f) {
@@ -110,7 +114,16 @@ static inline void ewa_pixel(const persp_sampler_state *st, int ws, int wt, floa
         for (int k = 0; k < 4; k++) c[k] = acc[k] * inv;
     } else {
         persp__bilinear(st, level, ws, wt, u, v, c);
+        if (count) *count += 4;
     }
+}
+
+int persp__ewa_fetches(const persp_sampler_state *st, float u, float v, persp_tex_jac j)
+{
+    float c[4];
+    int n = 0;
+    ewa_pixel(st, PERSP_WRAP_REPEAT, PERSP_WRAP_REPEAT, u, v, j, c, &n);
+    return n;
 }
 
 static inline void span_ewa(const persp_sampler_state *st, const persp_tex_span_in *in,
@@ -118,7 +131,7 @@ static inline void span_ewa(const persp_sampler_state *st, const persp_tex_span_
 {
     for (int k = 0; k < in->n; k++) {
         float c[4];
-        ewa_pixel(st, ws, wt, in->u[k], in->v[k], persp__span_jacobian(st, in, k), c);
+        ewa_pixel(st, ws, wt, in->u[k], in->v[k], persp__span_jacobian(st, in, k), c, NULL);
         out[k] = persp__pack(c);
     }
 }

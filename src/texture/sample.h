@@ -185,5 +185,7 @@ typedef void (*persp_tex_span_fn)(const persp_sampler_state *st, const persp_tex
 extern const persp_tex_span_fn persp__ewa_spans[16];
 extern const persp_tex_span_fn persp__window_spans[16];
 void persp__ewa_init(persp_sampler_state *st);
+/* Texels read by the EWA filter for one footprint (ewa.c). */
+int persp__ewa_fetches(const persp_sampler_state *st, float u, float v, persp_tex_jac j);
 
 #endif

@@ -242,6 +242,52 @@ int persp__sampler_needs_lod(const persp_sampler_state *st)
     return st && st->desc.filter != PERSP_FILTER_NEAREST && st->desc.filter != PERSP_FILTER_BILINEAR;
 }
 
+/* Texels read by one bilinear or trilinear lookup at a clamped lambda. */
+static int trilinear_fetches(const persp_sampler_state *st, float lam)
+{
+    if (lam <= 0.0f || floorf(lam) >= (float)(st->tex->levels - 1)) return 4;
+    return 8;
+}
+
+int persp__sampler_fetches(const persp_sampler_state *st, const persp_tex_span_in *in, int k)
+{
+    int filter = (int)st->desc.filter;
+    if (filter == PERSP_FILTER_NEAREST) return 1;
+    if (filter == PERSP_FILTER_BILINEAR) return 4;
+    persp_tex_jac j = persp__span_jacobian(st, in, k);
+    float lam;
+    switch (filter) {
+    case PERSP_FILTER_ANISO: {
+        int major_x;
+        int n = aniso_rule(st, j, &lam, &major_x);
+        return n * trilinear_fetches(st, lam);
+    }
+    case PERSP_FILTER_ANISO_WINDOW: {
+        float W = (float)st->tex->width, H = (float)st->tex->height;
+        persp_tex_window w;
+        if (persp__window_setup(st, in->u[k], in->v[k], j.ux / W, j.vx / H, j.uy / W, j.vy / H, &w))
+            return w.len * w.rows;
+        return 4;
+    }
+    case PERSP_FILTER_EWA:
+        return persp__ewa_fetches(st, in->u[k], in->v[k], j);
+    default:
+        break;
+    }
+    lam = st->desc.lod_mode == PERSP_LOD_POLYGON ? persp__clamp_lod(st, in->poly_lambda + st->lod_bias)
+                                                  : persp__jac_lambda(st, j);
+    switch (filter) {
+    case PERSP_FILTER_NEAREST_MIP_NEAREST:
+        return 1;
+    case PERSP_FILTER_BILINEAR_MIP_NEAREST:
+        return 4;
+    case PERSP_FILTER_NEAREST_MIP_LINEAR:
+        return trilinear_fetches(st, lam) / 4;
+    default:
+        return trilinear_fetches(st, lam);
+    }
+}
+
 int persp__aniso_taps(const persp_sampler_state *st, float dudx, float dvdx, float dudy,
                       float dvdy, float *lambda)
 {

@@ -119,6 +119,10 @@ int persp__window_setup(const persp_sampler_state *st, float u, float v, float d
  * returns the number visited (len·rows). */
 size_t persp__window_visit(const persp_sampler_state *st, const persp_tex_window *w, int daisy,
                            int *xy, size_t cap);
+/* Texels the sampler reads for pixel k of a span: the same level, tap and
+ * footprint decisions as its span function, counted instead of filtered
+ * (cost analysis, persp accuracy --filter). */
+int persp__sampler_fetches(const persp_sampler_state *st, const persp_tex_span_in *in, int k);
 int persp__aniso_taps(const persp_sampler_state *st, float dudx, float dvdx, float dudy,
                       float dvdy, float *lambda);
 

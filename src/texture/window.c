@@ -5,10 +5,10 @@
  * Jacobian's columns P1 = d(u,v)/dx and P2 = d(u,v)/dy (§4.8, Fig. 4.15). It
  * is replaced by the rectangle aligned with the longer column: length
  * |Pmax|, width |det J| / |Pmax| (the parallelogram's height over that side,
- * so the area is kept). The mip level is chosen as in
- * EXT_texture_filter_anisotropic with N = max_aniso (lambda' =
- * log2(|Pmax| / min(ceil(|Pmax| / width), N)), nearest level), so the window
- * is at most about N texels long and one or two texels wide there.
+ * so the area is kept). The mip level is the nearest to lambda' - 1, with
+ * lambda' = log2(|Pmax| / min(ceil(|Pmax| / width), N)) the level of
+ * EXT_texture_filter_anisotropic for N = max_aniso, so the window is at
+ * most about 2·N texels long and two to four texels wide there.
  *
  * The window is a digital rectangle: each row is the digital line of the
  * major axis (a sequence of axial and diagonal unit steps, produced by one
@@ -83,7 +83,11 @@ int persp__window_setup(const persp_sampler_state *st, float u, float v, float d
     double width = det / len;
     double n = (double)st->max_aniso;
     if (width * n > len) n = ceil(len / width);
-    float lam = persp__clamp_lod(st, (float)log2(len / n) + st->lod_bias);
+    /* One level below EXT's lambda': there the window is at least two
+     * texels wide, so the box over it integrates the footprint instead of
+     * point-sampling across its width (the seed leaves the level open;
+     * measured with persp accuracy --filter, docs/TEXTURES.md). */
+    float lam = persp__clamp_lod(st, (float)log2(len / n) - 1.0f + st->lod_bias);
     int level = 0;
     if (lam > 0.5f) {
         float d = ceilf(lam + 0.5f) - 1.0f;
@@ -110,28 +114,16 @@ int persp__window_setup(const persp_sampler_state *st, float u, float v, float d
     w->len = nl < 1.0 ? 1 : nl > cap ? (int)cap : (int)nl;
     w->rows = nr < 1.0 ? 1 : nr > cap ? (int)cap : (int)nr;
     w->level = level;
-    /* Start corner A: the texel holding (u, v) minus half the window along
-     * both of its digital sides. */
-    int cx = persp__tex_floor(persp__tex_safe(u * (float)lv->w));
-    int cy = persp__tex_floor(persp__tex_safe(v * (float)lv->h));
-    int h1 = (w->len - 1) / 2, h2 = (w->rows - 1) / 2;
-    int p1 = (int)(((int64_t)2 * h1 * w->dy + w->dx) / ((int64_t)2 * w->dx));
-    int p2 = (int)(((int64_t)2 * h2 * w->dy + w->dx) / ((int64_t)2 * w->dx));
-    int ax, ay, bx, by;
-    if (w->x_major) {
-        ax = w->sx * h1;
-        ay = w->sy * p1;
-        bx = w->sx * h2;
-        by = w->sy * p2;
-    } else {
-        ax = w->sx * p1;
-        ay = w->sy * h1;
-        bx = w->sx * p2;
-        by = w->sy * h2;
-    }
-    /* Q(r) is P(r) rotated by +90 degrees: (x, y) -> (-y, x). */
-    w->x0 = cx - ax + by;
-    w->y0 = cy - ay - bx;
+    /* Start corner A: the texel holding the point that lies half the window
+     * back from (u, v) along both of its sides (the sides' mean directions,
+     * P = (sx, sy·t) for an x-major line and Q = P rotated by +90 degrees),
+     * so the window is centred on the footprint to within the digital
+     * lines' rounding. */
+    double ex = (double)persp__tex_safe(u * (float)lv->w), ey = (double)persp__tex_safe(v * (float)lv->h);
+    double px = w->x_major ? w->sx : w->sx * t, py = w->x_major ? w->sy * t : w->sy;
+    double hl = 0.5 * (w->len - 1), hr = 0.5 * (w->rows - 1);
+    w->x0 = (int)floor(ex - hl * px + hr * py);
+    w->y0 = (int)floor(ey - hl * py - hr * px);
     return 1;
 }
 

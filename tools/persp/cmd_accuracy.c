@@ -31,6 +31,7 @@ static void accuracy_usage(FILE *out)
             "  --csv | --json      machine-readable output instead of the table\n"
             "  --heatmap DIR       write one PNG per method and case with the per-pixel\n"
             "                      error in texels on a logarithmic colour scale\n"
+            "  --filter [F,...]    texture filters instead of methods (see persp accuracy --filter --help)\n"
             "  -h, --help          this help\n"
             "\ncases:\n");
     for (size_t i = 0; i < persp_accuracy_case_count(); i++)
@@ -80,6 +81,8 @@ static int add_method_list(char *text, const char **list, size_t *n)
 
 int cmd_accuracy(int argc, char **argv)
 {
+    for (int i = 1; i < argc; i++)
+        if (!strcmp(argv[i], "--filter")) return cmd_accuracy_filter(argc, argv);
     const char *methods[MAX_LIST], *cases[MAX_LIST];
     size_t nmethods = 0, ncases = 0;
     persp_report_format format = PERSP_REPORT_TABLE;

@@ -24,6 +24,7 @@ static void render_usage(FILE *out)
             "  --depth z|invw        depth buffer: window z, or 1/w (\"1/z buffering\")\n"
             "  --lod pixel|polygon   mip level per pixel (Jacobian) or per polygon\n"
             "  --lod-bias B          added to the level of detail\n"
+            "  --min-lod L, --max-lod L  clamp the level of detail (GL defaults -1000, 1000)\n"
             "  --pipeline screen|object  inverse mapping per pixel, or object-space texturing\n"
             "  --texture FILE        replace the scene's texture with a PNG or JPEG\n"
             "  --threads N           worker threads (default 1)\n"
@@ -98,6 +99,16 @@ int cmd_render(int argc, char **argv)
             if (*end || !(b >= -16.0 && b <= 16.0))
                 return cli_error(CLI_USAGE, "render: bad --lod-bias '%s' (expected -16..16)", val);
             desc.lod_bias = (float)b;
+        } else if (!strcmp(a, "--min-lod") || !strcmp(a, "--max-lod")) {
+            NEED_VALUE();
+            char *end;
+            double l = strtod(val, &end);
+            if (*end || end == val || !(l >= -1000.0 && l <= 1000.0))
+                return cli_error(CLI_USAGE, "render: bad %s '%s' (expected -1000..1000)", a, val);
+            if (!desc.lod_clamp_set) desc.min_lod = -1000.0f, desc.max_lod = 1000.0f;
+            desc.lod_clamp_set = 1;
+            if (a[2] == 'm' && a[3] == 'i') desc.min_lod = (float)l;
+            else desc.max_lod = (float)l;
         } else if (!strcmp(a, "--pipeline")) {
             NEED_VALUE();
             if (!strcmp(val, "screen")) desc.pipeline = PERSP_PIPELINE_SCREEN;
@@ -138,6 +149,14 @@ int cmd_render(int argc, char **argv)
         }
         return cli_error(CLI_FAIL, "render: '%s' is neither a built-in scene (%s) nor a file: %s",
                          scene_name, names, strerror(errno));
+    }
+    if (desc.lod_clamp_set) {
+        if (desc.min_lod > desc.max_lod)
+            return cli_error(CLI_USAGE, "render: --min-lod %g is above --max-lod %g", (double)desc.min_lod,
+                             (double)desc.max_lod);
+        /* Both zero means "no clamp" in persp_sampler_desc; an explicit
+         * [0, 0] is the same clamp with a lower end just below zero. */
+        if (desc.min_lod == 0.0f && desc.max_lod == 0.0f) desc.min_lod = -1e-30f;
     }
 
     int bad = cli_check_method("render", method);
@@ -233,6 +252,10 @@ int cmd_render(int argc, char **argv)
         printf("  %llu triangles in, %llu after clipping, %llu fragments, %llu pixels written\n",
                (unsigned long long)stats.triangles_in, (unsigned long long)stats.triangles_drawn,
                (unsigned long long)stats.fragments, (unsigned long long)stats.pixels_written);
+        if (desc.pipeline == PERSP_PIPELINE_OBJECT)
+            printf("  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes\n",
+                   (unsigned long long)stats.objspace_pieces, (unsigned long long)stats.objspace_samples,
+                   (unsigned long long)stats.objspace_splats, (unsigned long long)stats.objspace_holes);
         printf("  %.2f ms (%.1f Mpixels/s) -> %s\n", (t1 - t0) * 1e3,
                (double)width * height / ((t1 - t0) * 1e6), output);
     }
