@@ -21,6 +21,19 @@
 #define PERSP_SIMD_CLONES
 #endif
 
+/* Explicit AVX2 variants of a function, for code whose two variants must be
+ * selectable (and therefore testable) one by one: the baseline variant is
+ * compiled as usual, the other with this attribute, and the caller picks
+ * with persp__cpu_avx2(). */
+#if defined(__GNUC__) && defined(__x86_64__)
+#define PERSP_HAVE_AVX2 1
+#define PERSP_TARGET_AVX2 __attribute__((target("avx2")))
+static inline int persp__cpu_avx2(void) { return __builtin_cpu_supports("avx2"); }
+#else
+#define PERSP_HAVE_AVX2 0
+static inline int persp__cpu_avx2(void) { return 0; }
+#endif
+
 /* log2(x) for normal positive x with an absolute error below 1e-6: x =
  * m·2^e, m in [1, 2), log2 x = e + p(m - 1), p the degree-7 polynomial
  * interpolating log2(1 + t) at the Chebyshev-Lobatto points of [0, 1]

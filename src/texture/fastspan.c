@@ -10,7 +10,7 @@
  * bit; what differs is the shape of the code. Every stage is a loop over the
  * whole span (structure of arrays, at most PERSP_SPAN_MAX pixels) without
  * calls or data-dependent branches, which GCC turns into 8-wide AVX2 code
- * (gathers for the texel fetches) in the PERSP_SIMD_CLONES variant:
+ * in the AVX2 variant and 4-wide SSE2 code in the baseline one:
  *   1. coordinates → integer texel indices and fractions,
  *   2. wrap by masks (power-of-two sizes) or clamps → addresses,
  *   3. fetch,
@@ -207,19 +207,27 @@ static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, co
 
 #define R PERSP_WRAP_REPEAT
 #define E PERSP_WRAP_CLAMP_TO_EDGE
-#define FAST(NAME, BODY, WS, WT)                                                                   \
-    PERSP_SIMD_CLONES static void NAME(const persp_sampler_state *st, const persp_tex_span_in *in, \
-                                       uint32_t *out)                                              \
+#define FAST(NAME, ATTR, BODY, WS, WT)                                                             \
+    ATTR static void NAME(const persp_sampler_state *st, const persp_tex_span_in *in, uint32_t *out) \
     {                                                                                              \
         BODY(st, in, out, WS, WT);                                                                 \
     }
-#define FAST4(P, BODY)                                                                             \
-    FAST(P##_RR, BODY, R, R) FAST(P##_RE, BODY, R, E) FAST(P##_ER, BODY, E, R)                     \
-    FAST(P##_EE, BODY, E, E)
+#define FAST4(P, ATTR, BODY)                                                                       \
+    FAST(P##_RR, ATTR, BODY, R, R) FAST(P##_RE, ATTR, BODY, R, E)                                  \
+    FAST(P##_ER, ATTR, BODY, E, R) FAST(P##_EE, ATTR, BODY, E, E)                                  \
+    static const persp_tex_span_fn P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
 
-FAST4(fast_nearest, span_nearest)
-FAST4(fast_bilinear, span_bilinear)
-FAST4(fast_trilinear, span_trilinear)
+/* The baseline variants (SSE2 on x86-64: 4 lanes, no gathers needed since
+ * texel fetches are scalar loads anyway) and, where the compiler can target
+ * it, the AVX2 ones (8 lanes), picked at sampler set-up from the CPU. */
+FAST4(nearest_base, , span_nearest)
+FAST4(bilinear_base, , span_bilinear)
+FAST4(trilinear_base, , span_trilinear)
+#if PERSP_HAVE_AVX2
+FAST4(nearest_avx2, PERSP_TARGET_AVX2, span_nearest)
+FAST4(bilinear_avx2, PERSP_TARGET_AVX2, span_bilinear)
+FAST4(trilinear_avx2, PERSP_TARGET_AVX2, span_trilinear)
+#endif
 
 #undef R
 #undef E
@@ -234,6 +242,11 @@ static int log2_int(int n)
 }
 
 persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st)
+{
+    return persp__fast_span_select_isa(st, persp__cpu_avx2());
+}
+
+persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int avx2)
 {
     const struct persp_texture *tex = st->tex;
     memset(&st->pot, 0, sizeof st->pot);
@@ -254,16 +267,22 @@ persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st)
     if (tex->level[0].texels != tex->storage) return NULL;
     st->pot.pot = 1;
     int w = ws * 2 + wt;
-    static const persp_tex_span_fn nearest[4] = {fast_nearest_RR, fast_nearest_RE,
-                                                 fast_nearest_ER, fast_nearest_EE};
-    static const persp_tex_span_fn bilinear[4] = {fast_bilinear_RR, fast_bilinear_RE,
-                                                  fast_bilinear_ER, fast_bilinear_EE};
-    static const persp_tex_span_fn trilinear[4] = {fast_trilinear_RR, fast_trilinear_RE,
-                                                   fast_trilinear_ER, fast_trilinear_EE};
+#if PERSP_HAVE_AVX2
+    if (avx2) {
+        switch (st->desc.filter) {
+        case PERSP_FILTER_NEAREST: return nearest_avx2[w];
+        case PERSP_FILTER_BILINEAR: return bilinear_avx2[w];
+        case PERSP_FILTER_TRILINEAR: return trilinear_avx2[w];
+        default: return NULL;
+        }
+    }
+#else
+    (void)avx2;
+#endif
     switch (st->desc.filter) {
-    case PERSP_FILTER_NEAREST: return nearest[w];
-    case PERSP_FILTER_BILINEAR: return bilinear[w];
-    case PERSP_FILTER_TRILINEAR: return trilinear[w];
+    case PERSP_FILTER_NEAREST: return nearest_base[w];
+    case PERSP_FILTER_BILINEAR: return bilinear_base[w];
+    case PERSP_FILTER_TRILINEAR: return trilinear_base[w];
     default: return NULL;
     }
 }

@@ -9,6 +9,7 @@
 #include "support.h"
 
 #include "interp/method.h"
+#include "core/fmath.h"
 #include "texture/sample.h"
 
 #include <math.h>
@@ -69,6 +70,13 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                     persp_tex_span_fn general = persp__general_span(desc.filter, desc.wrap_s, desc.wrap_t);
                     assert_non_null(general);
                     assert_true(st.span != general); /* the vectorised one was chosen */
+                    /* Both instruction-set variants, whatever this CPU picks. */
+                    persp_sampler_state st_isa[2] = {st, st};
+                    persp_tex_span_fn variant[2] = {persp__fast_span_select_isa(&st_isa[0], 0),
+                                                    persp__fast_span_select_isa(&st_isa[1], 1)};
+                    assert_non_null(variant[0]);
+                    assert_non_null(variant[1]);
+                    int nvar = persp__cpu_avx2() ? 2 : 1;
                     for (int rep = 0; rep < 200; rep++) {
                         float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], q[PERSP_SPAN_MAX];
                         int n = 1 + (int)(test_rng_next(&rng) % PERSP_SPAN_MAX);
@@ -96,15 +104,18 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                             .poly_lambda = (float)test_rng_uniform(&rng, -3.0, 12.0),
                         };
                         uint32_t fast[PERSP_SPAN_MAX], ref[PERSP_SPAN_MAX];
-                        st.span(&st, &in, fast);
                         general(&st, &in, ref);
-                        for (int k = 0; k < n; k++) {
-                            if (fast[k] != ref[k])
-                                fail_msg("%dx%d filter %s wrap %d,%d mode %d rep %d pixel %d "
-                                         "(u %.9g v %.9g q %.9g): got %08x expected %08x",
-                                         w, h, persp_filter_name(desc.filter), ws, wt, mode, rep, k,
-                                         (double)u[k], (double)v[k], (double)q[k], fast[k], ref[k]);
-                            compared++;
+                        for (int isa = 0; isa < nvar; isa++) {
+                            variant[isa](&st_isa[isa], &in, fast);
+                            for (int k = 0; k < n; k++) {
+                                if (fast[k] != ref[k])
+                                    fail_msg("%dx%d filter %s wrap %d,%d mode %d isa %d rep %d pixel %d "
+                                             "(u %.9g v %.9g q %.9g): got %08x expected %08x",
+                                             w, h, persp_filter_name(desc.filter), ws, wt, mode, isa,
+                                             rep, k, (double)u[k], (double)v[k], (double)q[k], fast[k],
+                                             ref[k]);
+                                compared++;
+                            }
                         }
                     }
                 }
