@@ -42,6 +42,7 @@ expect 2 "unknown filter 'blurry'" -- "$persp" render --filter blurry -o "$tmp/x
 expect 2 "unknown wrap mode 'sideways'" -- "$persp" render --wrap sideways -o "$tmp/x.png"
 expect 2 "bad --size '0x10'" -- "$persp" render --size 0x10 -o "$tmp/x.png"
 expect 2 "bad --size '100000x100000'" -- "$persp" render --size 100000x100000 -o "$tmp/x.png"
+expect 2 "bad --size '16384x16384' .*at most 67108864 pixels" -- "$persp" render --size 16384x16384 -o "$tmp/x.png"
 expect 2 "bad --size 'axb'" -- "$persp" render --size axb -o "$tmp/x.png"
 expect 2 "bad --depth 'w'" -- "$persp" render --depth w -o "$tmp/x.png"
 expect 2 "bad --threads '0'" -- "$persp" render --threads 0 -o "$tmp/x.png"
