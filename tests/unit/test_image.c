@@ -79,7 +79,8 @@ static void write_pattern_png(persp_context *ctx, char *buf, size_t size)
     persp_image img;
     assert_int_equal(persp_image_alloc(ctx, 5, 3, &img), PERSP_OK);
     for (int y = 0; y < 3; y++)
-        for (int x = 0; x < 5; x++) pattern(x, y, img.pixels + (size_t)y * img.stride + 4u * (size_t)x);
+        for (int x = 0; x < 5; x++)
+            pattern(x, y, img.pixels + (size_t)y * img.stride + 4u * (size_t)x);
     path_in(buf, size, "pattern.png");
     assert_int_equal(persp_image_write_png(ctx, buf, &img), PERSP_OK);
     persp_image_free(ctx, &img);
@@ -196,7 +197,8 @@ static uint32_t crc32_of(const unsigned char *p, size_t n)
     uint32_t c = 0xffffffffu;
     for (size_t i = 0; i < n; i++) {
         c ^= p[i];
-        for (int k = 0; k < 8; k++) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+        for (int k = 0; k < 8; k++)
+            c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
     }
     return c ^ 0xffffffffu;
 }
@@ -222,7 +224,8 @@ static void test_png_claiming_huge_size(void **state)
     put32(ch + 21, crc32_of(ch + 4, 17));
     persp_context *ctx = test_context();
     persp_image img;
-    assert_int_equal(persp_image_load_memory(ctx, f, sizeof f, "huge.png", &img), PERSP_ERR_TOO_LARGE);
+    assert_int_equal(persp_image_load_memory(ctx, f, sizeof f, "huge.png", &img),
+                     PERSP_ERR_TOO_LARGE);
     const char *msg = persp_context_error(ctx);
     print_message("%s\n", msg);
     assert_non_null(strstr(msg, "huge.png: "));

@@ -93,7 +93,8 @@ static void run(persp_context *ctx, const persp_scene *scene, const char *method
     out->written = stats.pixels_written;
     out->drawn = malloc((size_t)w * (size_t)h);
     assert_non_null(out->drawn);
-    for (size_t p = 0; p < (size_t)w * (size_t)h; p++) out->drawn[p] = depth[p] < 1.0f;
+    for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
+        out->drawn[p] = depth[p] < 1.0f;
     free(color);
     free(depth);
 }
@@ -130,7 +131,8 @@ static void test_every_method_every_scene(void **state)
             run_out ref;
             run(ctx, scene, "exact", w, h, &ref);
             size_t covered = 0;
-            for (size_t p = 0; p < (size_t)w * (size_t)h; p++) covered += ref.cap.tri[p] >= 0;
+            for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
+                covered += ref.cap.tri[p] >= 0;
             assert_true(covered > (size_t)(w * h) / 4);
             /* seed 001 (5), Fig. 4: the lane and two-stream forms give the
              * same image as the sequential incremental form, bit for bit. */
@@ -141,9 +143,10 @@ static void test_every_method_every_scene(void **state)
                 run(ctx, scene, variants[vi], w, h, &got);
                 if (!strncmp(variants[vi], "incremental:", 12)) {
                     size_t bytes = (size_t)w * (size_t)h * sizeof(float);
-                    if (memcmp(got.cap.s1, inc.cap.s1, bytes) || memcmp(got.cap.s2, inc.cap.s2, bytes))
-                        fail_msg("%s on %s %dx%d differs from incremental", variants[vi], scenes[si], w,
-                                 h);
+                    if (memcmp(got.cap.s1, inc.cap.s1, bytes) ||
+                        memcmp(got.cap.s2, inc.cap.s2, bytes))
+                        fail_msg("%s on %s %dx%d differs from incremental", variants[vi],
+                                 scenes[si], w, h);
                 }
                 if (got.fragments != ref.fragments || got.written != ref.written)
                     fail_msg("%s on %s %dx%d: %llu fragments, %llu written; exact: %llu, %llu",
