@@ -179,6 +179,24 @@ static void test_jpeg_decode_and_orientation(void **state)
     assert_int_equal(top[3], 255);
     persp_image_free(ctx, &img);
 
+    /* The same file with its frame header (SOF0) claiming 60000×60000:
+     * refused from the header, before anything is allocated. */
+    unsigned char *big = malloc(size);
+    assert_non_null(big);
+    memcpy(big, jpg, size);
+    int patched = 0;
+    for (unsigned long i = 0; i + 9 < size && !patched; i++)
+        if (big[i] == 0xff && big[i + 1] == 0xc0) {
+            big[i + 5] = 0xea, big[i + 6] = 0x60; /* height 60000 */
+            big[i + 7] = 0xea, big[i + 8] = 0x60; /* width 60000 */
+            patched = 1;
+        }
+    assert_true(patched);
+    assert_int_equal(persp_image_load_memory(ctx, big, size, "big.jpg", &img), PERSP_ERR_TOO_LARGE);
+    assert_non_null(strstr(persp_context_error(ctx), "big.jpg: image size 60000x60000"));
+    assert_null(img.pixels);
+    free(big);
+
     /* Truncated JPEG: libjpeg would pad it with grey; persp refuses it. */
     for (unsigned long cut = 2; cut < size; cut += size / 7 + 1) {
         persp_status st = persp_image_load_memory(ctx, jpg, cut, "cut.jpg", &img);
