@@ -42,6 +42,7 @@ expect 2 "unknown filter 'blurry'" -- "$persp" render --filter blurry -o "$tmp/x
 expect 2 "unknown wrap mode 'sideways'" -- "$persp" render --wrap sideways -o "$tmp/x.png"
 expect 2 "bad --size '0x10'" -- "$persp" render --size 0x10 -o "$tmp/x.png"
 expect 2 "bad --size '100000x100000'" -- "$persp" render --size 100000x100000 -o "$tmp/x.png"
+expect 2 "bad --size '16384x16384' .*at most 67108864 pixels" -- "$persp" render --size 16384x16384 -o "$tmp/x.png"
 expect 2 "bad --size 'axb'" -- "$persp" render --size axb -o "$tmp/x.png"
 expect 2 "bad --depth 'w'" -- "$persp" render --depth w -o "$tmp/x.png"
 expect 2 "bad --threads '0'" -- "$persp" render --threads 0 -o "$tmp/x.png"
@@ -78,6 +79,10 @@ mkdir "$tmp/fresh"
 expect 0 "" -- "$persp" render floor --size 64x48 -q -o "$tmp/f1.png"
 expect 0 "" -- "$persp" render floor --size 64x48 -q --texture "$tmp/c.png" -o "$tmp/f2.png"
 cmp -s "$tmp/f1.png" "$tmp/f2.png" && bad "--texture did not change the image" || ok
+# And a JPEG (64x64 checker made with libjpeg, tests/cli/data/checker.jpg).
+jpg="$(cd "$(dirname "$0")" && pwd)/data/checker.jpg"
+expect 0 "" -- "$persp" render floor --size 64x48 -q --texture "$jpg" -o "$tmp/f3.png"
+[ -s "$tmp/f3.png" ] && ! cmp -s "$tmp/f1.png" "$tmp/f3.png" && ok || bad "--texture JPEG did not change the image"
 
 # Every wrap mode renders; on the corridor (u up to 2, v up to 64) repeat and
 # clamp-to-edge give different images.

@@ -79,7 +79,8 @@ static void write_pattern_png(persp_context *ctx, char *buf, size_t size)
     persp_image img;
     assert_int_equal(persp_image_alloc(ctx, 5, 3, &img), PERSP_OK);
     for (int y = 0; y < 3; y++)
-        for (int x = 0; x < 5; x++) pattern(x, y, img.pixels + (size_t)y * img.stride + 4u * (size_t)x);
+        for (int x = 0; x < 5; x++)
+            pattern(x, y, img.pixels + (size_t)y * img.stride + 4u * (size_t)x);
     path_in(buf, size, "pattern.png");
     assert_int_equal(persp_image_write_png(ctx, buf, &img), PERSP_OK);
     persp_image_free(ctx, &img);
@@ -178,6 +179,24 @@ static void test_jpeg_decode_and_orientation(void **state)
     assert_int_equal(top[3], 255);
     persp_image_free(ctx, &img);
 
+    /* The same file with its frame header (SOF0) claiming 60000×60000:
+     * refused from the header, before anything is allocated. */
+    unsigned char *big = malloc(size);
+    assert_non_null(big);
+    memcpy(big, jpg, size);
+    int patched = 0;
+    for (unsigned long i = 0; i + 9 < size && !patched; i++)
+        if (big[i] == 0xff && big[i + 1] == 0xc0) {
+            big[i + 5] = 0xea, big[i + 6] = 0x60; /* height 60000 */
+            big[i + 7] = 0xea, big[i + 8] = 0x60; /* width 60000 */
+            patched = 1;
+        }
+    assert_true(patched);
+    assert_int_equal(persp_image_load_memory(ctx, big, size, "big.jpg", &img), PERSP_ERR_TOO_LARGE);
+    assert_non_null(strstr(persp_context_error(ctx), "big.jpg: image size 60000x60000"));
+    assert_null(img.pixels);
+    free(big);
+
     /* Truncated JPEG: libjpeg would pad it with grey; persp refuses it. */
     for (unsigned long cut = 2; cut < size; cut += size / 7 + 1) {
         persp_status st = persp_image_load_memory(ctx, jpg, cut, "cut.jpg", &img);
@@ -196,7 +215,8 @@ static uint32_t crc32_of(const unsigned char *p, size_t n)
     uint32_t c = 0xffffffffu;
     for (size_t i = 0; i < n; i++) {
         c ^= p[i];
-        for (int k = 0; k < 8; k++) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+        for (int k = 0; k < 8; k++)
+            c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
     }
     return c ^ 0xffffffffu;
 }
@@ -222,7 +242,8 @@ static void test_png_claiming_huge_size(void **state)
     put32(ch + 21, crc32_of(ch + 4, 17));
     persp_context *ctx = test_context();
     persp_image img;
-    assert_int_equal(persp_image_load_memory(ctx, f, sizeof f, "huge.png", &img), PERSP_ERR_TOO_LARGE);
+    assert_int_equal(persp_image_load_memory(ctx, f, sizeof f, "huge.png", &img),
+                     PERSP_ERR_TOO_LARGE);
     const char *msg = persp_context_error(ctx);
     print_message("%s\n", msg);
     assert_non_null(strstr(msg, "huge.png: "));

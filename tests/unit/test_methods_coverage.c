@@ -1,6 +1,7 @@
 /*
  * Every registered method and every variant renders every built-in scene
- * with exactly the exact method's pixel set: no holes, no pixel drawn twice
+ * with exactly the exact method's pixel set, in the plain render (depth
+ * buffer) and in the analysis capture: no holes, no pixel drawn twice
  * (the fragment count equals the exact render's, which the coverage tests of
  * test_raster.c and test_render.c tie to one fragment per covered pixel), and
  * no garbage at span ends or on 1-pixel spans: every value is finite and
@@ -68,6 +69,7 @@ static const int sizes[][2] = {{203, 141}, {67, 45}};
 typedef struct run_out {
     persp_capture cap;
     uint64_t fragments, written;
+    uint8_t *drawn; /* the plain render's coverage: depth below the cleared 1 */
 } run_out;
 
 static void run(persp_context *ctx, const persp_scene *scene, const char *method, int w, int h,
@@ -89,6 +91,10 @@ static void run(persp_context *ctx, const persp_scene *scene, const char *method
     if (st != PERSP_OK) fail_msg("%s: render: %s", method, persp_context_error(ctx));
     out->fragments = stats.fragments;
     out->written = stats.pixels_written;
+    out->drawn = malloc((size_t)w * (size_t)h);
+    assert_non_null(out->drawn);
+    for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
+        out->drawn[p] = depth[p] < 1.0f;
     free(color);
     free(depth);
 }
@@ -125,11 +131,23 @@ static void test_every_method_every_scene(void **state)
             run_out ref;
             run(ctx, scene, "exact", w, h, &ref);
             size_t covered = 0;
-            for (size_t p = 0; p < (size_t)w * (size_t)h; p++) covered += ref.cap.tri[p] >= 0;
+            for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
+                covered += ref.cap.tri[p] >= 0;
             assert_true(covered > (size_t)(w * h) / 4);
+            /* seed 001 (5), Fig. 4: the lane and two-stream forms give the
+             * same image as the sequential incremental form, bit for bit. */
+            run_out inc;
+            run(ctx, scene, "incremental", w, h, &inc);
             for (size_t vi = 0; vi < NVARIANTS; vi++) {
                 run_out got;
                 run(ctx, scene, variants[vi], w, h, &got);
+                if (!strncmp(variants[vi], "incremental:", 12)) {
+                    size_t bytes = (size_t)w * (size_t)h * sizeof(float);
+                    if (memcmp(got.cap.s1, inc.cap.s1, bytes) ||
+                        memcmp(got.cap.s2, inc.cap.s2, bytes))
+                        fail_msg("%s on %s %dx%d differs from incremental", variants[vi],
+                                 scenes[si], w, h);
+                }
                 if (got.fragments != ref.fragments || got.written != ref.written)
                     fail_msg("%s on %s %dx%d: %llu fragments, %llu written; exact: %llu, %llu",
                              variants[vi], scenes[si], w, h, (unsigned long long)got.fragments,
@@ -139,6 +157,10 @@ static void test_every_method_every_scene(void **state)
                 for (int y = 0; y < h; y++)
                     for (int x = 0; x < w; x++) {
                         size_t p = (size_t)y * (size_t)w + (size_t)x;
+                        if (got.drawn[p] != ref.drawn[p] || got.drawn[p] != (ref.cap.tri[p] >= 0))
+                            fail_msg("%s on %s %dx%d: pixel (%d,%d) drawn %d, exact %d",
+                                     variants[vi], scenes[si], w, h, x, y, got.drawn[p],
+                                     ref.drawn[p]);
                         if (got.cap.tri[p] != ref.cap.tri[p])
                             fail_msg("%s on %s %dx%d: pixel (%d,%d) shows triangle %d, exact %d",
                                      variants[vi], scenes[si], w, h, x, y, got.cap.tri[p],
@@ -173,8 +195,12 @@ static void test_every_method_every_scene(void **state)
                               variants[vi], scenes[si], w, h, (unsigned long long)got.fragments,
                               worst);
                 persp__capture_free(ctx, &got.cap);
+                free(got.drawn);
             }
             persp__capture_free(ctx, &ref.cap);
+            free(ref.drawn);
+            persp__capture_free(ctx, &inc.cap);
+            free(inc.drawn);
         }
         persp_scene_destroy(scene);
     }

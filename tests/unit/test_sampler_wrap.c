@@ -31,13 +31,16 @@ static void texel_colour(int i, int j, uint8_t c[4])
 static int ref_wrap(persp_wrap mode, int i, int size)
 {
     switch (mode) {
-    case PERSP_WRAP_REPEAT: return ((i % size) + size) % size;
-    case PERSP_WRAP_CLAMP_TO_EDGE: return i < 0 ? 0 : (i > size - 1 ? size - 1 : i);
+    case PERSP_WRAP_REPEAT:
+        return ((i % size) + size) % size;
+    case PERSP_WRAP_CLAMP_TO_EDGE:
+        return i < 0 ? 0 : (i > size - 1 ? size - 1 : i);
     case PERSP_WRAP_MIRRORED_REPEAT: {
         int k = ((i % (2 * size)) + 2 * size) % (2 * size);
         return k < size ? k : 2 * size - 1 - k;
     }
-    case PERSP_WRAP_CLAMP_TO_BORDER: return (i < 0 || i >= size) ? -1 : i;
+    case PERSP_WRAP_CLAMP_TO_BORDER:
+        return (i < 0 || i >= size) ? -1 : i;
     }
     return -2;
 }
@@ -46,9 +49,12 @@ static void ref_texel(persp_wrap ws, persp_wrap wt, int i, int j, double out[4])
 {
     int x = ref_wrap(ws, i, TW), y = ref_wrap(wt, j, TH);
     uint8_t c[4];
-    if (x < 0 || y < 0) memcpy(c, border, 4);
-    else texel_colour(x, y, c);
-    for (int k = 0; k < 4; k++) out[k] = c[k];
+    if (x < 0 || y < 0)
+        memcpy(c, border, 4);
+    else
+        texel_colour(x, y, c);
+    for (int k = 0; k < 4; k++)
+        out[k] = c[k];
 }
 
 static persp_texture *make_texture(persp_context *ctx)
@@ -56,7 +62,8 @@ static persp_texture *make_texture(persp_context *ctx)
     persp_image img;
     assert_int_equal(persp_image_alloc(ctx, TW, TH, &img), PERSP_OK);
     for (int j = 0; j < TH; j++)
-        for (int i = 0; i < TW; i++) texel_colour(i, j, img.pixels + (size_t)j * img.stride + 4u * (size_t)i);
+        for (int i = 0; i < TW; i++)
+            texel_colour(i, j, img.pixels + (size_t)j * img.stride + 4u * (size_t)i);
     persp_texture *tex = NULL;
     assert_int_equal(persp_texture_create(ctx, &img, &tex), PERSP_OK);
     persp_image_free(ctx, &img);
@@ -139,7 +146,8 @@ static void test_bilinear_every_wrap(void **state)
                     for (int di = 0; di < 2; di++) {
                         double w = (di ? al : 1 - al) * (dj ? be : 1 - be);
                         ref_texel(sd.wrap_s, sd.wrap_t, i0 + di, j0 + dj, t);
-                        for (int k = 0; k < 4; k++) want[k] += w * t[k];
+                        for (int k = 0; k < 4; k++)
+                            want[k] += w * t[k];
                     }
                 uint8_t got[4];
                 persp_texture_sample(tex, &sd, us[a], vs[b], 0, 0, 0, 0, got);
@@ -147,12 +155,13 @@ static void test_bilinear_every_wrap(void **state)
                 for (int k = 0; k < 4; k++)
                     if (fabs(got[k] - want[k]) > 1.0)
                         fail_msg("bilinear %s at (%g, %g): channel %d got %u, expected %.2f",
-                                 persp_wrap_name(sd.wrap_s), (double)us[a], (double)vs[b], k, got[k],
-                                 want[k]);
+                                 persp_wrap_name(sd.wrap_s), (double)us[a], (double)vs[b], k,
+                                 got[k], want[k]);
                 /* At a texel centre the result is that texel, unblended. */
                 if (al == 0.0 && be == 0.0) {
                     exact_centres++;
-                    for (int k = 0; k < 4; k++) assert_int_equal(got[k], (uint8_t)want[k]);
+                    for (int k = 0; k < 4; k++)
+                        assert_int_equal(got[k], (uint8_t)want[k]);
                 }
             }
     }

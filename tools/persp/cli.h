@@ -24,7 +24,7 @@ int cli_error(int code, const char *fmt, ...)
     ;
 /* Reports a failed library call: "persp: what: detail (status)". */
 int cli_status(persp_context *ctx, persp_status st, const char *what);
-/* Parses "WxH" with 1 <= W, H <= PERSP_IMAGE_MAX_SIDE. */
+/* Parses "WxH" with 1 <= W, H <= PERSP_IMAGE_MAX_SIDE and W·H <= PERSP_IMAGE_MAX_PIXELS. */
 int cli_parse_size(const char *text, int *w, int *h);
 /* Parses a whole decimal integer in [lo, hi]. */
 int cli_parse_int(const char *text, long lo, long hi, long *out);

@@ -112,8 +112,9 @@ int cmd_accuracy(int argc, char **argv)
         } else if (!strcmp(a, "--size")) {
             NEED_VALUE();
             if (!cli_parse_size(val, &desc.width, &desc.height))
-                return cli_error(CLI_USAGE, "accuracy: bad --size '%s' (expected WxH, each 1..%d)", val,
-                                 PERSP_IMAGE_MAX_SIDE);
+                return cli_error(CLI_USAGE,
+                                 "accuracy: bad --size '%s' (expected WxH, each 1..%d, at most %u pixels)",
+                                 val, PERSP_IMAGE_MAX_SIDE, PERSP_IMAGE_MAX_PIXELS);
         } else if (!strcmp(a, "--seed")) {
             NEED_VALUE();
             long s;

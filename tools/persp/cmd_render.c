@@ -80,8 +80,9 @@ int cmd_render(int argc, char **argv)
         } else if (!strcmp(a, "--size")) {
             NEED_VALUE();
             if (!cli_parse_size(val, &width, &height))
-                return cli_error(CLI_USAGE, "render: bad --size '%s' (expected WxH, each 1..%d)", val,
-                                 PERSP_IMAGE_MAX_SIDE);
+                return cli_error(CLI_USAGE,
+                                 "render: bad --size '%s' (expected WxH, each 1..%d, at most %u pixels)",
+                                 val, PERSP_IMAGE_MAX_SIDE, PERSP_IMAGE_MAX_PIXELS);
         } else if (!strcmp(a, "--depth")) {
             NEED_VALUE();
             if (!strcmp(val, "z")) desc.depth_mode = PERSP_DEPTH_Z;

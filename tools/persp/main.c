@@ -75,6 +75,7 @@ int cli_parse_size(const char *text, int *w, int *h)
     long a, b;
     if (!cli_parse_int(buf, 1, PERSP_IMAGE_MAX_SIDE, &a)) return 0;
     if (!cli_parse_int(x + 1, 1, PERSP_IMAGE_MAX_SIDE, &b)) return 0;
+    if ((unsigned long)a * (unsigned long)b > PERSP_IMAGE_MAX_PIXELS) return 0;
     *w = (int)a;
     *h = (int)b;
     return 1;
