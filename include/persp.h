@@ -264,6 +264,19 @@ persp_status persp_scene_set_texture(persp_scene *scene, const persp_image *img)
 /* The scene's preferred image size (0 if none). */
 void persp_scene_default_size(const persp_scene *scene, int *width, int *height);
 
+/* What a scene renders with when persp_render_desc overrides nothing, for
+ * reports: the default shading and the filter of its textured objects
+ * (filter_count 0: untextured; more than 1: objects differ, filter is the
+ * first one's). */
+typedef struct persp_scene_info {
+    size_t objects, textures, lights;
+    persp_shading shading;
+    int filter_count;
+    persp_filter filter;
+    int max_aniso;
+} persp_scene_info;
+void persp_scene_get_info(const persp_scene *scene, persp_scene_info *out);
+
 typedef enum persp_pipeline {
     PERSP_PIPELINE_SCREEN = 0, /* inverse mapping per pixel */
     PERSP_PIPELINE_OBJECT      /* object-space texturing, screen-space filtering (seed 004) */

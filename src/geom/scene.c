@@ -141,6 +141,28 @@ void persp_scene_default_size(const persp_scene *s, int *width, int *height)
     if (height) *height = s ? s->height : 0;
 }
 
+void persp_scene_get_info(const persp_scene *s, persp_scene_info *out)
+{
+    if (!out) return;
+    memset(out, 0, sizeof *out);
+    if (!s) return;
+    out->objects = s->object_count;
+    out->textures = s->texture_count;
+    out->lights = s->light_count;
+    out->shading = s->shading;
+    for (size_t i = 0; i < s->object_count; i++) {
+        const persp_material *m = &s->materials[s->objects[i].material];
+        if (m->texture < 0) continue;
+        if (out->filter_count == 0) {
+            out->filter = m->sampler.filter;
+            out->max_aniso = m->sampler.max_aniso;
+            out->filter_count = 1;
+        } else if (m->sampler.filter != out->filter || m->sampler.max_aniso != out->max_aniso) {
+            out->filter_count = 2;
+        }
+    }
+}
+
 void persp__mesh_compute_normals(persp_mesh *m)
 {
     for (size_t i = 0; i < m->vertex_count; i++)

@@ -246,9 +246,24 @@ int cmd_render(int argc, char **argv)
         goto done;
     }
     if (!quiet) {
+        /* Name what was used, also where the scene itself chose it. */
+        persp_scene_info info;
+        persp_scene_get_info(scene, &info);
+        char scene_filter[64];
+        if (info.filter_count == 0) {
+            snprintf(scene_filter, sizeof scene_filter, "none (untextured)");
+        } else {
+            int n = snprintf(scene_filter, sizeof scene_filter, "%s", persp_filter_name(info.filter));
+            if ((info.filter == PERSP_FILTER_ANISO || info.filter == PERSP_FILTER_ANISO_WINDOW) && n > 0)
+                snprintf(scene_filter + n, sizeof scene_filter - (size_t)n, ":%d",
+                         info.max_aniso ? info.max_aniso : 16);
+            if (info.filter_count > 1 && n > 0)
+                snprintf(scene_filter + strlen(scene_filter), sizeof scene_filter - strlen(scene_filter),
+                         " (and others per object)");
+        }
         printf("rendered %s: %dx%d, method %s, filter %s, shading %s, depth %s, %d thread%s\n",
-               scene_name, width, height, method, filter_name ? filter_name : "scene default",
-               shading_name ? shading_name : "scene default",
+               scene_name, width, height, method, filter_name ? filter_name : scene_filter,
+               shading_name ? shading_name : persp_shading_name(info.shading),
                desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", desc.threads, desc.threads == 1 ? "" : "s");
         printf("  %llu triangles in, %llu after clipping, %llu fragments, %llu pixels written\n",
                (unsigned long long)stats.triangles_in, (unsigned long long)stats.triangles_drawn,
