@@ -76,10 +76,9 @@ void persp__tw_coeffs(persp_approx_kind kind, double hbar, int piece, double c[4
 
 #define TW_SAMPLES 3073 /* L = 3072 = 12·256: every node of every kind is a sample */
 
-void persp__tw_error(persp_approx_kind kind, double hbar, int samples, persp_tw_error *out)
+void persp__tw_error(persp_approx_kind kind, double hbar, persp_tw_error *out)
 {
     float p[TW_SAMPLES];
-    (void)samples;
     const int n = TW_SAMPLES;
     const double L = (double)(n - 1);
     /* t_w at t_v = k/L as a rational in k: k / (ħ·L − (ħ − 1)·k). */

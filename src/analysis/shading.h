@@ -39,8 +39,9 @@ typedef struct persp_tw_error {
     double rel_third;   /* max |p − t_w|/t_w over [1/3, 1] */
 } persp_tw_error;
 /* Evaluates the polynomial as the renderer does (persp__approx_span, the
- * code shared with the texture methods) on samples = 3·2^k + 1 points. */
-void persp__tw_error(persp_approx_kind kind, double hbar, int samples, persp_tw_error *out);
+ * code shared with the texture methods) on 3073 points of t_v, where every
+ * node of every kind is a sample. */
+void persp__tw_error(persp_approx_kind kind, double hbar, persp_tw_error *out);
 
 /* Errors of one shading mode against the exact per-pixel reference. */
 typedef struct persp_shade_err {

@@ -184,7 +184,7 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     for (size_t i = 0; i < sizeof hb / sizeof hb[0]; i++)
         for (int k = 0; k < 3; k++) {
             persp_tw_error te;
-            persp__tw_error(kinds[k], hb[i], 0, &te);
+            persp__tw_error(kinds[k], hb[i], &te);
             double claim = seed_claim(k, hb[i]);
             fprintf(f, "%6.2f  %-7s %7.3f%%  %9.2f  %12.2f%%  %14.2f%%", hb[i], kind_names[k], 100.0 * te.abs_max,
                     255.0 * te.abs_max, 100.0 * te.rel_max, 100.0 * te.rel_third);

@@ -8,7 +8,9 @@
  *    i.e. the perspective parameter t_w of (4.6) in two dimensions, computed
  *    by a texture-coordinate method run on the planes of b1/w, b2/w. The
  *    polynomial t_w approximations of §4.3 are therefore the span methods
- *    `quadratic`, `cubic` and the piecewise quadratic one: the same code.
+ *    `quadratic` and `cubic` (src/interp/quadratic.c), and the piecewise
+ *    quadratic is persp__approx_span of src/interp/poly.c, the fitting and
+ *    forward-difference code those methods share: written once.
  * Lighting is Blinn–Phong with ambient, diffuse and specular terms.
  */
 #include "shade/shade.h"

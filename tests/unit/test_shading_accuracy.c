@@ -91,9 +91,9 @@ static void test_tw_errors_vs_seed(void **state)
     for (int i = 0; i < 4; i++) {
         double h = 2.0 + i;
         persp_tw_error ep, ec, eq;
-        persp__tw_error(PERSP_APPROX_PWQUAD, h, 0, &ep);
-        persp__tw_error(PERSP_APPROX_CUBIC, h, 0, &ec);
-        persp__tw_error(PERSP_APPROX_QUAD, h, 0, &eq);
+        persp__tw_error(PERSP_APPROX_PWQUAD, h, &ep);
+        persp__tw_error(PERSP_APPROX_CUBIC, h, &ec);
+        persp__tw_error(PERSP_APPROX_QUAD, h, &eq);
         print_message("h=%g pw rel[1/3,1] %.2f%% (seed %g%%), cubic %.2f%% (seed %g%%)\n", h,
                       100 * ep.rel_third, pw[i], 100 * ec.rel_third, cu[i]);
         assert_true(fabs(100.0 * ep.rel_third - pw[i]) < 0.5);
@@ -151,7 +151,7 @@ static void test_modes_random_triangles(void **state)
                                       : r->mode == PERSP_SHADING_PHONG_PC_PWQUAD ? PERSP_APPROX_PWQUAD
                                                                                  : PERSP_APPROX_CUBIC;
                 persp_tw_error te;
-                persp__tw_error(k, h, 0, &te);
+                persp__tw_error(k, h, &te);
                 double bound = atan(1.93 * te.abs_max) * 180.0 / PI + 0.01;
                 if (!(r->ang_max <= bound))
                     fail_msg("%s h=%g: angle %.4f° over the bound %.4f°", persp_shading_name(r->mode), h,
