@@ -11,8 +11,7 @@
  * The seed forms the rotation back and the projection as one matrix per
  * polygon, [P·R_xy⁻¹] (seed 004, after (7)); the texel walk adds the affine
  * map from texel indices to the rotated plane, so each texel costs one 3×3
- * projective map (two multiply-add rows and a division), evaluated
- * incrementally along a texel row.
+ * projective map: three affine rows and one division.
  *
  * Choices the seed leaves open, made here (docs/TEXTURES.md):
  *  - Pixel centres are at +0.5, so the weights are bilinear about centres
