@@ -11,8 +11,7 @@
  * The seed forms the rotation back and the projection as one matrix per
  * polygon, [P·R_xy⁻¹] (seed 004, after (7)); the texel walk adds the affine
  * map from texel indices to the rotated plane, so each texel costs one 3×3
- * projective map (two multiply-add rows and a division), evaluated
- * incrementally along a texel row.
+ * projective map: three affine rows and one division.
  *
  * Choices the seed leaves open, made here (docs/TEXTURES.md):
  *  - Pixel centres are at +0.5, so the weights are bilinear about centres
@@ -524,24 +523,39 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
             else row = lv->texels + (size_t)y * (size_t)lv->w;
         }
         const double v = ((double)jj + 0.5) * inv_v;
-        for (int ii = i0; ii <= i1; ii += pc->stride) {
-            double x = (double)ii, y = (double)jj;
-            double w = pc->H.m[2][0] * x + pc->H.m[2][1] * y + pc->H.m[2][2];
+        /* The projective map's rows are affine in ii: stepped along the row. */
+        const double y = (double)jj, sx = (double)pc->stride;
+        double nx = pc->H.m[0][0] * (double)i0 + pc->H.m[0][1] * y + pc->H.m[0][2];
+        double ny = pc->H.m[1][0] * (double)i0 + pc->H.m[1][1] * y + pc->H.m[1][2];
+        double nz = pc->H.m[2][0] * (double)i0 + pc->H.m[2][1] * y + pc->H.m[2][2];
+        const double dx = pc->H.m[0][0] * sx, dy = pc->H.m[1][0] * sx, dz = pc->H.m[2][0] * sx;
+        /* Repeat-wrapped texel column, stepped too (no division per texel). */
+        const int step_wrap = row && ws == PERSP_WRAP_REPEAT && pc->stride == 1;
+        int xr = step_wrap ? persp__wrap_index(ws, i0, lv->w) : 0;
+        for (int ii = i0; ii <= i1; ii += pc->stride, nx += dx, ny += dy, nz += dz,
+                 xr = xr + 1 == lv->w ? 0 : xr + 1) {
+            double w = nz;
             if (!(w > 0.0)) continue;
             double iw = 1.0 / w;
-            double X = (pc->H.m[0][0] * x + pc->H.m[0][1] * y + pc->H.m[0][2]) * iw - 0.5;
-            double Y = (pc->H.m[1][0] * x + pc->H.m[1][1] * y + pc->H.m[1][2]) * iw - 0.5;
-            double fx = floor(X), fy = floor(Y);
-            if (fx < (double)tx0 - 1.0 || fx >= (double)tx1 || fy < (double)ty0 - 1.0 ||
-                fy >= (double)ty1)
+            double X = nx * iw - 0.5;
+            double Y = ny * iw - 0.5;
+            /* Only samples whose 2×2 pixel neighbourhood meets the tile; the
+             * range test also keeps the int conversions below defined. */
+            if (!(X >= (double)tx0 - 1.0 && X < (double)tx1 && Y >= (double)ty0 - 1.0 &&
+                  Y < (double)ty1))
                 continue;
+            /* floor() without a library call: X, Y are in a small range. */
+            int px0 = (int)X, py0 = (int)Y;
+            px0 -= (double)px0 > X;
+            py0 -= (double)py0 > Y;
+            const double fx = (double)px0, fy = (double)py0;
             nw++;
             uint32_t texel;
             if (pc->sub == 1) {
                 if (rowb) {
                     texel = ss->border;
                 } else {
-                    int xi = persp__wrap_index(ws, ii, lv->w);
+                    int xi = step_wrap ? xr : persp__wrap_index(ws, ii, lv->w);
                     texel = xi < 0 ? ss->border : row[xi];
                 }
             } else {
@@ -556,7 +570,6 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
             /* Seed 004's S1..S4: the sample's share of the four pixels
              * around it (pixel centres at +0.5). */
             const float ax = (float)(X - fx), ay = (float)(Y - fy);
-            const int px0 = (int)fx, py0 = (int)fy;
             for (int k = 0; k < 4; k++) {
                 int px = px0 + (k & 1), py = py0 + (k >> 1);
                 if (px < tx0 || px >= tx1 || py < ty0 || py >= ty1) continue;

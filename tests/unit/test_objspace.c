@@ -2,6 +2,7 @@
  * src/objspace/objspace.c): thread independence, no holes, no bleeding. */
 #include "support.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -112,12 +113,57 @@ static void test_constant_texture_no_bleeding(void **state)
     free(r.color);
 }
 
+/* Seed 004's rotation and projection, checked numerically (the erratum is
+ * recorded in docs/REPRODUCTION.md): with cos α = Nz/d, sin α = Ny/d,
+ * cos β = d, sin β = Nx, d = sqrt(Ny² + Nz²) (printed with a minus), the
+ * rotation takes N to the z axis, and the product (x, y, z, 1)·[Rxy]⁻¹·P
+ * with the one-point projection P (r = -1/zc) has the denominator
+ * 1 − r·sin α·y + r·Nz·z − r·cos α·sin β·x, not the printed
+ * 1 − r·sin α·y + r·Nz·z − r·Ny·x (cos α·sin β = Nx·Nz/d is not Ny). */
+static void test_seed004_rotation_errata(void **state)
+{
+    (void)state;
+    test_rng rng = {61};
+    int printed_wrong = 0;
+    for (int it = 0; it < 200; it++) {
+        double n[3];
+        for (int k = 0; k < 3; k++) n[k] = test_rng_uniform(&rng, -1, 1);
+        double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (l < 0.1) continue;
+        for (int k = 0; k < 3; k++) n[k] /= l;
+        double d = sqrt(n[1] * n[1] + n[2] * n[2]);
+        if (d < 1e-3) continue;
+        double ca = n[2] / d, sa = n[1] / d, cb = d, sb = n[0];
+        /* [Rxy] of the seed (row vectors): rows (cb, 0, sb), (-sa·sb, ca, cb·sa), (-ca·sb, -sa, ca·cb). */
+        double R[3][3] = {{cb, 0, sb}, {-sa * sb, ca, cb * sa}, {-ca * sb, -sa, ca * cb}};
+        double Nr[3];
+        for (int c = 0; c < 3; c++) Nr[c] = n[0] * R[0][c] + n[1] * R[1][c] + n[2] * R[2][c];
+        assert_true(fabs(Nr[0]) < 1e-12 && fabs(Nr[1]) < 1e-12 && fabs(Nr[2] - 1.0) < 1e-12);
+        /* Inverse: the transpose, as the seed prints it. */
+        double r = -1.0 / test_rng_uniform(&rng, 1, 5);
+        double x = test_rng_uniform(&rng, -2, 2), y = test_rng_uniform(&rng, -2, 2),
+               z = test_rng_uniform(&rng, -2, 2);
+        double e[3];
+        for (int c = 0; c < 3; c++) e[c] = x * R[c][0] + y * R[c][1] + z * R[c][2];
+        double w = 1.0 + r * e[2];
+        double corrected = 1.0 - r * sa * y + r * n[2] * z - r * ca * sb * x;
+        double printed = 1.0 - r * sa * y + r * n[2] * z - r * n[1] * x;
+        assert_true(fabs(w - corrected) < 1e-12);
+        /* The printed numerators of x'' and y'' are right. */
+        assert_true(fabs(e[0] - (cb * x + sb * z)) < 1e-12);
+        assert_true(fabs(e[1] - (ca * y + n[1] * z - sa * sb * x)) < 1e-12);
+        if (fabs(w - printed) > 1e-6) printed_wrong++;
+    }
+    assert_true(printed_wrong > 100);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_no_holes),
         cmocka_unit_test(test_constant_texture_no_bleeding),
+        cmocka_unit_test(test_seed004_rotation_errata),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -189,7 +189,8 @@ static void test_mip_odd_is_exact_box(void **state)
 /* ---------------------------------------------------------- dEQP-style */
 
 /* A texture whose red channel encodes x and green channel y, monotonically,
- * so the reachable range of a lookup is the range of its texel box. */
+ * so the reachable range of a lookup is the range of its texel box (through
+ * the wrap modes: any of the four, on each axis). */
 static uint32_t gradient_texel(int x, int y, void *user)
 {
     const int *wh = user;
@@ -198,22 +199,44 @@ static uint32_t gradient_texel(int x, int y, void *user)
     return r | g << 8 | b << 16 | 0xffu << 24;
 }
 
+/* GL 4.6 Table 8.20, written out here independently: the texel index of
+ * integer coordinate i on an axis of n texels, -1 for the border colour. */
+static int gl_wrap(persp_wrap mode, int i, int n)
+{
+    switch (mode) {
+    case PERSP_WRAP_REPEAT:
+        return ((i % n) + n) % n;
+    case PERSP_WRAP_CLAMP_TO_EDGE:
+        return i < 0 ? 0 : i >= n ? n - 1 : i;
+    case PERSP_WRAP_MIRRORED_REPEAT: {
+        int m = ((i % (2 * n)) + 2 * n) % (2 * n);
+        return m < n ? m : 2 * n - 1 - m;
+    }
+    default:
+        return i < 0 || i >= n ? -1 : i;
+    }
+}
+
+static const uint8_t border_rgba[4] = {10, 240, 128, 255};
+
 /* Min/max of channel c over the texels of `level` whose centres lie within
  * [x0, x1] × [y0, y1] (level-0 texel units) widened by one level texel
- * (coordinate precision), clamped to the level (clamp-to-edge). */
-static void level_range(const persp_texture *t, int level, double x0, double x1, double y0, double y1, int c,
-                        int *lo, int *hi)
+ * (coordinate precision), addressed through the wrap modes. */
+static void level_range(const persp_texture *t, int level, persp_wrap ws, persp_wrap wt, double x0,
+                        double x1, double y0, double y1, int c, int *lo, int *hi)
 {
     persp_image v;
     persp_texture_level(t, level, &v);
     double sx = (double)v.width / persp_texture_width(t), sy = (double)v.height / persp_texture_height(t);
     int i0 = (int)floor(x0 * sx - 1.5), i1 = (int)ceil(x1 * sx + 0.5);
     int j0 = (int)floor(y0 * sy - 1.5), j1 = (int)ceil(y1 * sy + 0.5);
+    /* A footprint wider than the level covers all of it. */
+    if (i1 - i0 > 2 * v.width) i0 = -v.width, i1 = v.width;
+    if (j1 - j0 > 2 * v.height) j0 = -v.height, j1 = v.height;
     for (int j = j0; j <= j1; j++)
         for (int i = i0; i <= i1; i++) {
-            int ci = i < 0 ? 0 : i >= v.width ? v.width - 1 : i;
-            int cj = j < 0 ? 0 : j >= v.height ? v.height - 1 : j;
-            int val = texel_channel(t, level, ci, cj, c);
+            int ci = gl_wrap(ws, i, v.width), cj = gl_wrap(wt, j, v.height);
+            int val = ci < 0 || cj < 0 ? border_rgba[c] : texel_channel(t, level, ci, cj, c);
             if (val < *lo) *lo = val;
             if (val > *hi) *hi = val;
         }
@@ -232,10 +255,12 @@ static void test_samplers_inside_reachable_range(void **state)
         for (int it = 0; it < 400; it++) {
             persp_sampler_desc sd;
             memset(&sd, 0, sizeof sd);
-            sd.wrap_s = sd.wrap_t = PERSP_WRAP_CLAMP_TO_EDGE;
+            sd.wrap_s = (persp_wrap)(test_rng_next(&rng) % 4);
+            sd.wrap_t = (persp_wrap)(test_rng_next(&rng) % 4);
+            memcpy(sd.border, border_rgba, 4);
             sd.filter = (persp_filter)f;
             sd.max_aniso = 2 + (int)(test_rng_next(&rng) % 15);
-            float u = (float)test_rng_uniform(&rng, -0.1, 1.1), v = (float)test_rng_uniform(&rng, -0.1, 1.1);
+            float u = (float)test_rng_uniform(&rng, -1.5, 2.5), v = (float)test_rng_uniform(&rng, -1.5, 2.5);
             /* Footprints from strongly magnified to strongly minified, any
              * orientation and anisotropy. */
             double scale = exp2(test_rng_uniform(&rng, -3.0, 7.0)), ang = test_rng_uniform(&rng, 0, 6.283);
@@ -266,14 +291,16 @@ static void test_samplers_inside_reachable_range(void **state)
                 int lo = 255, hi = 0;
                 for (int l = l0; l <= l1; l++) {
                     double pad = ldexp(1.0, l); /* one texel of the level in level-0 units */
-                    level_range(t, l, cx - ex - pad, cx + ex + pad, cy - ey - pad, cy + ey + pad, c, &lo, &hi);
+                    level_range(t, l, sd.wrap_s, sd.wrap_t, cx - ex - pad, cx + ex + pad, cy - ey - pad,
+                                cy + ey + pad, c, &lo, &hi);
                 }
                 /* Colour precision: one 8-bit step of rounding. */
                 if (got[c] + 1 < lo || got[c] > hi + 1)
-                    fail_msg("filter %s at (%.4f, %.4f), footprint %.3g x %.3g: channel %d = %d outside "
-                             "[%d, %d] (levels %d..%d)",
-                             persp_filter_name((persp_filter)f), (double)u, (double)v, px, py, c, got[c], lo,
-                             hi, l0, l1);
+                    fail_msg("filter %s, wrap %s/%s at (%.4f, %.4f), footprint %.3g x %.3g: channel %d = %d "
+                             "outside [%d, %d] (levels %d..%d)",
+                             persp_filter_name((persp_filter)f), persp_wrap_name(sd.wrap_s),
+                             persp_wrap_name(sd.wrap_t), (double)u, (double)v, px, py, c, got[c], lo, hi, l0,
+                             l1);
             }
         }
     }
