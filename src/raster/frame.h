@@ -32,6 +32,10 @@ typedef struct persp_draw_state {
     persp_material material;
     persp_lighting lighting;
     int depth_test, depth_write;
+    /* The span shader returns the texel unchanged (texture, no lighting:
+     * seed 002's "replace"), so the renderer may sample straight into the
+     * destination. */
+    int shade_is_texel;
     /* Span shader chosen from shading and texture environment. */
     void (*shade)(const struct persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                   const float *q, const uint32_t *texel, uint32_t *out);

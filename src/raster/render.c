@@ -209,6 +209,11 @@ typedef struct tile_job {
     int workers;
 } tile_job;
 
+/* A tile is drawn into tile-local colour and depth buffers (PERSP_TILE
+ * pixels per row, origin ox, oy in the frame), which stay in the level-1
+ * cache, and written to the framebuffer once at the end: clearing and the
+ * depth test then never touch memory, and the framebuffer is written once
+ * per frame in whole rows (docs/PERFORMANCE.md). */
 typedef struct span_ctx {
     persp_frame *f;
     const persp_tri *t;
@@ -216,6 +221,9 @@ typedef struct span_ctx {
     const persp_method_prep *prep;
     persp_render_stats *stats;
     int32_t tri_index;
+    uint32_t *color;
+    float *depth;
+    int ox, oy;
 } span_ctx;
 
 PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *b)
@@ -228,7 +236,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
     float q[PERSP_SPAN_MAX], z[PERSP_SPAN_MAX];
     int32_t idx[PERSP_SPAN_MAX], live[PERSP_SPAN_MAX];
     const int invw = f->depth_mode == PERSP_DEPTH_INVW;
-    float *depth = f->fb->depth;
+    float *depth = sc->depth;
     int any = 0;
     int32_t base = 0;
 
@@ -238,7 +246,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         double px = b->x0 + 0.5, py = b->y + 0.5;
         float q0 = (float)(t->rat.g * px + t->rat.h * py + t->rat.i), dq = (float)t->rat.g;
         float z0 = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]), dz = (float)t->zp[0];
-        base = b->y * W + b->x0;
+        base = (b->y - sc->oy) * PERSP_TILE + (b->x0 - sc->ox);
         const float *drow = depth + base;
         for (int k = 0; k < n; k++) {
             q[k] = q0 + (float)k * dq;
@@ -258,7 +266,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
             double px = b->px[k] + 0.5, py = b->py[k] + 0.5;
             q[k] = (float)(t->rat.g * px + t->rat.h * py + t->rat.i);
             z[k] = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
-            idx[k] = b->py[k] * W + b->px[k];
+            idx[k] = (b->py[k] - sc->oy) * PERSP_TILE + (b->px[k] - sc->ox);
         }
         for (int k = 0; k < n; k++)
             live[k] = !ds->depth_test ? 1 : invw ? q[k] > depth[idx[k]] : z[k] < depth[idx[k]];
@@ -275,7 +283,11 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
     } else {
         ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, NULL);
     }
+    /* A contiguous span whose pixels all pass is coloured in place in the
+     * tile; otherwise into out[] and then merged. */
     uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
+    const int in_place = !b->px && any == n;
+    uint32_t *dst = in_place ? sc->color + base : out;
     if (ds->tex) {
         persp_tex_span_in in = {
             .n = n, .u = su, .v = sv, .q = q,
@@ -283,23 +295,23 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
             .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
             .poly_lambda = t->poly_lambda,
         };
-        persp__sample_span(&ds->sampler, &in, texel);
+        persp__sample_span(&ds->sampler, &in, ds->shade_is_texel ? dst : texel);
     }
-    persp__shade_span(ds, t, b, q, ds->tex ? texel : NULL, out);
+    if (!ds->shade_is_texel) persp__shade_span(ds, t, b, q, ds->tex ? texel : NULL, dst);
 
-    uint32_t *color = (uint32_t *)(void *)f->fb->color;
+    uint32_t *color = sc->color;
     const float *dv = invw ? q : z;
-    if (!b->px) {
+    if (in_place) {
+        if (ds->depth_write) {
+            float *drow = depth + base;
+            for (int k = 0; k < n; k++) drow[k] = dv[k];
+        }
+    } else if (!b->px) {
         uint32_t *crow = color + base;
         float *drow = depth + base;
-        if (any == n) {
-            memcpy(crow, out, (size_t)n * sizeof *out);
-            if (ds->depth_write) memcpy(drow, dv, (size_t)n * sizeof *dv);
-        } else {
-            for (int k = 0; k < n; k++) crow[k] = live[k] ? out[k] : crow[k];
-            if (ds->depth_write)
-                for (int k = 0; k < n; k++) drow[k] = live[k] ? dv[k] : drow[k];
-        }
+        for (int k = 0; k < n; k++) crow[k] = live[k] ? out[k] : crow[k];
+        if (ds->depth_write)
+            for (int k = 0; k < n; k++) drow[k] = live[k] ? dv[k] : drow[k];
     } else {
         for (int k = 0; k < n; k++) {
             if (!live[k]) continue;
@@ -312,7 +324,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         persp_capture *cap = f->capture;
         for (int k = 0; k < n; k++) {
             if (!live[k]) continue;
-            int32_t i = b->px ? idx[k] : base + k;
+            int32_t i = b->px ? b->py[k] * W + b->px[k] : b->y * W + b->x0 + k;
             cap->tri[i] = sc->tri_index;
             cap->s1[i] = su[k];
             cap->s2[i] = sv[k];
@@ -342,19 +354,39 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
     const int x0 = tx * PERSP_TILE, y0 = ty * PERSP_TILE;
     const int x1 = PERSP_MIN(x0 + PERSP_TILE, f->fb->width) - 1;
     const int y1 = PERSP_MIN(y0 + PERSP_TILE, f->fb->height) - 1;
+    const int tw = x1 - x0 + 1, th = y1 - y0 + 1;
+    const size_t W = (size_t)f->fb->width;
+    uint32_t *fcolor = (uint32_t *)(void *)f->fb->color;
+    float *fdepth = f->fb->depth;
+    if (c->bin_count[tile] == 0) {
+        if (f->clear_pending) {
+            for (int y = 0; y < th; y++) {
+                uint32_t *cr = fcolor + (size_t)(y0 + y) * W + x0;
+                float *dr = fdepth + (size_t)(y0 + y) * W + x0;
+                for (int x = 0; x < tw; x++) cr[x] = f->clear_color;
+                for (int x = 0; x < tw; x++) dr[x] = f->clear_depth;
+            }
+        }
+        return;
+    }
+    _Alignas(64) uint32_t tcolor[PERSP_TILE * PERSP_TILE];
+    _Alignas(64) float tdepth[PERSP_TILE * PERSP_TILE];
     if (f->clear_pending) {
-        const size_t W = (size_t)f->fb->width;
         const uint32_t cc = f->clear_color;
         const float cd = f->clear_depth;
-        uint32_t *color = (uint32_t *)(void *)f->fb->color;
-        for (int y = y0; y <= y1; y++) {
-            uint32_t *cr = color + (size_t)y * W;
-            float *dr = f->fb->depth + (size_t)y * W;
-            for (int x = x0; x <= x1; x++) cr[x] = cc;
-            for (int x = x0; x <= x1; x++) dr[x] = cd;
+        for (int i = 0; i < PERSP_TILE * th; i++) tcolor[i] = cc;
+        for (int i = 0; i < PERSP_TILE * th; i++) tdepth[i] = cd;
+    } else {
+        for (int y = 0; y < th; y++) {
+            memcpy(tcolor + y * PERSP_TILE, fcolor + (size_t)(y0 + y) * W + x0, (size_t)tw * 4);
+            memcpy(tdepth + y * PERSP_TILE, fdepth + (size_t)(y0 + y) * W + x0, (size_t)tw * 4);
         }
     }
-    span_ctx sc = {.f = f, .stats = &c->worker_stats[worker]};
+    /* Counted in the tile and added to the worker's slot once: slots of
+     * different workers share cache lines. */
+    persp_render_stats local;
+    memset(&local, 0, sizeof local);
+    span_ctx sc = {.f = f, .stats = &local, .color = tcolor, .depth = tdepth, .ox = x0, .oy = y0};
     const uint32_t *items = c->bin_items + c->bin_start[tile];
     for (uint32_t k = 0; k < c->bin_count[tile]; k++) {
         const persp_tri *t = &c->tris[items[k]];
@@ -378,6 +410,12 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             shade_batch(&sc, &b);
         }
     }
+    for (int y = 0; y < th; y++) {
+        memcpy(fcolor + (size_t)(y0 + y) * W + x0, tcolor + y * PERSP_TILE, (size_t)tw * 4);
+        memcpy(fdepth + (size_t)(y0 + y) * W + x0, tdepth + y * PERSP_TILE, (size_t)tw * 4);
+    }
+    c->worker_stats[worker].fragments += local.fragments;
+    c->worker_stats[worker].pixels_written += local.pixels_written;
 }
 
 persp_status persp__frame_flush(persp_frame *f)
