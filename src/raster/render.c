@@ -17,7 +17,11 @@
 #include "texture/texture.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 struct persp_render_cache {
     persp_tri *tris;
@@ -207,7 +211,12 @@ typedef struct tile_job {
     persp_frame *f;
     int tiles_x;
     int workers;
+    int stream; /* write tiles out with non-temporal stores */
 } tile_job;
+
+/* Framebuffers (colour + depth) above this size do not stay in the caches
+ * between frames, so writing them without reading them in pays. */
+#define PERSP_STREAM_BYTES (2u << 20)
 
 /* A tile is drawn into tile-local colour and depth buffers (PERSP_TILE
  * pixels per row, origin ox, oy in the frame), which stay in the level-1
@@ -345,6 +354,25 @@ static int row_range_cb(const void *p, int y, int *lo, int *hi)
     return persp__tri_row_range(a->t, y, a->x0, a->x1, lo, hi);
 }
 
+/* Copies one tile row (n 32-bit values) to the framebuffer. With stream
+ * set, by non-temporal stores where the destination allows: a framebuffer
+ * larger than the caches is then written without first being read in
+ * (write-allocate), which halves its memory traffic. */
+static void write_row(void *dst, const void *src, int n, int stream)
+{
+#if defined(__SSE2__)
+    if (stream && ((uintptr_t)dst & 15u) == 0 && (n & 3) == 0) {
+        __m128i *d = dst;
+        const __m128i *s = src;
+        for (int i = 0; i < n / 4; i++) _mm_stream_si128(d + i, _mm_load_si128(s + i));
+        return;
+    }
+#else
+    (void)stream;
+#endif
+    memcpy(dst, src, (size_t)n * 4);
+}
+
 PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
 {
     tile_job *job = user;
@@ -411,9 +439,12 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
         }
     }
     for (int y = 0; y < th; y++) {
-        memcpy(fcolor + (size_t)(y0 + y) * W + x0, tcolor + y * PERSP_TILE, (size_t)tw * 4);
-        memcpy(fdepth + (size_t)(y0 + y) * W + x0, tdepth + y * PERSP_TILE, (size_t)tw * 4);
+        write_row(fcolor + (size_t)(y0 + y) * W + x0, tcolor + y * PERSP_TILE, tw, job->stream);
+        write_row(fdepth + (size_t)(y0 + y) * W + x0, tdepth + y * PERSP_TILE, tw, job->stream);
     }
+#if defined(__SSE2__)
+    if (job->stream) _mm_sfence(); /* streaming stores are weakly ordered */
+#endif
     c->worker_stats[worker].fragments += local.fragments;
     c->worker_stats[worker].pixels_written += local.pixels_written;
 }
@@ -468,7 +499,8 @@ persp_status persp__frame_flush(persp_frame *f)
         return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     c->worker_cap = (int)wcap;
     memset(c->worker_stats, 0, (size_t)workers * sizeof *c->worker_stats);
-    tile_job job = {f, tiles_x, workers};
+    tile_job job = {f, tiles_x, workers,
+                    (size_t)f->fb->width * (size_t)f->fb->height * 8u > PERSP_STREAM_BYTES};
     persp_status st = persp__pool_run(ctx, (int)tiles, raster_tile, &job);
     if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: cannot start worker threads");
     f->clear_pending = 0;
