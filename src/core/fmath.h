@@ -21,17 +21,28 @@
 #define PERSP_SIMD_CLONES
 #endif
 
-/* Explicit AVX2 variants of a function, for code whose two variants must be
- * selectable (and therefore testable) one by one: the baseline variant is
- * compiled as usual, the other with this attribute, and the caller picks
- * with persp__cpu_avx2(). */
+/* Explicit instruction-set variants of a function, for code whose variants
+ * must be selectable (and therefore testable) one by one: the baseline
+ * variant is compiled as usual, the others with these attributes, and the
+ * caller picks with persp__cpu_isa(). AVX-512 code uses 512-bit vectors
+ * (GCC prefers 256 by default). */
+enum { PERSP_ISA_BASE = 0, PERSP_ISA_AVX2 = 1, PERSP_ISA_AVX512 = 2 };
 #if defined(__GNUC__) && defined(__x86_64__)
-#define PERSP_HAVE_AVX2 1
+#define PERSP_HAVE_ISA_VARIANTS 1
 #define PERSP_TARGET_AVX2 __attribute__((target("avx2")))
-static inline int persp__cpu_avx2(void) { return __builtin_cpu_supports("avx2"); }
+#define PERSP_TARGET_AVX512                                                                        \
+    __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq,prefer-vector-width=512")))
+static inline int persp__cpu_isa(void)
+{
+    __builtin_cpu_init();
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+        __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq"))
+        return PERSP_ISA_AVX512;
+    return __builtin_cpu_supports("avx2") ? PERSP_ISA_AVX2 : PERSP_ISA_BASE;
+}
 #else
-#define PERSP_HAVE_AVX2 0
-static inline int persp__cpu_avx2(void) { return 0; }
+#define PERSP_HAVE_ISA_VARIANTS 0
+static inline int persp__cpu_isa(void) { return PERSP_ISA_BASE; }
 #endif
 
 /* log2(x) for normal positive x with an absolute error below 1e-6: x =

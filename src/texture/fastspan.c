@@ -217,16 +217,19 @@ static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, co
     FAST(P##_ER, ATTR, BODY, E, R) FAST(P##_EE, ATTR, BODY, E, E)                                  \
     static const persp_tex_span_fn P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
 
-/* The baseline variants (SSE2 on x86-64: 4 lanes, no gathers needed since
- * texel fetches are scalar loads anyway) and, where the compiler can target
- * it, the AVX2 ones (8 lanes), picked at sampler set-up from the CPU. */
+/* The baseline variants (SSE2 on x86-64: 4 lanes) and, where the compiler
+ * can target them, AVX2 (8 lanes) and AVX-512 (16 lanes) ones, picked at
+ * sampler set-up from the CPU. */
 FAST4(nearest_base, , span_nearest)
 FAST4(bilinear_base, , span_bilinear)
 FAST4(trilinear_base, , span_trilinear)
-#if PERSP_HAVE_AVX2
+#if PERSP_HAVE_ISA_VARIANTS
 FAST4(nearest_avx2, PERSP_TARGET_AVX2, span_nearest)
 FAST4(bilinear_avx2, PERSP_TARGET_AVX2, span_bilinear)
 FAST4(trilinear_avx2, PERSP_TARGET_AVX2, span_trilinear)
+FAST4(nearest_avx512, PERSP_TARGET_AVX512, span_nearest)
+FAST4(bilinear_avx512, PERSP_TARGET_AVX512, span_bilinear)
+FAST4(trilinear_avx512, PERSP_TARGET_AVX512, span_trilinear)
 #endif
 
 #undef R
@@ -243,10 +246,10 @@ static int log2_int(int n)
 
 persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st)
 {
-    return persp__fast_span_select_isa(st, persp__cpu_avx2());
+    return persp__fast_span_select_isa(st, persp__cpu_isa());
 }
 
-persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int avx2)
+persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
 {
     const struct persp_texture *tex = st->tex;
     memset(&st->pot, 0, sizeof st->pot);
@@ -267,8 +270,16 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int avx2)
     if (tex->level[0].texels != tex->storage) return NULL;
     st->pot.pot = 1;
     int w = ws * 2 + wt;
-#if PERSP_HAVE_AVX2
-    if (avx2) {
+#if PERSP_HAVE_ISA_VARIANTS
+    if (isa == PERSP_ISA_AVX512) {
+        switch (st->desc.filter) {
+        case PERSP_FILTER_NEAREST: return nearest_avx512[w];
+        case PERSP_FILTER_BILINEAR: return bilinear_avx512[w];
+        case PERSP_FILTER_TRILINEAR: return trilinear_avx512[w];
+        default: return NULL;
+        }
+    }
+    if (isa == PERSP_ISA_AVX2) {
         switch (st->desc.filter) {
         case PERSP_FILTER_NEAREST: return nearest_avx2[w];
         case PERSP_FILTER_BILINEAR: return bilinear_avx2[w];
@@ -277,7 +288,7 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int avx2)
         }
     }
 #else
-    (void)avx2;
+    (void)isa;
 #endif
     switch (st->desc.filter) {
     case PERSP_FILTER_NEAREST: return nearest_base[w];

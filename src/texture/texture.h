@@ -85,9 +85,10 @@ int persp__sampler_needs_lod(const persp_sampler_state *st);
  * st->pot. NULL when the state is not of that kind. Its output equals the
  * general sampler's bit for bit (tests/unit/test_fastspan.c). */
 persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st);
-/* The same with the instruction set chosen by the caller (0: baseline,
- * 1: AVX2 where built; tests compare both against the general sampler). */
-persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int avx2);
+/* The same with the instruction set chosen by the caller (PERSP_ISA_BASE,
+ * _AVX2, _AVX512 of core/fmath.h; tests compare each the CPU can run
+ * against the general sampler). */
+persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa);
 /* The general (table-driven) span sampler of a filter and wrap pair, for
  * comparing the vectorised one against it. */
 persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt);

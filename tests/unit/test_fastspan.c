@@ -70,13 +70,15 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                     persp_tex_span_fn general = persp__general_span(desc.filter, desc.wrap_s, desc.wrap_t);
                     assert_non_null(general);
                     assert_true(st.span != general); /* the vectorised one was chosen */
-                    /* Both instruction-set variants, whatever this CPU picks. */
-                    persp_sampler_state st_isa[2] = {st, st};
-                    persp_tex_span_fn variant[2] = {persp__fast_span_select_isa(&st_isa[0], 0),
-                                                    persp__fast_span_select_isa(&st_isa[1], 1)};
-                    assert_non_null(variant[0]);
-                    assert_non_null(variant[1]);
-                    int nvar = persp__cpu_avx2() ? 2 : 1;
+                    /* Every instruction-set variant this CPU can run, whatever
+                     * it picks by default. */
+                    persp_sampler_state st_isa[3] = {st, st, st};
+                    persp_tex_span_fn variant[3];
+                    int nvar = persp__cpu_isa() + 1;
+                    for (int isa = 0; isa < nvar; isa++) {
+                        variant[isa] = persp__fast_span_select_isa(&st_isa[isa], isa);
+                        assert_non_null(variant[isa]);
+                    }
                     for (int rep = 0; rep < 200; rep++) {
                         float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], q[PERSP_SPAN_MAX];
                         int n = 1 + (int)(test_rng_next(&rng) % PERSP_SPAN_MAX);
