@@ -21,6 +21,7 @@ enum {
     PERSP_A_R, PERSP_A_G, PERSP_A_B, PERSP_A_A,
     PERSP_A_NX, PERSP_A_NY, PERSP_A_NZ, /* eye-space normal */
     PERSP_A_EX, PERSP_A_EY, PERSP_A_EZ, /* eye-space position */
+    PERSP_A_BR, PERSP_A_BG, PERSP_A_BB, /* Gouraud: the back face's vertex colour */
     PERSP_A_COUNT
 };
 

@@ -182,6 +182,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
         o->attr[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
         o->attr[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
         for (int k = 0; k < 4; k++) o->attr[PERSP_A_R + k] = v->color[k];
+        for (int k = 0; k < 3; k++) o->attr[PERSP_A_BR + k] = v->color[k]; /* lit by Gouraud */
         for (int r = 0; r < 3; r++)
             o->attr[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
         o->attr[PERSP_A_EX] = ep.x, o->attr[PERSP_A_EY] = ep.y, o->attr[PERSP_A_EZ] = ep.z;

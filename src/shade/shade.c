@@ -227,6 +227,22 @@ static void shade_vertex_color(const persp_draw_state *ds, const persp_tri *t,
     }
 }
 
+/* Two-sided lighting decided once per triangle, as OpenGL picks the front
+ * or back colour by the polygon's facing: −1 when the triangle's vertex
+ * normals, summed, face away from the eye at its centroid. A per-pixel test
+ * of N·E would flip the smooth normals of front faces near silhouettes
+ * (where they turn away from the eye) and light a rim on the dark side. */
+static float face_side(const persp_tri *t)
+{
+    float d = 0.0f;
+    for (int c = 0; c < 3; c++) {
+        float n = t->vattr[0][PERSP_A_NX + c] + t->vattr[1][PERSP_A_NX + c] + t->vattr[2][PERSP_A_NX + c];
+        float e = t->vattr[0][PERSP_A_EX + c] + t->vattr[1][PERSP_A_EX + c] + t->vattr[2][PERSP_A_EX + c];
+        d += n * e;
+    }
+    return d > 0.0f ? -1.0f : 1.0f;
+}
+
 /* Gouraud: colours lit per vertex (persp__shade_vertices), interpolated with
  * screen-linear (classical) or perspective-correct (§4.2) weights. The
  * vertex colour carries ambient + diffuse + specular, so modulate scales all. */
@@ -237,9 +253,12 @@ static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const 
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
     bary_for(ds, t, b, b1, b2);
     const float zero[3] = {0, 0, 0};
+    /* Front or back colour by the triangle's facing (face_side), as
+     * OpenGL's two-sided lighting picks them per polygon. */
+    const int attr = face_side(t) < 0.0f ? PERSP_A_BR : PERSP_A_R;
     for (int k = 0; k < b->n; k++) {
         float c[3];
-        interp3(t, PERSP_A_R, b1[k], b2[k], c);
+        interp3(t, attr, b1[k], b2[k], c);
         out[k] = combine(ds, c, zero, texel, k);
     }
 }
@@ -303,22 +322,6 @@ static void bary_exact(const persp_tri *t, const persp_frag_batch *b, float *b1,
         persp__span_rat_at(&s, (double)k, &s1, &s2);
         b1[k] = (float)s1, b2[k] = (float)s2;
     }
-}
-
-/* Two-sided lighting decided once per triangle, as OpenGL picks the front
- * or back colour by the polygon's facing: −1 when the triangle's vertex
- * normals, summed, face away from the eye at its centroid. A per-pixel test
- * of N·E would flip the smooth normals of front faces near silhouettes
- * (where they turn away from the eye) and light a rim on the dark side. */
-static float face_side(const persp_tri *t)
-{
-    float d = 0.0f;
-    for (int c = 0; c < 3; c++) {
-        float n = t->vattr[0][PERSP_A_NX + c] + t->vattr[1][PERSP_A_NX + c] + t->vattr[2][PERSP_A_NX + c];
-        float e = t->vattr[0][PERSP_A_EX + c] + t->vattr[1][PERSP_A_EX + c] + t->vattr[2][PERSP_A_EX + c];
-        d += n * e;
-    }
-    return d > 0.0f ? -1.0f : 1.0f;
 }
 
 /* Flat: the face normal, lit at the centroid. */
@@ -521,11 +524,13 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
         normalize3(nn);
         float diff[3], spec[3];
         /* Vertices are lit before their triangles are known (render.c), so
-         * the side is chosen per vertex: a normal facing away is flipped. */
+         * both sides are lit here, as OpenGL's two-sided lighting does, and
+         * shade_gouraud picks one per triangle. */
         const float *e = &v[i].attr[PERSP_A_EX];
-        float side = nn[0] * e[0] + nn[1] * e[1] + nn[2] * e[2] > 0.0f ? -1.0f : 1.0f;
-        light_point(ds, nn, e, side, diff, spec);
+        light_point(ds, nn, e, 1.0f, diff, spec);
         for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_R + c] = diff[c] + spec[c];
+        light_point(ds, nn, e, -1.0f, diff, spec);
+        for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_BR + c] = diff[c] + spec[c];
         v[i].attr[PERSP_A_A] = 1.0f;
     }
 }

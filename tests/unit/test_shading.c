@@ -239,6 +239,73 @@ static void test_texture_env(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Two-sided Gouraud lighting picks the front or back vertex colours per
+ * triangle, as OpenGL does by polygon facing. A triangle facing the eye
+ * whose vertex normal at v1 turns away from the eye and the light (a
+ * silhouette vertex of a smooth mesh) must keep v1 dark: lighting v1's
+ * flipped normal instead (a per-vertex choice of side) lit a bright rim
+ * on the dark side of curved objects. The back face of the same triangle
+ * takes the back colours. */
+static void test_gouraud_two_sided_per_triangle(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    persp_draw_state ds;
+    memset(&ds, 0, sizeof ds);
+    ds.shading = PERSP_SHADING_GOURAUD_PC;
+    assert_int_equal(persp__method_resolve(ctx, "exact", &ds.method), PERSP_OK);
+    for (int c = 0; c < 3; c++) {
+        ds.material.diffuse[c] = 1.0f;
+        ds.lighting.light[0].color[c] = 1.0f;
+    }
+    ds.material.texture = ds.material.specular_texture = -1;
+    ds.lighting.count = 1;
+    ds.lighting.light[0].type = PERSP_LIGHT_DIRECTIONAL;
+    ds.lighting.light[0].pos[2] = 1.0f; /* towards +z: behind the eye */
+    assert_int_equal(persp__shade_resolve(ctx, &ds), PERSP_OK);
+
+    /* Eye-space triangle in the plane z = -5, facing the eye (+z). */
+    const float P[3][3] = {{-1.0f, -1.0f, -5.0f}, {1.0f, -1.0f, -5.0f}, {0.0f, 1.0f, -5.0f}};
+    const float N[3][3] = {{0.0f, 0.0f, 1.0f}, {0.9f, 0.0f, -0.43589f}, {0.0f, 0.0f, 1.0f}};
+    persp_clipvert cv[3];
+    memset(cv, 0, sizeof cv);
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 3; c++) {
+            cv[k].attr[PERSP_A_NX + c] = N[k][c];
+            cv[k].attr[PERSP_A_EX + c] = P[k][c];
+        }
+    persp__shade_vertices(&ds, cv, 3);
+    /* Front colour of v1: N·L < 0, no ambient: black. Back colour: lit. */
+    assert_true(cv[1].attr[PERSP_A_R] == 0.0f);
+    assert_true(cv[1].attr[PERSP_A_BR] > 0.4f);
+    assert_true(cv[0].attr[PERSP_A_R] > 0.99f);
+
+    for (int facing = 0; facing < 2; facing++) {
+        persp_tri t;
+        memset(&t, 0, sizeof t);
+        for (int k = 0; k < 3; k++) {
+            memcpy(t.vattr[k], cv[k].attr, sizeof t.vattr[k]);
+            if (facing) /* the back side: every normal reversed */
+                for (int c = 0; c < 3; c++) t.vattr[k][PERSP_A_NX + c] = -N[k][c];
+        }
+        /* Screen-linear barycentrics b1 = x / 10, b2 = y / 10 on a 10x10 area. */
+        t.lb1[0] = 0.1;
+        t.lb2[1] = 0.1;
+        t.bary.g = 0.0, t.bary.h = 0.0, t.bary.i = 1.0;
+        t.bary.a = 0.1, t.bary.e = 0.1;
+        float q[PERSP_SPAN_MAX];
+        uint32_t out[PERSP_SPAN_MAX];
+        for (int k = 0; k < PERSP_SPAN_MAX; k++) q[k] = 1.0f;
+        /* Pixel (9, 0): b1 = 0.95, nearly all of v1. */
+        persp_frag_batch b = {.n = 1, .x0 = 9, .y = 0};
+        ds.shade(&ds, &t, &b, q, NULL, out);
+        int red = (int)(out[0] & 0xffu);
+        if (facing == 0 && red > 20) fail_msg("front face near its turned-away vertex: red %d, expected dark", red);
+        if (facing == 1 && red < 20) fail_msg("back face near v1: red %d, expected v1's back colour", red);
+    }
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -247,6 +314,7 @@ int main(void)
         cmocka_unit_test(test_shading_names),
         cmocka_unit_test(test_vertex_colour_perspective_correct),
         cmocka_unit_test(test_texture_env),
+        cmocka_unit_test(test_gouraud_two_sided_per_triangle),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
