@@ -238,7 +238,9 @@ typedef enum persp_depth_mode {
 } persp_depth_mode;
 
 /* Caller-owned buffers: color is width*height RGBA8 pixels (row 0 = bottom),
- * depth is width*height floats. */
+ * depth is width*height floats. Any alignment works; buffers aligned to 64
+ * bytes render faster with several threads (tiles drawn at once then share
+ * no cache line). */
 typedef struct persp_framebuffer {
     int width, height;
     uint8_t *color;
