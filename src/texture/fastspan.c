@@ -1,16 +1,17 @@
 /*
  * Vectorised span samplers for the states that dominate real workloads:
  * power-of-two textures, wrap repeat or clamp-to-edge on each axis, and the
- * nearest, bilinear and trilinear filters.
+ * isotropic filters (nearest, bilinear, nearest-mip-nearest,
+ * bilinear-mip-nearest, nearest-mip-linear, trilinear).
  *
  * They compute exactly what the general samplers of sampler.c compute (GL
- * 4.6 §8.14: texel i = wrap(floor(s * (float)(int32_t)(tW)), linear taps at floor(s * (float)(int32_t)(tW - 1/2)
- * with weight frac(s * (float)(int32_t)(tW - 1/2), lambda from the analytic Jacobian), with the
+ * 4.6 §8.14: texel i = wrap(floor(s·W)), linear taps at floor(s·W − 1/2)
+ * with weight frac(s·W − 1/2), lambda from the analytic Jacobian), with the
  * same floating-point operations in the same order, so the two agree bit for
  * bit; what differs is the shape of the code. Every stage is a loop over the
  * whole span (structure of arrays, at most PERSP_SPAN_MAX pixels) without
- * calls or data-dependent branches, which GCC turns into 8-wide AVX2 code
- * in the AVX2 variant and 4-wide SSE2 code in the baseline one:
+ * calls or data-dependent branches, which GCC turns into 8- or 16-lane code
+ * in the AVX2 and AVX-512 variants and 4-lane SSE2 code in the baseline one:
  *   1. coordinates → integer texel indices and fractions,
  *   2. wrap by masks (power-of-two sizes) or clamps → addresses,
  *   3. fetch,
@@ -133,22 +134,133 @@ static inline PERSP_INLINE void pack_span(int n, float c[4][N], uint32_t *out)
                  pack_ch(c[3][k]) << 24;
 }
 
-static inline PERSP_INLINE void span_nearest(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                uint32_t *out, int ws, int wt)
+/* Texel addresses of the nearest filter on level lev[k] of each pixel (or
+ * level 0 for all when lev == NULL): wrap(floor(s·W_l)). */
+static inline PERSP_INLINE void nearest_addr(const persp_tex_pot *restrict p, int ws, int wt, int n,
+                                             const float *restrict u, const float *restrict v,
+                                             const int32_t *restrict lev, int32_t *restrict addr)
 {
-    const persp_tex_pot *p = &st->pot;
-    const uint32_t *restrict tex = st->tex->level[0].texels;
+    const int32_t w0 = p->wmask[0] + 1, h0 = p->hmask[0] + 1, s0 = p->shift[0];
+    for (int k = 0; k < n; k++) {
+        int32_t l = lev ? lev[k] : 0;
+        int32_t wl = w0 >> l, hl = h0 >> l, sh = s0 - l;
+        wl = wl > 1 ? wl : 1;
+        hl = hl > 1 ? hl : 1;
+        sh = sh > 0 ? sh : 0;
+        int32_t i = (int32_t)floorf(safe_coord(u[k] * (float)wl));
+        int32_t j = (int32_t)floorf(safe_coord(v[k] * (float)hl));
+        int32_t off = lev ? p->off[l] : 0;
+        addr[k] = off + (wrap_i(wt, j, hl - 1) << sh) + wrap_i(ws, i, wl - 1);
+    }
+}
+
+static inline PERSP_INLINE void span_nearest(const persp_sampler_state *st, const persp_tex_span_in *in,
+                                             uint32_t *out, int ws, int wt)
+{
+    const uint32_t *restrict tex = st->tex->storage;
     uint32_t *restrict dst = out;
-    const float fw = p->fw[0], fh = p->fh[0];
-    const int32_t wm = p->wmask[0], hm = p->hmask[0], sh = p->shift[0];
     const int n = in->n;
     int32_t addr[N];
-    for (int k = 0; k < n; k++) {
-        int32_t i = (int32_t)floorf(safe_coord(in->u[k] * fw));
-        int32_t j = (int32_t)floorf(safe_coord(in->v[k] * fh));
-        addr[k] = (wrap_i(wt, j, hm) << sh) + wrap_i(ws, i, wm);
-    }
+    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, NULL, addr);
     for (int k = 0; k < n; k++) dst[k] = tex[addr[k]];
+}
+
+/* Lambda of every pixel: from the Jacobian (persp__span_jacobian,
+ * persp__jac_lambda) or once per polygon, as span_iso of sampler.c. */
+static inline PERSP_INLINE void span_lambda(const persp_sampler_state *st,
+                                            const persp_tex_span_in *in, float *lam)
+{
+    if (st->desc.lod_mode == PERSP_LOD_POLYGON) {
+        float l = persp__clamp_lod(st, in->poly_lambda + st->lod_bias);
+        for (int k = 0; k < in->n; k++) lam[k] = l;
+    } else {
+        for (int k = 0; k < in->n; k++) lam[k] = persp__jac_lambda(st, persp__span_jacobian(st, in, k));
+    }
+}
+
+/* *_MIP_NEAREST level (GL 4.6 eq. 8.17, mip_nearest_level of sampler.c):
+ * 0 when lambda <= 1/2, else ceil(lambda + 1/2) - 1 up to the last level. */
+static inline PERSP_INLINE void mip_nearest_levels(const persp_sampler_state *st, int n,
+                                                   const float *lam, int32_t *lev)
+{
+    const float top = (float)(st->tex->levels - 1);
+    for (int k = 0; k < n; k++) {
+        float d = ceilf(lam[k] + 0.5f) - 1.0f;
+        d = d >= top ? top : d;
+        lev[k] = lam[k] <= 0.5f ? 0 : (int32_t)d;
+    }
+}
+
+/* Blend level d1 towards d2 by f (trilinear and nearest-mip-linear): the
+ * levels and factor of every pixel; returns whether any pixel blends. */
+static inline PERSP_INLINE int mip_linear_levels(const persp_sampler_state *st, int n,
+                                                 const float *lam, int32_t *d1, int32_t *d2,
+                                                 float *f)
+{
+    const int32_t top = st->tex->levels - 1;
+    int blend = 0;
+    for (int k = 0; k < n; k++) {
+        float l = lam[k];
+        float fl = floorf(l);
+        int32_t il = (int32_t)fl;
+        int mag = l <= 0.0f, last = il >= top;
+        d1[k] = mag ? 0 : last ? top : il;
+        f[k] = mag || last ? 0.0f : l - fl;
+        d2[k] = mag || last ? d1[k] : il + 1;
+        blend |= !(mag || last);
+    }
+    return blend;
+}
+
+static inline PERSP_INLINE void span_nmn(const persp_sampler_state *st, const persp_tex_span_in *in,
+                                         uint32_t *out, int ws, int wt)
+{
+    const uint32_t *restrict tex = st->tex->storage;
+    uint32_t *restrict dst = out;
+    const int n = in->n;
+    float lam[N];
+    int32_t lev[N], addr[N];
+    span_lambda(st, in, lam);
+    mip_nearest_levels(st, n, lam, lev);
+    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, lev, addr);
+    for (int k = 0; k < n; k++) dst[k] = tex[addr[k]];
+}
+
+static inline PERSP_INLINE void span_bmn(const persp_sampler_state *st, const persp_tex_span_in *in,
+                                         uint32_t *out, int ws, int wt)
+{
+    const int n = in->n;
+    float lam[N], fa[N], fb[N], c[4][N];
+    int32_t lev[N], a00[N], a10[N], a01[N], a11[N];
+    span_lambda(st, in, lam);
+    mip_nearest_levels(st, n, lam, lev);
+    linear_taps(&st->pot, ws, wt, n, in->u, in->v, lev, a00, a10, a01, a11, fa, fb);
+    linear_sum(st->tex->storage, n, a00, a10, a01, a11, fa, fb, c);
+    pack_span(n, c, out);
+}
+
+/* Nearest-mip-linear: the nearest texels of two levels blended per channel
+ * in float (sampler.c: c1 + f·(c2 − c1), one rounding at the end). */
+static inline PERSP_INLINE void span_nml(const persp_sampler_state *st, const persp_tex_span_in *in,
+                                         uint32_t *out, int ws, int wt)
+{
+    const uint32_t *restrict tex = st->tex->storage;
+    const int n = in->n;
+    float lam[N], f[N], c[4][N];
+    int32_t d1[N], d2[N], a1[N], a2[N];
+    span_lambda(st, in, lam);
+    mip_linear_levels(st, n, lam, d1, d2, f);
+    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, d1, a1);
+    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, d2, a2);
+    for (int k = 0; k < n; k++) {
+        uint32_t t1 = tex[a1[k]], t2 = tex[a2[k]];
+        for (int ch = 0; ch < 4; ch++) {
+            float c1 = (float)(int32_t)(t1 >> (8 * ch) & 0xffu);
+            float c2 = (float)(int32_t)(t2 >> (8 * ch) & 0xffu);
+            c[ch][k] = c1 + f[k] * (c2 - c1);
+        }
+    }
+    pack_span(n, c, out);
 }
 
 static inline PERSP_INLINE void span_bilinear(const persp_sampler_state *st, const persp_tex_span_in *in,
@@ -164,33 +276,17 @@ static inline PERSP_INLINE void span_bilinear(const persp_sampler_state *st, con
 /* Trilinear (GL 4.6 §8.14.3) with lambda per pixel from the Jacobian
  * (persp__span_jacobian, persp__jac_lambda) or once per polygon. A pixel
  * whose lambda is <= 0 (magnified) or at the last level takes one level with
- * blend factor 0, for which c1 + 0 * (float)(int32_t)(t(c2 - c1) = c1 exactly; the second level
+ * blend factor 0, for which c1 + 0·(c2 − c1) = c1 exactly; the second level
  * is fetched only when some pixel of the span blends. */
 static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, const persp_tex_span_in *in,
                                   uint32_t *out, int ws, int wt)
 {
     const int n = in->n;
-    const int32_t top = st->tex->levels - 1;
     const uint32_t *tex = st->tex->storage;
     float lam[N], f[N];
     int32_t d1[N], d2[N];
-    if (st->desc.lod_mode == PERSP_LOD_POLYGON) {
-        float l = persp__clamp_lod(st, in->poly_lambda + st->lod_bias);
-        for (int k = 0; k < n; k++) lam[k] = l;
-    } else {
-        for (int k = 0; k < n; k++) lam[k] = persp__jac_lambda(st, persp__span_jacobian(st, in, k));
-    }
-    int blend = 0;
-    for (int k = 0; k < n; k++) {
-        float l = lam[k];
-        float fl = floorf(l);
-        int32_t il = (int32_t)fl;
-        int mag = l <= 0.0f, last = il >= top;
-        d1[k] = mag ? 0 : last ? top : il;
-        f[k] = mag || last ? 0.0f : l - fl;
-        d2[k] = mag || last ? d1[k] : il + 1;
-        blend |= !(mag || last);
-    }
+    span_lambda(st, in, lam);
+    int blend = mip_linear_levels(st, n, lam, d1, d2, f);
     int32_t a00[N], a10[N], a01[N], a11[N];
     float fa[N], fb[N], c[4][N];
     linear_taps(&st->pot, ws, wt, n, in->u, in->v, d1, a00, a10, a01, a11, fa, fb);
@@ -222,13 +318,22 @@ static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, co
  * sampler set-up from the CPU. */
 FAST4(nearest_base, , span_nearest)
 FAST4(bilinear_base, , span_bilinear)
+FAST4(nmn_base, , span_nmn)
+FAST4(bmn_base, , span_bmn)
+FAST4(nml_base, , span_nml)
 FAST4(trilinear_base, , span_trilinear)
 #if PERSP_HAVE_ISA_VARIANTS
 FAST4(nearest_avx2, PERSP_TARGET_AVX2, span_nearest)
 FAST4(bilinear_avx2, PERSP_TARGET_AVX2, span_bilinear)
+FAST4(nmn_avx2, PERSP_TARGET_AVX2, span_nmn)
+FAST4(bmn_avx2, PERSP_TARGET_AVX2, span_bmn)
+FAST4(nml_avx2, PERSP_TARGET_AVX2, span_nml)
 FAST4(trilinear_avx2, PERSP_TARGET_AVX2, span_trilinear)
 FAST4(nearest_avx512, PERSP_TARGET_AVX512, span_nearest)
 FAST4(bilinear_avx512, PERSP_TARGET_AVX512, span_bilinear)
+FAST4(nmn_avx512, PERSP_TARGET_AVX512, span_nmn)
+FAST4(bmn_avx512, PERSP_TARGET_AVX512, span_bmn)
+FAST4(nml_avx512, PERSP_TARGET_AVX512, span_nml)
 FAST4(trilinear_avx512, PERSP_TARGET_AVX512, span_trilinear)
 #endif
 
@@ -270,30 +375,16 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     if (tex->level[0].texels != tex->storage) return NULL;
     st->pot.pot = 1;
     int w = ws * 2 + wt;
+    /* [isa][filter] for the filters nearest .. trilinear (persp_filter order). */
+    static const persp_tex_span_fn *const table[3][6] = {
+        {nearest_base, bilinear_base, nmn_base, bmn_base, nml_base, trilinear_base},
 #if PERSP_HAVE_ISA_VARIANTS
-    if (isa == PERSP_ISA_AVX512) {
-        switch (st->desc.filter) {
-        case PERSP_FILTER_NEAREST: return nearest_avx512[w];
-        case PERSP_FILTER_BILINEAR: return bilinear_avx512[w];
-        case PERSP_FILTER_TRILINEAR: return trilinear_avx512[w];
-        default: return NULL;
-        }
-    }
-    if (isa == PERSP_ISA_AVX2) {
-        switch (st->desc.filter) {
-        case PERSP_FILTER_NEAREST: return nearest_avx2[w];
-        case PERSP_FILTER_BILINEAR: return bilinear_avx2[w];
-        case PERSP_FILTER_TRILINEAR: return trilinear_avx2[w];
-        default: return NULL;
-        }
-    }
-#else
-    (void)isa;
+        {nearest_avx2, bilinear_avx2, nmn_avx2, bmn_avx2, nml_avx2, trilinear_avx2},
+        {nearest_avx512, bilinear_avx512, nmn_avx512, bmn_avx512, nml_avx512, trilinear_avx512},
 #endif
-    switch (st->desc.filter) {
-    case PERSP_FILTER_NEAREST: return nearest_base[w];
-    case PERSP_FILTER_BILINEAR: return bilinear_base[w];
-    case PERSP_FILTER_TRILINEAR: return trilinear_base[w];
-    default: return NULL;
-    }
+    };
+    if ((unsigned)st->desc.filter > (unsigned)PERSP_FILTER_TRILINEAR) return NULL;
+    if (isa < PERSP_ISA_BASE || isa > (PERSP_HAVE_ISA_VARIANTS ? PERSP_ISA_AVX512 : PERSP_ISA_BASE))
+        isa = PERSP_ISA_BASE;
+    return table[isa][st->desc.filter][w];
 }

@@ -1,6 +1,7 @@
 /*
- * The vectorised span samplers (src/texture/fastspan.c) against the general
- * ones (sampler.c): identical bits for every pixel of random spans, over
+ * The vectorised span samplers (src/texture/fastspan.c) of the isotropic
+ * filters (nearest, bilinear, the three mip-nearest/linear ones, trilinear)
+ * against the general ones (sampler.c): identical bits for every pixel of random spans, over
  * power-of-two sizes (square and not, down to 1 texel), both wrap modes per
  * axis, per-pixel and per-polygon LOD, bias and LOD clamps, and coordinates
  * far outside the texture, at its edges, infinite and NaN. Also that the
@@ -48,7 +49,9 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
     test_rng rng = {seed};
     persp_texture *tex = random_texture(ctx, &rng, w, h);
     const persp_filter filters[] = {PERSP_FILTER_NEAREST, PERSP_FILTER_BILINEAR,
-                                    PERSP_FILTER_TRILINEAR};
+                                    PERSP_FILTER_NEAREST_MIP_NEAREST,
+                                    PERSP_FILTER_BILINEAR_MIP_NEAREST,
+                                    PERSP_FILTER_NEAREST_MIP_LINEAR, PERSP_FILTER_TRILINEAR};
     long compared = 0;
     for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
         for (int ws = 0; ws < 2; ws++)
@@ -159,7 +162,8 @@ static void test_fast_applicability(void **state)
     assert_int_equal(persp__sampler_init(&st, pot, &desc), PERSP_OK);
     assert_ptr_equal(st.span, persp__general_span(desc.filter, desc.wrap_s, desc.wrap_t));
     desc.wrap_t = PERSP_WRAP_REPEAT;
-    desc.filter = PERSP_FILTER_NEAREST_MIP_LINEAR;
+    desc.filter = PERSP_FILTER_ANISO;
+    desc.max_aniso = 4;
     assert_int_equal(persp__sampler_init(&st, pot, &desc), PERSP_OK);
     assert_ptr_equal(st.span, persp__general_span(desc.filter, desc.wrap_s, desc.wrap_t));
     persp_texture_destroy(pot);
