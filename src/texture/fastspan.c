@@ -1,8 +1,9 @@
 /*
  * Vectorised span samplers for the states that dominate real workloads:
  * power-of-two textures, wrap repeat or clamp-to-edge on each axis, and the
- * isotropic filters (nearest, bilinear, nearest-mip-nearest,
- * bilinear-mip-nearest, nearest-mip-linear, trilinear).
+ * filters of OpenGL (nearest, bilinear, nearest-mip-nearest,
+ * bilinear-mip-nearest, nearest-mip-linear, trilinear, and the anisotropic
+ * filter of EXT_texture_filter_anisotropic).
  *
  * They compute exactly what the general samplers of sampler.c compute (GL
  * 4.6 §8.14: texel i = wrap(floor(s·W)), linear taps at floor(s·W − 1/2)
@@ -301,6 +302,59 @@ static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, co
     pack_span(n, c, out);
 }
 
+/* EXT_texture_filter_anisotropic (sampler.c span_aniso): N trilinear taps
+ * along the major axis at the common lambda', averaged. The span runs tap
+ * by tap up to its largest N; a pixel whose N is smaller adds 0·c, which
+ * leaves its sum exactly as the general sampler's loop over its own N
+ * taps leaves it. */
+static inline PERSP_INLINE void span_aniso(const persp_sampler_state *st, const persp_tex_span_in *in,
+                                           uint32_t *out, int ws, int wt)
+{
+    const int n = in->n;
+    const float W = (float)st->tex->width, H = (float)st->tex->height;
+    const uint32_t *tex = st->tex->storage;
+    float lam[N], du[N], dv[N], inv[N], f[N];
+    int32_t taps[N], d1[N], d2[N];
+    for (int k = 0; k < n; k++) {
+        persp_tex_jac j = persp__span_jacobian(st, in, k);
+        int mx;
+        taps[k] = persp__aniso_rule(st, j, &lam[k], &mx);
+        du[k] = (mx ? j.ux : j.uy) / W;
+        dv[k] = (mx ? j.vx : j.vy) / H;
+        inv[k] = 1.0f / (float)taps[k];
+    }
+    int32_t tmax = 1;
+    for (int k = 0; k < n; k++) tmax = taps[k] > tmax ? taps[k] : tmax;
+    const int blend = mip_linear_levels(st, n, lam, d1, d2, f);
+    float acc[4][N];
+    for (int ch = 0; ch < 4; ch++)
+        for (int k = 0; k < n; k++) acc[ch][k] = 0.0f;
+    for (int32_t t = 0; t < tmax; t++) {
+        float ut[N], vt[N], m[N], fa[N], fb[N], c[4][N];
+        int32_t a00[N], a10[N], a01[N], a11[N];
+        for (int k = 0; k < n; k++) {
+            float sk = ((float)t + 0.5f) * inv[k] - 0.5f;
+            ut[k] = in->u[k] + sk * du[k];
+            vt[k] = in->v[k] + sk * dv[k];
+            m[k] = t < taps[k] ? 1.0f : 0.0f;
+        }
+        linear_taps(&st->pot, ws, wt, n, ut, vt, d1, a00, a10, a01, a11, fa, fb);
+        linear_sum(tex, n, a00, a10, a01, a11, fa, fb, c);
+        if (blend) {
+            float c2[4][N];
+            linear_taps(&st->pot, ws, wt, n, ut, vt, d2, a00, a10, a01, a11, fa, fb);
+            linear_sum(tex, n, a00, a10, a01, a11, fa, fb, c2);
+            for (int ch = 0; ch < 4; ch++)
+                for (int k = 0; k < n; k++) c[ch][k] += f[k] * (c2[ch][k] - c[ch][k]);
+        }
+        for (int ch = 0; ch < 4; ch++)
+            for (int k = 0; k < n; k++) acc[ch][k] += m[k] * c[ch][k];
+    }
+    for (int ch = 0; ch < 4; ch++)
+        for (int k = 0; k < n; k++) acc[ch][k] *= inv[k];
+    pack_span(n, acc, out);
+}
+
 #define R PERSP_WRAP_REPEAT
 #define E PERSP_WRAP_CLAMP_TO_EDGE
 #define FAST(NAME, ATTR, BODY, WS, WT)                                                             \
@@ -322,6 +376,7 @@ FAST4(nmn_base, , span_nmn)
 FAST4(bmn_base, , span_bmn)
 FAST4(nml_base, , span_nml)
 FAST4(trilinear_base, , span_trilinear)
+FAST4(aniso_base, , span_aniso)
 #if PERSP_HAVE_ISA_VARIANTS
 FAST4(nearest_avx2, PERSP_TARGET_AVX2, span_nearest)
 FAST4(bilinear_avx2, PERSP_TARGET_AVX2, span_bilinear)
@@ -329,12 +384,14 @@ FAST4(nmn_avx2, PERSP_TARGET_AVX2, span_nmn)
 FAST4(bmn_avx2, PERSP_TARGET_AVX2, span_bmn)
 FAST4(nml_avx2, PERSP_TARGET_AVX2, span_nml)
 FAST4(trilinear_avx2, PERSP_TARGET_AVX2, span_trilinear)
+FAST4(aniso_avx2, PERSP_TARGET_AVX2, span_aniso)
 FAST4(nearest_avx512, PERSP_TARGET_AVX512, span_nearest)
 FAST4(bilinear_avx512, PERSP_TARGET_AVX512, span_bilinear)
 FAST4(nmn_avx512, PERSP_TARGET_AVX512, span_nmn)
 FAST4(bmn_avx512, PERSP_TARGET_AVX512, span_bmn)
 FAST4(nml_avx512, PERSP_TARGET_AVX512, span_nml)
 FAST4(trilinear_avx512, PERSP_TARGET_AVX512, span_trilinear)
+FAST4(aniso_avx512, PERSP_TARGET_AVX512, span_aniso)
 #endif
 
 #undef R
@@ -375,15 +432,16 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     if (tex->level[0].texels != tex->storage) return NULL;
     st->pot.pot = 1;
     int w = ws * 2 + wt;
-    /* [isa][filter] for the filters nearest .. trilinear (persp_filter order). */
-    static const persp_tex_span_fn *const table[3][6] = {
-        {nearest_base, bilinear_base, nmn_base, bmn_base, nml_base, trilinear_base},
+    /* [isa][filter] for the filters nearest .. aniso (persp_filter order). */
+    static const persp_tex_span_fn *const table[3][7] = {
+        {nearest_base, bilinear_base, nmn_base, bmn_base, nml_base, trilinear_base, aniso_base},
 #if PERSP_HAVE_ISA_VARIANTS
-        {nearest_avx2, bilinear_avx2, nmn_avx2, bmn_avx2, nml_avx2, trilinear_avx2},
-        {nearest_avx512, bilinear_avx512, nmn_avx512, bmn_avx512, nml_avx512, trilinear_avx512},
+        {nearest_avx2, bilinear_avx2, nmn_avx2, bmn_avx2, nml_avx2, trilinear_avx2, aniso_avx2},
+        {nearest_avx512, bilinear_avx512, nmn_avx512, bmn_avx512, nml_avx512, trilinear_avx512,
+         aniso_avx512},
 #endif
     };
-    if ((unsigned)st->desc.filter > (unsigned)PERSP_FILTER_TRILINEAR) return NULL;
+    if ((unsigned)st->desc.filter > (unsigned)PERSP_FILTER_ANISO) return NULL;
     if (isa < PERSP_ISA_BASE || isa > (PERSP_HAVE_ISA_VARIANTS ? PERSP_ISA_AVX512 : PERSP_ISA_BASE))
         isa = PERSP_ISA_BASE;
     return table[isa][st->desc.filter][w];

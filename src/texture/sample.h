@@ -155,6 +155,29 @@ static inline float persp__jac_lambda(const persp_sampler_state *st, persp_tex_j
     return persp__clamp_lod(st, 0.5f * persp__log2f(r2) + st->lod_bias);
 }
 
+/* EXT_texture_filter_anisotropic: tap count N = min(ceil(Pmax / Pmin),
+ * max_aniso) (1 for a zero footprint) and lambda' = log2(Pmax / N) of one
+ * footprint, with major_x telling which screen axis is the major one.
+ * Written without branches and with the ratio clamped before its conversion
+ * to int (a zero or tiny Pmin gives an infinite ratio, never converted), so
+ * that the general and the vectorised samplers share it. */
+static inline int persp__aniso_rule(const persp_sampler_state *st, persp_tex_jac j, float *lam,
+                                    int *major_x)
+{
+    float px2 = j.ux * j.ux + j.vx * j.vx, py2 = j.uy * j.uy + j.vy * j.vy;
+    int mx = px2 >= py2;
+    float pmax = sqrtf(mx ? px2 : py2), pmin = sqrtf(mx ? py2 : px2);
+    float maxa = (float)st->max_aniso;
+    float ratio = pmax / pmin;
+    ratio = ratio < maxa ? ratio : maxa; /* also NaN */
+    int n = pmin * maxa > pmax ? (int)ceilf(ratio) : st->max_aniso;
+    n = n < 1 ? 1 : n;
+    n = pmax > 0.0f ? n : 1;
+    *major_x = mx;
+    *lam = persp__clamp_lod(st, persp__log2f(pmax / (float)n) + st->lod_bias);
+    return n;
+}
+
 /* Trilinear filtering at an already clamped lambda (GL 4.6 §8.14.3), used as
  * the tap of the anisotropic filter; magnification (lambda <= 0) is bilinear
  * on level 0. */

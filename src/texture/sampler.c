@@ -95,25 +95,6 @@ static inline void span_iso(const persp_sampler_state *st, const persp_tex_span_
     }
 }
 
-/* EXT_texture_filter_anisotropic: tap count and lambda' of one footprint.
- * ceil(Pmax / Pmin) is formed only when it is below max_aniso, so a zero or
- * tiny Pmin never reaches a division or an int conversion. */
-static inline int aniso_rule(const persp_sampler_state *st, persp_tex_jac j, float *lam, int *major_x)
-{
-    float px2 = j.ux * j.ux + j.vx * j.vx, py2 = j.uy * j.uy + j.vy * j.vy;
-    *major_x = px2 >= py2;
-    float pmax = sqrtf(*major_x ? px2 : py2), pmin = sqrtf(*major_x ? py2 : px2);
-    int n = st->max_aniso;
-    if (!(pmax > 0.0f)) {
-        n = 1;
-    } else if (pmin * (float)st->max_aniso > pmax) {
-        n = (int)ceilf(pmax / pmin);
-        if (n < 1) n = 1;
-    }
-    *lam = persp__clamp_lod(st, log2f(pmax / (float)n) + st->lod_bias);
-    return n;
-}
-
 static inline void span_aniso(const persp_sampler_state *st, const persp_tex_span_in *in,
                               uint32_t *out, int ws, int wt)
 {
@@ -122,7 +103,7 @@ static inline void span_aniso(const persp_sampler_state *st, const persp_tex_spa
         persp_tex_jac j = persp__span_jacobian(st, in, k);
         float lam;
         int major_x;
-        int n = aniso_rule(st, j, &lam, &major_x);
+        int n = persp__aniso_rule(st, j, &lam, &major_x);
         /* The major axis in normalised coordinates; taps at its (k+1/2)/N - 1/2
          * fractions so they are centred on (u, v) and one Pmax long in all. */
         float du = (major_x ? j.ux : j.uy) / W, dv = (major_x ? j.vx : j.vy) / H;
@@ -259,7 +240,7 @@ int persp__sampler_fetches(const persp_sampler_state *st, const persp_tex_span_i
     switch (filter) {
     case PERSP_FILTER_ANISO: {
         int major_x;
-        int n = aniso_rule(st, j, &lam, &major_x);
+        int n = persp__aniso_rule(st, j, &lam, &major_x);
         return n * trilinear_fetches(st, lam);
     }
     case PERSP_FILTER_ANISO_WINDOW: {
@@ -295,7 +276,7 @@ int persp__aniso_taps(const persp_sampler_state *st, float dudx, float dvdx, flo
                        dudy * (float)st->tex->width, dvdy * (float)st->tex->height};
     float lam;
     int major_x;
-    int n = aniso_rule(st, j, &lam, &major_x);
+    int n = persp__aniso_rule(st, j, &lam, &major_x);
     if (lambda) *lambda = lam;
     return n;
 }

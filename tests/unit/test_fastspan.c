@@ -1,6 +1,7 @@
 /*
  * The vectorised span samplers (src/texture/fastspan.c) of the isotropic
  * filters (nearest, bilinear, the three mip-nearest/linear ones, trilinear)
+ * and the anisotropic filter (EXT_texture_filter_anisotropic)
  * against the general ones (sampler.c): identical bits for every pixel of random spans, over
  * power-of-two sizes (square and not, down to 1 texel), both wrap modes per
  * axis, per-pixel and per-polygon LOD, bias and LOD clamps, and coordinates
@@ -51,7 +52,8 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
     const persp_filter filters[] = {PERSP_FILTER_NEAREST, PERSP_FILTER_BILINEAR,
                                     PERSP_FILTER_NEAREST_MIP_NEAREST,
                                     PERSP_FILTER_BILINEAR_MIP_NEAREST,
-                                    PERSP_FILTER_NEAREST_MIP_LINEAR, PERSP_FILTER_TRILINEAR};
+                                    PERSP_FILTER_NEAREST_MIP_LINEAR, PERSP_FILTER_TRILINEAR,
+                                    PERSP_FILTER_ANISO};
     long compared = 0;
     for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
         for (int ws = 0; ws < 2; ws++)
@@ -63,6 +65,7 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                     desc.wrap_s = (persp_wrap)ws;
                     desc.wrap_t = (persp_wrap)wt;
                     desc.lod_mode = mode == 1 ? PERSP_LOD_POLYGON : PERSP_LOD_PIXEL;
+                    desc.max_aniso = filters[fi] == PERSP_FILTER_ANISO ? 2 + 7 * mode : 0;
                     if (mode == 2) {
                         desc.lod_bias = 0.75f;
                         desc.min_lod = 0.5f;
@@ -162,8 +165,14 @@ static void test_fast_applicability(void **state)
     assert_int_equal(persp__sampler_init(&st, pot, &desc), PERSP_OK);
     assert_ptr_equal(st.span, persp__general_span(desc.filter, desc.wrap_s, desc.wrap_t));
     desc.wrap_t = PERSP_WRAP_REPEAT;
-    desc.filter = PERSP_FILTER_ANISO;
-    desc.max_aniso = 4;
+    desc.filter = PERSP_FILTER_EWA;
+    assert_int_equal(persp__sampler_init(&st, pot, &desc), PERSP_OK);
+    assert_null(persp__fast_span_select(&st));
+    desc.filter = PERSP_FILTER_ANISO_WINDOW;
+    assert_int_equal(persp__sampler_init(&st, pot, &desc), PERSP_OK);
+    assert_null(persp__fast_span_select(&st));
+    desc.filter = PERSP_FILTER_BILINEAR;
+    desc.wrap_s = PERSP_WRAP_MIRRORED_REPEAT;
     assert_int_equal(persp__sampler_init(&st, pot, &desc), PERSP_OK);
     assert_ptr_equal(st.span, persp__general_span(desc.filter, desc.wrap_s, desc.wrap_t));
     persp_texture_destroy(pot);
