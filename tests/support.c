@@ -1,5 +1,10 @@
 #include "support.h"
 
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -41,4 +46,73 @@ persp_context *test_context(void)
     assert_int_equal(persp_context_create(NULL, &ctx), PERSP_OK);
     assert_non_null(ctx);
     return ctx;
+}
+
+test_diff test_image_compare(const persp_image *a, const persp_image *b, persp_image *diff)
+{
+    test_diff d = {0, 0.0, INFINITY};
+    double se = 0.0;
+    long over = 0, n = (long)a->width * a->height;
+    for (int y = 0; y < a->height; y++)
+        for (int x = 0; x < a->width; x++) {
+            const uint8_t *p = a->pixels + (size_t)y * a->stride + 4 * (size_t)x;
+            const uint8_t *q = b->pixels + (size_t)y * b->stride + 4 * (size_t)x;
+            int m = 0;
+            for (int c = 0; c < 3; c++) {
+                int e = abs((int)p[c] - (int)q[c]);
+                se += (double)e * e;
+                if (e > m) m = e;
+            }
+            if (m > d.max_abs) d.max_abs = m;
+            if (m > 2) over++;
+            if (diff) {
+                uint8_t *o = diff->pixels + (size_t)y * diff->stride + 4 * (size_t)x;
+                int v = m * 8 > 255 ? 255 : m * 8;
+                o[0] = (uint8_t)v, o[1] = (uint8_t)(v / 4), o[2] = (uint8_t)(v / 4), o[3] = 255;
+            }
+        }
+    d.share_over2 = (double)over / (double)n;
+    double mse = se / (3.0 * (double)n);
+    d.psnr = mse > 0 ? 10.0 * log10(255.0 * 255.0 / mse) : INFINITY;
+    return d;
+}
+
+void test_golden_check(persp_context *ctx, const char *name_in, const persp_image *got,
+                       test_tolerance tol)
+{
+    char name[256], path[1024], rel[300];
+    snprintf(name, sizeof name, "%s", name_in);
+    for (char *c = name; *c; c++)
+        if (*c == ':') *c = '-';
+    snprintf(rel, sizeof rel, "tests/golden/data/%s", name);
+    test_source_path(path, sizeof path, rel);
+    const char *update = getenv("PERSP_UPDATE_GOLDEN");
+    if (update && !strcmp(update, "1")) {
+        assert_int_equal(persp_image_write_png(ctx, path, got), PERSP_OK);
+        print_message("updated %s\n", path);
+        return;
+    }
+    persp_image want;
+    if (persp_image_load(ctx, path, &want) != PERSP_OK)
+        fail_msg("cannot load golden %s: %s", path, persp_context_error(ctx));
+    assert_int_equal(want.width, got->width);
+    assert_int_equal(want.height, got->height);
+    persp_image diff;
+    assert_int_equal(persp_image_alloc(ctx, got->width, got->height, &diff), PERSP_OK);
+    test_diff d = test_image_compare(got, &want, &diff);
+    print_message("%s: max abs %d, %.4f%% pixels > 2 levels, PSNR %.1f dB\n", name, d.max_abs,
+                  100.0 * d.share_over2, d.psnr);
+    if (d.max_abs > tol.max_abs || d.share_over2 > tol.max_share_over2 || d.psnr < tol.min_psnr) {
+        char out[1024];
+        snprintf(rel, sizeof rel, "golden-fail-%s", name);
+        test_binary_path(out, sizeof out, rel);
+        persp_image_write_png(ctx, out, got);
+        snprintf(rel, sizeof rel, "golden-diff-%s", name);
+        test_binary_path(out, sizeof out, rel);
+        persp_image_write_png(ctx, out, &diff);
+        fail_msg("%s outside tolerance (max abs <= %d, share > 2 <= %.4f, PSNR >= %.1f); see %s", name,
+                 tol.max_abs, tol.max_share_over2, tol.min_psnr, out);
+    }
+    persp_image_free(ctx, &diff);
+    persp_image_free(ctx, &want);
 }

@@ -21,4 +21,24 @@ double test_rng_uniform(test_rng *r, double lo, double hi);
 /* A context that fails the test if it cannot be created. */
 persp_context *test_context(void);
 
+/* Golden images (ARCHITECTURE.md, testing layer 3). */
+typedef struct test_tolerance {
+    int max_abs;            /* largest per-channel difference */
+    double max_share_over2; /* share of pixels with a channel differing by more than 2 */
+    double min_psnr;        /* dB */
+} test_tolerance;
+typedef struct test_diff {
+    int max_abs;
+    double share_over2, psnr;
+} test_diff;
+/* RGB differences of two images of equal size; diff (optional) receives the
+ * largest channel difference per pixel, amplified 8 times, in red. */
+test_diff test_image_compare(const persp_image *a, const persp_image *b, persp_image *diff);
+/* Compares got with tests/golden/data/NAME (':' in NAME becomes '-') within
+ * tol, failing the test and writing golden-fail-NAME and golden-diff-NAME
+ * into the build folder when outside it; with PERSP_UPDATE_GOLDEN=1 rewrites
+ * the reference instead (review new references before committing them). */
+void test_golden_check(persp_context *ctx, const char *name, const persp_image *got,
+                       test_tolerance tol);
+
 #endif
