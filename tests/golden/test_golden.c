@@ -11,7 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 static void render(persp_context *ctx, const char *scene_name, const char *method, const char *filter,
                    int w, int h, persp_image *out)
 {

@@ -12,7 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 static void render(persp_context *ctx, const char *scene_name, const char *filter, persp_pipeline pipe,
                    int w, int h, persp_image *out)
 {

@@ -13,7 +13,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 /* Renders scenes/NAME.json at w × h; shading NULL keeps the scene's. */
 static void render(persp_context *ctx, const char *name, const char *shading, int w, int h,
                    persp_image *out)
