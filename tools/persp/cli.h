@@ -31,6 +31,9 @@ int cli_parse_int(const char *text, long lo, long hi, long *out);
 /* CLI_OK if spec names a method with valid parameters; otherwise prints
  * "persp: COMMAND: ..." with the accepted form and returns CLI_USAGE. */
 int cli_check_method(const char *command, const char *spec);
+/* Splits a comma list in place, appending its items to list[*n ...] (at
+ * most cap in all); 0 on an empty item or when the list is full. */
+int cli_split_list(char *text, const char **list, size_t *n, size_t cap);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 

@@ -38,19 +38,6 @@ static void accuracy_usage(FILE *out)
         fprintf(out, "  %-17s %s\n", persp_accuracy_case_name(i), persp_accuracy_case_summary(i));
 }
 
-/* Splits a comma list in place into list[*n ...]; 0 on an empty item or overflow. */
-static int add_list(char *text, const char **list, size_t *n)
-{
-    for (char *p = text;;) {
-        char *comma = strchr(p, ',');
-        if (comma) *comma = '\0';
-        if (!*p || *n >= MAX_LIST) return 0;
-        list[(*n)++] = p;
-        if (!comma) return 1;
-        p = comma + 1;
-    }
-}
-
 /* Whether text (up to the next ':' or ',') is a registered method name. */
 static int starts_method(const char *text)
 {
@@ -61,7 +48,7 @@ static int starts_method(const char *text)
     return 0;
 }
 
-/* Like add_list, but inside a method's parameters (after its ':') a comma
+/* Like cli_split_list, but inside a method's parameters (after its ':') a comma
  * starts a new method only where a method name follows it, so parameter
  * lists such as "midpoint:int,edge" stay whole. */
 static int add_method_list(char *text, const char **list, size_t *n)
@@ -107,7 +94,7 @@ int cmd_accuracy(int argc, char **argv)
                 return cli_error(CLI_USAGE, "accuracy: bad --method '%s' (empty name or too many)", val);
         } else if (!strcmp(a, "--case")) {
             NEED_VALUE();
-            if (!add_list(val, cases, &ncases))
+            if (!cli_split_list(val, cases, &ncases, MAX_LIST))
                 return cli_error(CLI_USAGE, "accuracy: bad --case '%s' (empty name or too many)", val);
         } else if (!strcmp(a, "--size")) {
             NEED_VALUE();

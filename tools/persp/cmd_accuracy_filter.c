@@ -38,18 +38,6 @@ static void usage(FILE *out)
         fprintf(out, "  %-10s %s\n", persp_filter_accuracy_case_name(i), persp_filter_accuracy_case_summary(i));
 }
 
-static int add_list(char *text, const char **list, size_t *n)
-{
-    for (char *p = text;;) {
-        char *comma = strchr(p, ',');
-        if (comma) *comma = '\0';
-        if (!*p || *n >= MAX_LIST) return 0;
-        list[(*n)++] = p;
-        if (!comma) return 1;
-        p = comma + 1;
-    }
-}
-
 int cmd_accuracy_filter(int argc, char **argv)
 {
     const char *filters[MAX_LIST], *cases[MAX_LIST];
@@ -71,12 +59,12 @@ int cmd_accuracy_filter(int argc, char **argv)
         } else if (!strcmp(a, "--filter")) {
             if (val && val[0] != '-') {
                 i++;
-                if (!add_list(val, filters, &nf))
+                if (!cli_split_list(val, filters, &nf, MAX_LIST))
                     return cli_error(CLI_USAGE, "accuracy: bad --filter '%s' (empty name or too many)", val);
             }
         } else if (!strcmp(a, "--case")) {
             NEED_VALUE();
-            if (!add_list(val, cases, &nc))
+            if (!cli_split_list(val, cases, &nc, MAX_LIST))
                 return cli_error(CLI_USAGE, "accuracy: bad --case '%s' (empty name or too many)", val);
         } else if (!strcmp(a, "--size")) {
             NEED_VALUE();

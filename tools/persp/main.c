@@ -81,6 +81,18 @@ int cli_parse_size(const char *text, int *w, int *h)
     return 1;
 }
 
+int cli_split_list(char *text, const char **list, size_t *n, size_t cap)
+{
+    for (char *p = text;;) {
+        char *comma = strchr(p, ',');
+        if (comma) *comma = '\0';
+        if (!*p || *n >= cap) return 0;
+        list[(*n)++] = p;
+        if (!comma) return 1;
+        p = comma + 1;
+    }
+}
+
 double cli_now(void)
 {
     struct timespec ts;
