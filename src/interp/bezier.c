@@ -68,14 +68,14 @@
  *
  * Cost: per span 6 mul + 6 add (planes), 3 div, 18 mul, 17 add (ends and
  * control points). Per pixel:
- *   step   per whole step or correction step 6 add (2 per coordinate) and
- *          1-2 cmp; per correction also 15 mul (power-of-two scalings:
- *          halving 9, doubling back 6) and 6 add; 2 add for the target.
- *          Typically 1-2 whole steps and 5-6 corrections; no multiplication
- *          other than the exact scalings by powers of two.
- *   quadt  8 add (4 per coordinate); per span + x(½), the fit of t(x)
- *          (3 div), the quartic's coefficients (15 mul, 2 add) and its
- *          differences (2 × ~51 mul, ~19 add).
+ *   step   per whole step 6 add (2 per coordinate), per correction 12 add and
+ *          15 mul that are exact scalings by powers of two (halving 9,
+ *          doubling back 6; shifts in fixed point), 1-2 cmp per test, 2 add
+ *          for the window; measured ~1.6 whole steps and 3.0-3.5 corrections
+ *          per pixel on random triangles. Per span + 14 mul, 3 add.
+ *   quadt  8 add (4 per coordinate); per span + x(½) (1 mul, 1 add), the fit
+ *          of t(x) (3 div, 3 mul, 9 add), the quartics (15 mul, 2 add) and
+ *          their differences (2 × 51 mul, 19 add).
  */
 #include "core/internal.h"
 #include "interp/methods.h"
@@ -285,8 +285,8 @@ const persp_method persp__method_bezier = {
     .summary = "quadratic Bezier through the span ends, inner point at the tangent intersection, "
                "by forward differences",
     .source = "seed 000 §4.7, (4.21)-(4.38)",
-    .cost = "step: 6 add /whole step + 15 mul (2^k scalings), 12 add /correction, ~1.5 steps + "
-            "~5 corrections /px; quadt: 8 add /px; 3 div /span",
+    .cost = "step: 6 add /whole step, 12 add + 15 mul (2^k scalings) /correction, ~1.6 steps + "
+            "~3.3 corrections /px, 3 div /span; quadt: 8 add /px, 6 div /span",
     .parse = bez_parse,
     .span = bez_span,
 };
