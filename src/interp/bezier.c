@@ -54,9 +54,10 @@
  * ≤ Σ_j C(k, j)·|r_j| + 2^-53·Σ_j C(k, j+1)·max|Δ^j| (poly.h), measured
  * ≤ 4.2e-15 of the span's range for quadt, while float differences drift up
  * to ~35 float ulps (2e-6 of the range), beyond the bound below where the
- * curve is nearly exact. Each step rescaling and step adds one rounding in
- * double (~1e-16 relative); with ≤ 12 halvings and doublings per pixel the
- * accumulated error stays below 1e-13 of the span's range.
+ * curve is nearly exact. In step each rescaling and each step rounds once
+ * or twice in double; over a span the walked u differs from u(t) at the
+ * walked t by at most 8.1e-15·(|u0| + |u1| + |u2|) (measured over 100 000
+ * random spans, depth ratio up to 8, t tracked exactly alongside).
  *
  * Error bound: |Δu| ≤ E_B + |du/dx|max·ε_x (+ the float rounding of the
  * output), where E_B is the largest vertical distance between the Bézier
