@@ -17,6 +17,7 @@ extern const persp_method persp__method_quadratic, persp__method_quadratic_shift
 extern const persp_method persp__method_quadratic_unnorm, persp__method_cubic;
 extern const persp_method persp__method_biquadratic, persp__method_bicubic;
 extern const persp_method persp__method_bezier;
+extern const persp_method persp__method_quadratic_pw; /* pwquad.c */
 extern const persp_method persp__method_midpoint; /* midpoint.c */
 extern const persp_method persp__method_constz;   /* constz.c */
 extern const persp_method persp__method_adaptive; /* adaptive.c */

@@ -50,7 +50,7 @@ double persp__poly_eval(const persp_poly *p, double s)
 
 void persp__fd_init(const persp_poly *p, double s0, double h, persp_fd *fd, persp_opcount *ops)
 {
-    /* Taylor coefficients at s0: p(s0 + x) = b0 + b1·x + b2·x² + b3·x³. */
+    /* Taylor coefficients at s0: p(s0 + x) = b0 + b1·x + b2·x² + b3·x³ (+ b4·x⁴). */
     const double *c = p->c;
     double b0 = persp__poly_eval(p, s0);
     double b1 = c[1] + s0 * (2.0 * c[2] + s0 * 3.0 * c[3]);
@@ -67,6 +67,19 @@ void persp__fd_init(const persp_poly *p, double s0, double h, persp_fd *fd, pers
     fd->d[3] = 6.0 * b3 * h3;
     PERSP_OPS(ops, mul, 3 * p->degree + 14);
     PERSP_OPS(ops, add, p->degree + 6);
+    if (p->degree >= 4) {
+        /* The quartic term: c4·(s0 + x)⁴ adds 4c4·s0³, 6c4·s0², 4c4·s0 to
+         * b1..b3, and Δ^j x⁴ at 0 with step h is j!·S(4, j)·h⁴ = 1, 14, 36, 24
+         * times h⁴ (Stirling numbers of the second kind S(4, j) = 1, 7, 6, 1). */
+        double c4 = c[4], s02 = s0 * s0, h4 = h2 * h2;
+        double e1 = 4.0 * c4 * s02 * s0, e2 = 6.0 * c4 * s02, e3 = 4.0 * c4 * s0;
+        fd->d[1] += e1 * h + e2 * h2 + e3 * h3 + c4 * h4;
+        fd->d[2] += 2.0 * e2 * h2 + 6.0 * e3 * h3 + 14.0 * c4 * h4;
+        fd->d[3] += 6.0 * e3 * h3 + 36.0 * c4 * h4;
+        fd->d[4] = 24.0 * c4 * h4;
+        PERSP_OPS(ops, mul, 25);
+        PERSP_OPS(ops, add, 9);
+    }
 }
 
 void persp__fd_run(persp_fd *fd, int n, float *out, int stride, persp_opcount *ops)
@@ -89,7 +102,7 @@ void persp__fd_run(persp_fd *fd, int n, float *out, int stride, persp_opcount *o
             d1 += d2;
         }
         break;
-    default:
+    case 3:
         for (int k = 0; k < n; k++) {
             out[k * stride] = (float)d0;
             d0 += d1;
@@ -97,8 +110,19 @@ void persp__fd_run(persp_fd *fd, int n, float *out, int stride, persp_opcount *o
             d2 += d3;
         }
         break;
+    default: {
+        double d4 = fd->d[4];
+        for (int k = 0; k < n; k++) {
+            out[k * stride] = (float)d0;
+            d0 += d1;
+            d1 += d2;
+            d2 += d3;
+            d3 += d4;
+        }
+        break;
     }
-    fd->d[0] = d0, fd->d[1] = d1, fd->d[2] = d2;
+    }
+    fd->d[0] = d0, fd->d[1] = d1, fd->d[2] = d2, fd->d[3] = d3;
     PERSP_OPS(ops, add, (uint64_t)fd->degree * (uint64_t)(n > 0 ? n : 0));
 }
 

@@ -14,6 +14,7 @@ static const persp_method *const registry[] = {
     &persp__method_quadratic,
     &persp__method_quadratic_shifted,
     &persp__method_quadratic_unnorm,
+    &persp__method_quadratic_pw,
     &persp__method_cubic,
     &persp__method_biquadratic,
     &persp__method_bicubic,

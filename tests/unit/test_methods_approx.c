@@ -1,6 +1,6 @@
 /*
  * The approximating methods (quadratic, quadratic-shifted, quadratic-unnorm,
- * cubic, subdiv, subdiv-quad, bezier, biquadratic, bicubic) against the
+ * quadratic-pw, cubic, subdiv, subdiv-quad, bezier, biquadratic, bicubic) against the
  * double-precision rational form on the random-triangles set, each checked
  * pixel by pixel against its documented error bound, which the test computes
  * from the method's definition (its nodes) and the triangle's planes.
@@ -16,8 +16,8 @@
 #define OUT_SLACK(x) (0x1p-24 * fabs(x) + 1e-13)
 
 typedef enum bound_kind {
-    B_QUAD, B_SHIFTED, B_UNNORM, B_CUBIC, B_SUBDIV, B_SUBDIV_QUAD, B_BEZ_STEP, B_BEZ_QUADT,
-    B_BIQUAD, B_BICUBIC
+    B_QUAD, B_SHIFTED, B_UNNORM, B_PWQUAD, B_CUBIC, B_SUBDIV, B_SUBDIV_QUAD, B_BEZ_STEP,
+    B_BEZ_QUADT, B_BIQUAD, B_BICUBIC
 } bound_kind;
 
 typedef struct approx_ctx {
@@ -134,6 +134,18 @@ static void check_span(void *user, const persp_rational *r, int x0, int y, int n
                     bound = node_bound(&f, nodes, 3, k, 0, L);
                     break;
                 }
+                case B_PWQUAD: {
+                    /* Pixels 0..⌊L/2⌋ on the first half's quadratic, the rest
+                     * on the second's (pwquad.c). */
+                    if (k <= (n - 1) / 2) {
+                        const double nodes[3] = {0, L / 4, L / 2};
+                        bound = node_bound(&f, nodes, 3, k, 0, L / 2);
+                    } else {
+                        const double nodes[3] = {L / 2, 3 * L / 4, L};
+                        bound = node_bound(&f, nodes, 3, k, L / 2, L);
+                    }
+                    break;
+                }
                 case B_CUBIC: {
                     const double nodes[4] = {0, L / 3, 2 * L / 3, L};
                     bound = node_bound(&f, nodes, 4, k, 0, L);
@@ -243,6 +255,7 @@ static void test_quadratic(void **s) { (void)s, run_method("quadratic", B_QUAD, 
 static void test_shifted(void **s) { (void)s, run_method("quadratic-shifted", B_SHIFTED, 0); }
 static void test_unnorm(void **s) { (void)s, run_method("quadratic-unnorm", B_UNNORM, 0); }
 static void test_cubic(void **s) { (void)s, run_method("cubic", B_CUBIC, 0); }
+static void test_pwquad(void **s) { (void)s, run_method("quadratic-pw", B_PWQUAD, 0); }
 static void test_subdiv(void **s)
 {
     (void)s;
@@ -278,8 +291,8 @@ static void test_short_spans_and_anchors(void **state)
     (void)state;
     static const char *specs[] = {"incremental", "incremental:k=4", "incremental:bidir",
                                   "subdiv:4", "subdiv", "subdiv-quad:8", "quadratic",
-                                  "quadratic-shifted", "quadratic-unnorm", "cubic", "bezier",
-                                  "bezier:quadt"};
+                                  "quadratic-shifted", "quadratic-unnorm", "quadratic-pw",
+                                  "cubic", "bezier", "bezier:quadt"};
     test_rng rng = {77};
     for (int trial = 0; trial < 40; trial++) {
         h_triangle T;
@@ -325,6 +338,7 @@ static void test_op_counts(void **state)
     struct { const char *spec; uint64_t div; } want[] = {
         {"incremental", 64}, {"subdiv:16", 5 + 1}, {"subdiv:4", 17 + 1}, /* nodes + 1/len of the short last segment */ {"quadratic", 4},
         {"quadratic-unnorm", 4}, {"bezier:step", 3},
+        {"quadratic-pw", 24}, /* per coordinate and half: 3 nodes + 3 divided differences */
     };
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
         persp_method_sel sel = h_method(want[i].spec);
@@ -343,6 +357,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_quadratic),   cmocka_unit_test(test_shifted),
         cmocka_unit_test(test_unnorm),      cmocka_unit_test(test_cubic),
+        cmocka_unit_test(test_pwquad),
         cmocka_unit_test(test_subdiv),      cmocka_unit_test(test_subdiv_quad),
         cmocka_unit_test(test_bezier),      cmocka_unit_test(test_bipoly),
         cmocka_unit_test(test_short_spans_and_anchors), cmocka_unit_test(test_op_counts),

@@ -43,6 +43,7 @@ static const char *const variants[] = {
     "quadratic",
     "quadratic-shifted",
     "quadratic-unnorm",
+    "quadratic-pw",
     "cubic",
     "biquadratic",
     "bicubic",

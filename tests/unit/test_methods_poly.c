@@ -28,10 +28,11 @@ static void test_interp_and_fd(void **state)
     test_rng rng = {11};
     for (int trial = 0; trial < 500; trial++) {
         persp_rat1 f = random_rat(&rng);
-        int count = 1 + (int)(test_rng_next(&rng) % 4);
-        double s[4], y[4];
+        int count = 1 + (int)(test_rng_next(&rng) % 5);
+        double s[5], y[5];
         for (int j = 0; j < count; j++) {
-            s[j] = j * 21.0 + test_rng_uniform(&rng, 0, 5);
+            /* Nodes within [0, 70], where random_rat's denominator stays positive. */
+            s[j] = j * (count == 5 ? 15.0 : 21.0) + test_rng_uniform(&rng, 0, 5);
             y[j] = persp__rat1_eval(&f, s[j]);
         }
         persp_poly p;
@@ -52,7 +53,35 @@ static void test_interp_and_fd(void **state)
         for (int k = 0; k < 64; k++) {
             double want = persp__poly_eval(&p, s0 + k * h);
             NEAR(out[k], want, 0x1p-23 * fabs(want) + 1e-9 * (1 + fabs(p.c[0]) + fabs(p.c[1]) * 64 +
-                                                             fabs(p.c[2]) * 4096 + fabs(p.c[3]) * 262144));
+                                                             fabs(p.c[2]) * 4096 + fabs(p.c[3]) * 262144 +
+                                                             fabs(p.c[4]) * 16777216));
+        }
+    }
+}
+
+/* Forward differences of quartics (bezier:quadt) with integer coefficients
+ * on integer and half-integer grids: every value and difference is a dyadic
+ * number far below 2^53, and every value below 2^24, so the float output
+ * must equal the polynomial exactly. */
+static void test_fd_quartic_exact(void **state)
+{
+    (void)state;
+    test_rng rng = {13};
+    for (int trial = 0; trial < 300; trial++) {
+        persp_poly p = {4, {0}};
+        for (int i = 0; i <= 4; i++) p.c[i] = (double)((int)(test_rng_next(&rng) % 7) - 3);
+        if (p.c[4] == 0.0) p.c[4] = 1.0;
+        const double s0 = (double)((int)(test_rng_next(&rng) % 15) - 7);
+        const double h = (trial % 2) ? 1.0 : 0.5;
+        persp_fd fd;
+        float out[40];
+        persp__fd_init(&p, s0, h, &fd, NULL);
+        assert_int_equal(fd.degree, 4);
+        persp__fd_run(&fd, 40, out, 1, NULL);
+        for (int k = 0; k < 40; k++) {
+            double want = persp__poly_eval(&p, s0 + k * h);
+            if (out[k] != (float)want)
+                fail_msg("trial %d k %d: %.9g != %.17g", trial, k, out[k], want);
         }
     }
 }
@@ -209,7 +238,8 @@ static void test_tw_piecewise(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_interp_and_fd),  cmocka_unit_test(test_approx_span),
+        cmocka_unit_test(test_interp_and_fd),  cmocka_unit_test(test_fd_quartic_exact),
+        cmocka_unit_test(test_approx_span),
         cmocka_unit_test(test_table_4_1),      cmocka_unit_test(test_formula_4_9),
         cmocka_unit_test(test_bezier_control), cmocka_unit_test(test_quadt_cramer),
         cmocka_unit_test(test_tw_piecewise),
