@@ -8,9 +8,8 @@
  *    i.e. the perspective parameter t_w of (4.6) in two dimensions, computed
  *    by a texture-coordinate method run on the planes of b1/w, b2/w. The
  *    polynomial t_w approximations of §4.3 are therefore the span methods
- *    `quadratic` and `cubic` (src/interp/quadratic.c), and the piecewise
- *    quadratic is persp__approx_span of src/interp/poly.c, the fitting and
- *    forward-difference code those methods share: written once.
+ *    `quadratic`, `quadratic-pw` and `cubic` of src/interp, whose fitting
+ *    and forward differences are poly.c's: written once.
  * Lighting is Blinn–Phong with ambient, diffuse and specular terms.
  */
 #include "shade/shade.h"
@@ -140,20 +139,6 @@ static void bary_linear(const persp_tri *t, const persp_frag_batch *b, float *b1
     }
 }
 
-/* Piecewise-quadratic t_w (seed 000 §4.3): two quadratics on the halves of
- * the span, each through its ends and middle, fitted to the 1-D rationals of
- * b1 and b2 along the span by the shared span-polynomial code (poly.c). b1
- * and b2 are affine in t_w, so this is the seed's polynomial in t_v mapped
- * through the barycentric planes. */
-static void bary_pwquad(const persp_tri *t, const persp_frag_batch *b, float *b1, float *b2)
-{
-    persp_span_rat s;
-    persp__span_rat_init(&t->bary, b->x0, b->y, &s);
-    persp_rat1 f1 = persp__span_rat1(&s, 0), f2 = persp__span_rat1(&s, 1);
-    persp__approx_span(&f1, PERSP_APPROX_PWQUAD, 0.5, b->n, b1, NULL);
-    persp__approx_span(&f2, PERSP_APPROX_PWQUAD, 0.5, b->n, b2, NULL);
-}
-
 /* Perspective-correct weights: the draw's shading method on the barycentric
  * rational. Batches with explicit pixel positions (custom traversals) have
  * no span for a span method to work along, so they use the exact form. */
@@ -161,11 +146,8 @@ static void bary_perspective(const persp_draw_state *ds, const persp_tri *t,
                              const persp_frag_batch *b, float *b1, float *b2)
 {
     if (!b->px) {
-        if (ds->shading == PERSP_SHADING_PHONG_PC_PWQUAD)
-            bary_pwquad(t, b, b1, b2);
-        else
-            ds->shade_method.m->span(&t->bary, &ds->shade_method.params, NULL, b->x0, b->y,
-                                     b->n, b1, b2, NULL);
+        ds->shade_method.m->span(&t->bary, &ds->shade_method.params, NULL, b->x0, b->y, b->n, b1,
+                                 b2, NULL);
         return;
     }
     for (int k = 0; k < b->n; k++) {
@@ -477,7 +459,7 @@ static const char *shade_method_spec(persp_shading s)
     case PERSP_SHADING_PHONG_SLERP:
     case PERSP_SHADING_PHONG_SLERP_SCREEN: return "exact";
     case PERSP_SHADING_PHONG_PC_QUAD: return "quadratic";
-    case PERSP_SHADING_PHONG_PC_PWQUAD: return "exact"; /* span: bary_pwquad; no span: exact */
+    case PERSP_SHADING_PHONG_PC_PWQUAD: return "quadratic-pw";
     case PERSP_SHADING_PHONG_PC_CUBIC: return "cubic";
     default: return NULL;
     }
