@@ -356,16 +356,25 @@ static int row_range_cb(const void *p, int y, int *lo, int *hi)
 }
 
 /* Copies one tile row (n 32-bit values) to the framebuffer. With stream
- * set, by non-temporal stores where the destination allows: a framebuffer
- * larger than the caches is then written without first being read in
- * (write-allocate), which halves its memory traffic. */
+ * set, the whole 64-byte lines of the destination are written by
+ * non-temporal stores: a framebuffer larger than the caches is then written
+ * without first being read in (write-allocate), which halves its memory
+ * traffic. Partial lines at the ends (rows not aligned to 64 bytes, shared
+ * with the neighbouring tile) take ordinary stores: streaming part of a line
+ * costs more than it saves. */
 static void write_row(void *dst, const void *src, int n, int stream)
 {
 #if defined(__SSE2__)
-    if (stream && ((uintptr_t)dst & 15u) == 0 && (n & 3) == 0) {
-        __m128i *d = dst;
-        const __m128i *s = src;
-        for (int i = 0; i < n / 4; i++) _mm_stream_si128(d + i, _mm_load_si128(s + i));
+    if (stream && ((uintptr_t)dst & 3u) == 0) {
+        uint32_t *d = dst;
+        const uint32_t *s = src;
+        int head = (int)(((64u - ((uintptr_t)d & 63u)) & 63u) / 4u);
+        if (head > n) head = n;
+        memcpy(d, s, (size_t)head * 4);
+        int body = (n - head) & ~15;
+        for (int i = head; i < head + body; i += 4)
+            _mm_stream_si128((__m128i *)(void *)(d + i), _mm_loadu_si128((const __m128i *)(const void *)(s + i)));
+        memcpy(d + head + body, s + head + body, (size_t)(n - head - body) * 4);
         return;
     }
 #else
