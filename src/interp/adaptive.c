@@ -266,18 +266,8 @@ static void ad_columns(const persp_rational *r, const ad_class *c, const persp_t
         const int by1 = by0 + AD_BLOCK - 1 < area->y1 ? by0 + AD_BLOCK - 1 : area->y1;
         for (int bx0 = area->x0; bx0 <= area->x1; bx0 += AD_BLOCK) {
             const int bx1 = bx0 + AD_BLOCK - 1 < area->x1 ? bx0 + AD_BLOCK - 1 : area->x1;
-            int lo[AD_BLOCK], hi[AD_BLOCK], xa = bx1 + 1, xb = bx0 - 1;
-            for (int y = by0; y <= by1; y++) {
-                int l, h;
-                lo[y - by0] = 1, hi[y - by0] = 0;
-                if (!area->row_range(area->tri, y, &l, &h)) continue;
-                if (l < bx0) l = bx0;
-                if (h > bx1) h = bx1;
-                if (l > h) continue;
-                lo[y - by0] = l, hi[y - by0] = h;
-                if (l < xa) xa = l;
-                if (h > xb) xb = h;
-            }
+            int lo[AD_BLOCK], hi[AD_BLOCK], xa, xb;
+            persp__area_block_rows(area, by0, by1, bx0, bx1, lo, hi, &xa, &xb);
             for (int x = xa; x <= xb; x++) {
                 ad_col col;
                 int started = 0;

@@ -270,18 +270,8 @@ static void cz_traverse(const persp_rational *r, const persp_method_params *para
         const int by1 = by0 + CZ_BLOCK - 1 < area->y1 ? by0 + CZ_BLOCK - 1 : area->y1;
         for (int bx0 = area->x0; bx0 <= area->x1; bx0 += CZ_BLOCK) {
             const int bx1 = bx0 + CZ_BLOCK - 1 < area->x1 ? bx0 + CZ_BLOCK - 1 : area->x1;
-            int lo[CZ_BLOCK], hi[CZ_BLOCK], xa = bx1 + 1, xb = bx0 - 1;
-            for (int y = by0; y <= by1; y++) {
-                int l, h;
-                lo[y - by0] = 1, hi[y - by0] = 0;
-                if (!area->row_range(area->tri, y, &l, &h)) continue;
-                if (l < bx0) l = bx0;
-                if (h > bx1) h = bx1;
-                if (l > h) continue;
-                lo[y - by0] = l, hi[y - by0] = h;
-                if (l < xa) xa = l;
-                if (h > xb) xb = h;
-            }
+            int lo[CZ_BLOCK], hi[CZ_BLOCK], xa, xb;
+            persp__area_block_rows(area, by0, by1, bx0, bx1, lo, hi, &xa, &xb);
             if (xa > xb) continue;
             cz_block(r, &G, by0, by1, lo, hi, xa, xb, &b, ops);
         }

@@ -91,6 +91,27 @@ typedef struct persp_method {
                      persp_batch_sink sink, void *user, persp_opcount *ops);
 } persp_method;
 
+/* Covered columns of rows by0..by1 of a custom traversal's area, cut to
+ * columns bx0..bx1: lo[y - by0]..hi[y - by0] (empty rows get lo > hi), and
+ * the union of the rows' ranges in *xa..*xb (xa > xb when all are empty).
+ * Shared by the traversals that walk the area in blocks. */
+static inline void persp__area_block_rows(const persp_traverse_area *area, int by0, int by1,
+                                          int bx0, int bx1, int *lo, int *hi, int *xa, int *xb)
+{
+    *xa = bx1 + 1, *xb = bx0 - 1;
+    for (int y = by0; y <= by1; y++) {
+        int l, h;
+        lo[y - by0] = 1, hi[y - by0] = 0;
+        if (!area->row_range(area->tri, y, &l, &h)) continue;
+        if (l < bx0) l = bx0;
+        if (h > bx1) h = bx1;
+        if (l > h) continue;
+        lo[y - by0] = l, hi[y - by0] = h;
+        if (l < *xa) *xa = l;
+        if (h > *xb) *xb = h;
+    }
+}
+
 /* A resolved method spec: entry + parsed parameters. */
 typedef struct persp_method_sel {
     const persp_method *m;
