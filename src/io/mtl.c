@@ -94,17 +94,11 @@ __attribute__((format(printf, 4, 5)))
 #endif
 static persp_status fail(mtl_parser *p, persp_status st, size_t col, const char *fmt, ...)
 {
-    char msg[PERSP_ERRMSG_BYTES];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    persp_status r = persp__text_failv(p->ctx, st, p->name, p->cur.lineno, col, fmt, ap);
     va_end(ap);
-    return persp_context_fail(p->ctx, st, "%s:%zu:%zu: %s", p->name, p->cur.lineno, col, msg);
-}
-
-static int keyword_is(const char *tok, size_t len, const char *kw)
-{
-    return strlen(kw) == len && memcmp(tok, kw, len) == 0;
+    return r;
 }
 
 /* Statements of the format accepted and skipped: they describe effects
@@ -116,7 +110,7 @@ static int ignored_statement(const char *tok, size_t len)
                                         "Pr", "Pm", "Ps", "Pc", "Pcr", "aniso", "anisor", "norm", "map_Pr",
                                         "map_Pm", "map_Ps", "map_Ke", "map_Kn"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (keyword_is(tok, len, names[i])) return 1;
+        if (persp__keyword_is(tok, len, names[i])) return 1;
     return 0;
 }
 
@@ -182,7 +176,7 @@ static persp_status parse_map(mtl_parser *p)
         size_t col, len = persp__token(&p->cur, &tok, &col);
         int args = -1;
         for (size_t i = 0; i < sizeof opts / sizeof opts[0]; i++)
-            if (keyword_is(tok, len, opts[i].name)) args = opts[i].args;
+            if (persp__keyword_is(tok, len, opts[i].name)) args = opts[i].args;
         if (args < 0)
             return fail(p, PERSP_ERR_FORMAT, col, "unknown map_Kd option '%.*s'", (int)(len > 32 ? 32 : len), tok);
         /* -o, -s, -t take 1 to 3 numbers: stop at the first non-number. */
@@ -227,7 +221,7 @@ static persp_status statement(mtl_parser *p, const char *kw, size_t kwlen, size_
 {
     persp_status st;
     int n;
-    if (keyword_is(kw, kwlen, "newmtl")) {
+    if (persp__keyword_is(kw, kwlen, "newmtl")) {
         const char *tok;
         size_t col, len = persp__token(&p->cur, &tok, &col);
         if (len == 0) return fail(p, PERSP_ERR_FORMAT, col, "expected a material name after 'newmtl'");
@@ -264,19 +258,19 @@ static persp_status statement(mtl_parser *p, const char *kw, size_t kwlen, size_
         p->cur.pos = p->cur.len;
         return PERSP_OK;
     }
-    int known = keyword_is(kw, kwlen, "Ka") || keyword_is(kw, kwlen, "Kd") || keyword_is(kw, kwlen, "Ks") ||
-                keyword_is(kw, kwlen, "Ns") || keyword_is(kw, kwlen, "d") || keyword_is(kw, kwlen, "Tr") ||
-                keyword_is(kw, kwlen, "map_Kd");
+    int known = persp__keyword_is(kw, kwlen, "Ka") || persp__keyword_is(kw, kwlen, "Kd") || persp__keyword_is(kw, kwlen, "Ks") ||
+                persp__keyword_is(kw, kwlen, "Ns") || persp__keyword_is(kw, kwlen, "d") || persp__keyword_is(kw, kwlen, "Tr") ||
+                persp__keyword_is(kw, kwlen, "map_Kd");
     if (!known)
         return fail(p, PERSP_ERR_FORMAT, kwcol, "unknown statement '%.*s'", (int)(kwlen > 32 ? 32 : kwlen), kw);
     if (p->current < 0)
         return fail(p, PERSP_ERR_FORMAT, kwcol, "expected 'newmtl' before '%.*s'", (int)kwlen, kw);
-    if (keyword_is(kw, kwlen, "Ka")) return parse_color(p, kw, kwlen, p->mat.ambient);
-    if (keyword_is(kw, kwlen, "Kd")) return parse_color(p, kw, kwlen, p->mat.diffuse);
-    if (keyword_is(kw, kwlen, "Ks")) return parse_color(p, kw, kwlen, p->mat.specular);
-    if (keyword_is(kw, kwlen, "map_Kd")) return parse_map(p);
+    if (persp__keyword_is(kw, kwlen, "Ka")) return parse_color(p, kw, kwlen, p->mat.ambient);
+    if (persp__keyword_is(kw, kwlen, "Kd")) return parse_color(p, kw, kwlen, p->mat.diffuse);
+    if (persp__keyword_is(kw, kwlen, "Ks")) return parse_color(p, kw, kwlen, p->mat.specular);
+    if (persp__keyword_is(kw, kwlen, "map_Kd")) return parse_map(p);
     float v[1];
-    if (keyword_is(kw, kwlen, "d")) {
+    if (persp__keyword_is(kw, kwlen, "d")) {
         /* "d -halo f" is a variant of the format: the option changes nothing here. */
         persp__skip_blanks(&p->cur);
         if (p->cur.len - p->cur.pos >= 5 && memcmp(p->cur.line + p->cur.pos, "-halo", 5) == 0) p->cur.pos += 5;
@@ -285,7 +279,7 @@ static persp_status statement(mtl_parser *p, const char *kw, size_t kwlen, size_
     size_t col0 = persp__column(&p->cur);
     st = parse_numbers(p, kw, kwlen, v, 1, 1, &n);
     if (st != PERSP_OK) return st;
-    if (keyword_is(kw, kwlen, "Ns")) {
+    if (persp__keyword_is(kw, kwlen, "Ns")) {
         if (v[0] < 0.0f) return fail(p, PERSP_ERR_FORMAT, col0, "expected a shininess >= 0 after 'Ns'");
         p->mat.shininess = v[0];
     } else if (v[0] < 0.0f || v[0] > 1.0f) {

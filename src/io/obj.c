@@ -56,12 +56,11 @@ __attribute__((format(printf, 4, 5)))
 #endif
 static persp_status fail(obj_parser *p, persp_status st, size_t col, const char *fmt, ...)
 {
-    char msg[PERSP_ERRMSG_BYTES];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    persp_status r = persp__text_failv(p->ctx, st, p->name, p->cur.lineno, col, fmt, ap);
     va_end(ap);
-    return persp_context_fail(p->ctx, st, "%s:%zu:%zu: %s", p->name, p->cur.lineno, col, msg);
+    return r;
 }
 
 /* Grows *arr to hold need elements (doubling), refusing past limit before
@@ -80,11 +79,6 @@ static int reserve(persp_context *ctx, void **arr, size_t *cap, size_t need, siz
     *arr = a;
     *cap = n;
     return 1;
-}
-
-static int keyword_is(const char *tok, size_t len, const char *kw)
-{
-    return strlen(kw) == len && memcmp(tok, kw, len) == 0;
 }
 
 static persp_status numbers(obj_parser *p, const char *kw, float *out, int max, int *count)
@@ -336,7 +330,7 @@ static int ignored_statement(const char *kw, size_t len)
                                         "usemap",   "maplib",    "lod", "bevel", "c_interp", "d_interp", "call",
                                         "csh",      "shadow_obj", "trace_obj"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (keyword_is(kw, len, names[i])) return 1;
+        if (persp__keyword_is(kw, len, names[i])) return 1;
     return 0;
 }
 
@@ -345,7 +339,7 @@ static int freeform_statement(const char *kw, size_t len)
     static const char *const names[] = {"cstype", "deg", "bmat", "step", "curv", "curv2", "surf",
                                         "parm",   "trim", "hole", "scrv", "sp",   "end",   "con"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (keyword_is(kw, len, names[i])) return 1;
+        if (persp__keyword_is(kw, len, names[i])) return 1;
     return 0;
 }
 
@@ -359,9 +353,9 @@ static persp_status parse(obj_parser *p, const char *data, size_t size)
         persp_status st = PERSP_OK;
         int n = 0;
         float v[3];
-        if (keyword_is(kw, len, "v")) {
+        if (persp__keyword_is(kw, len, "v")) {
             st = vertex_statement(p, col);
-        } else if (keyword_is(kw, len, "vt")) {
+        } else if (persp__keyword_is(kw, len, "vt")) {
             if ((st = numbers(p, "vt", v, 3, &n)) != PERSP_OK) return st;
             if (n < 1) return fail(p, PERSP_ERR_FORMAT, persp__column(&p->cur), "expected a number after 'vt'");
             if (n == 1) v[1] = 0.0f;
@@ -369,7 +363,7 @@ static persp_status parse(obj_parser *p, const char *data, size_t size)
                 return fail(p, PERSP_ERR_TOO_LARGE, col, "more than %u texture coordinates, or out of memory",
                             PERSP_SCENE_MAX_VERTICES);
             memcpy(&p->tex[2 * p->ntex++], v, 2 * sizeof(float));
-        } else if (keyword_is(kw, len, "vn")) {
+        } else if (persp__keyword_is(kw, len, "vn")) {
             if ((st = numbers(p, "vn", v, 3, &n)) != PERSP_OK) return st;
             if (n < 3)
                 return fail(p, PERSP_ERR_FORMAT, persp__column(&p->cur), "expected a number after 'vn' (3 components)");
@@ -377,11 +371,11 @@ static persp_status parse(obj_parser *p, const char *data, size_t size)
                 return fail(p, PERSP_ERR_TOO_LARGE, col, "more than %u normals, or out of memory",
                             PERSP_SCENE_MAX_VERTICES);
             memcpy(&p->nrm[3 * p->nnrm++], v, 3 * sizeof(float));
-        } else if (keyword_is(kw, len, "f") || keyword_is(kw, len, "fo")) {
+        } else if (persp__keyword_is(kw, len, "f") || persp__keyword_is(kw, len, "fo")) {
             st = face_statement(p, col);
-        } else if (keyword_is(kw, len, "usemtl")) {
+        } else if (persp__keyword_is(kw, len, "usemtl")) {
             st = usemtl_statement(p);
-        } else if (keyword_is(kw, len, "mtllib")) {
+        } else if (persp__keyword_is(kw, len, "mtllib")) {
             st = mtllib_statement(p, col);
         } else if (ignored_statement(kw, len)) {
             p->cur.pos = p->cur.len;

@@ -146,3 +146,16 @@ int persp__parse_long(const char *tok, size_t len, long limit, long *out)
     *out = neg ? -v : v;
     return 1;
 }
+
+int persp__keyword_is(const char *tok, size_t len, const char *kw)
+{
+    return strlen(kw) == len && memcmp(tok, kw, len) == 0;
+}
+
+persp_status persp__text_failv(persp_context *ctx, persp_status st, const char *name, size_t line,
+                               size_t col, const char *fmt, va_list ap)
+{
+    char msg[PERSP_ERRMSG_BYTES];
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    return persp_context_fail(ctx, st, "%s:%zu:%zu: %s", name, line, col, msg);
+}

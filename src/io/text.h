@@ -8,6 +8,7 @@
 
 #include "persp.h"
 
+#include <stdarg.h>
 #include <stddef.h>
 
 /* Largest text file a loader reads (checked before allocating). */
@@ -45,6 +46,12 @@ int persp__skip_blanks(persp_line_cursor *cur);
 size_t persp__token(persp_line_cursor *cur, const char **tok, size_t *col);
 /* 1-based column of the cursor. */
 size_t persp__column(const persp_line_cursor *cur);
+
+/* Whether the token tok[0..len) is the keyword kw. */
+int persp__keyword_is(const char *tok, size_t len, const char *kw);
+/* Fails ctx with "NAME:LINE:COL: message" (the parsers' error form). */
+persp_status persp__text_failv(persp_context *ctx, persp_status st, const char *name, size_t line,
+                               size_t col, const char *fmt, va_list ap);
 
 /* Parses the whole token as a finite float (no NaN/Inf, no overflow). */
 int persp__parse_float(const char *tok, size_t len, float *out);
