@@ -113,7 +113,9 @@ typedef struct persp_image {
 persp_status persp_image_load(persp_context *ctx, const char *path, persp_image *out);
 persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
                                      const char *name, persp_image *out);
+/* Zeroed pixels whose first row starts on a 64-byte boundary. */
 persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out);
+/* Frees an image from persp_image_alloc / _load; NULL pixels are fine. */
 void persp_image_free(persp_context *ctx, persp_image *img);
 /* Writes a PNG, top row first. Writes to a temporary file renamed on success,
  * so a failure leaves nothing half-written. */
@@ -176,7 +178,8 @@ int persp_texture_height(const persp_texture *tex);
 int persp_texture_levels(const persp_texture *tex);
 /* Bytes used by all levels and by level 0 alone (mip overhead = ratio - 1). */
 void persp_texture_memory(const persp_texture *tex, size_t *all_levels, size_t *base_level);
-/* Level image view (not a copy). */
+/* Level image view (not a copy, owned by the texture: never pass it to
+ * persp_image_free). */
 persp_status persp_texture_level(const persp_texture *tex, int level, persp_image *view);
 
 /* Samples one texel colour at (u, v) with the given screen-space derivatives

@@ -41,6 +41,8 @@ static persp_status check_size(persp_context *ctx, const char *name, long long w
     return PERSP_OK;
 }
 
+#define IMAGE_ALIGN 64
+
 persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out)
 {
     if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
@@ -51,10 +53,18 @@ persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_
     persp_status st = check_size(ctx, "image", width, height);
     if (st != PERSP_OK) return st;
     size_t stride = (size_t)width * 4u;
-    uint8_t *px = persp__calloc(ctx, (size_t)height, stride);
-    if (!px)
+    /* Pixels start on a 64-byte boundary (the allocator guarantees 16): an
+     * image used as a framebuffer then shares no cache line between tiles
+     * drawn by different threads (docs/PERFORMANCE.md). The allocation's
+     * own address is kept just before the pixels for persp_image_free. */
+    size_t bytes = (size_t)height * stride + IMAGE_ALIGN + sizeof(void *);
+    uint8_t *raw = persp__calloc(ctx, 1, bytes);
+    if (!raw)
         return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "image: out of memory for %dx%d",
                                   width, height);
+    uintptr_t at = ((uintptr_t)raw + sizeof(void *) + IMAGE_ALIGN - 1) & ~(uintptr_t)(IMAGE_ALIGN - 1);
+    uint8_t *px = raw + (at - (uintptr_t)raw);
+    memcpy(px - sizeof(void *), &raw, sizeof raw);
     out->width = width;
     out->height = height;
     out->stride = stride;
@@ -65,7 +75,11 @@ persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_
 void persp_image_free(persp_context *ctx, persp_image *img)
 {
     if (!img) return;
-    persp_free(ctx, img->pixels);
+    if (img->pixels) {
+        uint8_t *raw;
+        memcpy(&raw, img->pixels - sizeof(void *), sizeof raw);
+        persp_free(ctx, raw);
+    }
     memset(img, 0, sizeof *img);
 }
 

@@ -186,7 +186,7 @@ int cmd_render(int argc, char **argv)
     persp_scene *scene = NULL;
     int rc = CLI_OK;
     persp_framebuffer fb = {0, 0, NULL, NULL};
-    persp_image img = {0, 0, 0, NULL};
+    persp_image img = {0, 0, 0, NULL}, depth_img = {0, 0, 0, NULL};
     if (is_builtin(scene_name)) st = persp_scene_builtin(ctx, scene_name, &scene);
     else st = persp_scene_load(ctx, scene_name, &scene);
     if (st != PERSP_OK) {
@@ -215,11 +215,13 @@ int cmd_render(int argc, char **argv)
     fb.width = width;
     fb.height = height;
     fb.color = img.pixels;
-    fb.depth = persp_alloc(ctx, (size_t)width * (size_t)height * sizeof(float));
-    if (!fb.depth) {
-        rc = cli_error(CLI_FAIL, "render: out of memory for a %dx%d depth buffer", width, height);
+    /* The depth buffer in an image's storage (4 bytes per pixel, as a float):
+     * 64-byte-aligned rows like the colour's, which helps several threads. */
+    if ((st = persp_image_alloc(ctx, width, height, &depth_img)) != PERSP_OK) {
+        rc = cli_status(ctx, st, "render: depth buffer");
         goto done;
     }
+    fb.depth = (float *)(void *)depth_img.pixels;
     persp_render_stats stats;
     double t0 = cli_now();
     st = persp_render(ctx, scene, &desc, &fb, &stats);
@@ -276,7 +278,7 @@ int cmd_render(int argc, char **argv)
                (double)width * height / ((t1 - t0) * 1e6), output);
     }
 done:
-    persp_free(ctx, fb.depth);
+    persp_image_free(ctx, &depth_img);
     persp_image_free(ctx, &img);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
