@@ -305,13 +305,15 @@ typedef struct persp_render_desc {
     persp_pipeline pipeline;
     int threads;             /* 0: the context's */
     int cull_backfaces;      /* -1: off, 1: on, 0: scene default */
+    int count_ops;           /* nonzero: the methods count their operations into
+                                persp_render_stats.ops (instrumented render) */
 } persp_render_desc;
 
 typedef struct persp_render_stats {
     uint64_t triangles_in, triangles_drawn, fragments, pixels_written;
-    persp_opcount ops; /* zero: persp_render runs the methods without counting, so counting
-                          costs nothing there; each method's own counts are measured by
-                          persp_accuracy_run (persp_accuracy_row.div_px ...) */
+    persp_opcount ops; /* with persp_render_desc.count_ops: the operations of the
+                          texture-coordinate method over the frame (per-triangle
+                          fits, spans, pixels, traversals); zero otherwise */
     /* Object-space pipeline (seed 004): samples walked (texels or sub-texel
      * positions of the chosen levels), splats onto pixels, polygon pieces
      * (one mip level each), covered pixels that received no sample. */

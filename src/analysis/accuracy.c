@@ -320,8 +320,9 @@ static persp_status case_random(acc_run *a, persp_accuracy_result *res, persp_tr
 
 /* A built-in scene rendered by the renderer itself with the method; the
  * captured u, v are compared with the exact form of the triangle seen at
- * each pixel. Operation counts replay the method's spans over the visible
- * runs (span methods only; a traversal's counts are not replayed). */
+ * each pixel. Operation counts are the renderer's own (an instrumented
+ * render, persp_render_desc.count_ops): per-triangle fits, spans and custom
+ * traversals as drawn, over every fragment that reached the method. */
 static persp_status case_scene(acc_run *a, persp_accuracy_result *res, const char *name)
 {
     int w = a->desc->width > 0 ? a->desc->width : 1024;
@@ -333,22 +334,16 @@ static persp_status case_scene(acc_run *a, persp_accuracy_result *res, const cha
     memset(&rd, 0, sizeof rd);
     rd.method = a->spec;
     rd.threads = 1;
+    rd.count_ops = 1;
     persp_capture cap;
     memset(&cap, 0, sizeof cap);
     st = persp__render_capture(a->ctx, scene, &rd, w, h, &cap);
     persp_scene_destroy(scene);
     if (st != PERSP_OK) return st;
-    persp_method_prep *preps = NULL;
     st = begin_case(a, (size_t)w * (size_t)h, w, h);
-    int count_ops = !a->sel.m->traverse;
-    if (st == PERSP_OK && count_ops && cap.rat_count) {
-        preps = persp__calloc(a->ctx, cap.rat_count, sizeof *preps);
-        if (!preps) st = persp_context_fail(a->ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
-        for (size_t i = 0; preps && i < cap.rat_count; i++)
-            if (a->sel.m->prepare) a->sel.m->prepare(&cap.rats[i], &a->sel.params, &preps[i], &a->m.ops);
-    }
     if (st == PERSP_OK) {
         a->m.triangles = cap.rat_count;
+        a->m.ops = cap.ops;
         for (int y = 0; y < h; y++) {
             const size_t row = (size_t)y * (size_t)w;
             int x = 0;
@@ -362,20 +357,14 @@ static persp_status case_scene(acc_run *a, persp_accuracy_result *res, const cha
                     persp_frag_batch b = {.n = end - x, .x0 = x, .y = y, .s1 = cap.s1 + row + (size_t)x,
                                           .s2 = cap.s2 + row + (size_t)x};
                     measure_batch(a, &b);
-                    if (preps) {
-                        float s1[PERSP_SPAN_MAX], s2[PERSP_SPAN_MAX];
-                        a->sel.m->span(&cap.rats[tri], &a->sel.params, &preps[tri], x, y, end - x, s1,
-                                       s2, &a->m.ops);
-                    }
                 }
                 x = end;
             }
         }
         char label[48];
         snprintf(label, sizeof label, "%s@%dx%d", name, w, h);
-        st = finish_row(a, res, label, 0.0, count_ops);
+        st = finish_row(a, res, label, 0.0, 1);
     }
-    persp_free(a->ctx, preps);
     persp__capture_free(a->ctx, &cap);
     return st;
 }

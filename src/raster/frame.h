@@ -54,6 +54,7 @@ typedef struct persp_frame {
     persp_mat4 proj;        /* projection of the scene's camera */
     /* Clear deferred to the tiles: each tile fills its own rectangle just
      * before drawing into it, while it is in cache, and in parallel. */
+    int count_ops; /* methods count into stats.ops */
     int clear_pending;
     uint32_t clear_color;
     float clear_depth;

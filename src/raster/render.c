@@ -153,7 +153,8 @@ static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int
             if (!reserve(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps))
                 return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
             t->prep = (uint32_t)f->prep_count++;
-            ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep], NULL);
+            ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
+                                  f->count_ops ? &f->stats.ops : NULL);
         }
         f->tri_count++;
     }
@@ -230,6 +231,7 @@ typedef struct span_ctx {
     const persp_draw_state *ds;
     const persp_method_prep *prep;
     persp_render_stats *stats;
+    persp_opcount *ops; /* NULL unless the frame counts operations */
     int32_t tri_index;
     uint32_t *color;
     float *depth;
@@ -291,7 +293,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         su = b->s1;
         sv = b->s2;
     } else {
-        ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, NULL);
+        ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, sc->ops);
     }
     /* A contiguous span whose pixels all pass is coloured in place in the
      * tile; otherwise into out[] and then merged. */
@@ -353,6 +355,12 @@ static int row_range_cb(const void *p, int y, int *lo, int *hi)
 {
     const area_tri *a = p;
     return persp__tri_row_range(a->t, y, a->x0, a->x1, lo, hi);
+}
+
+static void add_ops(persp_opcount *to, const persp_opcount *from)
+{
+    to->div += from->div, to->mul += from->mul, to->add += from->add, to->cmp += from->cmp;
+    to->pixels += from->pixels, to->spans += from->spans, to->triangles += from->triangles;
 }
 
 /* Copies one tile row (n 32-bit values) to the framebuffer. With stream
@@ -424,7 +432,8 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
      * different workers share cache lines. */
     persp_render_stats local;
     memset(&local, 0, sizeof local);
-    span_ctx sc = {.f = f, .stats = &local, .color = tcolor, .depth = tdepth, .ox = x0, .oy = y0};
+    span_ctx sc = {.f = f, .stats = &local, .ops = f->count_ops ? &local.ops : NULL,
+                   .color = tcolor, .depth = tdepth, .ox = x0, .oy = y0};
     const uint32_t *items = c->bin_items + c->bin_start[tile];
     for (uint32_t k = 0; k < c->bin_count[tile]; k++) {
         const persp_tri *t = &c->tris[items[k]];
@@ -437,7 +446,7 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             area_tri at = {t, x0, x1};
             persp_traverse_area area = {x0, PERSP_MAX(y0, t->ymin), x1, PERSP_MIN(y1, t->ymax),
                                         row_range_cb, &at};
-            m->traverse(&t->rat, &sc.ds->method.params, sc.prep, &area, sink, &sc, NULL);
+            m->traverse(&t->rat, &sc.ds->method.params, sc.prep, &area, sink, &sc, sc.ops);
             continue;
         }
         const int ya = PERSP_MAX(y0, t->ymin), yb = PERSP_MIN(y1, t->ymax);
@@ -457,6 +466,7 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
 #endif
     c->worker_stats[worker].fragments += local.fragments;
     c->worker_stats[worker].pixels_written += local.pixels_written;
+    add_ops(&c->worker_stats[worker].ops, &local.ops);
 }
 
 persp_status persp__frame_flush(persp_frame *f)
@@ -518,6 +528,7 @@ persp_status persp__frame_flush(persp_frame *f)
     for (int w = 0; w < workers; w++) {
         f->stats.fragments += c->worker_stats[w].fragments;
         f->stats.pixels_written += c->worker_stats[w].pixels_written;
+        add_ops(&f->stats.ops, &c->worker_stats[w].ops);
     }
     return PERSP_OK;
 }

@@ -17,6 +17,7 @@ typedef struct persp_capture {
     float *s1, *s2;
     persp_rational *rats;
     size_t rat_count;
+    persp_opcount ops; /* the method's operations, with desc->count_ops */
 } persp_capture;
 
 persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,

@@ -85,6 +85,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     st = persp__frame_begin(ctx, fb, dd.depth_mode, f);
     if (st != PERSP_OK) return st;
     f->capture = cap;
+    f->count_ops = dd.count_ops != 0;
     persp__frame_clear(f, scene->clear);
 
     persp_mat4 proj, view;
@@ -206,6 +207,7 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
         for (size_t i = 0; i < n; i++) cap->tri[i] = -1;
         persp_frame f;
         st = render_frame(ctx, scene, desc, &fb, &f, cap);
+        if (st == PERSP_OK) cap->ops = f.stats.ops;
         if (st == PERSP_OK && f.tri_count) {
             cap->rats = persp__calloc(ctx, f.tri_count, sizeof *cap->rats);
             if (!cap->rats) {

@@ -91,5 +91,12 @@ for w in repeat clamp-to-edge mirrored-repeat clamp-to-border; do
 done
 cmp -s "$tmp/w-repeat.png" "$tmp/w-clamp-to-edge.png" && bad "--wrap clamp-to-edge had no effect" || ok
 
+# Instrumented render: exact is one division per fragment; midpoint none per
+# pixel (one per span at most).
+expect 0 "operations per fragment: 1\.000 div" -- "$persp" render corridor --size 64x48 --count-ops -o "$tmp/ops.png"
+out=$("$persp" render corridor --size 64x48 --method midpoint --count-ops -o "$tmp/ops.png" 2>&1)
+d=$(sed -nE 's/.*per fragment: ([0-9.]+) div.*/\1/p' <<<"$out")
+awk -v d="${d:-9}" 'BEGIN { exit !(d < 0.5) }' && ok || bad "midpoint --count-ops: $out"
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -212,6 +212,46 @@ static void test_row_range_brute_force(void **state)
     assert_true(rows > 10000);
 }
 
+/* Instrumented render: with count_ops the methods' own counts reach the
+ * statistics — exact is one division per pixel, and the counts do not depend
+ * on the thread count; without it nothing is counted. */
+static void test_count_ops(void **state)
+{
+    (void)state;
+    const char *methods[] = {"exact", "constz", "midpoint", "quadratic"};
+    for (size_t mi = 0; mi < sizeof methods / sizeof *methods; mi++) {
+        persp_opcount got[3];
+        uint64_t fragments = 0;
+        for (int run = 0; run < 3; run++) {
+            persp_context *ctx = test_context();
+            persp_scene *scene = NULL;
+            assert_int_equal(persp_scene_builtin(ctx, "corridor", &scene), PERSP_OK);
+            enum { W = 160, H = 120 };
+            uint8_t *color = malloc(W * H * 4);
+            float *depth = malloc(W * H * sizeof(float));
+            persp_framebuffer fb = {W, H, color, depth};
+            persp_render_desc d;
+            memset(&d, 0, sizeof d);
+            d.method = methods[mi];
+            d.count_ops = run < 2;
+            d.threads = run == 1 ? 3 : 1;
+            persp_render_stats st;
+            assert_int_equal(persp_render(ctx, scene, &d, &fb, &st), PERSP_OK);
+            got[run] = st.ops;
+            fragments = st.fragments;
+            free(color);
+            free(depth);
+            persp_scene_destroy(scene);
+            persp_context_destroy(ctx);
+        }
+        assert_true(got[0].add > 0);
+        assert_memory_equal(&got[0], &got[1], sizeof got[0]);
+        assert_true(got[2].div == 0 && got[2].mul == 0 && got[2].add == 0 && got[2].cmp == 0);
+        if (mi == 0) assert_true(got[0].div == fragments);
+        else assert_true(got[0].div < fragments / 4);
+    }
+}
+
 static void test_every_pixel_covered_corridor(void **state)
 {
     (void)state;
@@ -333,6 +373,7 @@ int main(void)
         cmocka_unit_test(test_threads_bit_identical_filters),
         cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_row_range_brute_force),
+        cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),

@@ -29,6 +29,8 @@ static void render_usage(FILE *out)
             "  --texture FILE        replace the scene's texture with a PNG or JPEG\n"
             "  --threads N           worker threads (default 1)\n"
             "  --cull on|off         back-face culling (default: the scene's)\n"
+            "  --count-ops           count the method's divisions, multiplications,\n"
+            "                        additions and comparisons (instrumented render)\n"
             "  -q, --quiet           print nothing on success\n"
             "\nbuilt-in scenes:\n");
     for (size_t i = 0; i < persp_builtin_scene_count(); i++)
@@ -129,6 +131,8 @@ int cmd_render(int argc, char **argv)
             if (!strcmp(val, "on")) desc.cull_backfaces = 1;
             else if (!strcmp(val, "off")) desc.cull_backfaces = -1;
             else return cli_error(CLI_USAGE, "render: bad --cull '%s' (expected on or off)", val);
+        } else if (!strcmp(a, "--count-ops")) {
+            desc.count_ops = 1;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (a[0] == '-' && a[1] != '\0') {
@@ -274,6 +278,14 @@ int cmd_render(int argc, char **argv)
             printf("  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes\n",
                    (unsigned long long)stats.objspace_pieces, (unsigned long long)stats.objspace_samples,
                    (unsigned long long)stats.objspace_splats, (unsigned long long)stats.objspace_holes);
+        if (desc.count_ops) {
+            /* Per fragment the method was run for (covered and not hidden at
+             * the time it was drawn). */
+            double fr = stats.fragments ? (double)stats.fragments : 1.0;
+            printf("  method operations per fragment: %.3f div, %.3f mul, %.3f add, %.3f cmp\n",
+                   (double)stats.ops.div / fr, (double)stats.ops.mul / fr, (double)stats.ops.add / fr,
+                   (double)stats.ops.cmp / fr);
+        }
         printf("  %.2f ms (%.1f Mpixels/s) -> %s\n", (t1 - t0) * 1e3,
                (double)width * height / ((t1 - t0) * 1e6), output);
     }
