@@ -30,8 +30,13 @@ enum { PERSP_ISA_BASE = 0, PERSP_ISA_AVX2 = 1, PERSP_ISA_AVX512 = 2 };
 #if defined(__GNUC__) && defined(__x86_64__)
 #define PERSP_HAVE_ISA_VARIANTS 1
 #define PERSP_TARGET_AVX2 __attribute__((target("avx2")))
+#if defined(__clang__)
+#define PERSP_TARGET_AVX512                                                                        \
+    __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq"), min_vector_width(512)))
+#else
 #define PERSP_TARGET_AVX512                                                                        \
     __attribute__((target("avx512f,avx512vl,avx512bw,avx512dq,prefer-vector-width=512")))
+#endif
 static inline int persp__cpu_isa(void)
 {
     __builtin_cpu_init();
