@@ -4,21 +4,8 @@
 # with a message naming the problem.
 set -u
 persp="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok()   { pass=$((pass + 1)); }
-bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/lib.sh"
 
-# expect CODE PATTERN -- command...: exit code and a stdout/stderr pattern
-expect() {
-    local code="$1" pattern="$2"; shift 3
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
-    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
-    ok
-}
 
 expect 0 "usage: persp accuracy" -- "$persp" accuracy --help
 expect 0 "paper-quad" -- "$persp" accuracy --help

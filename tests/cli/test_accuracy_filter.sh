@@ -4,20 +4,8 @@
 # message naming the problem.
 set -u
 persp="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok()   { pass=$((pass + 1)); }
-bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/lib.sh"
 
-expect() {
-    local code="$1" pattern="$2"; shift 3
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
-    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
-    ok
-}
 
 small=(--size 40x30 --samples 2 --repeats 1)
 expect 0 "usage: persp accuracy --filter" -- "$persp" accuracy --filter --help

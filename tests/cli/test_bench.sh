@@ -6,20 +6,8 @@
 # OSMesa, fails clearly. No assertion depends on timings.
 set -u
 persp="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok()   { pass=$((pass + 1)); }
-bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/lib.sh"
 
-expect() {
-    local code="$1" pattern="$2"; shift 3
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
-    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
-    ok
-}
 
 # check_json FILE PYTHON-EXPR: the file is valid JSON and the expression
 # (over the parsed object `j`) holds.

@@ -4,20 +4,8 @@
 # its pieces and no holes, and bad values exit 2 naming the problem.
 set -u
 persp="$1"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok()   { pass=$((pass + 1)); }
-bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/lib.sh"
 
-expect() {
-    local code="$1" pattern="$2"; shift 3
-    local out rc
-    out=$("$@" 2>&1); rc=$?
-    if [ "$rc" -ne "$code" ]; then bad "$* exited $rc, expected $code: $out"; return; fi
-    if ! grep -qE -- "$pattern" <<<"$out"; then bad "$* output lacks /$pattern/: $out"; return; fi
-    ok
-}
 
 for f in nearest bilinear nearest-mip-nearest bilinear-mip-nearest nearest-mip-linear trilinear \
          aniso:2 aniso:16 aniso-window:4 ewa; do

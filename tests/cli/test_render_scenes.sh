@@ -6,11 +6,7 @@
 set -u
 persp="$1"
 src="${PERSP_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-pass=0 fail=0
-ok()   { pass=$((pass + 1)); }
-bad()  { fail=$((fail + 1)); echo "FAIL: $*"; }
+. "$(dirname "$0")/lib.sh"
 
 modes="none flat gouraud gouraud-pc phong phong-pc phong-pc:quad phong-pc:pwquad phong-pc:cubic phong-slerp phong-slerp-screen"
 for scene in room spheres; do
