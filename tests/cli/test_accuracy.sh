@@ -6,7 +6,6 @@ set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 
-
 expect 0 "usage: persp accuracy" -- "$persp" accuracy --help
 expect 0 "paper-quad" -- "$persp" accuracy --help
 expect 0 "^exact +paper-quad " -- "$persp" accuracy --method exact --case paper-quad

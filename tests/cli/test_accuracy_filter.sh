@@ -6,7 +6,6 @@ set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 
-
 small=(--size 40x30 --samples 2 --repeats 1)
 expect 0 "usage: persp accuracy --filter" -- "$persp" accuracy --filter --help
 expect 0 "tilt-85" -- "$persp" accuracy --filter --help

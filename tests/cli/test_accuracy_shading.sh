@@ -8,7 +8,6 @@ persp="$1"
 src="${PERSP_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}"
 . "$(dirname "$0")/lib.sh"
 
-
 expect 0 "usage: persp accuracy --shading" -- "$persp" accuracy --shading --help
 expect 0 "accuracy --shading" -- "$persp" accuracy --help
 expect 2 "unknown option '--bogus'" -- "$persp" accuracy --shading --bogus

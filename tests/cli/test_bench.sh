@@ -8,7 +8,6 @@ set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 
-
 # check_json FILE PYTHON-EXPR: the file is valid JSON and the expression
 # (over the parsed object `j`) holds.
 check_json() {

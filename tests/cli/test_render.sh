@@ -6,7 +6,6 @@ set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 
-
 expect 0 "usage: persp" -- "$persp" --help
 expect 0 "^persp [0-9]+\.[0-9]+\.[0-9]+" -- "$persp" --version
 expect 2 "unknown command 'frobnicate'" -- "$persp" frobnicate

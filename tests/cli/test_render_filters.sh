@@ -6,7 +6,6 @@ set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 
-
 for f in nearest bilinear nearest-mip-nearest bilinear-mip-nearest nearest-mip-linear trilinear \
          aniso:2 aniso:16 aniso-window:4 ewa; do
     name=${f/:/-}
