@@ -5,6 +5,8 @@
 #   make bench           benchmarks (not part of the test suite)
 #   make fuzz            libFuzzer harnesses with clang (not part of the test suite)
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+# Keep the build's output to its progress lines.
+MAKEFLAGS += --no-print-directory
 ifeq ($(SANITIZE),1)
 BUILD ?= build-san
 CMAKE_FLAGS += -DPERSP_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
