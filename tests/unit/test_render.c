@@ -15,8 +15,10 @@ static uint64_t fnv(const uint8_t *p, size_t n)
     return h;
 }
 
-static uint64_t render_hash(const char *scene_name, const char *method, int threads, persp_depth_mode dm,
-                            int w, int h, uint8_t **keep)
+/* Renders a built-in scene with d and hashes the colour buffer; keep (when
+ * not NULL) receives the colour buffer instead of it being freed. */
+static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int w, int h,
+                                 uint8_t **keep)
 {
     persp_context *ctx = test_context();
     persp_scene *scene = NULL;
@@ -26,13 +28,8 @@ static uint64_t render_hash(const char *scene_name, const char *method, int thre
     assert_non_null(color);
     assert_non_null(depth);
     persp_framebuffer fb = {w, h, color, depth};
-    persp_render_desc d;
-    memset(&d, 0, sizeof d);
-    d.method = method;
-    d.threads = threads;
-    d.depth_mode = dm;
     persp_render_stats st;
-    persp_status s = persp_render(ctx, scene, &d, &fb, &st);
+    persp_status s = persp_render(ctx, scene, d, &fb, &st);
     if (s != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
     assert_true(st.pixels_written > 0);
     uint64_t hash = fnv(color, (size_t)w * h * 4);
@@ -42,6 +39,17 @@ static uint64_t render_hash(const char *scene_name, const char *method, int thre
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
     return hash;
+}
+
+static uint64_t render_hash(const char *scene_name, const char *method, int threads, persp_depth_mode dm,
+                            int w, int h, uint8_t **keep)
+{
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.method = method;
+    d.threads = threads;
+    d.depth_mode = dm;
+    return render_hash_desc(scene_name, &d, w, h, keep);
 }
 
 static void test_threads_bit_identical(void **state)
@@ -60,25 +68,6 @@ static void test_threads_bit_identical(void **state)
 /* Bit-identical images for 1, 2 and 3 threads across the filters whose span
  * samplers differ (vectorised, general, anisotropic) and methods with their
  * own traversal (constz) or per-triangle fits (bezier). */
-static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int w, int h)
-{
-    persp_context *ctx = test_context();
-    persp_scene *scene = NULL;
-    assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
-    uint8_t *color = malloc((size_t)w * h * 4);
-    float *depth = malloc((size_t)w * h * sizeof(float));
-    assert_non_null(color);
-    assert_non_null(depth);
-    persp_framebuffer fb = {w, h, color, depth};
-    persp_status s = persp_render(ctx, scene, d, &fb, NULL);
-    if (s != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
-    uint64_t hash = fnv(color, (size_t)w * h * 4);
-    free(color);
-    free(depth);
-    persp_scene_destroy(scene);
-    persp_context_destroy(ctx);
-    return hash;
-}
 
 static void test_threads_bit_identical_filters(void **state)
 {
@@ -93,11 +82,11 @@ static void test_threads_bit_identical_filters(void **state)
             d.filter_set = 1;
             assert_int_equal(persp_filter_parse(filters[fi], &d.filter, &d.max_aniso), PERSP_OK);
             d.threads = 1;
-            uint64_t h1 = render_hash_desc("corridor", &d, 301, 203);
+            uint64_t h1 = render_hash_desc("corridor", &d, 301, 203, NULL);
             d.threads = 2;
-            uint64_t h2 = render_hash_desc("corridor", &d, 301, 203);
+            uint64_t h2 = render_hash_desc("corridor", &d, 301, 203, NULL);
             d.threads = 3;
-            uint64_t h3 = render_hash_desc("corridor", &d, 301, 203);
+            uint64_t h3 = render_hash_desc("corridor", &d, 301, 203, NULL);
             if (h1 != h2 || h1 != h3)
                 fail_msg("%s / %s: hashes %016llx %016llx %016llx for 1, 2, 3 threads", filters[fi],
                          methods[mi], (unsigned long long)h1, (unsigned long long)h2,
