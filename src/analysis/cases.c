@@ -1,6 +1,6 @@
 /*
  * Measurement cases of persp accuracy (BENCHMARKS.md): the paper quad of
- * seed 000 §4.6 Fig. 4.10 and seeded random triangles grouped by depth ratio.
+ * [Romanyuk-PCF] §4.6 Fig. 4.10 and seeded random triangles grouped by depth ratio.
  */
 #include "analysis/analysis.h"
 #include "core/internal.h"
@@ -51,7 +51,7 @@ int persp__square_to_quad(const double x[4], const double y[4], double fwd[9], d
     return 1;
 }
 
-/* Heckbert's a..i of paper-quad in the seed's screen coordinates. */
+/* Heckbert's a..i of paper-quad in the chapter's screen coordinates. */
 static void paper_quad_planes(double p[9])
 {
     double fwd[9];
@@ -65,7 +65,7 @@ static void eval_planes(const double p[9], double X, double Y, double *u, double
     *v = (p[3] * X + p[4] * Y + p[5]) / *q;
 }
 
-/* Fills r from planes p expressed in seed coordinates (X, Y) where the
+/* Fills r from planes p expressed in the chapter's coordinates (X, Y) where the
  * window pixel centre (px, py) maps to X = x0 + sx·(px - 0.5),
  * Y = y0 + (py - 0.5); vertices are quad corners k[0..2]. */
 static void rational_from_planes(const double p[9], double x0, double sx, double y0, const int k[3],
