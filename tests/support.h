@@ -21,7 +21,7 @@ double test_rng_uniform(test_rng *r, double lo, double hi);
 /* A context that fails the test if it cannot be created. */
 persp_context *test_context(void);
 
-/* Golden images (ARCHITECTURE.md, testing layer 3). */
+/* Golden images (docs/DESIGN.md, "Testing", layer 3). */
 typedef struct test_tolerance {
     int max_abs;            /* largest per-channel difference */
     double max_share_over2; /* share of pixels with a channel differing by more than 2 */

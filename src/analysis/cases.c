@@ -1,5 +1,5 @@
 /*
- * Measurement cases of persp accuracy (BENCHMARKS.md): the paper quad of
+ * Measurement cases of persp accuracy (docs/WORKLOADS.md): the paper quad of
  * [Romanyuk-PCF] §4.6 Fig. 4.10 and seeded random triangles grouped by depth ratio.
  */
 #include "analysis/analysis.h"
@@ -156,7 +156,7 @@ uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t,
                                 float attr[3][PERSP_A_COUNT])
 {
     const double W = PERSP_RT_WIDTH, H = PERSP_RT_HEIGHT, aspect = W / H;
-    /* Corridor projection (BENCHMARKS.md): glFrustum with t = n·tan 30°,
+    /* Corridor projection (docs/WORKLOADS.md): glFrustum with t = n·tan 30°,
      * n = 0.1, f = 100; eye x at depth d projects to x/(tan30°·a·d). */
     const double tn = tan(30.0 * 3.14159265358979323846 / 180.0), n = 0.1, f = 100.0;
     for (int attempt = 0; attempt < 1000; attempt++) {

@@ -21,8 +21,8 @@ typedef struct persp_lighting {
     float ambient[3];
 } persp_lighting;
 
-/* Everything a draw needs, resolved once (ARCHITECTURE.md: choices resolved
- * once per draw, never a switch per pixel). */
+/* Everything a draw needs, resolved once (docs/DESIGN.md, "Choices resolved
+ * once per draw"): never a switch per pixel. */
 typedef struct persp_draw_state {
     persp_method_sel method;          /* texture coordinates */
     persp_method_sel shade_method;    /* perspective parameter for shading */

@@ -339,7 +339,7 @@ static void test_scene_case(void **state)
     assert_int_equal(persp_accuracy_row_count(res), 2);
     const persp_accuracy_row *e = persp_accuracy_row_at(res, 0), *a = persp_accuracy_row_at(res, 1);
     assert_string_equal(e->case_name, "corridor@64x48");
-    /* The corridor covers every pixel (BENCHMARKS.md). */
+    /* The corridor covers every pixel (docs/WORKLOADS.md). */
     assert_int_equal(e->pixels, 64 * 48);
     assert_true(e->max_u < 0.01 && e->max_v < 0.01);
     assert_true(fmax(a->max_u, a->max_v) > 100.0 * fmax(e->max_u, e->max_v));

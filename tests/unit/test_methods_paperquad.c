@@ -1,5 +1,5 @@
 /*
- * The `paper-quad` case (BENCHMARKS.md; [Romanyuk-PCF] §4.6 Fig. 4.10 and §4.7):
+ * The `paper-quad` case (docs/WORKLOADS.md; [Romanyuk-PCF] §4.6 Fig. 4.10 and §4.7):
  * the quadrilateral (1,1), (32,96), (96,128), (128,32), image of the unit
  * texture square under Heckbert's square-to-quad projective mapping, studied
  * along the rasterization line y = 32.
