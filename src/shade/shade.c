@@ -1,5 +1,5 @@
 /*
- * Shading modes (seed 000 §4.2–4.3, seed 003) and the span shaders they
+ * Shading modes ([Romanyuk-PCF] §4.2–4.3, [Romaniuk-ACIT18]) and the span shaders they
  * resolve to.
  *
  * Every mode reduces to barycentric weights (b0, b1, b2) per pixel:
@@ -98,7 +98,7 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
     }
 }
 
-/* Combines lighting with the texel per the texture environment (seed 002):
+/* Combines lighting with the texel per the texture environment ([CS300-TexMap]):
  * replace takes the texel, modulate multiplies the lit diffuse colour by it
  * and adds the specular highlight, itself multiplied by the texel when the
  * material uses the texture as specular colour too. */
