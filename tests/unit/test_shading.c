@@ -2,6 +2,7 @@
  * vertex colours against independent double-precision references. */
 #include "support.h"
 
+#include "core/fmath.h"
 #include "geom/scene.h"
 #include "shade/shade.h"
 
@@ -305,12 +306,41 @@ static void test_gouraud_two_sided_per_triangle(void **state)
     persp_context_destroy(ctx);
 }
 
+/* The specular power replaces libm's powf. What reaches an 8-bit colour is
+ * the absolute error (x^s <= 1 scales a light colour), which stays below
+ * 1e-6 (0.0003 of a level); relative to x^s it stays below 1e-5 wherever
+ * x^s >= 1e-3 for shininess up to GL's 128. Exact 1 at x = 1, and 0 for
+ * x <= 0 and far underflow. */
+static void test_powf_unit(void **state)
+{
+    (void)state;
+    double worst_abs = 0.0, worst_rel = 0.0;
+    const float shin[] = {0.5f, 1.0f, 2.0f, 7.3f, 32.0f, 60.0f, 128.0f, 1000.0f};
+    for (size_t si = 0; si < sizeof shin / sizeof *shin; si++)
+        for (int k = 1; k <= 100000; k++) {
+            float x = (float)k / 100000.0f;
+            double want = pow((double)x, (double)shin[si]);
+            double got = persp__powf_unit(x, shin[si]);
+            double a = fabs(got - want);
+            if (a > worst_abs) worst_abs = a;
+            if (want >= 1e-3 && shin[si] <= 128.0f && a / want > worst_rel) worst_rel = a / want;
+        }
+    print_message("powf_unit: max absolute error %.3g, relative %.3g\n", worst_abs, worst_rel);
+    assert_true(worst_abs < 1e-6);
+    assert_true(worst_rel < 1e-5);
+    assert_true(persp__powf_unit(1.0f, 60.0f) == 1.0f);
+    assert_true(persp__powf_unit(0.0f, 60.0f) == 0.0f);
+    assert_true(persp__powf_unit(-0.5f, 3.0f) == 0.0f);
+    assert_true(persp__powf_unit(1e-20f, 100.0f) == 0.0f);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_slerp_unit_length_and_ends),
         cmocka_unit_test(test_slerp_perspective_is_exact_nlerp),
         cmocka_unit_test(test_shading_names),
+        cmocka_unit_test(test_powf_unit),
         cmocka_unit_test(test_vertex_colour_perspective_correct),
         cmocka_unit_test(test_texture_env),
         cmocka_unit_test(test_gouraud_two_sided_per_triangle),
