@@ -6,17 +6,50 @@
  * window origin bottom-left, pixel centres at (x+0.5, y+0.5), texel centres at
  * ((i+0.5)/W, (j+0.5)/H), texture row 0 = bottom row of the displayed image.
  *
- * Rules of the API: every function returning persp_status reports failure
- * through it and, when a context is given, a human-readable detail through
- * persp_context_error(). Zero-initialised desc structs mean defaults. Buffers
- * passed in are owned by the caller; objects created by persp are released by
- * their *_destroy function. There is no global mutable state.
+ * The measurement API (accuracy of methods, shading and filters) is in
+ * persp_analysis.h and its own library, persp_analysis.
+ *
+ * Rules of the API
+ * - Status: every function returning persp_status reports failure through
+ *   it and, when a context is given, a one-line detail through
+ *   persp_context_error() ("file:line:col: problem" for files).
+ * - Defaults: a zero-initialised desc struct means "all defaults". Every enum
+ *   has a *_DEFAULT = 0 value; in persp_render_desc it keeps what the scene
+ *   chose, elsewhere it selects the default that the field's comment names.
+ *   On/off settings use persp_toggle, whose zero is likewise DEFAULT.
+ * - Ownership: buffers passed in stay the caller's and are only read or
+ *   written during the call. Objects persp creates (context, scene, texture,
+ *   images from persp_image_alloc/_load) are the caller's to release with the
+ *   matching *_destroy / *_free; views (persp_image_view) point into an
+ *   object and live as long as it. Memory persp returns comes from the
+ *   context's allocator; libjpeg and jansson allocate their transient
+ *   working memory with malloc (their APIs offer no per-call allocator),
+ *   libpng's goes through the context's allocator.
+ * - Threads: a persp_context is used by one thread at a time (it holds the
+ *   last error, the worker pool and the per-frame buffers); to render from
+ *   several threads at once, give each its own context. Textures and scenes
+ *   are read-only while rendering: one may be shared by any number of
+ *   contexts and threads at once, provided nothing modifies or destroys it
+ *   meanwhile (persp_scene_set_texture modifies). Functions without a
+ *   context argument are safe to call from any thread. A context's own
+ *   worker threads (persp_context_desc.threads) parallelise one render; the
+ *   image is bit-identical for any thread count. There is no global mutable
+ *   state.
  */
 #ifndef PERSP_H
 #define PERSP_H
 
 #include <stddef.h>
 #include <stdint.h>
+
+/* Symbols of the public API are the only ones a shared libpersp exports. */
+#if defined(_WIN32) && defined(PERSP_SHARED_BUILD)
+#define PERSP_API __declspec(dllexport)
+#elif defined(__GNUC__) || defined(__clang__)
+#define PERSP_API __attribute__((visibility("default")))
+#else
+#define PERSP_API
+#endif
 
 #ifdef __cplusplus
 extern "C" {
@@ -26,8 +59,19 @@ extern "C" {
 #define PERSP_VERSION_MINOR 1
 #define PERSP_VERSION_PATCH 0
 #define PERSP_VERSION_STRING "0.1.0"
+/* One number for comparisons: major * 10000 + minor * 100 + patch. */
+#define PERSP_VERSION (PERSP_VERSION_MAJOR * 10000 + PERSP_VERSION_MINOR * 100 + PERSP_VERSION_PATCH)
 
-const char *persp_version(void);
+/* The library's version string, which may differ from the header's
+ * PERSP_VERSION_STRING when a program runs against another build. */
+PERSP_API const char *persp_version(void);
+
+/* On/off settings. DEFAULT (zero) keeps what the field's comment names. */
+typedef enum persp_toggle {
+    PERSP_TOGGLE_DEFAULT = 0,
+    PERSP_TOGGLE_ON,
+    PERSP_TOGGLE_OFF
+} persp_toggle;
 
 /* ------------------------------------------------------------------ status */
 
@@ -44,7 +88,7 @@ typedef enum persp_status {
 } persp_status;
 
 /* A static English description of a status code; never NULL. */
-const char *persp_status_string(persp_status status);
+PERSP_API const char *persp_status_string(persp_status status);
 
 /* ----------------------------------------------------------------- context */
 
@@ -57,22 +101,19 @@ typedef struct persp_allocator {
 typedef struct persp_context persp_context;
 
 typedef struct persp_context_desc {
-    const persp_allocator *allocator; /* NULL: malloc/free */
-    int threads;                      /* worker threads for rendering; 0 or 1: none */
+    const persp_allocator *allocator; /* NULL: malloc/free; copied, need not outlive the call */
+    int threads;                      /* threads drawing each render, the caller's included,
+                                         1..256; 0: 1 */
 } persp_context_desc;
 
-persp_status persp_context_create(const persp_context_desc *desc, persp_context **out);
-void persp_context_destroy(persp_context *ctx);
-/* Detail of the last failure on this context ("file:line:col: problem"), or "". */
-const char *persp_context_error(const persp_context *ctx);
-/* Sets the detail message; used by persp's modules, available to callers. */
-persp_status persp_context_fail(persp_context *ctx, persp_status status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-void *persp_alloc(persp_context *ctx, size_t size);
-void persp_free(persp_context *ctx, void *ptr);
+/* desc may be NULL (all defaults). */
+PERSP_API persp_status persp_context_create(const persp_context_desc *desc, persp_context **out);
+/* Stops the worker threads and frees everything the context holds; objects
+ * created with it (scenes, textures, images) must be released first. */
+PERSP_API void persp_context_destroy(persp_context *ctx);
+/* Detail of the last failure on this context ("file:line:col: problem"), or
+ * "". Owned by the context, valid until its next call. */
+PERSP_API const char *persp_context_error(const persp_context *ctx);
 
 /* -------------------------------------------------------------------- math */
 
@@ -81,28 +122,39 @@ typedef struct persp_vec4 { float x, y, z, w; } persp_vec4;
 /* Column-major 4x4 matrix as in OpenGL: element (row r, col c) is m[c*4 + r]. */
 typedef struct persp_mat4 { float m[16]; } persp_mat4;
 
-persp_mat4 persp_mat4_identity(void);
-persp_mat4 persp_mat4_mul(persp_mat4 a, persp_mat4 b); /* a·b */
-persp_vec4 persp_mat4_apply(persp_mat4 m, persp_vec4 v);
-persp_mat4 persp_mat4_translate(float x, float y, float z);
-persp_mat4 persp_mat4_scale(float x, float y, float z);
-persp_mat4 persp_mat4_rotate(float degrees, float ax, float ay, float az); /* glRotate */
+PERSP_API persp_mat4 persp_mat4_identity(void);
+PERSP_API persp_mat4 persp_mat4_mul(persp_mat4 a, persp_mat4 b); /* a·b */
+PERSP_API persp_vec4 persp_mat4_apply(persp_mat4 m, persp_vec4 v);
+PERSP_API persp_mat4 persp_mat4_translate(float x, float y, float z);
+PERSP_API persp_mat4 persp_mat4_scale(float x, float y, float z);
+PERSP_API persp_mat4 persp_mat4_rotate(float degrees, float ax, float ay, float az); /* glRotate */
 /* glFrustum / gluPerspective (fovy in degrees) / gluLookAt. */
-persp_mat4 persp_frustum(double l, double r, double b, double t, double n, double f);
-persp_mat4 persp_perspective(double fovy_deg, double aspect, double n, double f);
-persp_mat4 persp_look_at(persp_vec3 eye, persp_vec3 center, persp_vec3 up);
+PERSP_API persp_mat4 persp_frustum(double l, double r, double b, double t, double n, double f);
+PERSP_API persp_mat4 persp_perspective(double fovy_deg, double aspect, double n, double f);
+PERSP_API persp_mat4 persp_look_at(persp_vec3 eye, persp_vec3 center, persp_vec3 up);
 /* Inverse-transpose of the upper 3x3, for normals. Returns 0 if singular. */
-int persp_mat4_normal_matrix(persp_mat4 m, float out3x3[9]);
+PERSP_API int persp_mat4_normal_matrix(persp_mat4 m, float out3x3[9]);
 
 /* ------------------------------------------------------------------ images */
 
 /* An RGBA8 image; rows are bottom-to-top (row 0 = bottom), like OpenGL.
- * stride is in bytes; pixels are R,G,B,A bytes. */
+ * stride is in bytes; pixels are R,G,B,A bytes. Filled by persp_image_alloc
+ * or persp_image_load it owns its pixels (release with persp_image_free);
+ * filled in by the caller it describes the caller's pixels, which persp only
+ * reads. */
 typedef struct persp_image {
     int width, height;
     size_t stride;
     uint8_t *pixels;
 } persp_image;
+
+/* A read-only view of pixels that belong to a persp object (a texture's mip
+ * level); valid as long as that object. Never freed. */
+typedef struct persp_image_view {
+    int width, height;
+    size_t stride;
+    const uint8_t *pixels;
+} persp_image_view;
 
 /* Largest accepted image side and pixel count (refused before allocating). */
 #define PERSP_IMAGE_MAX_SIDE 16384
@@ -110,28 +162,30 @@ typedef struct persp_image {
 
 /* Loads a PNG or JPEG (by content, not by name), flipped so row 0 is the
  * bottom row of the displayed image. Free with persp_image_free. */
-persp_status persp_image_load(persp_context *ctx, const char *path, persp_image *out);
-persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
+PERSP_API persp_status persp_image_load(persp_context *ctx, const char *path, persp_image *out);
+PERSP_API persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
                                      const char *name, persp_image *out);
 /* Zeroed pixels whose first row starts on a 64-byte boundary. */
-persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out);
+PERSP_API persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out);
 /* Frees an image from persp_image_alloc / _load; NULL pixels are fine. */
-void persp_image_free(persp_context *ctx, persp_image *img);
+PERSP_API void persp_image_free(persp_context *ctx, persp_image *img);
 /* Writes a PNG, top row first. Writes to a temporary file renamed on success,
  * so a failure leaves nothing half-written. */
-persp_status persp_image_write_png(persp_context *ctx, const char *path, const persp_image *img);
+PERSP_API persp_status persp_image_write_png(persp_context *ctx, const char *path, const persp_image *img);
 
 /* ---------------------------------------------------------------- textures */
 
 typedef enum persp_wrap {
-    PERSP_WRAP_REPEAT = 0,
+    PERSP_WRAP_DEFAULT = 0, /* sampler: REPEAT (GL's default); render desc: the scene's */
+    PERSP_WRAP_REPEAT,
     PERSP_WRAP_CLAMP_TO_EDGE,
     PERSP_WRAP_MIRRORED_REPEAT,
     PERSP_WRAP_CLAMP_TO_BORDER
 } persp_wrap;
 
 typedef enum persp_filter {
-    PERSP_FILTER_NEAREST = 0,
+    PERSP_FILTER_DEFAULT = 0, /* sampler: BILINEAR; render desc: the scene's */
+    PERSP_FILTER_NEAREST,
     PERSP_FILTER_BILINEAR,
     PERSP_FILTER_NEAREST_MIP_NEAREST,
     PERSP_FILTER_BILINEAR_MIP_NEAREST,
@@ -144,48 +198,55 @@ typedef enum persp_filter {
 } persp_filter;
 
 typedef enum persp_lod_mode {
-    PERSP_LOD_PIXEL = 0, /* per pixel from the analytic Jacobian */
+    PERSP_LOD_DEFAULT = 0, /* sampler: PIXEL; render desc: the texture's */
+    PERSP_LOD_PIXEL,     /* per pixel from the analytic Jacobian */
     PERSP_LOD_POLYGON    /* once per polygon from the texel/pixel area ratio */
 } persp_lod_mode;
 
+/* Zero-initialised: bilinear, repeat, no LOD bias or clamp. */
 typedef struct persp_sampler_desc {
     persp_wrap wrap_s, wrap_t;
     persp_filter filter;
-    int max_aniso;        /* 0: 16 */
+    int max_aniso;          /* taps of the anisotropic filters, 1..16; 0: 16 */
     float lod_bias;
-    float min_lod, max_lod; /* both 0: no clamp beyond the chain */
+    persp_toggle lod_clamp; /* ON: clamp lambda to [min_lod, max_lod]; DEFAULT, OFF: only
+                               to the mip chain (GL's -1000, 1000) */
+    float min_lod, max_lod;
     persp_lod_mode lod_mode;
-    uint8_t border[4];    /* RGBA for CLAMP_TO_BORDER */
+    uint8_t border[4];      /* RGBA for CLAMP_TO_BORDER */
 } persp_sampler_desc;
 
 /* Name <-> enum for the CLI and scene files ("repeat", "clamp-to-edge",
  * "mirrored-repeat", "clamp-to-border"; "nearest", "bilinear", "trilinear",
  * "nearest-mip-nearest", "bilinear-mip-nearest", "nearest-mip-linear",
- * "aniso:N", "aniso-window:N", "ewa"). */
-persp_status persp_wrap_parse(const char *name, persp_wrap *out);
-const char *persp_wrap_name(persp_wrap wrap);
-persp_status persp_filter_parse(const char *name, persp_filter *out, int *max_aniso);
-const char *persp_filter_name(persp_filter filter);
+ * "aniso:N", "aniso-window:N", "ewa"; "default" for the DEFAULT values).
+ * Names are static strings; "unknown" for values out of range. */
+PERSP_API persp_status persp_wrap_parse(const char *name, persp_wrap *out);
+PERSP_API const char *persp_wrap_name(persp_wrap wrap);
+/* max_aniso may be NULL; set to N for "aniso:N" / "aniso-window:N", else 16. */
+PERSP_API persp_status persp_filter_parse(const char *name, persp_filter *out, int *max_aniso);
+PERSP_API const char *persp_filter_name(persp_filter filter);
 
 typedef struct persp_texture persp_texture;
 
 /* Copies the image (row 0 = bottom) into a texture and builds its mip chain. */
-persp_status persp_texture_create(persp_context *ctx, const persp_image *img,
-                                  persp_texture **out);
-void persp_texture_destroy(persp_texture *tex);
-int persp_texture_width(const persp_texture *tex);
-int persp_texture_height(const persp_texture *tex);
-int persp_texture_levels(const persp_texture *tex);
+/* The texture keeps no reference to img. Release with persp_texture_destroy
+ * before the context. */
+PERSP_API persp_status persp_texture_create(persp_context *ctx, const persp_image *img,
+                                            persp_texture **out);
+PERSP_API void persp_texture_destroy(persp_texture *tex);
+PERSP_API int persp_texture_width(const persp_texture *tex);
+PERSP_API int persp_texture_height(const persp_texture *tex);
+PERSP_API int persp_texture_levels(const persp_texture *tex);
 /* Bytes used by all levels and by level 0 alone (mip overhead = ratio - 1). */
-void persp_texture_memory(const persp_texture *tex, size_t *all_levels, size_t *base_level);
-/* Level image view (not a copy, owned by the texture: never pass it to
- * persp_image_free). */
-persp_status persp_texture_level(const persp_texture *tex, int level, persp_image *view);
+PERSP_API void persp_texture_memory(const persp_texture *tex, size_t *all_levels, size_t *base_level);
+/* A view of one mip level's texels, valid as long as the texture. */
+PERSP_API persp_status persp_texture_level(const persp_texture *tex, int level, persp_image_view *view);
 
 /* Samples one texel colour at (u, v) with the given screen-space derivatives
  * of u and v (normalised coordinates). For tests and tools; the renderer
  * samples whole spans internally. */
-void persp_texture_sample(const persp_texture *tex, const persp_sampler_desc *sampler, float u,
+PERSP_API void persp_texture_sample(const persp_texture *tex, const persp_sampler_desc *sampler, float u,
                           float v, float dudx, float dvdx, float dudy, float dvdy,
                           uint8_t rgba_out[4]);
 
@@ -206,17 +267,18 @@ typedef struct persp_method_info {
     const char *cost;    /* operations per pixel / per span, e.g. "1 div, 2 mul, 3 add /px" */
 } persp_method_info;
 
-size_t persp_method_count(void);
-/* Fills *out for entry index; PERSP_ERR_NOT_FOUND past the end. */
-persp_status persp_method_get(size_t index, persp_method_info *out);
+PERSP_API size_t persp_method_count(void);
+/* Fills *out for entry index (static strings); PERSP_ERR_NOT_FOUND past the end. */
+PERSP_API persp_status persp_method_get(size_t index, persp_method_info *out);
 /* Parses "name" or "name:params"; PERSP_ERR_NOT_FOUND for an unknown name,
  * PERSP_ERR_INVALID_ARGUMENT for bad parameters. */
-persp_status persp_method_check(const char *spec);
+PERSP_API persp_status persp_method_check(const char *spec);
 
 /* ----------------------------------------------------------------- shading */
 
 typedef enum persp_shading {
-    PERSP_SHADING_NONE = 0, /* texture (or vertex colour) only */
+    PERSP_SHADING_DEFAULT = 0, /* render desc: the scene's; elsewhere NONE */
+    PERSP_SHADING_NONE,     /* texture (or vertex colour) only */
     PERSP_SHADING_FLAT,
     PERSP_SHADING_GOURAUD,
     PERSP_SHADING_GOURAUD_PC,
@@ -230,13 +292,14 @@ typedef enum persp_shading {
     PERSP_SHADING_COUNT
 } persp_shading;
 
-persp_status persp_shading_parse(const char *name, persp_shading *out);
-const char *persp_shading_name(persp_shading shading);
+PERSP_API persp_status persp_shading_parse(const char *name, persp_shading *out);
+PERSP_API const char *persp_shading_name(persp_shading shading);
 
 /* ------------------------------------------------------------- framebuffer */
 
 typedef enum persp_depth_mode {
-    PERSP_DEPTH_Z = 0, /* window depth in [0,1], less passes, cleared to 1 */
+    PERSP_DEPTH_DEFAULT = 0, /* Z */
+    PERSP_DEPTH_Z,     /* window depth in [0,1], less passes, cleared to 1 */
     PERSP_DEPTH_INVW   /* 1/w ("1/z buffering", seed 002): greater passes, cleared to 0 */
 } persp_depth_mode;
 
@@ -250,24 +313,29 @@ typedef struct persp_framebuffer {
     float *depth;
 } persp_framebuffer;
 
-void persp_framebuffer_clear(persp_framebuffer *fb, const uint8_t rgba[4], persp_depth_mode mode);
+PERSP_API void persp_framebuffer_clear(persp_framebuffer *fb, const uint8_t rgba[4], persp_depth_mode mode);
 
 /* ------------------------------------------------------------------ scenes */
 
 typedef struct persp_scene persp_scene;
 
-/* Built-in scenes: "corridor" (../BENCHMARKS.md), "floor", "cube". */
-size_t persp_builtin_scene_count(void);
-const char *persp_builtin_scene_name(size_t index);
-const char *persp_builtin_scene_summary(size_t index);
-persp_status persp_scene_builtin(persp_context *ctx, const char *name, persp_scene **out);
+/* Built-in scenes: "corridor" (the reference workload, docs/WORKLOADS.md),
+ * "floor", "cube". */
+PERSP_API size_t persp_builtin_scene_count(void);
+/* Static strings; NULL past the end. */
+PERSP_API const char *persp_builtin_scene_name(size_t index);
+PERSP_API const char *persp_builtin_scene_summary(size_t index);
+/* A scene owns its meshes, materials and textures; release it with
+ * persp_scene_destroy before its context. */
+PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name, persp_scene **out);
 /* Loads a JSON scene file; paths inside resolve relative to it. */
-persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
-void persp_scene_destroy(persp_scene *scene);
-/* Replaces the texture of every textured object (e.g. --texture FILE). */
-persp_status persp_scene_set_texture(persp_scene *scene, const persp_image *img);
+PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
+PERSP_API void persp_scene_destroy(persp_scene *scene);
+/* Replaces the texture of every textured object (e.g. --texture FILE); the
+ * scene keeps a copy, not img. */
+PERSP_API persp_status persp_scene_set_texture(persp_scene *scene, const persp_image *img);
 /* The scene's preferred image size (0 if none). */
-void persp_scene_default_size(const persp_scene *scene, int *width, int *height);
+PERSP_API void persp_scene_default_size(const persp_scene *scene, int *width, int *height);
 
 /* What a scene renders with when persp_render_desc overrides nothing, for
  * reports: the default shading and the filter of its textured objects
@@ -275,38 +343,40 @@ void persp_scene_default_size(const persp_scene *scene, int *width, int *height)
  * first one's). */
 typedef struct persp_scene_info {
     size_t objects, textures, lights;
+    const char *method;   /* the scene's method spec, "exact" if it names none;
+                             valid as long as the scene */
     persp_shading shading;
     int filter_count;
     persp_filter filter;
     int max_aniso;
 } persp_scene_info;
-void persp_scene_get_info(const persp_scene *scene, persp_scene_info *out);
+PERSP_API void persp_scene_get_info(const persp_scene *scene, persp_scene_info *out);
 
 typedef enum persp_pipeline {
-    PERSP_PIPELINE_SCREEN = 0, /* inverse mapping per pixel */
+    PERSP_PIPELINE_DEFAULT = 0, /* SCREEN */
+    PERSP_PIPELINE_SCREEN,     /* inverse mapping per pixel */
     PERSP_PIPELINE_OBJECT      /* object-space texturing, screen-space filtering (seed 004) */
 } persp_pipeline;
 
-/* Render settings; zero fields keep the scene's own (or persp's default). */
+/* Render settings. Zero-initialised (or a NULL desc) renders the scene as
+ * it asks; each non-default field overrides the scene for this call only.
+ * The number of threads is the context's (persp_context_desc.threads). */
 typedef struct persp_render_desc {
-    const char *method;      /* texture-coordinate method spec; NULL: "exact" */
-    int filter_set;          /* nonzero: override every texture's filter */
-    persp_filter filter;
-    int max_aniso;
-    int wrap_set;            /* nonzero: override every texture's wrap mode */
-    persp_wrap wrap;
-    int shading_set;
+    const char *method;      /* texture-coordinate method spec; NULL: the scene's, else "exact" */
+    persp_filter filter;     /* every texture's filter */
+    int max_aniso;           /* with an aniso filter: taps 1..16; 0: the texture's, else 16 */
+    persp_wrap wrap;         /* every texture's wrap mode, both axes */
     persp_shading shading;
     persp_depth_mode depth_mode;
     persp_lod_mode lod_mode;
-    float lod_bias;
-    int lod_clamp_set;       /* nonzero: clamp every texture's lambda to [min_lod, max_lod] */
+    float lod_bias;          /* added to each texture's own */
+    persp_toggle lod_clamp;  /* ON: clamp every texture's lambda to [min_lod, max_lod];
+                                OFF: remove the textures' clamps; DEFAULT: keep them */
     float min_lod, max_lod;
     persp_pipeline pipeline;
-    int threads;             /* 0: the context's */
-    int cull_backfaces;      /* -1: off, 1: on, 0: scene default */
-    int count_ops;           /* nonzero: the methods count their operations into
-                                persp_render_stats.ops (instrumented render) */
+    persp_toggle cull_backfaces; /* DEFAULT: the scene's */
+    persp_toggle count_ops;  /* ON: the methods count their operations into
+                                persp_render_stats.ops (instrumented, slower render) */
 } persp_render_desc;
 
 typedef struct persp_render_stats {
@@ -320,8 +390,8 @@ typedef struct persp_render_stats {
     uint64_t objspace_samples, objspace_splats, objspace_pieces, objspace_holes;
 } persp_render_stats;
 
-/* Clears fb and renders the scene into it. */
-persp_status persp_render(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
+/* Clears fb and renders the scene into it. desc and stats may be NULL. */
+PERSP_API persp_status persp_render(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
                           persp_framebuffer *fb, persp_render_stats *stats);
 
 /* ------------------------------------------------- immediate triangle drawing */
@@ -335,177 +405,22 @@ typedef struct persp_vertex {
     float color[4];
 } persp_vertex;
 
+/* Zero-initialised except mvp: vertex colours, exact method, z-buffer with
+ * the depth test on, no culling. */
 typedef struct persp_draw_desc {
     persp_mat4 mvp;           /* clip = mvp · pos */
-    const persp_texture *texture; /* NULL: vertex colour */
+    const persp_texture *texture; /* NULL: vertex colour; else replaced by the texel */
     persp_sampler_desc sampler;
     const char *method;       /* NULL: "exact" */
     persp_depth_mode depth_mode;
-    int cull_backfaces;
-    int depth_test;           /* 0: on (less / greater for INVW), -1: off */
+    persp_toggle cull_backfaces; /* DEFAULT: off; ON: counter-clockwise is front */
+    persp_toggle depth_test;  /* DEFAULT: on (less; greater for INVW) */
 } persp_draw_desc;
 
 /* Draws indexed triangles (3 indices each) into fb without clearing it. */
-persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_draw_desc *desc,
+PERSP_API persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_draw_desc *desc,
                         const persp_vertex *vertices, size_t vertex_count, const uint32_t *indices,
                         size_t index_count);
-
-/* --------------------------------------------------------------- analysis */
-/* @section analysis (src/analysis): accuracy measurement API. */
-
-/* persp accuracy: every texture-coordinate method measured against the exact
- * rational form (Heckbert 1989 §2.3.2) evaluated in double precision at each
- * pixel centre. Cases (BENCHMARKS.md): "paper-quad" (seed 000 §4.6 Fig. 4.10:
- * the line y = 32 of the quad (1,1), (32,96), (96,128), (128,32), resampled
- * to one span of PERSP_ACCURACY_LINE_SAMPLES points from edge to edge),
- * "paper-quad-full" (every pixel of that quad, spans as the renderer cuts
- * them), "random-triangles" (one row per depth ratio 1.25 ... 8) and any
- * built-in scene name (rendered at desc.width × desc.height). */
-#define PERSP_ACCURACY_LINE_SAMPLES 64
-
-typedef struct persp_accuracy_desc {
-    const char *const *methods; /* method specs; NULL or none: every registered method */
-    size_t method_count;
-    const char *const *cases;   /* NULL or none: "paper-quad", "random-triangles" */
-    size_t case_count;
-    int width, height;          /* scene cases; 0: 1024×768 */
-    uint64_t seed;              /* random-triangles; 0: 1 */
-    int triangles;              /* random triangles per depth-ratio group; 0: 40 */
-    double rel_floor;           /* relative errors count |s| >= rel_floor (normalised units); 0: 0.01 */
-    const char *heatmap_dir;    /* NULL: no heat maps; else one PNG per method and case */
-} persp_accuracy_desc;
-
-/* One method on one case. Errors of u (s1) and v (s2) separately;
- * absolute errors in texels of the case's texture. */
-typedef struct persp_accuracy_row {
-    char method[64];
-    char case_name[48];
-    double hbar;                 /* depth ratio of the random-triangles group; 0 elsewhere */
-    uint64_t pixels, spans, triangles;
-    double max_u, max_v, mean_u, mean_v, p99_u, p99_v;
-    double texel_miss;           /* share of pixels whose nearest texel differs from the exact one's */
-    double relpt_u, relpt_v;     /* max |Δs| / |s| over pixels with |s| >= rel_floor */
-    double relspan_u, relspan_v; /* max |Δs| / (max s - min s) per span, spans with range >= rel_floor */
-    double rel_floor;
-    int ops_measured;            /* 0: the operation counts below are not available */
-    double div_px, mul_px, add_px, cmp_px; /* per pixel, per-triangle and per-span work included */
-} persp_accuracy_row;
-
-typedef struct persp_accuracy_result persp_accuracy_result;
-
-/* Runs the measurement. Unknown methods: PERSP_ERR_NOT_FOUND (bad method
- * parameters: PERSP_ERR_INVALID_ARGUMENT); unknown cases: PERSP_ERR_NOT_FOUND.
- * With no methods given, registered methods that need parameters are
- * measured with their default or skipped if they have none. */
-persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *desc,
-                                persp_accuracy_result **out);
-size_t persp_accuracy_row_count(const persp_accuracy_result *res);
-const persp_accuracy_row *persp_accuracy_row_at(const persp_accuracy_result *res, size_t index);
-void persp_accuracy_destroy(persp_accuracy_result *res);
-
-/* Case names for --help and validation. */
-size_t persp_accuracy_case_count(void);
-const char *persp_accuracy_case_name(size_t index);
-const char *persp_accuracy_case_summary(size_t index);
-/* PERSP_OK if name is a case (a fixed case or a built-in scene). */
-persp_status persp_accuracy_case_check(const char *name);
-
-typedef enum persp_report_format {
-    PERSP_REPORT_TABLE = 0, /* aligned text with the metric definitions below it */
-    PERSP_REPORT_CSV,
-    PERSP_REPORT_JSON
-} persp_report_format;
-
-/* Writes the result to a stdio stream (FILE *, passed as void * so that this
- * header does not need <stdio.h>). PERSP_ERR_IO if writing fails. */
-persp_status persp_accuracy_write(persp_context *ctx, const persp_accuracy_result *res,
-                                  persp_report_format format, void *stream);
-/* persp accuracy --shading (src/analysis/shading*.c): every shading mode
- * against the exact per-pixel reference (seeded random lit triangles per
- * depth ratio: colour error in 8-bit levels and normal angle error in
- * degrees; a lit scene: colour against its phong-pc render), the t_w
- * polynomial approximations of seed 000 §4.3 and the ΔI analysis of §4.2
- * (Fig. 4.3-4.4), written as a text report; the figures as SVG on request. */
-typedef struct persp_shading_accuracy_desc {
-    uint64_t seed;        /* random triangles; 0: 1 */
-    int triangles;        /* random triangles per depth-ratio group; 0: 20 */
-    int width, height;    /* lit-scene image; 0: the scene's size, else 640×480 */
-    const char *scene;    /* JSON scene for the lit-scene case; NULL: the built-in lit test scene */
-    const char *svg_path; /* NULL: no plot; else Fig. 4.3-4.4 (and t_w errors) written there */
-} persp_shading_accuracy_desc;
-
-/* Runs every measurement and writes the report to stream (a FILE *).
- * PERSP_ERR_IO if writing the report or the SVG fails (no partial SVG is
- * left behind). */
-persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
-                                           void *stream);
-/* @end analysis */
-
-/* ------------------------------------------------------ filter accuracy */
-/* @section filtering (src/analysis/filtering.c): texture filters measured
- * against a supersampled reference. */
-
-/* persp accuracy --filter: each texture filter (screen pipeline) and the
- * object-space pipeline (seed 004) rendered at width × height and compared
- * with a reference rendered at samples × samples points per pixel (the exact
- * mapping, bilinear reconstruction on level 0), box-filtered to the pixel.
- * Cases: the built-in scenes ("corridor", "floor", "cube") and textured
- * planes tilted away from the viewer ("tilt-0" ... "tilt-85", degrees). */
-typedef struct persp_filter_accuracy_desc {
-    const char *const *filters; /* persp_filter_parse names, or "object" for the object-space
-                                   pipeline; NULL or none: all nine filters (aniso:16,
-                                   aniso-window:16) and "object" */
-    size_t filter_count;
-    const char *const *cases;   /* NULL or none: corridor, floor and every tilt case */
-    size_t case_count;
-    int width, height;          /* 0: 256×192 */
-    int samples;                /* reference samples per pixel along each axis, 1..64; 0: 16 */
-    int repeats;                /* timed renders per filter, the fastest kept; 0: 3 */
-    int threads;                /* 0: 1 */
-    persp_lod_mode lod_mode;
-    float lod_bias;
-    const char *heatmap_dir;    /* NULL: none; else one PNG per filter and case */
-} persp_filter_accuracy_desc;
-
-typedef struct persp_filter_accuracy_row {
-    char filter[32];
-    char pipeline[8];            /* "screen" or "object" */
-    char case_name[48];
-    int tex_width, tex_height, tex_levels;
-    double mip_overhead;         /* bytes of the whole mip chain / bytes of level 0, minus 1 */
-    int samples;                 /* reference samples per pixel along each axis */
-    uint64_t pixels;             /* covered pixels measured */
-    double psnr;                 /* dB over R, G, B of covered pixels; 0 error: +inf */
-    double ssim;                 /* mean SSIM of luma over 8×8 windows (stride 4) */
-    double max_err, mean_err;    /* |filter - reference| in 8-bit levels, over channels */
-    double fetches_px;           /* texels read per covered pixel (object: samples walked) */
-    double ms, ns_px;            /* fastest render time; per pixel of the image */
-} persp_filter_accuracy_row;
-
-typedef struct persp_filter_accuracy_result persp_filter_accuracy_result;
-
-/* Unknown filter or case: PERSP_ERR_NOT_FOUND; bad sizes or counts:
- * PERSP_ERR_INVALID_ARGUMENT. */
-persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_accuracy_desc *desc,
-                                       persp_filter_accuracy_result **out);
-size_t persp_filter_accuracy_row_count(const persp_filter_accuracy_result *res);
-const persp_filter_accuracy_row *persp_filter_accuracy_row_at(const persp_filter_accuracy_result *res,
-                                                              size_t index);
-void persp_filter_accuracy_destroy(persp_filter_accuracy_result *res);
-size_t persp_filter_accuracy_case_count(void);
-const char *persp_filter_accuracy_case_name(size_t index);
-const char *persp_filter_accuracy_case_summary(size_t index);
-persp_status persp_filter_accuracy_case_check(const char *name);
-/* PERSP_OK for a filter name of persp_filter_parse or "object". */
-persp_status persp_filter_accuracy_filter_check(const char *name);
-/* Table (with definitions), CSV or JSON to a FILE * passed as void *. */
-persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_accuracy_result *res,
-                                         persp_report_format format, void *stream);
-/* @end filtering */
-
-/* -------------------------------------------------------------- benchmark */
-/* @section bench (bench/, src/analysis/bench*.c): benchmark API. */
-/* @end bench */
 
 #ifdef __cplusplus
 }

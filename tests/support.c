@@ -40,10 +40,13 @@ double test_rng_uniform(test_rng *r, double lo, double hi)
     return lo + (hi - lo) * t;
 }
 
-persp_context *test_context(void)
+persp_context *test_context(void) { return test_context_threads(1); }
+
+persp_context *test_context_threads(int threads)
 {
     persp_context *ctx = NULL;
-    assert_int_equal(persp_context_create(NULL, &ctx), PERSP_OK);
+    persp_context_desc cd = {NULL, threads};
+    assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
     assert_non_null(ctx);
     return ctx;
 }

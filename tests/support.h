@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "persp.h"
+#include "persp_analysis.h"
 
 /* Absolute path of a file in the source tree (PERSP_SOURCE_DIR) or the build
  * tree (PERSP_BINARY_DIR); returns a static-per-call buffer owned by caller. */
@@ -20,6 +20,8 @@ uint64_t test_rng_next(test_rng *r);
 double test_rng_uniform(test_rng *r, double lo, double hi);
 /* A context that fails the test if it cannot be created. */
 persp_context *test_context(void);
+/* A context drawing with the given number of threads. */
+persp_context *test_context_threads(int threads);
 
 /* Golden images (ARCHITECTURE.md, testing layer 3). */
 typedef struct test_tolerance {

@@ -63,8 +63,8 @@ void persp_accuracy_destroy(persp_accuracy_result *res)
 {
     if (!res) return;
     persp_context *ctx = res->ctx;
-    persp_free(ctx, res->rows);
-    persp_free(ctx, res);
+    persp__free(ctx, res->rows);
+    persp__free(ctx, res);
 }
 
 /* ------------------------------------------------------------ one run */
@@ -180,7 +180,7 @@ static persp_status finish_row(acc_run *a, persp_accuracy_result *res, const cha
                                double hbar, int ops_measured)
 {
     if (res->count >= res->cap)
-        return persp_context_fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: row overflow");
+        return persp__fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: row overflow");
     persp_accuracy_row *row = &res->rows[res->count++];
     memset(row, 0, sizeof *row);
     snprintf(row->method, sizeof row->method, "%s", a->spec);
@@ -218,7 +218,7 @@ static persp_status finish_row(acc_run *a, persp_accuracy_result *res, const cha
         sanitize(name);
         int len = snprintf(path, sizeof path, "%s/%s.png", a->desc->heatmap_dir, name);
         if (len < 0 || (size_t)len >= sizeof path)
-            return persp_context_fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT,
+            return persp__fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT,
                                       "accuracy: heat-map path too long");
         persp_status st = persp__heatmap_write(a->ctx, path, a->grid, a->gw, a->gh);
         if (st != PERSP_OK) return st;
@@ -231,12 +231,12 @@ static persp_status begin_case(acc_run *a, size_t pixels, int gw, int gh)
     persp__acc_metrics_reset(&a->m);
     persp_status st = persp__errstats_reserve(&a->m.eu, pixels);
     if (st == PERSP_OK) st = persp__errstats_reserve(&a->m.ev, pixels);
-    if (st != PERSP_OK) return persp_context_fail(a->ctx, st, "accuracy: out of memory");
-    persp_free(a->ctx, a->grid);
+    if (st != PERSP_OK) return persp__fail(a->ctx, st, "accuracy: out of memory");
+    persp__free(a->ctx, a->grid);
     a->grid = NULL;
     if (a->desc->heatmap_dir) {
         a->grid = persp__calloc(a->ctx, (size_t)gw * (size_t)gh, sizeof *a->grid);
-        if (!a->grid) return persp_context_fail(a->ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
+        if (!a->grid) return persp__fail(a->ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
         for (size_t i = 0; i < (size_t)gw * (size_t)gh; i++) a->grid[i] = NAN;
         a->gw = gw, a->gh = gh;
     }
@@ -287,7 +287,7 @@ static persp_status case_paper_full(acc_run *a, persp_accuracy_result *res)
     persp_tri t[2];
     float attr[4][PERSP_A_COUNT];
     if (!paper_quad_tris(t, attr))
-        return persp_context_fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: paper quad setup");
+        return persp__fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: paper quad setup");
     persp_status st = begin_case(a, persp__tri_pixels(&t[0]) + persp__tri_pixels(&t[1]), 130, 130);
     if (st != PERSP_OK) return st;
     for (int i = 0; i < 2; i++) measure_triangle(a, &t[i], &t[i].rat, 0);
@@ -333,8 +333,7 @@ static persp_status case_scene(acc_run *a, persp_accuracy_result *res, const cha
     persp_render_desc rd;
     memset(&rd, 0, sizeof rd);
     rd.method = a->spec;
-    rd.threads = 1;
-    rd.count_ops = 1;
+    rd.count_ops = PERSP_TOGGLE_ON;
     persp_capture cap;
     memset(&cap, 0, sizeof cap);
     st = persp__render_capture(a->ctx, scene, &rd, w, h, &cap);
@@ -385,12 +384,12 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
 {
     if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
-    if (!desc || !out) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: no desc");
+    if (!desc || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: no desc");
     *out = NULL;
     if (desc->triangles < 0 || desc->triangles > 100000 || desc->width < 0 || desc->height < 0 ||
         desc->width > PERSP_IMAGE_MAX_SIDE || desc->height > PERSP_IMAGE_MAX_SIDE ||
         !(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor))
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "accuracy: triangles, size or relative floor out of range");
     static const char *const default_cases[] = {"paper-quad", "random-triangles"};
     const char *const *cases = desc->case_count ? desc->cases : default_cases;
@@ -398,7 +397,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     size_t groups = 0;
     for (size_t i = 0; i < ncases; i++) {
         if (!cases[i] || persp_accuracy_case_check(cases[i]) != PERSP_OK)
-            return persp_context_fail(ctx, PERSP_ERR_NOT_FOUND, "unknown case '%s'",
+            return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "unknown case '%s'",
                                       cases[i] ? cases[i] : "(null)");
         groups += strcmp(cases[i], "random-triangles") ? 1 : PERSP_HBAR_COUNT;
     }
@@ -417,7 +416,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     persp__acc_metrics_init(&a.m, ctx, desc->rel_floor > 0.0 ? desc->rel_floor : 0.01);
     persp_status st = PERSP_OK;
     if (!specs || !sels || !res) {
-        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
         goto done;
     }
     size_t used = 0;
@@ -425,7 +424,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         if (desc->method_count) {
             specs[used] = desc->methods[i];
             if (!specs[used]) {
-                st = persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: NULL method");
+                st = persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: NULL method");
                 goto done;
             }
             st = persp__method_resolve(ctx, specs[used], &sels[used]);
@@ -438,7 +437,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         }
     }
     if (!persp__size_mul(used, groups, &res->cap) || res->cap > 1000000) {
-        st = persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "accuracy: too many rows");
+        st = persp__fail(ctx, PERSP_ERR_TOO_LARGE, "accuracy: too many rows");
         goto done;
     }
     res->rows = persp__calloc(ctx, res->cap ? res->cap : 1, sizeof *res->rows);
@@ -446,7 +445,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     tris = persp__calloc(ctx, (size_t)ntri, sizeof *tris);
     attr = persp__calloc(ctx, (size_t)ntri, sizeof *attr);
     if (!res->rows || !tris || !attr) {
-        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
         goto done;
     }
     for (size_t c = 0; c < ncases && st == PERSP_OK; c++)
@@ -457,11 +456,11 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         }
 done:
     persp__acc_metrics_free(&a.m);
-    persp_free(ctx, a.grid);
-    persp_free(ctx, tris);
-    persp_free(ctx, attr);
-    persp_free(ctx, specs);
-    persp_free(ctx, sels);
+    persp__free(ctx, a.grid);
+    persp__free(ctx, tris);
+    persp__free(ctx, attr);
+    persp__free(ctx, specs);
+    persp__free(ctx, sels);
     if (st != PERSP_OK) {
         persp_accuracy_destroy(res);
         return st;

@@ -6,6 +6,7 @@
 #ifndef PERSP_ANALYSIS_ANALYSIS_H
 #define PERSP_ANALYSIS_ANALYSIS_H
 
+#include "persp_analysis.h"
 #include "interp/method.h"
 #include "raster/raster.h"
 

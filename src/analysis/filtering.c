@@ -135,7 +135,7 @@ persp_status persp__tilt_scene(persp_context *ctx, double degrees, persp_scene *
     m.indices = persp__calloc(ctx, 6, sizeof *m.indices);
     if (!m.vertices || !m.indices) {
         persp__mesh_free(ctx, &m);
-        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "tilt case: out of memory");
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "tilt case: out of memory");
         goto fail;
     }
     static const float corner[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
@@ -179,7 +179,7 @@ static persp_status case_scene(persp_context *ctx, const char *name, persp_scene
 /* -------------------------------------------------------------- reference */
 
 persp_status persp__filter_reference(persp_context *ctx, const persp_scene *scene, int width,
-                                     int height, int samples, int tile, int threads, float *out)
+                                     int height, int samples, int tile, float *out)
 {
     if (!ctx || !scene || !out || width <= 0 || height <= 0 || samples < 1 || samples > 64 ||
         tile < 1)
@@ -203,17 +203,15 @@ persp_status persp__filter_reference(persp_context *ctx, const persp_scene *scen
     persp_framebuffer fb = {0, 0, persp__calloc(ctx, side * side, 4),
                             persp__calloc(ctx, side * side, sizeof(float))};
     if (!fb.color || !fb.depth) {
-        persp_free(ctx, fb.color);
-        persp_free(ctx, fb.depth);
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+        persp__free(ctx, fb.color);
+        persp__free(ctx, fb.depth);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
                                   "filter reference: out of memory for %zux%zu samples", side, side);
     }
     persp_render_desc rd;
     memset(&rd, 0, sizeof rd);
     rd.method = "exact";
-    rd.filter_set = 1;
     rd.filter = PERSP_FILTER_BILINEAR;
-    rd.threads = threads;
     const double BW = (double)width * S, BH = (double)height * S;
     persp_status st = PERSP_OK;
     for (int ty = 0; ty < height && st == PERSP_OK; ty += T)
@@ -246,8 +244,8 @@ persp_status persp__filter_reference(persp_context *ctx, const persp_scene *scen
                     for (int c = 0; c < 4; c++) o[c] = (float)(acc[c] * inv);
                 }
         }
-    persp_free(ctx, fb.color);
-    persp_free(ctx, fb.depth);
+    persp__free(ctx, fb.color);
+    persp__free(ctx, fb.depth);
     return st;
 }
 
@@ -291,9 +289,9 @@ static persp_status add_row(persp_filter_accuracy_result *res, const persp_filte
     if (res->count == res->cap) {
         size_t nc = res->cap ? 2 * res->cap : 16;
         persp_filter_accuracy_row *nr = persp__calloc(res->ctx, nc, sizeof *nr);
-        if (!nr) return persp_context_fail(res->ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
+        if (!nr) return persp__fail(res->ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
         if (res->count) memcpy(nr, res->rows, res->count * sizeof *nr);
-        persp_free(res->ctx, res->rows);
+        persp__free(res->ctx, res->rows);
         res->rows = nr;
         res->cap = nc;
     }
@@ -312,13 +310,13 @@ typedef struct fa_case {
 
 static void case_free(persp_context *ctx, fa_case *c)
 {
-    persp_free(ctx, c->ref);
-    persp_free(ctx, c->ref_luma);
-    persp_free(ctx, c->luma);
-    persp_free(ctx, c->err);
-    persp_free(ctx, c->mask);
-    persp_free(ctx, c->color);
-    persp_free(ctx, c->depth);
+    persp__free(ctx, c->ref);
+    persp__free(ctx, c->ref_luma);
+    persp__free(ctx, c->luma);
+    persp__free(ctx, c->err);
+    persp__free(ctx, c->mask);
+    persp__free(ctx, c->color);
+    persp__free(ctx, c->depth);
     persp__capture_free(ctx, &c->cap);
 }
 
@@ -381,16 +379,14 @@ static persp_status measure(persp_context *ctx, const persp_filter_accuracy_desc
     persp_render_desc rd;
     memset(&rd, 0, sizeof rd);
     rd.method = "exact";
-    rd.threads = d->threads;
     rd.lod_mode = d->lod_mode;
     rd.lod_bias = d->lod_bias;
     if (object) {
         rd.pipeline = PERSP_PIPELINE_OBJECT;
     } else {
-        rd.filter_set = 1;
         persp_status ps = persp_filter_parse(fname, &rd.filter, &rd.max_aniso);
         if (ps != PERSP_OK)
-            return persp_context_fail(ctx, ps, "filter accuracy: unknown filter '%s'", fname);
+            return persp__fail(ctx, ps, "filter accuracy: unknown filter '%s'", fname);
     }
     persp_framebuffer fb = {c->w, c->h, c->color, c->depth};
     persp_render_stats stats;
@@ -460,7 +456,7 @@ static persp_status measure(persp_context *ctx, const persp_filter_accuracy_desc
             if (*s == ':') *s = '-';
         int len = snprintf(path, sizeof path, "%s/filter_%s_%s.png", d->heatmap_dir, cname, safe);
         if (len < 0 || (size_t)len >= sizeof path)
-            return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: heat-map path too long");
+            return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: heat-map path too long");
         persp_status st = persp__heatmap_write(ctx, path, c->err, c->w, c->h);
         if (st != PERSP_OK) return st;
     }
@@ -476,14 +472,13 @@ persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_ac
     if (!d.width && !d.height) d.width = FA_DEFAULT_W, d.height = FA_DEFAULT_H;
     if (!d.samples) d.samples = FA_DEFAULT_SAMPLES;
     if (!d.repeats) d.repeats = FA_DEFAULT_REPEATS;
-    if (!d.threads) d.threads = 1;
     if (d.width <= 0 || d.height <= 0 || d.width > 4096 || d.height > 4096)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "filter accuracy: size %dx%d out of range (1..4096)", d.width, d.height);
-    if (d.samples < 1 || d.samples > 64 || d.repeats < 1 || d.repeats > 100 || d.threads < 1 ||
-        d.threads > 256 || (unsigned)d.lod_mode > 1u || !isfinite(d.lod_bias))
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                                  "filter accuracy: samples must be 1..64, repeats 1..100, threads 1..256");
+    if (d.samples < 1 || d.samples > 64 || d.repeats < 1 || d.repeats > 100 ||
+        (unsigned)d.lod_mode > PERSP_LOD_POLYGON || !isfinite(d.lod_bias))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                           "filter accuracy: samples must be 1..64, repeats 1..100");
     const char *const *filters = d.filter_count ? d.filters : default_filters;
     size_t nf = d.filter_count ? d.filter_count : sizeof default_filters / sizeof default_filters[0];
     static const char *const default_cases[] = {"corridor", "floor",   "tilt-0", "tilt-45",
@@ -492,14 +487,14 @@ persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_ac
     size_t nc = d.case_count ? d.case_count : sizeof default_cases / sizeof default_cases[0];
     for (size_t i = 0; i < nf; i++)
         if (!filters[i] || persp_filter_accuracy_filter_check(filters[i]) != PERSP_OK)
-            return persp_context_fail(ctx, PERSP_ERR_NOT_FOUND, "filter accuracy: unknown filter '%s'",
+            return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "filter accuracy: unknown filter '%s'",
                                       filters[i] ? filters[i] : "(null)");
     for (size_t i = 0; i < nc; i++)
         if (!cases[i] || persp_filter_accuracy_case_check(cases[i]) != PERSP_OK)
-            return persp_context_fail(ctx, PERSP_ERR_NOT_FOUND, "filter accuracy: unknown case '%s'",
+            return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "filter accuracy: unknown case '%s'",
                                       cases[i] ? cases[i] : "(null)");
     persp_filter_accuracy_result *res = persp__calloc(ctx, 1, sizeof *res);
-    if (!res) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
+    if (!res) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
     res->ctx = ctx;
     persp_status st = PERSP_OK;
     const size_t np = (size_t)d.width * (size_t)d.height;
@@ -518,17 +513,16 @@ persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_ac
         c.color = persp__calloc(ctx, np, 4);
         c.depth = persp__calloc(ctx, np, sizeof(float));
         if (!c.ref || !c.ref_luma || !c.luma || !c.err || !c.mask || !c.color || !c.depth)
-            st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
+            st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
         if (st == PERSP_OK) {
             int tile = FA_REF_TILE_PX / d.samples;
             st = persp__filter_reference(ctx, scene, d.width, d.height, d.samples, tile < 1 ? 1 : tile,
-                                         d.threads, c.ref);
+                                         c.ref);
         }
         if (st == PERSP_OK) {
             persp_render_desc cd;
             memset(&cd, 0, sizeof cd);
             cd.method = "exact";
-            cd.threads = d.threads;
             st = persp__render_capture(ctx, scene, &cd, d.width, d.height, &c.cap);
         }
         if (st == PERSP_OK) {
@@ -564,8 +558,8 @@ const persp_filter_accuracy_row *persp_filter_accuracy_row_at(const persp_filter
 void persp_filter_accuracy_destroy(persp_filter_accuracy_result *res)
 {
     if (!res) return;
-    persp_free(res->ctx, res->rows);
-    persp_free(res->ctx, res);
+    persp__free(res->ctx, res->rows);
+    persp__free(res->ctx, res);
 }
 
 /* ----------------------------------------------------------------- report */
@@ -635,6 +629,6 @@ persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_
                    "fetch/px: texels read per covered pixel (object: samples walked per pixel).\n"
                    "ns/px: fastest of the timed renders, per image pixel.\n");
     }
-    if (ferror(f)) return persp_context_fail(ctx, PERSP_ERR_IO, "filter accuracy: write failed");
+    if (ferror(f)) return persp__fail(ctx, PERSP_ERR_IO, "filter accuracy: write failed");
     return PERSP_OK;
 }

@@ -2,7 +2,7 @@
 #ifndef PERSP_ANALYSIS_FILTERING_H
 #define PERSP_ANALYSIS_FILTERING_H
 
-#include "persp.h"
+#include "persp_analysis.h"
 
 /* The supersampled reference of a scene at width × height: samples ×
  * samples points per pixel (at the centres of a regular sub-grid) of a
@@ -12,7 +12,7 @@
  * tile × tile output pixels by composing the projection with a window
  * transform, so memory stays bounded. */
 persp_status persp__filter_reference(persp_context *ctx, const persp_scene *scene, int width,
-                                     int height, int samples, int tile, int threads, float *out);
+                                     int height, int samples, int tile, float *out);
 
 /* Builds the tilted-plane case scene "tilt-N" (N degrees about the x axis). */
 persp_status persp__tilt_scene(persp_context *ctx, double degrees, persp_scene **out);

@@ -102,7 +102,7 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
                                   int h)
 {
     if (!path || !err || w <= 0 || h <= 0 || w > PERSP_IMAGE_MAX_SIDE || h > PERSP_IMAGE_MAX_SIDE)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "heatmap: bad arguments");
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "heatmap: bad arguments");
     double vmax = 0.0;
     size_t n = (size_t)w * (size_t)h;
     for (size_t i = 0; i < n; i++)
@@ -122,7 +122,7 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
     int iw = w * fx, ih = h * fy + legend_h;
     if (iw < 256) iw = 256;
     if (iw > PERSP_IMAGE_MAX_SIDE || ih > PERSP_IMAGE_MAX_SIDE)
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "heatmap: %dx%d is too large", iw, ih);
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "heatmap: %dx%d is too large", iw, ih);
     persp_image img;
     persp_status st = persp_image_alloc(ctx, iw, ih, &img);
     if (st != PERSP_OK) return st;

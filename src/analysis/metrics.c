@@ -19,7 +19,7 @@ void persp__errstats_init(persp_errstats *s, persp_context *ctx)
 void persp__errstats_free(persp_errstats *s)
 {
     if (!s) return;
-    persp_free(s->ctx, s->v);
+    persp__free(s->ctx, s->v);
     s->v = NULL;
     s->n = s->cap = 0;
 }
@@ -40,10 +40,10 @@ persp_status persp__errstats_reserve(persp_errstats *s, size_t extra)
     while (cap < need) cap = cap > (size_t)-1 / 4 ? need : cap * 2;
     size_t bytes;
     if (!persp__size_mul(cap, sizeof *s->v, &bytes)) return PERSP_ERR_TOO_LARGE;
-    double *v = persp_alloc(s->ctx, bytes);
+    double *v = persp__alloc(s->ctx, bytes);
     if (!v) return PERSP_ERR_OUT_OF_MEMORY;
     if (s->n) memcpy(v, s->v, s->n * sizeof *v);
-    persp_free(s->ctx, s->v);
+    persp__free(s->ctx, s->v);
     s->v = v;
     s->cap = cap;
     return PERSP_OK;

@@ -197,15 +197,15 @@ persp_status persp_accuracy_write(persp_context *ctx, const persp_accuracy_resul
                                   persp_report_format format, void *stream)
 {
     if (ctx) persp__clear_error(ctx);
-    if (!res || !stream) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: nothing to write");
+    if (!res || !stream) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: nothing to write");
     FILE *f = stream;
     int ok;
     switch (format) {
     case PERSP_REPORT_TABLE: ok = write_table(res, f); break;
     case PERSP_REPORT_CSV: ok = write_csv(res, f); break;
     case PERSP_REPORT_JSON: ok = write_json(res, f); break;
-    default: return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: unknown format");
+    default: return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: unknown format");
     }
-    if (!ok || fflush(f) != 0) return persp_context_fail(ctx, PERSP_ERR_IO, "accuracy: write failed");
+    if (!ok || fflush(f) != 0) return persp__fail(ctx, PERSP_ERR_IO, "accuracy: write failed");
     return PERSP_OK;
 }

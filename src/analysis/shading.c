@@ -344,13 +344,13 @@ persp_status persp__shading_random(persp_context *ctx, uint64_t seed, double hba
     if (!ctx || !out || triangles < 1 || !(hbar >= 1.0)) return PERSP_ERR_INVALID_ARGUMENT;
     /* The draw states are large; keep them off the stack. */
     persp_draw_state *ds = persp__calloc(ctx, PERSP_SHADE_MODES, sizeof *ds);
-    if (!ds) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "shading accuracy: out of memory");
+    if (!ds) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "shading accuracy: out of memory");
     mode_acc acc[PERSP_SHADE_MODES];
     memset(acc, 0, sizeof acc);
     persp_status st = PERSP_OK;
     for (int i = 0; i < PERSP_SHADE_MODES && st == PERSP_OK; i++) {
         random_case_state(&ds[i]);
-        ds[i].shading = (persp_shading)(i + 1);
+        ds[i].shading = (persp_shading)(PERSP_SHADING_FLAT + i);
         st = persp__shade_resolve(ctx, &ds[i]);
         memset(&out[i], 0, sizeof out[i]);
         out[i].mode = ds[i].shading;
@@ -360,7 +360,7 @@ persp_status persp__shading_random(persp_context *ctx, uint64_t seed, double hba
     for (int tri = 0; tri < triangles && st == PERSP_OK; tri++) {
         persp_clipvert cv[3];
         persp_tri t;
-        if (!random_lit_triangle(&rng, hbar, &ds[PERSP_SHADING_GOURAUD - 1], cv, &t)) break;
+        if (!random_lit_triangle(&rng, hbar, &ds[PERSP_SHADING_GOURAUD - PERSP_SHADING_FLAT], cv, &t)) break;
         for (int y = t.ymin; y <= t.ymax; y++) {
             int lo, hi;
             if (!persp__tri_row_range(&t, y, t.xmin, t.xmax, &lo, &hi)) continue;
@@ -376,7 +376,7 @@ persp_status persp__shading_random(persp_context *ctx, uint64_t seed, double hba
         }
     }
     for (int i = 0; i < PERSP_SHADE_MODES; i++) finish(&out[i], &acc[i]);
-    persp_free(ctx, ds);
+    persp__free(ctx, ds);
     return st;
 }
 
@@ -464,19 +464,18 @@ persp_status persp__shading_scene_compare(persp_context *ctx, const persp_scene 
     float *depth = persp__calloc(ctx, px, sizeof(float)), *rdepth = persp__calloc(ctx, px, sizeof(float));
     persp_status st = PERSP_OK;
     if (!ref || !img || !depth || !rdepth) {
-        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "shading accuracy: out of memory");
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "shading accuracy: out of memory");
         goto done;
     }
     persp_render_desc d;
     memset(&d, 0, sizeof d);
-    d.shading_set = 1;
     d.shading = PERSP_SHADING_PHONG_PC;
     persp_framebuffer rfb = {w, h, ref, rdepth};
     if ((st = persp_render(ctx, scene, &d, &rfb, NULL)) != PERSP_OK) goto done;
     for (int i = 0; i < PERSP_SHADE_MODES; i++) {
         persp_shade_err *e = &out[i];
         memset(e, 0, sizeof *e);
-        e->mode = d.shading = (persp_shading)(i + 1);
+        e->mode = d.shading = (persp_shading)(PERSP_SHADING_FLAT + i);
         persp_framebuffer fb = {w, h, img, depth};
         if ((st = persp_render(ctx, scene, &d, &fb, NULL)) != PERSP_OK) goto done;
         double sum = 0.0;
@@ -494,9 +493,9 @@ persp_status persp__shading_scene_compare(persp_context *ctx, const persp_scene 
         if (e->pixels) e->col_mean = sum / (double)e->pixels, e->col_over = (double)over / (double)e->pixels;
     }
 done:
-    persp_free(ctx, ref);
-    persp_free(ctx, img);
-    persp_free(ctx, depth);
-    persp_free(ctx, rdepth);
+    persp__free(ctx, ref);
+    persp__free(ctx, img);
+    persp__free(ctx, depth);
+    persp__free(ctx, rdepth);
     return st;
 }

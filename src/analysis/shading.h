@@ -10,7 +10,7 @@
 #define PERSP_ANALYSIS_SHADING_H
 
 #include "interp/poly.h"
-#include "persp.h"
+#include "persp_analysis.h"
 
 /* Δ(u) = u·(1 − 1/(r + u·(1 − r))), r = z2/z1 (seed 000 (4.1)): the
  * factor by which screen-linear Gouraud misses the perspective-correct
@@ -57,10 +57,10 @@ typedef struct persp_shade_err {
 } persp_shade_err;
 
 /* The modes measured: every persp_shading but NONE. */
-#define PERSP_SHADE_MODES (PERSP_SHADING_COUNT - 1)
+#define PERSP_SHADE_MODES (PERSP_SHADING_COUNT - PERSP_SHADING_FLAT)
 
 /* Seeded random lit triangles of depth ratio hbar (at most `triangles`),
- * rendered span by span with each mode's span shader; out[i] is mode i + 1. */
+ * rendered span by span with each mode's span shader; out[i] is mode PERSP_SHADING_FLAT + i. */
 persp_status persp__shading_random(persp_context *ctx, uint64_t seed, double hbar, int triangles,
                                    persp_shade_err out[PERSP_SHADE_MODES]);
 

@@ -115,14 +115,14 @@ static persp_status write_svg(persp_context *ctx, const char *path)
     /* Written to a temporary name and renamed, so a failure leaves nothing. */
     char tmp[4096];
     if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "svg: path too long");
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "svg: path too long");
     FILE *f = fopen(tmp, "w");
-    if (!f) return persp_context_fail(ctx, PERSP_ERR_IO, "svg: cannot write '%s'", tmp);
+    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "svg: cannot write '%s'", tmp);
     int bad = persp__svg_write(f, p, 3, 460, 380);
     if (fclose(f) != 0) bad = -1;
     if (bad || rename(tmp, path) != 0) {
         remove(tmp);
-        return persp_context_fail(ctx, PERSP_ERR_IO, "svg: cannot write '%s'", path);
+        return persp__fail(ctx, PERSP_ERR_IO, "svg: cannot write '%s'", path);
     }
     return PERSP_OK;
 }
@@ -217,6 +217,6 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
         if (st != PERSP_OK) return st;
         fprintf(f, "\nFigures (Fig. 4.3, Fig. 4.4, t_w errors at hbar = 3) written to %s\n", desc->svg_path);
     }
-    return ferror(f) ? persp_context_fail(ctx, PERSP_ERR_IO, "shading accuracy: writing the report failed")
+    return ferror(f) ? persp__fail(ctx, PERSP_ERR_IO, "shading accuracy: writing the report failed")
                      : PERSP_OK;
 }

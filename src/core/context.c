@@ -76,7 +76,7 @@ void persp__clear_error(persp_context *ctx)
     if (ctx) ctx->error[0] = '\0';
 }
 
-persp_status persp_context_fail(persp_context *ctx, persp_status status, const char *fmt, ...)
+persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)
 {
     if (ctx && fmt) {
         va_list ap;
@@ -87,13 +87,13 @@ persp_status persp_context_fail(persp_context *ctx, persp_status status, const c
     return status;
 }
 
-void *persp_alloc(persp_context *ctx, size_t size)
+void *persp__alloc(persp_context *ctx, size_t size)
 {
     if (!ctx || size == 0) return NULL;
     return ctx->allocator.alloc(ctx->allocator.user, size);
 }
 
-void persp_free(persp_context *ctx, void *ptr)
+void persp__free(persp_context *ctx, void *ptr)
 {
     if (ctx && ptr) ctx->allocator.free(ctx->allocator.user, ptr);
 }
@@ -102,7 +102,7 @@ void *persp__calloc(persp_context *ctx, size_t n, size_t size)
 {
     size_t bytes;
     if (!persp__size_mul(n, size, &bytes) || bytes == 0) return NULL;
-    void *p = persp_alloc(ctx, bytes);
+    void *p = persp__alloc(ctx, bytes);
     if (p) memset(p, 0, bytes);
     return p;
 }

@@ -31,6 +31,16 @@ static inline int persp__size_mul(size_t a, size_t b, size_t *out)
     return 1;
 }
 
+/* Sets the context's detail message and returns status (NULL ctx: only returns). */
+persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* The context's allocator; persp__free(ctx, NULL) is a no-op. */
+void *persp__alloc(persp_context *ctx, size_t size);
+void persp__free(persp_context *ctx, void *ptr);
+
 /* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
 void *persp__calloc(persp_context *ctx, size_t n, size_t size);
 

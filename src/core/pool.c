@@ -118,6 +118,6 @@ void persp__pool_destroy(persp_context *ctx)
     pthread_mutex_destroy(&p->mu);
     pthread_cond_destroy(&p->wake);
     pthread_cond_destroy(&p->done);
-    persp_free(ctx, p);
+    persp__free(ctx, p);
     ctx->pool = NULL;
 }

@@ -79,7 +79,7 @@ static persp_status quads_mesh(persp_context *ctx, const quad *q, size_t count, 
     m->indices = persp__calloc(ctx, 6 * count, sizeof *m->indices);
     if (!m->vertices || !m->indices) {
         persp__mesh_free(ctx, m);
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: out of memory");
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: out of memory");
     }
     for (size_t i = 0; i < count; i++) {
         for (int k = 0; k < 4; k++) {
@@ -198,7 +198,7 @@ persp_status persp_scene_builtin(persp_context *ctx, const char *name, persp_sce
     if (!strcmp(name, "corridor")) build = build_corridor;
     else if (!strcmp(name, "floor")) build = build_floor;
     else if (!strcmp(name, "cube")) build = build_cube;
-    else return persp_context_fail(ctx, PERSP_ERR_NOT_FOUND, "unknown built-in scene '%s' (corridor, floor, cube)", name);
+    else return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "unknown built-in scene '%s' (corridor, floor, cube)", name);
     persp_scene *s;
     persp_status st = persp__scene_new(ctx, &s);
     if (st != PERSP_OK) return st;

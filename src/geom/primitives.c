@@ -26,13 +26,13 @@ static persp_status mesh_alloc(persp_context *ctx, size_t nv, size_t ni, persp_m
 {
     memset(m, 0, sizeof *m);
     if (nv > PERSP_SCENE_MAX_VERTICES || ni > PERSP_SCENE_MAX_INDICES)
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "primitive: %zu vertices / %zu indices exceed the limits",
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "primitive: %zu vertices / %zu indices exceed the limits",
                                   nv, ni);
     m->vertices = persp__calloc(ctx, nv, sizeof *m->vertices);
     m->indices = persp__calloc(ctx, ni, sizeof *m->indices);
     if (!m->vertices || !m->indices) {
         persp__mesh_free(ctx, m);
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "primitive: out of memory");
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "primitive: out of memory");
     }
     m->vertex_count = nv;
     m->index_count = 0; /* counted up as triangles are emitted */
@@ -75,7 +75,7 @@ static void grid(persp_mesh *m, size_t base, int rows, int cols, int poles)
 static int check_div(persp_context *ctx, const char *what, const char *name, int n, int lo)
 {
     if (n < lo || n > PRIM_MAX_DIV) {
-        persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: %s must be %d..%d (got %d)", what, name, lo,
+        persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: %s must be %d..%d (got %d)", what, name, lo,
                            PRIM_MAX_DIV, n);
         return 0;
     }
@@ -187,7 +187,7 @@ persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int
     if (!check_div(ctx, "torus", "slices", slices, 3) || !check_div(ctx, "torus", "rings", rings, 3))
         return PERSP_ERR_INVALID_ARGUMENT;
     if (!(major > 0.0f) || !(minor > 0.0f) || !isfinite(major) || !isfinite(minor) || minor > major)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "torus: radii must satisfy 0 < minor <= major (got %g, %g)", (double)major,
                                   (double)minor);
     size_t w = (size_t)slices + 1, h = (size_t)rings + 1;

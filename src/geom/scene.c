@@ -25,7 +25,7 @@ persp_status persp__scene_new(persp_context *ctx, persp_scene **out)
 {
     if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp_scene *s = persp__calloc(ctx, 1, sizeof *s);
-    if (!s) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: out of memory");
+    if (!s) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: out of memory");
     s->ctx = ctx;
     s->camera.eye = (persp_vec3){0, 0, 0};
     s->camera.target = (persp_vec3){0, 0, -1};
@@ -42,8 +42,8 @@ persp_status persp__scene_new(persp_context *ctx, persp_scene **out)
 void persp__mesh_free(persp_context *ctx, persp_mesh *mesh)
 {
     if (!mesh) return;
-    persp_free(ctx, mesh->vertices);
-    persp_free(ctx, mesh->indices);
+    persp__free(ctx, mesh->vertices);
+    persp__free(ctx, mesh->indices);
     memset(mesh, 0, sizeof *mesh);
 }
 
@@ -54,10 +54,10 @@ static int grow(persp_context *ctx, void **arr, size_t count, size_t size)
     if (count & (count - 1)) return 1; /* not a power of two: room left */
     size_t cap = count ? count * 2 : 1, bytes;
     if (!persp__size_mul(cap, size, &bytes)) return 0;
-    void *n = persp_alloc(ctx, bytes);
+    void *n = persp__alloc(ctx, bytes);
     if (!n) return 0;
     if (count) memcpy(n, *arr, count * size);
-    persp_free(ctx, *arr);
+    persp__free(ctx, *arr);
     *arr = n;
     return 1;
 }
@@ -66,7 +66,7 @@ persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
 {
     if (s->mesh_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->meshes, s->mesh_count, sizeof *s->meshes)) {
         persp__mesh_free(s->ctx, mesh);
-        return persp_context_fail(s->ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: too many meshes");
+        return persp__fail(s->ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: too many meshes");
     }
     s->meshes[s->mesh_count] = *mesh;
     memset(mesh, 0, sizeof *mesh);
@@ -79,7 +79,7 @@ persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *i
 {
     if (s->texture_count >= PERSP_SCENE_MAX_TEXTURES || !grow(s->ctx, (void **)&s->textures, s->texture_count, sizeof *s->textures)) {
         persp_texture_destroy(tex);
-        return persp_context_fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many textures");
+        return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many textures");
     }
     s->textures[s->texture_count] = tex;
     if (index) *index = (int)s->texture_count;
@@ -90,7 +90,7 @@ persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *i
 persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index)
 {
     if (s->material_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->materials, s->material_count, sizeof *s->materials))
-        return persp_context_fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many materials");
+        return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many materials");
     s->materials[s->material_count] = *m;
     if (index) *index = (int)s->material_count;
     s->material_count++;
@@ -101,9 +101,9 @@ persp_status persp__scene_add_object(persp_scene *s, const persp_object *o)
 {
     if (o->mesh < 0 || (size_t)o->mesh >= s->mesh_count || o->material < 0 ||
         (size_t)o->material >= s->material_count)
-        return persp_context_fail(s->ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: object refers to a missing mesh or material");
+        return persp__fail(s->ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: object refers to a missing mesh or material");
     if (s->object_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->objects, s->object_count, sizeof *s->objects))
-        return persp_context_fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many objects");
+        return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many objects");
     s->objects[s->object_count++] = *o;
     return PERSP_OK;
 }
@@ -114,11 +114,11 @@ void persp_scene_destroy(persp_scene *s)
     persp_context *ctx = s->ctx;
     for (size_t i = 0; i < s->mesh_count; i++) persp__mesh_free(ctx, &s->meshes[i]);
     for (size_t i = 0; i < s->texture_count; i++) persp_texture_destroy(s->textures[i]);
-    persp_free(ctx, s->meshes);
-    persp_free(ctx, s->textures);
-    persp_free(ctx, s->materials);
-    persp_free(ctx, s->objects);
-    persp_free(ctx, s);
+    persp__free(ctx, s->meshes);
+    persp__free(ctx, s->textures);
+    persp__free(ctx, s->materials);
+    persp__free(ctx, s->objects);
+    persp__free(ctx, s);
 }
 
 persp_status persp_scene_set_texture(persp_scene *s, const persp_image *img)
@@ -149,15 +149,17 @@ void persp_scene_get_info(const persp_scene *s, persp_scene_info *out)
     out->objects = s->object_count;
     out->textures = s->texture_count;
     out->lights = s->light_count;
-    out->shading = s->shading;
+    out->method = s->method[0] ? s->method : "exact";
+    out->shading = s->shading == PERSP_SHADING_DEFAULT ? PERSP_SHADING_NONE : s->shading;
     for (size_t i = 0; i < s->object_count; i++) {
         const persp_material *m = &s->materials[s->objects[i].material];
         if (m->texture < 0) continue;
+        persp_filter f = m->sampler.filter == PERSP_FILTER_DEFAULT ? PERSP_FILTER_BILINEAR : m->sampler.filter;
         if (out->filter_count == 0) {
-            out->filter = m->sampler.filter;
+            out->filter = f;
             out->max_aniso = m->sampler.max_aniso;
             out->filter_count = 1;
-        } else if (m->sampler.filter != out->filter || m->sampler.max_aniso != out->max_aniso) {
+        } else if (f != out->filter || m->sampler.max_aniso != out->max_aniso) {
             out->filter_count = 2;
         }
     }

@@ -81,8 +81,7 @@ struct persp_scene {
     persp_shading shading;    /* default shading */
     int cull_backfaces;
     char method[64];          /* texture-coordinate method spec from the scene file, "" if none */
-    int filter_set;           /* nonzero: the scene file chose a default texture filter */
-    persp_filter filter;
+    persp_filter filter;      /* the scene file's default texture filter, or DEFAULT */
     int max_aniso;
     persp_mesh *meshes;
     size_t mesh_count;

@@ -44,15 +44,15 @@ persp_status persp__method_resolve(persp_context *ctx, const char *spec, persp_m
         if (m->parse) {
             persp_status st = m->parse(colon ? colon + 1 : NULL, &out->params);
             if (st != PERSP_OK)
-                return persp_context_fail(ctx, st, "method '%s': bad parameters (expected %s:%s)",
+                return persp__fail(ctx, st, "method '%s': bad parameters (expected %s:%s)",
                                           spec, m->name, m->params_help);
         } else if (colon) {
-            return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+            return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                       "method '%s' takes no parameters", m->name);
         }
         return PERSP_OK;
     }
-    return persp_context_fail(ctx, PERSP_ERR_NOT_FOUND,
+    return persp__fail(ctx, PERSP_ERR_NOT_FOUND,
                               "unknown method '%s' (see `persp methods`)", spec);
 }
 

@@ -30,11 +30,11 @@ static const char *display_name(const char *name)
 static persp_status check_size(persp_context *ctx, const char *name, long long w, long long h)
 {
     if (w <= 0 || h <= 0)
-        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: image has an empty size %lldx%lld",
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: image has an empty size %lldx%lld",
                                   display_name(name), w, h);
     if (w > PERSP_IMAGE_MAX_SIDE || h > PERSP_IMAGE_MAX_SIDE ||
         (unsigned long long)w * (unsigned long long)h > PERSP_IMAGE_MAX_PIXELS)
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE,
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
                                   "%s: image size %lldx%lld exceeds the limit (side %d, %u pixels)",
                                   display_name(name), w, h, PERSP_IMAGE_MAX_SIDE,
                                   PERSP_IMAGE_MAX_PIXELS);
@@ -48,7 +48,7 @@ persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_
     if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
     if (width <= 0 || height <= 0)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "image: invalid size %dx%d", width, height);
     persp_status st = check_size(ctx, "image", width, height);
     if (st != PERSP_OK) return st;
@@ -60,7 +60,7 @@ persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_
     size_t bytes = (size_t)height * stride + IMAGE_ALIGN + sizeof(void *);
     uint8_t *raw = persp__calloc(ctx, 1, bytes);
     if (!raw)
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "image: out of memory for %dx%d",
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "image: out of memory for %dx%d",
                                   width, height);
     uintptr_t at = ((uintptr_t)raw + sizeof(void *) + IMAGE_ALIGN - 1) & ~(uintptr_t)(IMAGE_ALIGN - 1);
     uint8_t *px = raw + (at - (uintptr_t)raw);
@@ -78,7 +78,7 @@ void persp_image_free(persp_context *ctx, persp_image *img)
     if (img->pixels) {
         uint8_t *raw;
         memcpy(&raw, img->pixels - sizeof(void *), sizeof raw);
-        persp_free(ctx, raw);
+        persp__free(ctx, raw);
     }
     memset(img, 0, sizeof *img);
 }
@@ -102,22 +102,22 @@ static persp_status check_png_structure(persp_context *ctx, const unsigned char 
     int first = 1;
     for (;;) {
         if (size - pos < 12)
-            return persp_context_fail(ctx, PERSP_ERR_FORMAT,
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
                                       "%s: truncated PNG: the file ends inside a chunk at byte %zu "
                                       "(no IEND chunk)",
                                       display_name(name), pos);
         uint32_t len = be32(b + pos);
         const unsigned char *type = b + pos + 4;
         if (len > 0x7fffffffu)
-            return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: chunk length %u at byte %zu",
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: chunk length %u at byte %zu",
                                       display_name(name), (unsigned)len, pos);
         if (first) {
             if (memcmp(type, "IHDR", 4) != 0 || len != 13)
-                return persp_context_fail(ctx, PERSP_ERR_FORMAT,
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
                                           "%s: invalid PNG: the first chunk is not IHDR",
                                           display_name(name));
             if (size - pos < 20)
-                return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: truncated PNG header",
+                return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: truncated PNG header",
                                           display_name(name));
             persp_status st = check_size(ctx, name, (long long)be32(b + pos + 8),
                                          (long long)be32(b + pos + 12));
@@ -125,7 +125,7 @@ static persp_status check_png_structure(persp_context *ctx, const unsigned char 
             first = 0;
         }
         if ((size - pos - 12) < (size_t)len)
-            return persp_context_fail(ctx, PERSP_ERR_FORMAT,
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
                                       "%s: truncated PNG: chunk %.4s at byte %zu needs %u bytes, "
                                       "%zu remain",
                                       display_name(name), (const char *)type, pos, (unsigned)len,
@@ -144,7 +144,7 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
     memset(&pi, 0, sizeof pi);
     pi.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_memory(&pi, data, size)) {
-        persp_status st = persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: %s",
+        persp_status st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: %s",
                                              display_name(name), pi.message);
         png_image_free(&pi);
         return st;
@@ -164,7 +164,7 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
      * last, which is exactly the bottom-up layout of persp_image. */
     png_int_32 stride = -(png_int_32)out->stride;
     if (!png_image_finish_read(&pi, NULL, out->pixels, stride, NULL)) {
-        st = persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt or truncated PNG: %s",
+        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt or truncated PNG: %s",
                                 display_name(name), pi.message);
         png_image_free(&pi);
         persp_image_free(ctx, out);
@@ -218,7 +218,7 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
 {
     if (setjmp(job->err.jump)) {
         persp_image_free(ctx, &job->img);
-        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
                                   display_name(name), job->err.message);
     }
     jpeg_create_decompress(&job->cinfo);
@@ -232,7 +232,7 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
     job->cinfo.out_color_space = JCS_EXT_RGBA;
     jpeg_start_decompress(&job->cinfo);
     if (job->cinfo.output_components != 4)
-        return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED, "%s: unsupported JPEG colour layout",
+        return persp__fail(ctx, PERSP_ERR_UNSUPPORTED, "%s: unsupported JPEG colour layout",
                                   display_name(name));
     st = persp_image_alloc(ctx, (int)job->cinfo.output_width, (int)job->cinfo.output_height,
                            &job->img);
@@ -245,7 +245,7 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
     jpeg_finish_decompress(&job->cinfo);
     if (job->err.warnings > 0) {
         persp_image_free(ctx, &job->img);
-        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
                                   display_name(name), job->err.message);
     }
     return PERSP_OK;
@@ -255,7 +255,7 @@ static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size,
                               persp_image *out)
 {
     jpeg_job *job = persp__calloc(ctx, 1, sizeof *job);
-    if (!job) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
+    if (!job) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
                                         display_name(name));
     job->cinfo.err = jpeg_std_error(&job->err.pub);
     job->err.pub.error_exit = jpeg_error_exit;
@@ -268,7 +268,7 @@ static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size,
     } else {
         persp_image_free(ctx, &job->img);
     }
-    persp_free(ctx, job);
+    persp__free(ctx, job);
     return st;
 }
 
@@ -285,7 +285,7 @@ persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_
     if (size >= 8 && memcmp(b, png_sig, 8) == 0) return load_png(ctx, data, size, name, out);
     if (size >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff)
         return load_jpeg(ctx, data, size, name, out);
-    return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s: not a PNG or JPEG image",
+    return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a PNG or JPEG image",
                               display_name(name));
 }
 
@@ -298,13 +298,13 @@ persp_status persp_image_load(persp_context *ctx, const char *path, persp_image 
      * nonsense size; name the problem instead. */
     struct stat sb;
     if (stat(path, &sb) == 0 && S_ISDIR(sb.st_mode))
-        return persp_context_fail(ctx, PERSP_ERR_IO, "%s: is a directory, not an image file", path);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: is a directory, not an image file", path);
     char *data = NULL;
     size_t size = 0;
     persp_status st = persp__read_file(ctx, path, &data, &size);
     if (st != PERSP_OK) return st;
     st = persp_image_load_memory(ctx, data, size, path, out);
-    persp_free(ctx, data);
+    persp__free(ctx, data);
     return st;
 }
 
@@ -314,29 +314,29 @@ persp_status persp_image_write_png(persp_context *ctx, const char *path, const p
     persp__clear_error(ctx);
     if (!img->pixels || img->width <= 0 || img->height <= 0 ||
         img->stride < (size_t)img->width * 4u || img->stride > 0x7fffffffu)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: invalid image to write",
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: invalid image to write",
                                   path);
     size_t len = strlen(path);
-    char *tmp = persp_alloc(ctx, len + 16);
-    if (!tmp) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+    char *tmp = persp__alloc(ctx, len + 16);
+    if (!tmp) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     memcpy(tmp, path, len);
     memcpy(tmp + len, ".tmp-XXXXXX", 12);
     int fd = mkstemp(tmp);
     if (fd < 0) {
-        persp_status st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot create file: %s", path,
+        persp_status st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create file: %s", path,
                                              strerror(errno));
-        persp_free(ctx, tmp);
+        persp__free(ctx, tmp);
         return st;
     }
     /* mkstemp creates the file private (0600); an output image is not. */
     (void)fchmod(fd, 0644);
     FILE *f = fdopen(fd, "wb");
     if (!f) {
-        persp_status st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path,
+        persp_status st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path,
                                              strerror(errno));
         close(fd);
         unlink(tmp);
-        persp_free(ctx, tmp);
+        persp__free(ctx, tmp);
         return st;
     }
     png_image pi;
@@ -350,16 +350,16 @@ persp_status persp_image_write_png(persp_context *ctx, const char *path, const p
     int ok = png_image_write_to_stdio(&pi, f, 0, img->pixels, stride, NULL);
     persp_status st = PERSP_OK;
     if (!ok)
-        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: PNG encoding failed: %s", path, pi.message);
+        st = persp__fail(ctx, PERSP_ERR_IO, "%s: PNG encoding failed: %s", path, pi.message);
     png_image_free(&pi);
     if (fflush(f) != 0 && st == PERSP_OK)
-        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+        st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
     if (fclose(f) != 0 && st == PERSP_OK)
-        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
+        st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
     if (st == PERSP_OK && rename(tmp, path) != 0)
-        st = persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot rename temporary file: %s", path,
+        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot rename temporary file: %s", path,
                                 strerror(errno));
     if (st != PERSP_OK) unlink(tmp);
-    persp_free(ctx, tmp);
+    persp__free(ctx, tmp);
     return st;
 }

@@ -38,12 +38,12 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
         persp_texcache_entry *n = persp__calloc(ctx, cap, sizeof *n);
         if (!n) return PERSP_OK; /* the cache is an optimisation only */
         if (cache->count) memcpy(n, cache->entries, cache->count * sizeof *n);
-        persp_free(ctx, cache->entries);
+        persp__free(ctx, cache->entries);
         cache->entries = n;
         cache->cap = cap;
     }
     size_t len = strlen(path);
-    char *copy = persp_alloc(ctx, len + 1);
+    char *copy = persp__alloc(ctx, len + 1);
     if (!copy) return PERSP_OK;
     memcpy(copy, path, len + 1);
     cache->entries[cache->count].path = copy;
@@ -55,8 +55,8 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
 void persp__texcache_free(persp_context *ctx, persp_texcache *cache)
 {
     if (!cache) return;
-    for (size_t i = 0; i < cache->count; i++) persp_free(ctx, cache->entries[i].path);
-    persp_free(ctx, cache->entries);
+    for (size_t i = 0; i < cache->count; i++) persp__free(ctx, cache->entries[i].path);
+    persp__free(ctx, cache->entries);
     memset(cache, 0, sizeof *cache);
 }
 
@@ -72,7 +72,7 @@ int persp__mtl_find(const persp_mtl_lib *lib, const char *name, size_t len)
 void persp__mtl_lib_free(persp_context *ctx, persp_mtl_lib *lib)
 {
     if (!lib) return;
-    persp_free(ctx, lib->entries);
+    persp__free(ctx, lib->entries);
     memset(lib, 0, sizeof *lib);
 }
 
@@ -239,7 +239,7 @@ static persp_status statement(mtl_parser *p, const char *kw, size_t kwlen, size_
             persp_mtl_entry *e = persp__calloc(p->ctx, cap, sizeof *e);
             if (!e) return fail(p, PERSP_ERR_OUT_OF_MEMORY, kwcol, "out of memory");
             if (p->lib->count) memcpy(e, p->lib->entries, p->lib->count * sizeof *e);
-            persp_free(p->ctx, p->lib->entries);
+            persp__free(p->ctx, p->lib->entries);
             p->lib->entries = e;
             p->lib->cap = cap;
         }

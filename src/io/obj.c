@@ -75,7 +75,7 @@ static int reserve(persp_context *ctx, void **arr, size_t *cap, size_t need, siz
     void *a = persp__calloc(ctx, n, elem);
     if (!a) return 0;
     if (*cap) memcpy(a, *arr, *cap * elem);
-    persp_free(ctx, *arr);
+    persp__free(ctx, *arr);
     *arr = a;
     *cap = n;
     return 1;
@@ -162,7 +162,7 @@ static persp_status corner_vertex(obj_parser *p, obj_part *part, obj_key k, size
         size_t cap = part->tabcap ? part->tabcap * 2 : 256;
         uint32_t *t = persp__calloc(p->ctx, cap, sizeof *t);
         if (!t) return fail(p, PERSP_ERR_OUT_OF_MEMORY, col, "out of memory");
-        persp_free(p->ctx, part->table);
+        persp__free(p->ctx, part->table);
         part->table = t;
         part->tabcap = cap;
         for (size_t i = 0; i < part->nverts; i++) {
@@ -300,7 +300,7 @@ static persp_status mtllib_statement(obj_parser *p, size_t kwcol)
         }
         persp__path_dir(path, dir, sizeof dir);
         st = persp__mtl_load_memory(p->scene, data, size, path, dir, &p->lib, p->cache);
-        persp_free(p->ctx, data);
+        persp__free(p->ctx, data);
         if (st != PERSP_OK) return st;
         p->lib_files++;
     }
@@ -392,17 +392,17 @@ static persp_status parse(obj_parser *p, const char *data, size_t size)
 static void parser_free(obj_parser *p)
 {
     for (size_t i = 0; i < p->nparts; i++) {
-        persp_free(p->ctx, p->parts[i].verts);
-        persp_free(p->ctx, p->parts[i].idx);
-        persp_free(p->ctx, p->parts[i].table);
-        persp_free(p->ctx, p->parts[i].keys);
+        persp__free(p->ctx, p->parts[i].verts);
+        persp__free(p->ctx, p->parts[i].idx);
+        persp__free(p->ctx, p->parts[i].table);
+        persp__free(p->ctx, p->parts[i].keys);
     }
-    persp_free(p->ctx, p->parts);
-    persp_free(p->ctx, p->pos);
-    persp_free(p->ctx, p->col);
-    persp_free(p->ctx, p->tex);
-    persp_free(p->ctx, p->nrm);
-    persp_free(p->ctx, p->face);
+    persp__free(p->ctx, p->parts);
+    persp__free(p->ctx, p->pos);
+    persp__free(p->ctx, p->col);
+    persp__free(p->ctx, p->tex);
+    persp__free(p->ctx, p->nrm);
+    persp__free(p->ctx, p->face);
     persp__mtl_lib_free(p->ctx, &p->lib);
 }
 
@@ -412,9 +412,9 @@ static persp_status commit(obj_parser *p, persp_obj_result *res)
     int default_material = -1;
     size_t used = 0;
     for (size_t i = 0; i < p->nparts; i++) used += p->parts[i].nidx > 0;
-    if (used == 0) return persp_context_fail(p->ctx, PERSP_ERR_FORMAT, "%s: no faces", p->name);
+    if (used == 0) return persp__fail(p->ctx, PERSP_ERR_FORMAT, "%s: no faces", p->name);
     res->parts = persp__calloc(p->ctx, used, sizeof *res->parts);
-    if (!res->parts) return persp_context_fail(p->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", p->name);
+    if (!res->parts) return persp__fail(p->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", p->name);
     for (size_t i = 0; i < p->nparts; i++) {
         obj_part *part = &p->parts[i];
         if (part->nidx == 0) continue;
@@ -479,13 +479,13 @@ persp_status persp__obj_load_file(persp_scene *scene, const char *path, persp_te
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     st = persp__obj_load_memory(scene, data, size, path, dir[0] ? dir : "./", cache, res);
-    persp_free(scene->ctx, data);
+    persp__free(scene->ctx, data);
     return st;
 }
 
 void persp__obj_result_free(persp_context *ctx, persp_obj_result *res)
 {
     if (!res) return;
-    persp_free(ctx, res->parts);
+    persp__free(ctx, res->parts);
     memset(res, 0, sizeof *res);
 }

@@ -192,7 +192,7 @@ static persp_status jfail(jctx *j, int at_key, persp_status st, const char *fmt,
     size_t line, col;
     locate(j, at_key, &line, &col);
     path_string(j, path, sizeof path);
-    return persp_context_fail(j->ctx, st, "%s:%zu:%zu: %s%s%s", j->name, line, col, path, path[0] ? ": " : "",
+    return persp__fail(j->ctx, st, "%s:%zu:%zu: %s%s%s", j->name, line, col, path, path[0] ? ": " : "",
                               msg);
 }
 
@@ -412,7 +412,6 @@ static persp_status parse_render(jctx *j, json_t *r)
         st = read_string(j, v, &str);
         if (st == PERSP_OK && persp_filter_parse(str, &s->filter, &s->max_aniso) != PERSP_OK)
             st = jfail(j, 0, PERSP_ERR_FORMAT, "unknown filter '%s'", str);
-        s->filter_set = st == PERSP_OK;
         pop(j);
         if (st != PERSP_OK) return st;
     }
@@ -628,7 +627,7 @@ static persp_status parse_materials(jctx *j, json_t *o)
     size_t n = json_object_size(o);
     if (n > PERSP_SCENE_MAX_OBJECTS) return jfail(j, 0, PERSP_ERR_TOO_LARGE, "too many materials");
     j->mats = persp__calloc(j->ctx, n ? n : 1, sizeof *j->mats);
-    if (!j->mats) return persp_context_fail(j->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", j->name);
+    if (!j->mats) return persp__fail(j->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", j->name);
     const char *key;
     json_t *v;
     json_object_foreach(o, key, v) {
@@ -638,7 +637,7 @@ static persp_status parse_materials(jctx *j, json_t *o)
         persp_status st = parse_material(j, v, &m, &filter_given);
         pop(j);
         if (st != PERSP_OK) return st;
-        if (!filter_given && j->scene->filter_set) {
+        if (!filter_given && j->scene->filter != PERSP_FILTER_DEFAULT) {
             m.sampler.filter = j->scene->filter;
             m.sampler.max_aniso = j->scene->max_aniso;
         }
@@ -971,6 +970,15 @@ static persp_status parse_root(jctx *j, json_t *root)
     if ((st = field_vec(j, root, "ambient", 3, 0, LARGE, j->scene->ambient)) != PERSP_OK) return st;
     if (!json_object_get(root, "objects") || j->scene->object_count == 0)
         return jfail(j, 0, PERSP_ERR_FORMAT, "the scene has no objects (key 'objects')");
+    /* The render section's filter is the default of every texture that
+     * chose none, those of MTL files included (docs/SCENES.md). */
+    persp_scene *sc = j->scene;
+    for (size_t i = 0; i < sc->material_count && sc->filter != PERSP_FILTER_DEFAULT; i++) {
+        persp_material *m = &sc->materials[i];
+        if (m->sampler.filter != PERSP_FILTER_DEFAULT) continue;
+        m->sampler.filter = sc->filter;
+        m->sampler.max_aniso = sc->max_aniso;
+    }
     return PERSP_OK;
 }
 
@@ -990,13 +998,13 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
     json_error_t err;
     json_t *root = json_loadb(j.text, size, JSON_REJECT_DUPLICATES, &err);
     if (!root)
-        return persp_context_fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: invalid JSON: %s", j.name, err.line,
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: invalid JSON: %s", j.name, err.line,
                                   err.column, err.text);
     persp_status st = persp__scene_new(ctx, &j.scene);
     if (st == PERSP_OK) st = parse_root(&j, root);
     json_decref(root);
     persp__texcache_free(ctx, &j.cache);
-    persp_free(ctx, j.mats);
+    persp__free(ctx, j.mats);
     if (st != PERSP_OK) {
         persp_scene_destroy(j.scene);
         return st;
@@ -1017,6 +1025,6 @@ persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene 
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     st = persp__scene_load_memory(ctx, data, size, path, dir[0] ? dir : "./", 0, out);
-    persp_free(ctx, data);
+    persp__free(ctx, data);
     return st;
 }

@@ -14,35 +14,35 @@ persp_status persp__read_file(persp_context *ctx, const char *path, char **data,
     *data = NULL;
     *size = 0;
     FILE *f = fopen(path, "rb");
-    if (!f) return persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     /* The size is taken from the stream itself so that the limit is checked
      * before the buffer exists. */
     if (fseek(f, 0, SEEK_END) != 0) {
         fclose(f);
-        return persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot seek (not a regular file?)", path);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot seek (not a regular file?)", path);
     }
     long end = ftell(f);
     if (end < 0 || fseek(f, 0, SEEK_SET) != 0) {
         fclose(f);
-        return persp_context_fail(ctx, PERSP_ERR_IO, "%s: cannot determine the file size", path);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot determine the file size", path);
     }
     if ((unsigned long)end > PERSP_TEXT_MAX_BYTES) {
         fclose(f);
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "%s: %ld bytes exceeds the limit of %zu",
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "%s: %ld bytes exceeds the limit of %zu",
                                   path, end, (size_t)PERSP_TEXT_MAX_BYTES);
     }
     size_t n = (size_t)end;
-    char *buf = persp_alloc(ctx, n + 1);
+    char *buf = persp__alloc(ctx, n + 1);
     if (!buf) {
         fclose(f);
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     }
     size_t got = n ? fread(buf, 1, n, f) : 0;
     int bad = ferror(f);
     fclose(f);
     if (got != n || bad) {
-        persp_free(ctx, buf);
-        return persp_context_fail(ctx, PERSP_ERR_IO, "%s: read error", path);
+        persp__free(ctx, buf);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: read error", path);
     }
     buf[n] = '\0';
     *data = buf;
@@ -157,5 +157,5 @@ persp_status persp__text_failv(persp_context *ctx, persp_status st, const char *
 {
     char msg[PERSP_ERRMSG_BYTES];
     vsnprintf(msg, sizeof msg, fmt, ap);
-    return persp_context_fail(ctx, st, "%s:%zu:%zu: %s", name, line, col, msg);
+    return persp__fail(ctx, st, "%s:%zu:%zu: %s", name, line, col, msg);
 }

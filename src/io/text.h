@@ -16,7 +16,7 @@
 #define PERSP_PATH_MAX 4096
 
 /* Reads a whole file into a NUL-terminated buffer owned by the caller
- * (persp_free). PERSP_ERR_IO / PERSP_ERR_TOO_LARGE with the path in the detail. */
+ * (persp__free). PERSP_ERR_IO / PERSP_ERR_TOO_LARGE with the path in the detail. */
 persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size);
 
 /* The folder part of path, "" for a bare name ("a/b.obj" -> "a/"). */

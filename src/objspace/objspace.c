@@ -439,12 +439,12 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
                 size_t nc = cap_n ? 2 * cap_n : 64;
                 os_piece *np = persp__calloc(ctx, nc, sizeof *np);
                 if (!np) {
-                    persp_free(ctx, pcs);
-                    return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+                    persp__free(ctx, pcs);
+                    return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
                                               "object-space pipeline: out of memory");
                 }
                 if (n) memcpy(np, pcs, n * sizeof *np);
-                persp_free(ctx, pcs);
+                persp__free(ctx, pcs);
                 pcs = np;
                 cap_n = nc;
             }
@@ -653,7 +653,7 @@ persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
     j.splats = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
     j.holes = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
     if (!j.acc || !j.walked || !j.splats || !j.holes) {
-        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "object-space pipeline: out of memory");
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "object-space pipeline: out of memory");
     } else {
         st = persp__pool_run(ctx, tiles, tile_task, &j);
     }
@@ -667,10 +667,10 @@ persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
         stats->triangles_split = split;
         stats->pieces = npieces;
     }
-    persp_free(ctx, j.acc);
-    persp_free(ctx, j.walked);
-    persp_free(ctx, j.splats);
-    persp_free(ctx, j.holes);
-    persp_free(ctx, pieces);
+    persp__free(ctx, j.acc);
+    persp__free(ctx, j.walked);
+    persp__free(ctx, j.splats);
+    persp__free(ctx, j.holes);
+    persp__free(ctx, pieces);
     return st;
 }

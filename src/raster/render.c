@@ -42,15 +42,15 @@ void persp__render_cache_free(persp_context *ctx)
 {
     struct persp_render_cache *c = ctx ? ctx->render : NULL;
     if (!c) return;
-    persp_free(ctx, c->tris);
-    persp_free(ctx, c->preps);
-    persp_free(ctx, c->verts);
-    persp_free(ctx, c->bin_count);
-    persp_free(ctx, c->bin_start);
-    persp_free(ctx, c->bin_items);
-    persp_free(ctx, c->states);
-    persp_free(ctx, c->worker_stats);
-    persp_free(ctx, c);
+    persp__free(ctx, c->tris);
+    persp__free(ctx, c->preps);
+    persp__free(ctx, c->verts);
+    persp__free(ctx, c->bin_count);
+    persp__free(ctx, c->bin_start);
+    persp__free(ctx, c->bin_items);
+    persp__free(ctx, c->states);
+    persp__free(ctx, c->worker_stats);
+    persp__free(ctx, c);
     ctx->render = NULL;
 }
 
@@ -66,10 +66,10 @@ static int reserve(persp_context *ctx, void **buf, size_t *cap, size_t need, siz
     }
     size_t bytes;
     if (!persp__size_mul(ncap, elem, &bytes)) return 0;
-    void *n = persp_alloc(ctx, bytes);
+    void *n = persp__alloc(ctx, bytes);
     if (!n) return 0;
     if (*cap && *buf) memcpy(n, *buf, *cap * elem);
-    persp_free(ctx, *buf);
+    persp__free(ctx, *buf);
     *buf = n;
     *cap = ncap;
     return 1;
@@ -81,12 +81,12 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
     memset(f, 0, sizeof *f);
     if (!ctx || !fb || !fb->color || !fb->depth || fb->width <= 0 || fb->height <= 0 ||
         fb->width > PERSP_IMAGE_MAX_SIDE || fb->height > PERSP_IMAGE_MAX_SIDE)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "framebuffer: size must be 1..%d on each side with colour and depth buffers",
                                   PERSP_IMAGE_MAX_SIDE);
     if (!ctx->render) {
         ctx->render = persp__calloc(ctx, 1, sizeof *ctx->render);
-        if (!ctx->render) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        if (!ctx->render) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     }
     f->ctx = ctx;
     f->fb = fb;
@@ -108,7 +108,7 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
 {
     struct persp_render_cache *c = f->cache;
     if (!reserve(f->ctx, (void **)&c->states, &c->state_cap, f->state_count + 1, sizeof *c->states))
-        return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     c->states[f->state_count] = *s;
     *index = (uint32_t)f->state_count++;
     return PERSP_OK;
@@ -132,7 +132,7 @@ static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int
     }
     for (int i = 1; i + 1 < n; i++) {
         if (!reserve(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris))
-            return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+            return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
         persp_tri *t = &c->tris[f->tri_count];
         if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) continue;
@@ -151,7 +151,7 @@ static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int
         }
         if (ds->method.m->prepare) {
             if (!reserve(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps))
-                return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+                return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
             t->prep = (uint32_t)f->prep_count++;
             ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
                                   f->count_ops ? &f->stats.ops : NULL);
@@ -168,7 +168,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     struct persp_render_cache *c = f->cache;
     if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
     if (!reserve(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts))
-        return persp_context_fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     persp_mat4 mv = persp_mat4_mul(*view, *model);
     persp_mat4 mvp = persp_mat4_mul(*proj, mv);
     float nm[9];
@@ -194,7 +194,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     for (size_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *ix = &mesh->indices[t];
         if (ix[0] >= mesh->vertex_count || ix[1] >= mesh->vertex_count || ix[2] >= mesh->vertex_count)
-            return persp_context_fail(f->ctx, PERSP_ERR_INVALID_ARGUMENT,
+            return persp__fail(f->ctx, PERSP_ERR_INVALID_ARGUMENT,
                                       "mesh: index out of range in triangle %zu", t / 3);
         persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
         persp_clipvert poly[PERSP_CLIP_MAX];
@@ -479,8 +479,8 @@ persp_status persp__frame_flush(persp_frame *f)
     size_t start_cap = c->bin_cap;
     if (!reserve(ctx, (void **)&c->bin_count, &c->bin_cap, tiles, sizeof(uint32_t)) ||
         !reserve(ctx, (void **)&c->bin_start, &start_cap, tiles, sizeof(uint32_t)))
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    if (start_cap != c->bin_cap) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: bins");
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    if (start_cap != c->bin_cap) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: bins");
     memset(c->bin_count, 0, tiles * sizeof(uint32_t));
     /* Two passes: count triangles per tile, then place their indices in
      * submission order (the order that makes results thread-independent). */
@@ -494,9 +494,9 @@ persp_status persp__frame_flush(persp_frame *f)
         total += (size_t)(tx1 - tx0 + 1) * (size_t)(ty1 - ty0 + 1);
     }
     if (total > UINT32_MAX)
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "render: too many triangle-tile pairs");
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "render: too many triangle-tile pairs");
     if (!reserve(ctx, (void **)&c->bin_items, &c->item_cap, total ? total : 1, sizeof(uint32_t)))
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     uint32_t acc = 0;
     for (size_t k = 0; k < tiles; k++) {
         c->bin_start[k] = acc;
@@ -516,13 +516,13 @@ persp_status persp__frame_flush(persp_frame *f)
     int workers = persp__pool_workers(ctx);
     size_t wcap = (size_t)c->worker_cap;
     if (!reserve(ctx, (void **)&c->worker_stats, &wcap, (size_t)workers, sizeof *c->worker_stats))
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     c->worker_cap = (int)wcap;
     memset(c->worker_stats, 0, (size_t)workers * sizeof *c->worker_stats);
     tile_job job = {f, tiles_x, workers,
                     (size_t)f->fb->width * (size_t)f->fb->height * 8u > PERSP_STREAM_BYTES};
     persp_status st = persp__pool_run(ctx, (int)tiles, raster_tile, &job);
-    if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: cannot start worker threads");
+    if (st != PERSP_OK) return persp__fail(ctx, st, "render: cannot start worker threads");
     f->clear_pending = 0;
     f->stats.triangles_drawn += f->tri_count;
     for (int w = 0; w < workers; w++) {

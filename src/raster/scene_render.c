@@ -54,17 +54,6 @@ static void eye_lights(const persp_scene *s, const persp_mat4 *view, persp_light
     }
 }
 
-static persp_status set_threads(persp_context *ctx, int threads)
-{
-    if (threads <= 0) return PERSP_OK;
-    if (threads > 256) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "threads must be 1..256");
-    if (threads != ctx->threads) {
-        persp__pool_destroy(ctx);
-        ctx->threads = threads;
-    }
-    return PERSP_OK;
-}
-
 static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
                                  const persp_render_desc *desc, persp_framebuffer *fb,
                                  persp_frame *f, persp_capture *cap)
@@ -72,20 +61,30 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     persp_render_desc dd;
     memset(&dd, 0, sizeof dd);
     if (desc) dd = *desc;
-    persp_status st = set_threads(ctx, dd.threads);
-    if (st != PERSP_OK) return st;
-    if (dd.pipeline != PERSP_PIPELINE_SCREEN && dd.pipeline != PERSP_PIPELINE_OBJECT)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown pipeline");
+    if ((unsigned)dd.pipeline > PERSP_PIPELINE_OBJECT)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown pipeline");
+    if ((unsigned)dd.filter >= PERSP_FILTER_COUNT || (unsigned)dd.wrap > PERSP_WRAP_CLAMP_TO_BORDER ||
+        (unsigned)dd.shading >= PERSP_SHADING_COUNT || (unsigned)dd.lod_mode > PERSP_LOD_POLYGON ||
+        (unsigned)dd.lod_clamp > PERSP_TOGGLE_OFF || (unsigned)dd.cull_backfaces > PERSP_TOGGLE_OFF ||
+        (unsigned)dd.count_ops > PERSP_TOGGLE_OFF || dd.max_aniso < 0 || dd.max_aniso > 16 ||
+        !isfinite(dd.lod_bias))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a render setting is out of range");
+    if (dd.lod_clamp == PERSP_TOGGLE_ON &&
+        (!isfinite(dd.min_lod) || !isfinite(dd.max_lod) || dd.min_lod > dd.max_lod))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: min_lod %g is above max_lod %g",
+                           (double)dd.min_lod, (double)dd.max_lod);
+    persp_status st;
     persp_method_sel method;
-    st = persp__method_resolve(ctx, dd.method ? dd.method : "exact", &method);
+    st = persp__method_resolve(ctx, dd.method ? dd.method : scene->method[0] ? scene->method : "exact", &method);
     if (st != PERSP_OK) return st;
+    if (dd.depth_mode == PERSP_DEPTH_DEFAULT) dd.depth_mode = PERSP_DEPTH_Z;
     if (dd.depth_mode != PERSP_DEPTH_Z && dd.depth_mode != PERSP_DEPTH_INVW)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown depth mode");
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown depth mode");
 
     st = persp__frame_begin(ctx, fb, dd.depth_mode, f);
     if (st != PERSP_OK) return st;
     f->capture = cap;
-    f->count_ops = dd.count_ops != 0;
+    f->count_ops = dd.count_ops == PERSP_TOGGLE_ON;
     persp__frame_clear(f, scene->clear);
 
     persp_mat4 proj, view;
@@ -94,33 +93,33 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     persp_draw_state ds;
     memset(&ds, 0, sizeof ds);
     eye_lights(scene, &view, &ds.lighting);
-    int cull = dd.cull_backfaces > 0 || (dd.cull_backfaces == 0 && scene->cull_backfaces);
+    int cull = dd.cull_backfaces == PERSP_TOGGLE_ON ||
+               (dd.cull_backfaces == PERSP_TOGGLE_DEFAULT && scene->cull_backfaces);
 
     for (size_t i = 0; i < scene->object_count; i++) {
         const persp_object *o = &scene->objects[i];
         const persp_material *mat = &scene->materials[o->material];
         ds.method = method;
         ds.material = *mat;
-        ds.shading = dd.shading_set ? dd.shading : scene->shading;
+        ds.shading = dd.shading != PERSP_SHADING_DEFAULT ? dd.shading : scene->shading;
         ds.depth_test = ds.depth_write = 1;
         ds.tex = mat->texture >= 0 && (size_t)mat->texture < scene->texture_count
                      ? scene->textures[mat->texture]
                      : NULL;
         if (ds.tex) {
             persp_sampler_desc sd = mat->sampler;
-            if (dd.filter_set) {
-                sd.filter = dd.filter;
-                sd.max_aniso = dd.max_aniso;
-            }
-            if (dd.wrap_set) sd.wrap_s = sd.wrap_t = dd.wrap;
-            sd.lod_mode = dd.lod_mode;
+            if (dd.filter != PERSP_FILTER_DEFAULT) sd.filter = dd.filter;
+            if (dd.max_aniso != 0) sd.max_aniso = dd.max_aniso;
+            if (dd.wrap != PERSP_WRAP_DEFAULT) sd.wrap_s = sd.wrap_t = dd.wrap;
+            if (dd.lod_mode != PERSP_LOD_DEFAULT) sd.lod_mode = dd.lod_mode;
             sd.lod_bias += dd.lod_bias;
-            if (dd.lod_clamp_set) {
+            if (dd.lod_clamp != PERSP_TOGGLE_DEFAULT) {
+                sd.lod_clamp = dd.lod_clamp;
                 sd.min_lod = dd.min_lod;
                 sd.max_lod = dd.max_lod;
             }
             st = persp__sampler_init(&ds.sampler, ds.tex, &sd);
-            if (st != PERSP_OK) return persp_context_fail(ctx, st, "render: bad sampler settings");
+            if (st != PERSP_OK) return persp__fail(ctx, st, "render: bad sampler settings");
         }
         st = persp__shade_resolve(ctx, &ds);
         if (st != PERSP_OK) return st;
@@ -138,7 +137,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
 {
     if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
-    if (!scene || !fb) return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: no scene or framebuffer");
+    if (!scene || !fb) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: no scene or framebuffer");
     persp_frame f;
     if (desc && desc->pipeline == PERSP_PIPELINE_OBJECT) {
         /* Seed 004: the screen pipeline decides visibility (which triangle
@@ -165,7 +164,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
                 stats->objspace_holes = os.holes;
             }
         } else {
-            persp_context_fail(ctx, st, "render: out of memory for the object-space pipeline");
+            persp__fail(ctx, st, "render: out of memory for the object-space pipeline");
         }
         persp__capture_free(ctx, &cap);
         return st;
@@ -178,10 +177,10 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
 void persp__capture_free(persp_context *ctx, persp_capture *cap)
 {
     if (!cap) return;
-    persp_free(ctx, cap->tri);
-    persp_free(ctx, cap->s1);
-    persp_free(ctx, cap->s2);
-    persp_free(ctx, cap->rats);
+    persp__free(ctx, cap->tri);
+    persp__free(ctx, cap->s1);
+    persp__free(ctx, cap->s2);
+    persp__free(ctx, cap->rats);
     memset(cap, 0, sizeof *cap);
 }
 
@@ -191,7 +190,7 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
 {
     if (!ctx || !scene || !cap || width <= 0 || height <= 0 || width > PERSP_IMAGE_MAX_SIDE ||
         height > PERSP_IMAGE_MAX_SIDE)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "capture: bad arguments");
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "capture: bad arguments");
     memset(cap, 0, sizeof *cap);
     size_t n = (size_t)width * (size_t)height;
     cap->width = width;
@@ -202,7 +201,7 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
     persp_framebuffer fb = {width, height, persp__calloc(ctx, n, 4), persp__calloc(ctx, n, sizeof(float))};
     persp_status st = PERSP_OK;
     if (!cap->tri || !cap->s1 || !cap->s2 || !fb.color || !fb.depth) {
-        st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
     } else {
         for (size_t i = 0; i < n; i++) cap->tri[i] = -1;
         persp_frame f;
@@ -211,7 +210,7 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
         if (st == PERSP_OK && f.tri_count) {
             cap->rats = persp__calloc(ctx, f.tri_count, sizeof *cap->rats);
             if (!cap->rats) {
-                st = persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
+                st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
             } else {
                 const persp_tri *t = persp__frame_tris(&f);
                 for (size_t i = 0; i < f.tri_count; i++) cap->rats[i] = t[i].rat;
@@ -219,8 +218,8 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
             }
         }
     }
-    persp_free(ctx, fb.color);
-    persp_free(ctx, fb.depth);
+    persp__free(ctx, fb.color);
+    persp__free(ctx, fb.depth);
     if (st != PERSP_OK) persp__capture_free(ctx, cap);
     return st;
 }
@@ -232,12 +231,13 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
     if (!fb || !desc || (!vertices && vertex_count) || (!indices && index_count) || index_count % 3)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "draw: need a framebuffer, a desc and 3 indices per triangle");
     if (vertex_count > PERSP_IMAGE_MAX_PIXELS || index_count > 3u * PERSP_IMAGE_MAX_PIXELS)
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "draw: too many vertices or indices");
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "draw: too many vertices or indices");
     persp_frame f;
-    persp_status st = persp__frame_begin(ctx, fb, desc->depth_mode, &f);
+    persp_depth_mode dm = desc->depth_mode == PERSP_DEPTH_DEFAULT ? PERSP_DEPTH_Z : desc->depth_mode;
+    persp_status st = persp__frame_begin(ctx, fb, dm, &f);
     if (st != PERSP_OK) return st;
     persp_draw_state ds;
     memset(&ds, 0, sizeof ds);
@@ -246,10 +246,12 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     ds.material = persp__material_default();
     ds.material.diffuse[0] = ds.material.diffuse[1] = ds.material.diffuse[2] = 1.0f;
     ds.tex = desc->texture;
-    ds.depth_test = ds.depth_write = desc->depth_test >= 0;
+    if ((unsigned)desc->depth_test > PERSP_TOGGLE_OFF || (unsigned)desc->cull_backfaces > PERSP_TOGGLE_OFF)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: a toggle is out of range");
+    ds.depth_test = ds.depth_write = desc->depth_test != PERSP_TOGGLE_OFF;
     if (ds.tex) {
         st = persp__sampler_init(&ds.sampler, ds.tex, &desc->sampler);
-        if (st != PERSP_OK) return persp_context_fail(ctx, st, "draw: bad sampler settings");
+        if (st != PERSP_OK) return persp__fail(ctx, st, "draw: bad sampler settings");
     }
     st = persp__shade_resolve(ctx, &ds);
     if (st != PERSP_OK) return st;
@@ -258,7 +260,7 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     if (st != PERSP_OK) return st;
     persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1};
     persp_mat4 id = persp_mat4_identity();
-    st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL, desc->cull_backfaces > 0);
+    st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL, desc->cull_backfaces == PERSP_TOGGLE_ON);
     if (st != PERSP_OK) return st;
     return persp__frame_flush(&f);
 }

@@ -21,7 +21,7 @@
 #include <string.h>
 
 static const char *const shading_names[PERSP_SHADING_COUNT] = {
-    "none", "flat", "gouraud", "gouraud-pc", "phong", "phong-pc", "phong-pc:quad",
+    "default", "none", "flat", "gouraud", "gouraud-pc", "phong", "phong-pc", "phong-pc:quad",
     "phong-pc:pwquad", "phong-pc:cubic", "phong-slerp", "phong-slerp-screen",
 };
 
@@ -468,14 +468,15 @@ static const char *shade_method_spec(persp_shading s)
 persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
 {
     memset(&ds->shade_method, 0, sizeof ds->shade_method);
+    if (ds->shading == PERSP_SHADING_DEFAULT) ds->shading = PERSP_SHADING_NONE;
     const char *spec = shade_method_spec(ds->shading);
     if (spec) {
         persp_status st = persp__method_resolve(ctx, spec, &ds->shade_method);
         if (st != PERSP_OK)
-            return persp_context_fail(ctx, PERSP_ERR_UNAVAILABLE, "shading '%s' needs the method '%s'",
+            return persp__fail(ctx, PERSP_ERR_UNAVAILABLE, "shading '%s' needs the method '%s'",
                                       persp_shading_name(ds->shading), spec);
         if (ds->shade_method.m->prepare || !ds->shade_method.m->span)
-            return persp_context_fail(ctx, PERSP_ERR_UNSUPPORTED,
+            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
                                       "shading '%s': method '%s' needs per-triangle preparation",
                                       persp_shading_name(ds->shading), spec);
     }
@@ -493,7 +494,7 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
     case PERSP_SHADING_PHONG_SLERP: ds->shade = shade_slerp; break;
     case PERSP_SHADING_PHONG_SLERP_SCREEN: ds->shade = shade_slerp_screen; break;
     default:
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "unknown shading mode %d", (int)ds->shading);
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "unknown shading mode %d", (int)ds->shading);
     }
     return PERSP_OK;
 }

@@ -431,7 +431,7 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     }
     if (tex->level[0].texels != tex->storage) return NULL;
     st->pot.pot = 1;
-    int w = ws * 2 + wt;
+    int w = (ws - PERSP_WRAP_REPEAT) * 2 + (wt - PERSP_WRAP_REPEAT);
     /* [isa][filter] for the filters nearest .. aniso (persp_filter order). */
     static const persp_tex_span_fn *const table[3][7] = {
         {nearest_base, bilinear_base, nmn_base, bmn_base, nml_base, trilinear_base, aniso_base},
@@ -441,8 +441,8 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
          aniso_avx512},
 #endif
     };
-    if ((unsigned)st->desc.filter > (unsigned)PERSP_FILTER_ANISO) return NULL;
+    if (st->desc.filter < PERSP_FILTER_NEAREST || st->desc.filter > PERSP_FILTER_ANISO) return NULL;
     if (isa < PERSP_ISA_BASE || isa > (PERSP_HAVE_ISA_VARIANTS ? PERSP_ISA_AVX512 : PERSP_ISA_BASE))
         isa = PERSP_ISA_BASE;
-    return table[isa][st->desc.filter][w];
+    return table[isa][st->desc.filter - PERSP_FILTER_NEAREST][w];
 }

@@ -201,8 +201,15 @@ static inline void persp__trilinear(const persp_sampler_state *st, int ws, int w
     for (int k = 0; k < 4; k++) c[k] += f * (c2[k] - c[k]);
 }
 
-/* The span samplers of ewa.c and window.c, one per wrap pair, indexed
- * [wrap_s * 4 + wrap_t]. */
+/* Index of a (wrap_s, wrap_t) pair of resolved modes (not DEFAULT) in the
+ * 16-entry span tables: repeat, edge, mirrored, border in persp_wrap order. */
+static inline int persp__wrap_pair_index(persp_wrap ws, persp_wrap wt)
+{
+    return ((int)ws - PERSP_WRAP_REPEAT) * 4 + ((int)wt - PERSP_WRAP_REPEAT);
+}
+
+/* The span samplers of ewa.c and window.c, one per wrap pair, indexed by
+ * persp__wrap_pair_index. */
 typedef void (*persp_tex_span_fn)(const persp_sampler_state *st, const persp_tex_span_in *in,
                                   uint32_t *out);
 extern const persp_tex_span_fn persp__ewa_spans[16];

@@ -167,35 +167,43 @@ static const persp_tex_span_fn span_table[7][16] = {
 #undef B
 
 persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_texture *tex,
-                                 const persp_sampler_desc *desc)
+                                 const persp_sampler_desc *given)
 {
-    if (!st || !tex || !desc) return PERSP_ERR_INVALID_ARGUMENT;
-    if ((unsigned)desc->wrap_s > 3u || (unsigned)desc->wrap_t > 3u ||
-        (unsigned)desc->filter >= (unsigned)PERSP_FILTER_COUNT || desc->max_aniso < 0 ||
-        desc->max_aniso > 16 || !isfinite(desc->lod_bias) || !isfinite(desc->min_lod) ||
-        !isfinite(desc->max_lod) || desc->min_lod > desc->max_lod ||
-        (unsigned)desc->lod_mode > 1u)
+    if (!st || !tex || !given) return PERSP_ERR_INVALID_ARGUMENT;
+    persp_sampler_desc d = *given;
+    if (d.wrap_s == PERSP_WRAP_DEFAULT) d.wrap_s = PERSP_WRAP_REPEAT;
+    if (d.wrap_t == PERSP_WRAP_DEFAULT) d.wrap_t = PERSP_WRAP_REPEAT;
+    if (d.filter == PERSP_FILTER_DEFAULT) d.filter = PERSP_FILTER_BILINEAR;
+    if (d.lod_mode == PERSP_LOD_DEFAULT) d.lod_mode = PERSP_LOD_PIXEL;
+    if (d.lod_clamp == PERSP_TOGGLE_DEFAULT) d.lod_clamp = PERSP_TOGGLE_OFF;
+    if ((unsigned)d.wrap_s > PERSP_WRAP_CLAMP_TO_BORDER ||
+        (unsigned)d.wrap_t > PERSP_WRAP_CLAMP_TO_BORDER ||
+        (unsigned)d.filter >= (unsigned)PERSP_FILTER_COUNT || d.max_aniso < 0 || d.max_aniso > 16 ||
+        !isfinite(d.lod_bias) || (unsigned)d.lod_mode > PERSP_LOD_POLYGON ||
+        (unsigned)d.lod_clamp > PERSP_TOGGLE_OFF ||
+        (d.lod_clamp == PERSP_TOGGLE_ON &&
+         (!isfinite(d.min_lod) || !isfinite(d.max_lod) || d.min_lod > d.max_lod)))
         return PERSP_ERR_INVALID_ARGUMENT;
     memset(st, 0, sizeof *st);
     st->tex = tex;
-    st->desc = *desc;
-    st->max_aniso = desc->max_aniso == 0 ? 16 : desc->max_aniso < 1 ? 1 : desc->max_aniso;
-    st->lod_bias = desc->lod_bias;
+    st->desc = d;
+    st->max_aniso = d.max_aniso == 0 ? 16 : d.max_aniso;
+    st->lod_bias = d.lod_bias;
     /* GL's defaults are min -1000, max 1000; the level index is clamped to
      * the chain separately, so max_lod = levels - 1 is equivalent. */
     float top = (float)(tex->levels - 1);
-    if (desc->min_lod == 0.0f && desc->max_lod == 0.0f) {
+    if (d.lod_clamp == PERSP_TOGGLE_OFF) {
         st->min_lod = -1000.0f;
         st->max_lod = top;
     } else {
-        st->min_lod = desc->min_lod;
-        st->max_lod = desc->max_lod < top ? desc->max_lod : top;
+        st->min_lod = d.min_lod;
+        st->max_lod = d.max_lod < top ? d.max_lod : top;
         if (st->max_lod < st->min_lod) st->max_lod = st->min_lod;
     }
-    const uint8_t *b = desc->border;
+    const uint8_t *b = d.border;
     st->border = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 | (uint32_t)b[3] << 24;
-    int wrap = (int)desc->wrap_s * 4 + (int)desc->wrap_t;
-    switch (desc->filter) {
+    int wrap = persp__wrap_pair_index(d.wrap_s, d.wrap_t);
+    switch (d.filter) {
     case PERSP_FILTER_EWA:
         persp__ewa_init(st);
         st->span = persp__ewa_spans[wrap];
@@ -205,7 +213,7 @@ persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_tex
         break;
     default:
         st->span = persp__fast_span_select(st);
-        if (!st->span) st->span = span_table[desc->filter][wrap];
+        if (!st->span) st->span = span_table[d.filter - PERSP_FILTER_NEAREST][wrap];
         break;
     }
     return PERSP_OK;
@@ -213,9 +221,12 @@ persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_tex
 
 persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt)
 {
-    if ((unsigned)filter > (unsigned)PERSP_FILTER_ANISO || (unsigned)ws > 3u || (unsigned)wt > 3u)
+    if (ws == PERSP_WRAP_DEFAULT) ws = PERSP_WRAP_REPEAT;
+    if (wt == PERSP_WRAP_DEFAULT) wt = PERSP_WRAP_REPEAT;
+    if (filter < PERSP_FILTER_NEAREST || filter > PERSP_FILTER_ANISO || ws < PERSP_WRAP_REPEAT ||
+        ws > PERSP_WRAP_CLAMP_TO_BORDER || wt < PERSP_WRAP_REPEAT || wt > PERSP_WRAP_CLAMP_TO_BORDER)
         return NULL;
-    return span_table[filter][(int)ws * 4 + (int)wt];
+    return span_table[filter - PERSP_FILTER_NEAREST][persp__wrap_pair_index(ws, wt)];
 }
 
 int persp__sampler_needs_lod(const persp_sampler_state *st)

@@ -23,16 +23,29 @@
 
 /* ------------------------------------------------------------------ names */
 
-static const char *const wrap_names[] = {"repeat", "clamp-to-edge", "mirrored-repeat",
-                                         "clamp-to-border"};
+#define WRAP_COUNT (PERSP_WRAP_CLAMP_TO_BORDER + 1)
+static const char *const wrap_names[WRAP_COUNT] = {
+    [PERSP_WRAP_DEFAULT] = "default",
+    [PERSP_WRAP_REPEAT] = "repeat",
+    [PERSP_WRAP_CLAMP_TO_EDGE] = "clamp-to-edge",
+    [PERSP_WRAP_MIRRORED_REPEAT] = "mirrored-repeat",
+    [PERSP_WRAP_CLAMP_TO_BORDER] = "clamp-to-border"};
 static const char *const filter_names[PERSP_FILTER_COUNT] = {
-    "nearest",    "bilinear",     "nearest-mip-nearest", "bilinear-mip-nearest",
-    "nearest-mip-linear", "trilinear", "aniso", "aniso-window", "ewa"};
+    [PERSP_FILTER_DEFAULT] = "default",
+    [PERSP_FILTER_NEAREST] = "nearest",
+    [PERSP_FILTER_BILINEAR] = "bilinear",
+    [PERSP_FILTER_NEAREST_MIP_NEAREST] = "nearest-mip-nearest",
+    [PERSP_FILTER_BILINEAR_MIP_NEAREST] = "bilinear-mip-nearest",
+    [PERSP_FILTER_NEAREST_MIP_LINEAR] = "nearest-mip-linear",
+    [PERSP_FILTER_TRILINEAR] = "trilinear",
+    [PERSP_FILTER_ANISO] = "aniso",
+    [PERSP_FILTER_ANISO_WINDOW] = "aniso-window",
+    [PERSP_FILTER_EWA] = "ewa"};
 
 persp_status persp_wrap_parse(const char *name, persp_wrap *out)
 {
     if (!name || !out) return PERSP_ERR_INVALID_ARGUMENT;
-    for (int i = 0; i < 4; i++) {
+    for (int i = 0; i < WRAP_COUNT; i++) {
         if (strcmp(name, wrap_names[i]) == 0) {
             *out = (persp_wrap)i;
             return PERSP_OK;
@@ -43,7 +56,7 @@ persp_status persp_wrap_parse(const char *name, persp_wrap *out)
 
 const char *persp_wrap_name(persp_wrap wrap)
 {
-    return (unsigned)wrap < 4u ? wrap_names[wrap] : "unknown";
+    return (unsigned)wrap < (unsigned)WRAP_COUNT ? wrap_names[wrap] : "unknown";
 }
 
 /* Parses the N of "aniso:N": a decimal integer 2..16 and nothing else. */
@@ -158,14 +171,14 @@ persp_status persp_texture_create(persp_context *ctx, const persp_image *img, pe
     *out = NULL;
     if (!img->pixels || img->width <= 0 || img->height <= 0 ||
         img->stride < (size_t)img->width * 4u)
-        return persp_context_fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "texture: invalid image %dx%d",
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "texture: invalid image %dx%d",
                                   img->width, img->height);
     if (img->width > PERSP_IMAGE_MAX_SIDE || img->height > PERSP_IMAGE_MAX_SIDE ||
         (size_t)img->width * (size_t)img->height > PERSP_IMAGE_MAX_PIXELS)
-        return persp_context_fail(ctx, PERSP_ERR_TOO_LARGE, "texture: image %dx%d is too large",
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "texture: image %dx%d is too large",
                                   img->width, img->height);
     persp_texture *t = persp__calloc(ctx, 1, sizeof *t);
-    if (!t) return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "texture: out of memory");
+    if (!t) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "texture: out of memory");
     t->ctx = ctx;
     t->width = img->width;
     t->height = img->height;
@@ -183,8 +196,8 @@ persp_status persp_texture_create(persp_context *ctx, const persp_image *img, pe
     t->levels = levels;
     t->storage = persp__calloc(ctx, total, sizeof(uint32_t));
     if (!t->storage) {
-        persp_free(ctx, t);
-        return persp_context_fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+        persp__free(ctx, t);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
                                   "texture: out of memory for %dx%d with %d levels", img->width,
                                   img->height, levels);
     }
@@ -211,8 +224,8 @@ void persp_texture_destroy(persp_texture *tex)
 {
     if (!tex) return;
     persp_context *ctx = tex->ctx;
-    persp_free(ctx, tex->storage);
-    persp_free(ctx, tex);
+    persp__free(ctx, tex->storage);
+    persp__free(ctx, tex);
 }
 
 int persp_texture_width(const persp_texture *tex)
@@ -236,7 +249,7 @@ void persp_texture_memory(const persp_texture *tex, size_t *all_levels, size_t *
     if (base_level) *base_level = tex ? tex->bytes_base : 0;
 }
 
-persp_status persp_texture_level(const persp_texture *tex, int level, persp_image *view)
+persp_status persp_texture_level(const persp_texture *tex, int level, persp_image_view *view)
 {
     if (!tex || !view) return PERSP_ERR_INVALID_ARGUMENT;
     if (level < 0 || level >= tex->levels) return PERSP_ERR_NOT_FOUND;
@@ -245,7 +258,7 @@ persp_status persp_texture_level(const persp_texture *tex, int level, persp_imag
     view->stride = (size_t)view->width * 4u;
     /* The texel words are stored R-low, which is the byte order of an image
      * row only on a little-endian host; persp targets those (CONVENTIONS). */
-    view->pixels = (uint8_t *)(uintptr_t)tex->level[level].texels;
+    view->pixels = (const uint8_t *)tex->level[level].texels;
     return PERSP_OK;
 }
 

@@ -24,7 +24,6 @@ static void render(persp_context *ctx, const char *scene_name, const char *metho
     memset(&desc, 0, sizeof desc);
     desc.method = method;
     assert_int_equal(persp_filter_parse(filter, &desc.filter, &desc.max_aniso), PERSP_OK);
-    desc.filter_set = 1;
     persp_status st = persp_render(ctx, scene, &desc, &fb, NULL);
     if (st != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
     free(depth);

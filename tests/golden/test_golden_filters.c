@@ -26,7 +26,6 @@ static void render(persp_context *ctx, const char *scene_name, const char *filte
     desc.method = "exact";
     desc.pipeline = pipe;
     assert_int_equal(persp_filter_parse(filter, &desc.filter, &desc.max_aniso), PERSP_OK);
-    desc.filter_set = 1;
     persp_status st = persp_render(ctx, scene, &desc, &fb, NULL);
     if (st != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
     free(depth);

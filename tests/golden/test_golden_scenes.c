@@ -30,7 +30,6 @@ static void render(persp_context *ctx, const char *name, const char *shading, in
     persp_render_desc desc;
     memset(&desc, 0, sizeof desc);
     if (shading) {
-        desc.shading_set = 1;
         assert_int_equal(persp_shading_parse(shading, &desc.shading), PERSP_OK);
     }
     if (persp_render(ctx, scene, &desc, &fb, NULL) != PERSP_OK)

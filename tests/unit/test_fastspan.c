@@ -62,12 +62,13 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                     persp_sampler_desc desc;
                     memset(&desc, 0, sizeof desc);
                     desc.filter = filters[fi];
-                    desc.wrap_s = (persp_wrap)ws;
-                    desc.wrap_t = (persp_wrap)wt;
+                    desc.wrap_s = (persp_wrap)(PERSP_WRAP_REPEAT + ws);
+                    desc.wrap_t = (persp_wrap)(PERSP_WRAP_REPEAT + wt);
                     desc.lod_mode = mode == 1 ? PERSP_LOD_POLYGON : PERSP_LOD_PIXEL;
                     desc.max_aniso = filters[fi] == PERSP_FILTER_ANISO ? 2 + 7 * mode : 0;
                     if (mode == 2) {
                         desc.lod_bias = 0.75f;
+                        desc.lod_clamp = PERSP_TOGGLE_ON;
                         desc.min_lod = 0.5f;
                         desc.max_lod = 2.5f;
                     }

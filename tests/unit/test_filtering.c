@@ -40,11 +40,10 @@ static void test_reference_tiling(void **state)
     assert_non_null(ref);
     assert_non_null(color);
     assert_non_null(depth);
-    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 1, 16, 1, ref), PERSP_OK);
+    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 1, 16, ref), PERSP_OK);
     persp_framebuffer fb = {W, H, color, depth};
     persp_render_desc d;
     memset(&d, 0, sizeof d);
-    d.filter_set = 1;
     d.filter = PERSP_FILTER_BILINEAR;
     assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
     size_t differ = 0;
@@ -72,9 +71,9 @@ static void test_reference_converges(void **state)
     assert_non_null(r2);
     assert_non_null(r4);
     assert_non_null(r8);
-    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 2, 64, 1, r2), PERSP_OK);
-    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 4, 7, 1, r4), PERSP_OK);
-    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 8, 64, 2, r8), PERSP_OK);
+    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 2, 64, r2), PERSP_OK);
+    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 4, 7, r4), PERSP_OK);
+    assert_int_equal(persp__filter_reference(ctx, scene, W, H, 8, 64, r8), PERSP_OK);
     double p24 = psnr_rgb(r2, r8, n), p48 = psnr_rgb(r4, r8, n);
     print_message("reference 2x2 vs 8x8: %.1f dB, 4x4 vs 8x8: %.1f dB\n", p24, p48);
     assert_true(p48 > p24 + 4.0);

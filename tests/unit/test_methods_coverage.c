@@ -79,7 +79,6 @@ static void run(persp_context *ctx, const persp_scene *scene, const char *method
     persp_render_desc d;
     memset(&d, 0, sizeof d);
     d.method = method;
-    d.threads = 1;
     persp_status st = persp__render_capture(ctx, scene, &d, w, h, &out->cap);
     if (st != PERSP_OK) fail_msg("%s: capture: %s", method, persp_context_error(ctx));
     uint8_t *color = malloc((size_t)w * (size_t)h * 4);

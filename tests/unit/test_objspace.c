@@ -15,7 +15,7 @@ typedef struct os_render {
 static void render_object(const char *scene_name, const persp_image *tex, int threads, int w, int h,
                           os_render *out)
 {
-    persp_context *ctx = test_context();
+    persp_context *ctx = test_context_threads(threads);
     persp_scene *scene = NULL;
     assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
     if (tex) assert_int_equal(persp_scene_set_texture(scene, tex), PERSP_OK);
@@ -27,9 +27,7 @@ static void render_object(const char *scene_name, const persp_image *tex, int th
     persp_framebuffer fb = {w, h, out->color, depth};
     persp_render_desc d;
     memset(&d, 0, sizeof d);
-    d.threads = threads;
     d.pipeline = PERSP_PIPELINE_OBJECT;
-    d.shading_set = 1;
     d.shading = PERSP_SHADING_NONE;
     persp_status s = persp_render(ctx, scene, &d, &fb, &out->stats);
     if (s != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));

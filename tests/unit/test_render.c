@@ -17,10 +17,10 @@ static uint64_t fnv(const uint8_t *p, size_t n)
 
 /* Renders a built-in scene with d and hashes the colour buffer; keep (when
  * not NULL) receives the colour buffer instead of it being freed. */
-static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int w, int h,
-                                 uint8_t **keep)
+static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
+                                 int h, uint8_t **keep)
 {
-    persp_context *ctx = test_context();
+    persp_context *ctx = test_context_threads(threads);
     persp_scene *scene = NULL;
     assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
     uint8_t *color = malloc((size_t)w * h * 4);
@@ -47,9 +47,8 @@ static uint64_t render_hash(const char *scene_name, const char *method, int thre
     persp_render_desc d;
     memset(&d, 0, sizeof d);
     d.method = method;
-    d.threads = threads;
     d.depth_mode = dm;
-    return render_hash_desc(scene_name, &d, w, h, keep);
+    return render_hash_desc(scene_name, &d, threads, w, h, keep);
 }
 
 static void test_threads_bit_identical(void **state)
@@ -79,14 +78,10 @@ static void test_threads_bit_identical_filters(void **state)
             persp_render_desc d;
             memset(&d, 0, sizeof d);
             d.method = methods[mi];
-            d.filter_set = 1;
             assert_int_equal(persp_filter_parse(filters[fi], &d.filter, &d.max_aniso), PERSP_OK);
-            d.threads = 1;
-            uint64_t h1 = render_hash_desc("corridor", &d, 301, 203, NULL);
-            d.threads = 2;
-            uint64_t h2 = render_hash_desc("corridor", &d, 301, 203, NULL);
-            d.threads = 3;
-            uint64_t h3 = render_hash_desc("corridor", &d, 301, 203, NULL);
+            uint64_t h1 = render_hash_desc("corridor", &d, 1, 301, 203, NULL);
+            uint64_t h2 = render_hash_desc("corridor", &d, 2, 301, 203, NULL);
+            uint64_t h3 = render_hash_desc("corridor", &d, 3, 301, 203, NULL);
             if (h1 != h2 || h1 != h3)
                 fail_msg("%s / %s: hashes %016llx %016llx %016llx for 1, 2, 3 threads", filters[fi],
                          methods[mi], (unsigned long long)h1, (unsigned long long)h2,
@@ -131,7 +126,6 @@ static void test_no_allocation_after_first_frame(void **state)
         persp_framebuffer fb = {w, h, color, depth};
         persp_render_desc d;
         memset(&d, 0, sizeof d);
-        d.filter_set = 1;
         d.filter = PERSP_FILTER_TRILINEAR;
         assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
         long first = counter.allocs;
@@ -212,7 +206,7 @@ static void test_count_ops(void **state)
         persp_opcount got[3];
         uint64_t fragments = 0;
         for (int run = 0; run < 3; run++) {
-            persp_context *ctx = test_context();
+            persp_context *ctx = test_context_threads(run == 1 ? 3 : 1);
             persp_scene *scene = NULL;
             assert_int_equal(persp_scene_builtin(ctx, "corridor", &scene), PERSP_OK);
             enum { W = 160, H = 120 };
@@ -222,8 +216,7 @@ static void test_count_ops(void **state)
             persp_render_desc d;
             memset(&d, 0, sizeof d);
             d.method = methods[mi];
-            d.count_ops = run < 2;
-            d.threads = run == 1 ? 3 : 1;
+            d.count_ops = run < 2 ? PERSP_TOGGLE_ON : PERSP_TOGGLE_DEFAULT;
             persp_render_stats st;
             assert_int_equal(persp_render(ctx, scene, &d, &fb, &st), PERSP_OK);
             got[run] = st.ops;

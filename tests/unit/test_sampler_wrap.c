@@ -41,6 +41,8 @@ static int ref_wrap(persp_wrap mode, int i, int size)
     }
     case PERSP_WRAP_CLAMP_TO_BORDER:
         return (i < 0 || i >= size) ? -1 : i;
+    case PERSP_WRAP_DEFAULT:
+        return ref_wrap(PERSP_WRAP_REPEAT, i, size);
     }
     return -2;
 }

@@ -204,7 +204,6 @@ static void render_env(persp_context *ctx, persp_texenv env, int spec_tex, persp
     persp_framebuffer fb = {W, H, color, depth};
     persp_render_desc d;
     memset(&d, 0, sizeof d);
-    d.shading_set = 1;
     d.shading = shading;
     assert_int_equal(persp_render(ctx, s, &d, &fb, NULL), PERSP_OK);
     memcpy(px, color + 4 * ((H / 2) * W + W / 2), 4);

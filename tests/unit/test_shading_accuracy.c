@@ -135,7 +135,7 @@ static void test_modes_random_triangles(void **state)
         assert_int_equal(persp__shading_random(ctx, 7, h, 6, e), PERSP_OK);
         for (int i = 0; i < PERSP_SHADE_MODES; i++) {
             const persp_shade_err *r = &e[i];
-            assert_int_equal((int)r->mode, i + 1);
+            assert_int_equal((int)r->mode, PERSP_SHADING_FLAT + i);
             assert_true(r->pixels > 500);
             switch (r->mode) {
             case PERSP_SHADING_PHONG_PC:
@@ -185,11 +185,11 @@ static void test_modes_scene(void **state)
         print_message("%-20s max %6.2f mean %.4f\n", persp_shading_name(e[i].mode), e[i].col_max, e[i].col_mean);
         assert_true(e[i].pixels > 10000);
     }
-    assert_true(e[PERSP_SHADING_PHONG_PC - 1].col_max == 0.0);
-    assert_true(e[PERSP_SHADING_PHONG_SLERP - 1].col_mean < 0.01);
-    assert_true(e[PERSP_SHADING_PHONG_PC_CUBIC - 1].col_mean < 0.05);
-    assert_true(e[PERSP_SHADING_PHONG - 1].col_max > 10.0);
-    assert_true(e[PERSP_SHADING_GOURAUD - 1].col_mean > 1.0);
+    assert_true(e[PERSP_SHADING_PHONG_PC - PERSP_SHADING_FLAT].col_max == 0.0);
+    assert_true(e[PERSP_SHADING_PHONG_SLERP - PERSP_SHADING_FLAT].col_mean < 0.01);
+    assert_true(e[PERSP_SHADING_PHONG_PC_CUBIC - PERSP_SHADING_FLAT].col_mean < 0.05);
+    assert_true(e[PERSP_SHADING_PHONG - PERSP_SHADING_FLAT].col_max > 10.0);
+    assert_true(e[PERSP_SHADING_GOURAUD - PERSP_SHADING_FLAT].col_mean > 1.0);
     persp_scene_destroy(s);
     persp_context_destroy(ctx);
 }

@@ -123,7 +123,7 @@ static void test_matches_primitives(void **state)
         }
     }
     assert_true(checked >= 15 * 7);
-    persp_free(ctx, uv);
+    persp__free(ctx, uv);
     persp__mesh_free(ctx, &m);
 
     assert_int_equal(persp__mesh_cylinder(ctx, 12, &m), PERSP_OK);
@@ -138,7 +138,7 @@ static void test_matches_primitives(void **state)
         checked++;
     }
     assert_int_equal(checked, 2 * 11);
-    persp_free(ctx, uv);
+    persp__free(ctx, uv);
     persp__mesh_free(ctx, &m);
 
     assert_int_equal(persp__mesh_cube(ctx, &m), PERSP_OK);
@@ -146,7 +146,7 @@ static void test_matches_primitives(void **state)
     o = object(PERSP_TEXGEN_CUBE, 1);
     persp__texgen_apply(&o, NULL, m.vertices, m.vertex_count, uv);
     for (size_t i = 0; i < m.vertex_count; i++) NEAR(uv[2 * i], m.vertices[i].uv[0]), NEAR(uv[2 * i + 1], m.vertices[i].uv[1]);
-    persp_free(ctx, uv);
+    persp__free(ctx, uv);
     persp__mesh_free(ctx, &m);
     persp_context_destroy(ctx);
 }

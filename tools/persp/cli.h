@@ -2,7 +2,7 @@
 #ifndef PERSP_CLI_H
 #define PERSP_CLI_H
 
-#include "persp.h"
+#include "persp_analysis.h"
 
 #include <stdio.h>
 

@@ -45,6 +45,7 @@ int cmd_accuracy_filter(int argc, char **argv)
     persp_report_format format = PERSP_REPORT_TABLE;
     persp_filter_accuracy_desc d;
     memset(&d, 0, sizeof d);
+    int threads = 1;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
         char *val = i + 1 < argc ? argv[i + 1] : NULL;
@@ -87,7 +88,7 @@ int cmd_accuracy_filter(int argc, char **argv)
             long n;
             if (!cli_parse_int(val, 1, 256, &n))
                 return cli_error(CLI_USAGE, "accuracy: bad --threads '%s' (expected 1..256)", val);
-            d.threads = (int)n;
+            threads = (int)n;
         } else if (!strcmp(a, "--lod")) {
             NEED_VALUE();
             if (!strcmp(val, "pixel")) d.lod_mode = PERSP_LOD_PIXEL;
@@ -135,7 +136,8 @@ int cmd_accuracy_filter(int argc, char **argv)
     d.cases = cases;
     d.case_count = nc;
     persp_context *ctx = NULL;
-    persp_status st = persp_context_create(NULL, &ctx);
+    persp_context_desc cd = {NULL, threads};
+    persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
     persp_filter_accuracy_result *res = NULL;
     int rc = CLI_OK;

@@ -167,10 +167,8 @@ static void measure_method(persp_bench *b, const bench_opts *o, method_result *r
     persp_render_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.method = r->spec;
-    desc.filter_set = 1;
     desc.filter = o->filter;
     desc.max_aniso = o->max_aniso;
-    desc.threads = o->threads;
     r->ok = 0;
     persp_status st = render_frames(b, &desc, 1); /* warm-up */
     double t0 = cli_now();
@@ -783,10 +781,8 @@ int cmd_bench(int argc, char **argv)
         persp_render_desc desc;
         memset(&desc, 0, sizeof desc);
         desc.method = "exact";
-        desc.filter_set = 1;
         desc.filter = o.filter;
         desc.max_aniso = o.max_aniso;
-        desc.threads = o.threads;
         if ((st = persp_render(b.ctx, b.scene, &desc, &b.fb, NULL)) != PERSP_OK) {
             cli_status(b.ctx, st, "bench: exact reference image");
             failures++;

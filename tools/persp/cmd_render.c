@@ -47,11 +47,10 @@ static int is_builtin(const char *name)
 int cmd_render(int argc, char **argv)
 {
     const char *scene_name = NULL, *output = NULL, *texture = NULL;
-    const char *method = "exact", *filter_name = NULL, *wrap_name = NULL, *shading_name = NULL;
-    int width = 0, height = 0, quiet = 0;
+    const char *method = NULL, *filter_name = NULL, *wrap_name = NULL, *shading_name = NULL;
+    int width = 0, height = 0, quiet = 0, threads = 1;
     persp_render_desc desc;
     memset(&desc, 0, sizeof desc);
-    desc.threads = 1;
 
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
@@ -108,8 +107,8 @@ int cmd_render(int argc, char **argv)
             double l = strtod(val, &end);
             if (*end || end == val || !(l >= -1000.0 && l <= 1000.0))
                 return cli_error(CLI_USAGE, "render: bad %s '%s' (expected -1000..1000)", a, val);
-            if (!desc.lod_clamp_set) desc.min_lod = -1000.0f, desc.max_lod = 1000.0f;
-            desc.lod_clamp_set = 1;
+            if (desc.lod_clamp != PERSP_TOGGLE_ON) desc.min_lod = -1000.0f, desc.max_lod = 1000.0f;
+            desc.lod_clamp = PERSP_TOGGLE_ON;
             if (a[2] == 'm' && a[3] == 'i') desc.min_lod = (float)l;
             else desc.max_lod = (float)l;
         } else if (!strcmp(a, "--pipeline")) {
@@ -125,14 +124,14 @@ int cmd_render(int argc, char **argv)
             long n;
             if (!cli_parse_int(val, 1, 256, &n))
                 return cli_error(CLI_USAGE, "render: bad --threads '%s' (expected 1..256)", val);
-            desc.threads = (int)n;
+            threads = (int)n;
         } else if (!strcmp(a, "--cull")) {
             NEED_VALUE();
-            if (!strcmp(val, "on")) desc.cull_backfaces = 1;
-            else if (!strcmp(val, "off")) desc.cull_backfaces = -1;
+            if (!strcmp(val, "on")) desc.cull_backfaces = PERSP_TOGGLE_ON;
+            else if (!strcmp(val, "off")) desc.cull_backfaces = PERSP_TOGGLE_OFF;
             else return cli_error(CLI_USAGE, "render: bad --cull '%s' (expected on or off)", val);
         } else if (!strcmp(a, "--count-ops")) {
-            desc.count_ops = 1;
+            desc.count_ops = PERSP_TOGGLE_ON;
         } else if (!strcmp(a, "-q") || !strcmp(a, "--quiet")) {
             quiet = 1;
         } else if (a[0] == '-' && a[1] != '\0') {
@@ -155,37 +154,31 @@ int cmd_render(int argc, char **argv)
         return cli_error(CLI_FAIL, "render: '%s' is neither a built-in scene (%s) nor a file: %s",
                          scene_name, names, strerror(errno));
     }
-    if (desc.lod_clamp_set) {
-        if (desc.min_lod > desc.max_lod)
-            return cli_error(CLI_USAGE, "render: --min-lod %g is above --max-lod %g", (double)desc.min_lod,
-                             (double)desc.max_lod);
-        /* Both zero means "no clamp" in persp_sampler_desc; an explicit
-         * [0, 0] is the same clamp with a lower end just below zero. */
-        if (desc.min_lod == 0.0f && desc.max_lod == 0.0f) desc.min_lod = -1e-30f;
-    }
+    if (desc.lod_clamp == PERSP_TOGGLE_ON && desc.min_lod > desc.max_lod)
+        return cli_error(CLI_USAGE, "render: --min-lod %g is above --max-lod %g", (double)desc.min_lod,
+                         (double)desc.max_lod);
 
-    int bad = cli_check_method("render", method);
-    if (bad) return bad;
+    if (method) {
+        int bad = cli_check_method("render", method);
+        if (bad) return bad;
+    }
     persp_status st;
     desc.method = method;
     if (filter_name) {
         if (persp_filter_parse(filter_name, &desc.filter, &desc.max_aniso) != PERSP_OK)
             return cli_error(CLI_USAGE, "render: unknown filter '%s' (see persp render --help)", filter_name);
-        desc.filter_set = 1;
     }
     if (wrap_name) {
         if (persp_wrap_parse(wrap_name, &desc.wrap) != PERSP_OK)
             return cli_error(CLI_USAGE, "render: unknown wrap mode '%s'", wrap_name);
-        desc.wrap_set = 1;
     }
     if (shading_name) {
         if (persp_shading_parse(shading_name, &desc.shading) != PERSP_OK)
             return cli_error(CLI_USAGE, "render: unknown shading '%s' (see persp render --help)", shading_name);
-        desc.shading_set = 1;
     }
 
     persp_context *ctx = NULL;
-    persp_context_desc cd = {NULL, desc.threads};
+    persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
     persp_scene *scene = NULL;
     int rc = CLI_OK;
@@ -268,9 +261,9 @@ int cmd_render(int argc, char **argv)
                          " (and others per object)");
         }
         printf("rendered %s: %dx%d, method %s, filter %s, shading %s, depth %s, %d thread%s\n",
-               scene_name, width, height, method, filter_name ? filter_name : scene_filter,
+               scene_name, width, height, method ? method : info.method, filter_name ? filter_name : scene_filter,
                shading_name ? shading_name : persp_shading_name(info.shading),
-               desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", desc.threads, desc.threads == 1 ? "" : "s");
+               desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", threads, threads == 1 ? "" : "s");
         printf("  %llu triangles in, %llu after clipping, %llu fragments, %llu pixels written\n",
                (unsigned long long)stats.triangles_in, (unsigned long long)stats.triangles_drawn,
                (unsigned long long)stats.fragments, (unsigned long long)stats.pixels_written);
@@ -278,7 +271,7 @@ int cmd_render(int argc, char **argv)
             printf("  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes\n",
                    (unsigned long long)stats.objspace_pieces, (unsigned long long)stats.objspace_samples,
                    (unsigned long long)stats.objspace_splats, (unsigned long long)stats.objspace_holes);
-        if (desc.count_ops) {
+        if (desc.count_ops == PERSP_TOGGLE_ON) {
             /* Per fragment the method was run for (covered and not hidden at
              * the time it was drawn). */
             double fr = stats.fragments ? (double)stats.fragments : 1.0;

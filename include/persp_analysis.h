@@ -1,0 +1,171 @@
+/*
+ * persp_analysis — measurement of persp's methods, shading modes and filters
+ * against exact references (library persp_analysis; link it with persp).
+ *
+ * The same rules as persp.h apply: zero-initialised descs mean defaults,
+ * results are released with their *_destroy function, one context is used
+ * by one thread at a time, and a run's threads are its context's.
+ * Report writers take a FILE * passed as void *, so that this header does
+ * not need <stdio.h>.
+ */
+#ifndef PERSP_ANALYSIS_H
+#define PERSP_ANALYSIS_H
+
+#include "persp.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------- method accuracy */
+
+/* persp accuracy: every texture-coordinate method measured against the exact
+ * rational form (Heckbert 1989 §2.3.2) evaluated in double precision at each
+ * pixel centre. Cases (BENCHMARKS.md): "paper-quad" (seed 000 §4.6 Fig. 4.10:
+ * the line y = 32 of the quad (1,1), (32,96), (96,128), (128,32), resampled
+ * to one span of PERSP_ACCURACY_LINE_SAMPLES points from edge to edge),
+ * "paper-quad-full" (every pixel of that quad, spans as the renderer cuts
+ * them), "random-triangles" (one row per depth ratio 1.25 ... 8) and any
+ * built-in scene name (rendered at desc.width × desc.height). */
+#define PERSP_ACCURACY_LINE_SAMPLES 64
+
+typedef struct persp_accuracy_desc {
+    const char *const *methods; /* method specs; NULL or none: every registered method */
+    size_t method_count;
+    const char *const *cases;   /* NULL or none: "paper-quad", "random-triangles" */
+    size_t case_count;
+    int width, height;          /* scene cases; 0: 1024×768 */
+    uint64_t seed;              /* random-triangles; 0: 1 */
+    int triangles;              /* random triangles per depth-ratio group; 0: 40 */
+    double rel_floor;           /* relative errors count |s| >= rel_floor (normalised units); 0: 0.01 */
+    const char *heatmap_dir;    /* NULL: no heat maps; else one PNG per method and case */
+} persp_accuracy_desc;
+
+/* One method on one case. Errors of u (s1) and v (s2) separately;
+ * absolute errors in texels of the case's texture. */
+typedef struct persp_accuracy_row {
+    char method[64];
+    char case_name[48];
+    double hbar;                 /* depth ratio of the random-triangles group; 0 elsewhere */
+    uint64_t pixels, spans, triangles;
+    double max_u, max_v, mean_u, mean_v, p99_u, p99_v;
+    double texel_miss;           /* share of pixels whose nearest texel differs from the exact one's */
+    double relpt_u, relpt_v;     /* max |Δs| / |s| over pixels with |s| >= rel_floor */
+    double relspan_u, relspan_v; /* max |Δs| / (max s - min s) per span, spans with range >= rel_floor */
+    double rel_floor;
+    int ops_measured;            /* 0: the operation counts below are not available */
+    double div_px, mul_px, add_px, cmp_px; /* per pixel, per-triangle and per-span work included */
+} persp_accuracy_row;
+
+typedef struct persp_accuracy_result persp_accuracy_result;
+
+/* Runs the measurement. Unknown methods: PERSP_ERR_NOT_FOUND (bad method
+ * parameters: PERSP_ERR_INVALID_ARGUMENT); unknown cases: PERSP_ERR_NOT_FOUND.
+ * With no methods given, registered methods that need parameters are
+ * measured with their default or skipped if they have none. */
+PERSP_API persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *desc,
+                                persp_accuracy_result **out);
+PERSP_API size_t persp_accuracy_row_count(const persp_accuracy_result *res);
+PERSP_API const persp_accuracy_row *persp_accuracy_row_at(const persp_accuracy_result *res, size_t index);
+PERSP_API void persp_accuracy_destroy(persp_accuracy_result *res);
+
+/* Case names for --help and validation. */
+PERSP_API size_t persp_accuracy_case_count(void);
+PERSP_API const char *persp_accuracy_case_name(size_t index);
+PERSP_API const char *persp_accuracy_case_summary(size_t index);
+/* PERSP_OK if name is a case (a fixed case or a built-in scene). */
+PERSP_API persp_status persp_accuracy_case_check(const char *name);
+
+typedef enum persp_report_format {
+    PERSP_REPORT_TABLE = 0, /* aligned text with the metric definitions below it */
+    PERSP_REPORT_CSV,
+    PERSP_REPORT_JSON
+} persp_report_format;
+
+/* Writes the result to a stdio stream (FILE *, passed as void * so that this
+ * header does not need <stdio.h>). PERSP_ERR_IO if writing fails. */
+PERSP_API persp_status persp_accuracy_write(persp_context *ctx, const persp_accuracy_result *res,
+                                  persp_report_format format, void *stream);
+/* persp accuracy --shading (src/analysis/shading*.c): every shading mode
+ * against the exact per-pixel reference (seeded random lit triangles per
+ * depth ratio: colour error in 8-bit levels and normal angle error in
+ * degrees; a lit scene: colour against its phong-pc render), the t_w
+ * polynomial approximations of seed 000 §4.3 and the ΔI analysis of §4.2
+ * (Fig. 4.3-4.4), written as a text report; the figures as SVG on request. */
+typedef struct persp_shading_accuracy_desc {
+    uint64_t seed;        /* random triangles; 0: 1 */
+    int triangles;        /* random triangles per depth-ratio group; 0: 20 */
+    int width, height;    /* lit-scene image; 0: the scene's size, else 640×480 */
+    const char *scene;    /* JSON scene for the lit-scene case; NULL: the built-in lit test scene */
+    const char *svg_path; /* NULL: no plot; else Fig. 4.3-4.4 (and t_w errors) written there */
+} persp_shading_accuracy_desc;
+
+/* Runs every measurement and writes the report to stream (a FILE *).
+ * PERSP_ERR_IO if writing the report or the SVG fails (no partial SVG is
+ * left behind). */
+PERSP_API persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
+                                           void *stream);
+
+/* ------------------------------------------------------ filter accuracy */
+
+/* persp accuracy --filter: each texture filter (screen pipeline) and the
+ * object-space pipeline (seed 004) rendered at width × height and compared
+ * with a reference rendered at samples × samples points per pixel (the exact
+ * mapping, bilinear reconstruction on level 0), box-filtered to the pixel.
+ * Cases: the built-in scenes ("corridor", "floor", "cube") and textured
+ * planes tilted away from the viewer ("tilt-0" ... "tilt-85", degrees). */
+typedef struct persp_filter_accuracy_desc {
+    const char *const *filters; /* persp_filter_parse names, or "object" for the object-space
+                                   pipeline; NULL or none: all nine filters (aniso:16,
+                                   aniso-window:16) and "object" */
+    size_t filter_count;
+    const char *const *cases;   /* NULL or none: corridor, floor and every tilt case */
+    size_t case_count;
+    int width, height;          /* 0: 256×192 */
+    int samples;                /* reference samples per pixel along each axis, 1..64; 0: 16 */
+    int repeats;                /* timed renders per filter, the fastest kept; 0: 3
+                                   (threads: the context's) */
+    persp_lod_mode lod_mode;
+    float lod_bias;
+    const char *heatmap_dir;    /* NULL: none; else one PNG per filter and case */
+} persp_filter_accuracy_desc;
+
+typedef struct persp_filter_accuracy_row {
+    char filter[32];
+    char pipeline[8];            /* "screen" or "object" */
+    char case_name[48];
+    int tex_width, tex_height, tex_levels;
+    double mip_overhead;         /* bytes of the whole mip chain / bytes of level 0, minus 1 */
+    int samples;                 /* reference samples per pixel along each axis */
+    uint64_t pixels;             /* covered pixels measured */
+    double psnr;                 /* dB over R, G, B of covered pixels; 0 error: +inf */
+    double ssim;                 /* mean SSIM of luma over 8×8 windows (stride 4) */
+    double max_err, mean_err;    /* |filter - reference| in 8-bit levels, over channels */
+    double fetches_px;           /* texels read per covered pixel (object: samples walked) */
+    double ms, ns_px;            /* fastest render time; per pixel of the image */
+} persp_filter_accuracy_row;
+
+typedef struct persp_filter_accuracy_result persp_filter_accuracy_result;
+
+/* Unknown filter or case: PERSP_ERR_NOT_FOUND; bad sizes or counts:
+ * PERSP_ERR_INVALID_ARGUMENT. */
+PERSP_API persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_accuracy_desc *desc,
+                                       persp_filter_accuracy_result **out);
+PERSP_API size_t persp_filter_accuracy_row_count(const persp_filter_accuracy_result *res);
+PERSP_API const persp_filter_accuracy_row *persp_filter_accuracy_row_at(const persp_filter_accuracy_result *res,
+                                                              size_t index);
+PERSP_API void persp_filter_accuracy_destroy(persp_filter_accuracy_result *res);
+PERSP_API size_t persp_filter_accuracy_case_count(void);
+PERSP_API const char *persp_filter_accuracy_case_name(size_t index);
+PERSP_API const char *persp_filter_accuracy_case_summary(size_t index);
+PERSP_API persp_status persp_filter_accuracy_case_check(const char *name);
+/* PERSP_OK for a filter name of persp_filter_parse or "object". */
+PERSP_API persp_status persp_filter_accuracy_filter_check(const char *name);
+/* Table (with definitions), CSV or JSON to a FILE * passed as void *. */
+PERSP_API persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_accuracy_result *res,
+                                         persp_report_format format, void *stream);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
