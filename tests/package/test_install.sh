@@ -228,5 +228,8 @@ if grep -q '^CMOCKA_FOUND' "$tmp/parent-build/CMakeCache.txt"; then
 fi
 [ ! -e "$tmp/parent-build/persp/persp" ] || fail "add_subdirectory: persp built its CLI"
 run_examples "add_subdirectory" "$tmp/parent-build/examples"
+# Same tree, examples relinked against the static targets.
+cmake_build "add_subdirectory static" "$tmp/parent" "$tmp/parent-build" -DPERSP_EXAMPLES_STATIC=ON
+run_examples "add_subdirectory static" "$tmp/parent-build/examples" static
 
 step "ok"
