@@ -1,5 +1,5 @@
 /*
- * The OpenGL peer of `persp bench`: the BENCHMARKS.md `corridor` scene drawn
+ * The OpenGL peer of `persp bench`: the `corridor` scene of docs/WORKLOADS.md drawn
  * with Mesa (llvmpipe or softpipe) through OSMesa, legacy fixed-function GL.
  *
  * Compiled into the persp CLI only when pkg-config finds osmesa

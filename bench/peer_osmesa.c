@@ -1,5 +1,5 @@
 /*
- * The `corridor` workload of BENCHMARKS.md rendered by Mesa through OSMesa,
+ * The `corridor` workload of docs/WORKLOADS.md rendered by Mesa through OSMesa,
  * with nothing but legacy OpenGL 1.x state so that llvmpipe and softpipe run
  * their ordinary fixed-function paths: glFrustum projection, identity
  * model-view, one 256×256 RGBA8 texture with GL_REPEAT and GL_REPLACE, depth
@@ -53,7 +53,7 @@ struct bench_peer {
     GLuint indices[30];
 };
 
-/* BENCHMARKS.md corridor geometry, L = 64: per quad four corners (u, v | x, y, z). */
+/* docs/WORKLOADS.md corridor geometry, L = 64: per quad four corners (u, v | x, y, z). */
 static const float corridor_quads[5][4][5] = {
     {{0, 0, -1, -1, 0}, {2, 0, 1, -1, 0}, {2, 64, 1, -1, -64}, {0, 64, -1, -1, -64}},
     {{0, 0, -1, 1, 0}, {0, 64, -1, 1, -64}, {2, 64, 1, 1, -64}, {2, 0, 1, 1, 0}},
@@ -62,7 +62,7 @@ static const float corridor_quads[5][4][5] = {
     {{0, 0, -1, -1, -64}, {2, 0, 1, -1, -64}, {2, 2, 1, 1, -64}, {0, 2, -1, 1, -64}},
 };
 
-/* BENCHMARKS.md checker: texel (x, y), y = 0 the first row given to GL. */
+/* docs/WORKLOADS.md checker: texel (x, y), y = 0 the first row given to GL. */
 static void checker_texel(int x, int y, uint8_t out[4])
 {
     static const uint8_t a[4] = {230, 200, 40, 255}, b[4] = {30, 60, 160, 255},
@@ -235,7 +235,7 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     glViewport(0, 0, p->width, p->height);
     glMatrixMode(GL_PROJECTION);
     glLoadIdentity();
-    /* BENCHMARKS.md: glFrustum(-t·a, t·a, -t, t, 0.1, 100), t = 0.1·tan 30°. */
+    /* docs/WORKLOADS.md: glFrustum(-t·a, t·a, -t, t, 0.1, 100), t = 0.1·tan 30°. */
     double t = 0.1 * tan(30.0 * 3.14159265358979323846 / 180.0);
     double a = (double)p->width / (double)p->height;
     glFrustum(-t * a, t * a, -t, t, 0.1, 100.0);

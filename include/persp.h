@@ -1,7 +1,8 @@
 /*
  * persp — perspective-correct image formation.
  *
- * The only public header of libpersp. Conventions (docs/CONVENTIONS.md):
+ * The public header of libpersp (citation keys such as [Romanyuk-PCF] are
+ * defined in docs/SOURCES.md). Conventions (docs/CONVENTIONS.md):
  * OpenGL matrices (column-major, right-handed eye space looking down -z),
  * window origin bottom-left, pixel centres at (x+0.5, y+0.5), texel centres at
  * ((i+0.5)/W, (j+0.5)/H), texture row 0 = bottom row of the displayed image.
@@ -192,7 +193,7 @@ typedef enum persp_filter {
     PERSP_FILTER_NEAREST_MIP_LINEAR,
     PERSP_FILTER_TRILINEAR,
     PERSP_FILTER_ANISO,        /* EXT_texture_filter_anisotropic, max_aniso taps */
-    PERSP_FILTER_ANISO_WINDOW, /* rotated rectangular footprint, seed 000 §4.8 */
+    PERSP_FILTER_ANISO_WINDOW, /* rotated rectangular footprint, [Romanyuk-PCF] §4.8 */
     PERSP_FILTER_EWA,          /* Heckbert's elliptical weighted average */
     PERSP_FILTER_COUNT
 } persp_filter;
@@ -263,7 +264,7 @@ typedef struct persp_method_info {
     const char *name;    /* CLI id, e.g. "midpoint" */
     const char *params;  /* accepted parameters, e.g. "k=N|bidir", or "" */
     const char *summary; /* one line */
-    const char *source;  /* seed and section */
+    const char *source;  /* citation key and section (docs/SOURCES.md) */
     const char *cost;    /* operations per pixel / per span, e.g. "1 div, 2 mul, 3 add /px" */
 } persp_method_info;
 
@@ -300,7 +301,7 @@ PERSP_API const char *persp_shading_name(persp_shading shading);
 typedef enum persp_depth_mode {
     PERSP_DEPTH_DEFAULT = 0, /* Z */
     PERSP_DEPTH_Z,     /* window depth in [0,1], less passes, cleared to 1 */
-    PERSP_DEPTH_INVW   /* 1/w ("1/z buffering", seed 002): greater passes, cleared to 0 */
+    PERSP_DEPTH_INVW   /* 1/w ("1/z buffering", [CS300-TexMap]): greater passes, cleared to 0 */
 } persp_depth_mode;
 
 /* Caller-owned buffers: color is width*height RGBA8 pixels (row 0 = bottom),
@@ -355,7 +356,7 @@ PERSP_API void persp_scene_get_info(const persp_scene *scene, persp_scene_info *
 typedef enum persp_pipeline {
     PERSP_PIPELINE_DEFAULT = 0, /* SCREEN */
     PERSP_PIPELINE_SCREEN,     /* inverse mapping per pixel */
-    PERSP_PIPELINE_OBJECT      /* object-space texturing, screen-space filtering (seed 004) */
+    PERSP_PIPELINE_OBJECT      /* object-space texturing, screen-space filtering ([Romaniuk-ObjSpace]) */
 } persp_pipeline;
 
 /* Render settings. Zero-initialised (or a NULL desc) renders the scene as
@@ -384,7 +385,7 @@ typedef struct persp_render_stats {
     persp_opcount ops; /* with persp_render_desc.count_ops: the operations of the
                           texture-coordinate method over the frame (per-triangle
                           fits, spans, pixels, traversals); zero otherwise */
-    /* Object-space pipeline (seed 004): samples walked (texels or sub-texel
+    /* Object-space pipeline ([Romaniuk-ObjSpace]): samples walked (texels or sub-texel
      * positions of the chosen levels), splats onto pixels, polygon pieces
      * (one mip level each), covered pixels that received no sample. */
     uint64_t objspace_samples, objspace_splats, objspace_pieces, objspace_holes;

@@ -21,7 +21,7 @@ extern "C" {
 
 /* persp accuracy: every texture-coordinate method measured against the exact
  * rational form (Heckbert 1989 §2.3.2) evaluated in double precision at each
- * pixel centre. Cases (BENCHMARKS.md): "paper-quad" (seed 000 §4.6 Fig. 4.10:
+ * pixel centre. Cases (docs/WORKLOADS.md): "paper-quad" ([Romanyuk-PCF] §4.6 Fig. 4.10:
  * the line y = 32 of the quad (1,1), (32,96), (96,128), (128,32), resampled
  * to one span of PERSP_ACCURACY_LINE_SAMPLES points from edge to edge),
  * "paper-quad-full" (every pixel of that quad, spans as the renderer cuts
@@ -90,7 +90,7 @@ PERSP_API persp_status persp_accuracy_write(persp_context *ctx, const persp_accu
  * against the exact per-pixel reference (seeded random lit triangles per
  * depth ratio: colour error in 8-bit levels and normal angle error in
  * degrees; a lit scene: colour against its phong-pc render), the t_w
- * polynomial approximations of seed 000 §4.3 and the ΔI analysis of §4.2
+ * polynomial approximations of [Romanyuk-PCF] §4.3 and the ΔI analysis of §4.2
  * (Fig. 4.3-4.4), written as a text report; the figures as SVG on request. */
 typedef struct persp_shading_accuracy_desc {
     uint64_t seed;        /* random triangles; 0: 1 */
@@ -109,7 +109,7 @@ PERSP_API persp_status persp_shading_accuracy_report(persp_context *ctx, const p
 /* ------------------------------------------------------ filter accuracy */
 
 /* persp accuracy --filter: each texture filter (screen pipeline) and the
- * object-space pipeline (seed 004) rendered at width × height and compared
+ * object-space pipeline ([Romaniuk-ObjSpace]) rendered at width × height and compared
  * with a reference rendered at samples × samples points per pixel (the exact
  * mapping, bilinear reconstruction on level 0), box-filtered to the pixel.
  * Cases: the built-in scenes ("corridor", "floor", "cube") and textured

@@ -23,7 +23,7 @@ persp_context *test_context(void);
 /* A context drawing with the given number of threads. */
 persp_context *test_context_threads(int threads);
 
-/* Golden images (ARCHITECTURE.md, testing layer 3). */
+/* Golden images (docs/DESIGN.md, "Testing", layer 3). */
 typedef struct test_tolerance {
     int max_abs;            /* largest per-channel difference */
     double max_share_over2; /* share of pixels with a channel differing by more than 2 */

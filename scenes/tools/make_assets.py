@@ -203,7 +203,7 @@ class Obj:
 
 def room_obj():
     """Room interior: x in [-3, 3], y in [0, 2.6], z in [-8, 0]. The
-    polygons seed 000 §4.9 names as the common case: floors, walls and
+    polygons [Romanyuk-PCF] §4.9 names as the common case: floors, walls and
     ceilings, doors, pictures and carpets, all axis-aligned quads."""
     X0, X1, H, Z0, Z1 = -3.0, 3.0, 2.6, -8.0, 0.0
     eps = 0.01

@@ -20,8 +20,8 @@
 static const struct {
     const char *name, *summary;
 } fixed_cases[] = {
-    {"paper-quad", "line y = 32 of the quad (1,1) (32,96) (96,128) (128,32), seed 000 Fig. 4.10, "
-                   "as one span of 64 samples"},
+    {"paper-quad", "line y = 32 of the quad (1,1) (32,96) (96,128) (128,32), "
+                   "[Romanyuk-PCF] Fig. 4.10, as one span of 64 samples"},
     {"paper-quad-full", "every pixel of that quad, spans cut as the renderer cuts them"},
     {"random-triangles", "seeded eye-space triangles by depth ratio 1.25..8, 1024x768, 256x256 "
                          "texture"},
@@ -257,7 +257,7 @@ static persp_status case_paper_line(acc_run *a, persp_accuracy_result *res)
 
 /* The two triangles (c0, c1, c2), (c0, c2, c3) of the paper quad, set up by
  * the renderer's own setup so coverage follows its fill rules; pixel (x, y)
- * samples the seed's point (x, y). */
+ * samples the chapter's point (x, y). */
 static int paper_quad_tris(persp_tri t[2], float attr[4][PERSP_A_COUNT])
 {
     double fwd[9], p[9];

@@ -1,6 +1,6 @@
 /*
  * Accuracy analysis internals (persp accuracy): error statistics, the
- * measurement cases of BENCHMARKS.md and the heat-map writer. The metric
+ * measurement cases of docs/WORKLOADS.md and the heat-map writer. The metric
  * code is independent of texturing so that shading comparisons can reuse it.
  */
 #ifndef PERSP_ANALYSIS_ANALYSIS_H
@@ -92,25 +92,25 @@ struct persp_accuracy_result {
  * Returns 0 if the quad is degenerate. */
 int persp__square_to_quad(const double x[4], const double y[4], double fwd[9], double inv[9]);
 
-/* The quad of seed 000 §4.6 Fig. 4.10 and BENCHMARKS.md paper-quad. */
+/* The quad of [Romanyuk-PCF] §4.6 Fig. 4.10: case paper-quad of docs/WORKLOADS.md. */
 extern const double persp__paper_quad_x[4], persp__paper_quad_y[4];
-/* The seed's rasterization line. */
+/* The chapter's rasterization line. */
 #define PERSP_PAPER_QUAD_LINE_Y 32.0
 
 /* Rational form of paper-quad in screen coordinates where pixel (x, y)
- * samples the seed's point (x, y) (pixel centres shifted by half a pixel,
- * so that integer screen positions are sampled as in the seed), with the
+ * samples the chapter's point (x, y) (pixel centres shifted by half a pixel,
+ * so that integer screen positions are sampled as in the chapter), with the
  * vertices of corners k0, k1, k2. scale = texels per unit. */
 void persp__paper_quad_rational(int k0, int k1, int k2, double scale, persp_rational *r);
 
 /* The line y = 32 of the paper quad from its left edge to its right edge,
  * resampled to n equally spaced samples (n <= PERSP_SPAN_MAX) so that one
- * span call covers the whole line as in the seed's study: pixel (k, 0) of
+ * span call covers the whole line as in the chapter's study: pixel (k, 0) of
  * the returned rational is the point x = x_left + k·(x_right-x_left)/(n-1). */
 void persp__paper_quad_line(int n, double scale, persp_rational *r, double *x_left,
                             double *x_right);
 
-/* Depth-ratio groups of random-triangles (BENCHMARKS.md). */
+/* Depth-ratio groups of random-triangles (docs/WORKLOADS.md). */
 #define PERSP_HBAR_COUNT 7
 extern const double persp__hbar_groups[PERSP_HBAR_COUNT];
 

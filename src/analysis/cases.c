@@ -1,6 +1,6 @@
 /*
- * Measurement cases of persp accuracy (BENCHMARKS.md): the paper quad of
- * seed 000 §4.6 Fig. 4.10 and seeded random triangles grouped by depth ratio.
+ * Measurement cases of persp accuracy (docs/WORKLOADS.md): the paper quad of
+ * [Romanyuk-PCF] §4.6 Fig. 4.10 and seeded random triangles grouped by depth ratio.
  */
 #include "analysis/analysis.h"
 #include "core/internal.h"
@@ -51,7 +51,7 @@ int persp__square_to_quad(const double x[4], const double y[4], double fwd[9], d
     return 1;
 }
 
-/* Heckbert's a..i of paper-quad in the seed's screen coordinates. */
+/* Heckbert's a..i of paper-quad in the chapter's screen coordinates. */
 static void paper_quad_planes(double p[9])
 {
     double fwd[9];
@@ -65,7 +65,7 @@ static void eval_planes(const double p[9], double X, double Y, double *u, double
     *v = (p[3] * X + p[4] * Y + p[5]) / *q;
 }
 
-/* Fills r from planes p expressed in seed coordinates (X, Y) where the
+/* Fills r from planes p expressed in the chapter's coordinates (X, Y) where the
  * window pixel centre (px, py) maps to X = x0 + sx·(px - 0.5),
  * Y = y0 + (py - 0.5); vertices are quad corners k[0..2]. */
 static void rational_from_planes(const double p[9], double x0, double sx, double y0, const int k[3],
@@ -156,7 +156,7 @@ uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t,
                                 float attr[3][PERSP_A_COUNT])
 {
     const double W = PERSP_RT_WIDTH, H = PERSP_RT_HEIGHT, aspect = W / H;
-    /* Corridor projection (BENCHMARKS.md): glFrustum with t = n·tan 30°,
+    /* Corridor projection (docs/WORKLOADS.md): glFrustum with t = n·tan 30°,
      * n = 0.1, f = 100; eye x at depth d projects to x/(tan30°·a·d). */
     const double tn = tan(30.0 * 3.14159265358979323846 / 180.0), n = 0.1, f = 100.0;
     for (int attempt = 0; attempt < 1000; attempt++) {

@@ -1,6 +1,6 @@
 /*
  * persp accuracy --filter: every texture filter of the screen pipeline and
- * the object-space pipeline of seed 004 against a supersampled reference.
+ * the object-space pipeline of [Romaniuk-ObjSpace] against a supersampled reference.
  *
  * The reference approximates the ideal image of the textured scene: the
  * texture (reconstructed bilinearly on level 0, the continuous image the

@@ -1,5 +1,5 @@
 /*
- * Shading accuracy (see shading.h): seed 000 §4.2 (ΔI of screen-linear
+ * Shading accuracy (see shading.h): [Romanyuk-PCF] §4.2 (ΔI of screen-linear
  * Gouraud), §4.3 (t_w and its polynomial approximations, spherical-angular
  * normals), measured on the renderer's own span shaders.
  */

@@ -1,6 +1,6 @@
 /*
  * Shading accuracy (persp accuracy --shading; src/analysis/shading.c):
- *  - the ΔI analysis of seed 000 §4.2 (Fig. 4.3-4.4),
+ *  - the ΔI analysis of [Romanyuk-PCF] §4.2 (Fig. 4.3-4.4),
  *  - the polynomial approximations of t_w of §4.3 against (4.6),
  *  - every shading mode against the exact per-pixel reference on seeded
  *    random triangles (the renderer's own span shaders, measured per pixel)
@@ -12,7 +12,7 @@
 #include "interp/poly.h"
 #include "persp_analysis.h"
 
-/* Δ(u) = u·(1 − 1/(r + u·(1 − r))), r = z2/z1 (seed 000 (4.1)): the
+/* Δ(u) = u·(1 − 1/(r + u·(1 − r))), r = z2/z1 ([Romanyuk-PCF] (4.1)): the
  * factor by which screen-linear Gouraud misses the perspective-correct
  * intensity, ΔI = (I_B − I_A)·Δ(u). */
 double persp__delta_factor(double u, double r);

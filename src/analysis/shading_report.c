@@ -14,9 +14,9 @@
 static const double delta_ratios[] = {0.2, 0.5, 1.25, 1.5, 2.0, 3.0, 5.0, 10.0};
 #define DELTA_RATIOS (sizeof delta_ratios / sizeof delta_ratios[0])
 
-/* The seed's printed closed form of max Δ (§4.2), read literally: the
+/* The closed form of max Δ printed in [Romanyuk-PCF] §4.2, read literally: the
  * factors √(r − 1) cancel and it reduces to r − √r. */
-static double seed_printed_max(double r)
+static double printed_max(double r)
 {
     return r - sqrt(r);
 }
@@ -37,7 +37,7 @@ static const char *const kind_names[3] = {"quad", "pwquad", "cubic"};
 static const persp_approx_kind kinds[3] = {PERSP_APPROX_QUAD, PERSP_APPROX_PWQUAD, PERSP_APPROX_CUBIC};
 
 /* §4.3's stated maximum relative errors (percent), ħ = 2..5; < 0: none stated. */
-static double seed_claim(int kind, double hbar)
+static double claimed_bound(int kind, double hbar)
 {
     static const double pw[4] = {1.0, 4.0, 8.0, 13.0}, cu[4] = {0.64, 2.9, 6.3, 10.6};
     int i = (int)hbar - 2;
@@ -88,10 +88,10 @@ static persp_status write_svg(persp_context *ctx, const char *path)
     for (int i = 0; i < NR; i++) {
         r[i] = 1.0 + 19.0 * i / (NR - 1);
         mx[i] = persp__delta_extremum(r[i], NULL);
-        sp[i] = seed_printed_max(r[i]);
+        sp[i] = printed_max(r[i]);
     }
     p[1].series[0] = (persp_svg_series){r, mx, NR, "(sqrt r - 1)/(sqrt r + 1) (derived; = sampled max)"};
-    p[1].series[1] = (persp_svg_series){r, sp, NR, "seed's printed closed form (= r - sqrt r)"};
+    p[1].series[1] = (persp_svg_series){r, sp, NR, "closed form as printed (= r - sqrt r)"};
     p[1].series_count = 2;
     /* Fig. 4.7 analogue: |p − t_w| for ħ = 3. */
     p[2].title = "t_w approximation error, hbar = Z_B/Z_A = 3";
@@ -144,7 +144,7 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     if (w <= 0 || h <= 0) persp_scene_default_size(scene, &w, &h);
     if (w <= 0 || h <= 0) w = 640, h = 480;
 
-    fprintf(f, "Shading modes against the exact per-pixel reference (seed 000 §4.2-4.3)\n\n");
+    fprintf(f, "Shading modes against the exact per-pixel reference ([Romanyuk-PCF] §4.2-4.3)\n\n");
     fprintf(f, "1. Random lit triangles (seed %llu, %d per depth ratio hbar = z_far/z_near;\n"
                "   corridor projection 1024x768, spans cut at 64-pixel tiles as the renderer does)\n\n",
             (unsigned long long)seed, tris);
@@ -179,13 +179,13 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
 
     fprintf(f, "\n3. t_w = t_v/(hbar - t_v(hbar - 1)) (4.7 corrected), hbar = Z_B/Z_A, against its\n"
                "   polynomial approximations (4.3), evaluated by the renderer's span code\n\n");
-    fprintf(f, "  hbar  poly     abs max  8-bit lvl  rel max (0,1]  rel max [1/3,1]  seed states\n");
+    fprintf(f, "  hbar  poly     abs max  8-bit lvl  rel max (0,1]  rel max [1/3,1]      claimed\n");
     static const double hb[] = {1.25, 1.5, 2.0, 3.0, 4.0, 5.0, 8.0, 0.5, 0.2};
     for (size_t i = 0; i < sizeof hb / sizeof hb[0]; i++)
         for (int k = 0; k < 3; k++) {
             persp_tw_error te;
             persp__tw_error(kinds[k], hb[i], &te);
-            double claim = seed_claim(k, hb[i]);
+            double claim = claimed_bound(k, hb[i]);
             fprintf(f, "%6.2f  %-7s %7.3f%%  %9.2f  %12.2f%%  %14.2f%%", hb[i], kind_names[k], 100.0 * te.abs_max,
                     255.0 * te.abs_max, 100.0 * te.rel_max, 100.0 * te.rel_third);
             if (claim >= 0.0) fprintf(f, "  <= %g%%", claim);
@@ -195,23 +195,24 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
                "  error relative to the full range); 8-bit lvl: the same for an intensity range\n"
                "  of 255 levels. rel max: max |p - t_w|/t_w; as t_v -> 0 it tends to\n"
                "  |hbar p'(0) - 1| (the interpolants miss the slope 1/hbar of t_w at 0), which\n"
-               "  dominates the cubic. The seed's percentages match rel max over t_v in\n"
-               "  [1/3, 1] to within 0.4 points.\n\n");
+               "  dominates the cubic. claimed: the bound stated in [Romanyuk-PCF] §4.3; it\n"
+               "  matches rel max over t_v in [1/3, 1] to within 0.4 points.\n\n");
 
     fprintf(f, "4. Delta I of screen-linear Gouraud (4.1): Delta(u) = u(1 - 1/(r + u(1 - r))), r = z2/z1\n\n");
-    fprintf(f, "  z2/z1   u=0.1   u=0.3   u=0.5   u=0.7   u=0.9  extremum   at u  sampled max   8-bit lvl  seed printed\n");
+    fprintf(f, "  z2/z1   u=0.1   u=0.3   u=0.5   u=0.7   u=0.9  extremum   at u  sampled max   8-bit lvl    as printed\n");
     for (size_t k = 0; k < DELTA_RATIOS; k++) {
         double rr = delta_ratios[k], at, at_s;
         fprintf(f, "%7.2f", rr);
         for (int i = 1; i <= 9; i += 2) fprintf(f, " %7.4f", persp__delta_factor(i / 10.0, rr));
         double ext = persp__delta_extremum(rr, &at), sm = delta_sampled_max(rr, &at_s);
         fprintf(f, "  %8.4f %6.4f  %11.4f  %10.1f  %12.4f\n", ext, at, sm, 255.0 * fabs(ext),
-                seed_printed_max(rr));
+                printed_max(rr));
     }
     fprintf(f, "\n  extremum: (sqrt r - 1)/(sqrt r + 1) at u* = sqrt r/(1 + sqrt r) (derived from\n"
                "  Delta'(u) = 1 - r/(r + u(1 - r))^2); sampled max: max |Delta| over 100001 values\n"
                "  of u; 8-bit lvl: 255 |extremum|, the worst Gouraud error for I_B - I_A = 255.\n"
-               "  seed printed: the closed form printed in §4.2 read literally (r - sqrt r).\n");
+               "  as printed: the closed form printed in [Romanyuk-PCF] §4.2 read literally\n"
+               "  (r - sqrt r).\n");
     if (desc->svg_path) {
         st = write_svg(ctx, desc->svg_path);
         if (st != PERSP_OK) return st;

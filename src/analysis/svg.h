@@ -1,7 +1,6 @@
 /*
- * A small SVG line-plot writer for the analysis reports (no plotting library
- * in the dependency list does this in C; ARCHITECTURE.md: SVG plots are
- * written by hand). One document holds one or more panels side by side;
+ * A small SVG line-plot writer for the analysis reports (no packaged C
+ * library does this; docs/DESIGN.md, "Dependencies"). One document holds one or more panels side by side;
  * each panel has linear axes with "nice" ticks (1, 2, 5 × 10^k), labels,
  * a title, a legend and up to PERSP_SVG_MAX_SERIES polylines.
  */

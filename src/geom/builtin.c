@@ -1,6 +1,6 @@
 /*
- * Built-in scenes. `corridor` is the fixed reference workload of
- * BENCHMARKS.md (projection, texture and geometry exactly as specified there,
+ * Built-in scenes (docs/WORKLOADS.md). `corridor` is the fixed reference
+ * workload (projection, texture and geometry exactly as specified there,
  * so images and timings compare with OpenGL renderers); `floor` and `cube`
  * are small companions for other kinds of perspective.
  */
@@ -29,7 +29,7 @@ const char *persp_builtin_scene_summary(size_t i)
     return i < persp_builtin_scene_count() ? builtins[i].summary : NULL;
 }
 
-/* BENCHMARKS.md checker: 32-texel cells, white grid lines on multiples of 32. */
+/* The corridor checker (docs/WORKLOADS.md): 32-texel cells, white grid lines on multiples of 32. */
 static persp_status corridor_texture(persp_context *ctx, persp_image *img)
 {
     persp_status st = persp_image_alloc(ctx, 256, 256, img);
@@ -71,7 +71,7 @@ typedef struct quad {
     float pos[4][3];
 } quad;
 
-/* Quads become (c0, c1, c2) and (c0, c2, c3), as in BENCHMARKS.md. */
+/* Quads become (c0, c1, c2) and (c0, c2, c3), as in docs/WORKLOADS.md. */
 static persp_status quads_mesh(persp_context *ctx, const quad *q, size_t count, persp_mesh *m)
 {
     memset(m, 0, sizeof *m);

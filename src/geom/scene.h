@@ -23,7 +23,7 @@ typedef struct persp_mesh {
 } persp_mesh;
 
 typedef enum persp_texenv {
-    PERSP_TEXENV_REPLACE = 0, /* fragment colour = texture colour (seed 002) */
+    PERSP_TEXENV_REPLACE = 0, /* fragment colour = texture colour ([CS300-TexMap]) */
     PERSP_TEXENV_MODULATE     /* fragment colour = lit colour × texture colour */
 } persp_texenv;
 
@@ -116,7 +116,7 @@ persp_status persp__mesh_cylinder(persp_context *ctx, int slices, persp_mesh *ou
 persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int slices,
                                int rings, persp_mesh *out);
 
-/* Texture-coordinate generation (src/geom/texgen.c), per vertex, seed 002
+/* Texture-coordinate generation (src/geom/texgen.c), per vertex, [CS300-TexMap]
  * "texture mapping entities" / lecture: object-linear (planar), cylindrical,
  * spherical, cube and reflection (sphere map; needs eye-space data).
  * modelview transforms object space to eye space. uv_out holds 2 floats per

@@ -1,6 +1,6 @@
 /*
  * Texture-coordinate generation: the "map shapes" and "entities" of the
- * texture-mapping lecture (seed 002): planar, cylindrical, spherical and
+ * texture-mapping lecture ([CS300-TexMap]): planar, cylindrical, spherical and
  * cube (six planar maps) shapes, projected from the object position, and
  * the reflection entity as the OpenGL sphere map.
  *

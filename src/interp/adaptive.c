@@ -1,6 +1,6 @@
 /*
  * `adaptive` — choosing the rasterization direction from the coefficients of
- * Heckbert's form (seed 000 §4.9, statements 4.1 and 4.2, affine case (4.48)).
+ * Heckbert's form ([Romanyuk-PCF] §4.9, statements 4.1 and 4.2, affine case (4.48)).
  *
  * The denominator D = g·x + h·y + i of (4.8) is constant along rows when
  * g = 0 and along columns when h = 0. Then one reciprocal per row (column)
@@ -326,7 +326,7 @@ const persp_method persp__method_adaptive = {
     .params_help = "fallback=NAME[:PARAMS]",
     .summary = "row spans when g = 0, column spans when h = 0, affine when both; constant "
                "coordinate when d (b) = 0 too; else the fallback (default exact)",
-    .source = "seed 000 §4.9, statements 4.1, 4.2, (4.48)",
+    .source = "[Romanyuk-PCF] §4.9, statements 4.1, 4.2, (4.48)",
     .cost = "row: 1 div /span, 1-2 mul, 1-2 add /px; column: 1 div /column; else fallback",
     .parse = ad_parse,
     .prepare = ad_prepare,

@@ -88,7 +88,7 @@ const persp_method persp__method_affine = {
     .name = "affine",
     .params_help = "",
     .summary = "u, v linear in screen space (no perspective correction; the baseline)",
-    .source = "seed 000 §4.4; seed 002 \"perspective-correct interpolation\"",
+    .source = "[Romanyuk-PCF] §4.4; [CS300-TexMap] \"perspective-correct interpolation\"",
     .cost = "0 div, 2 mul, 2 add /px",
     .prepare = affine_prepare,
     .span = affine_span,
@@ -98,7 +98,7 @@ const persp_method persp__method_exact = {
     .name = "exact",
     .params_help = "",
     .summary = "1/w, u/w, v/w linear in screen space, one reciprocal per pixel (reference)",
-    .source = "Heckbert 1989 §2.3.2; seed 000 §4.4, seed 001 (1)-(2)",
+    .source = "Heckbert 1989 §2.3.2; [Romanyuk-PCF] §4.4, [Romaniuk-Incr] (1)-(2)",
     .cost = "1 div, 5 mul, 3 add /px",
     .span = exact_span,
 };

@@ -1,6 +1,6 @@
 /*
  * `bezier` — quadratic Bézier approximation of the texture coordinate along
- * the span (seed 000 §4.7), evaluated by forward differences.
+ * the span ([Romanyuk-PCF] §4.7), evaluated by forward differences.
  *
  * The curve r(t) = (1−t)²p0 + 2t(1−t)p1 + t²p2 (4.21) runs through the exact
  * end points p0 = (x0, u0), p2 = (x2, u2) and its inner control point p1 is
@@ -23,7 +23,7 @@
  *
  *   bezier:step  (4.31)-(4.38). x(t), u(t), v(t) are walked together by the
  *                forward differences of a quadratic, (4.31)-(4.34) with
- *                step dt: d1 = dt·(2(x1 − x0) + dt·Sx) (the seed's R_x),
+ *                step dt: d1 = dt·(2(x1 − x0) + dt·Sx) (the chapter's R_x),
  *                d2 = 2·dt²·Sx (its d_x); a step costs 2 additions per
  *                coordinate. For pixel i: whole steps of dt until
  *                x ≥ i − ε ((4.35)-(4.36)); then while |x − i| > ε the
@@ -36,7 +36,7 @@
  *                dt·x'(t) ≤ 2 px; ε = 1/64 pixel, reached after at most 7
  *                halvings (12 allowed). The tolerance is measured against
  *                the ideal position i, not x_{i−1} + 1 as (4.35) does, so it
- *                does not drift. The seed's reuse of the previous increment
+ *                does not drift. The chapter's reuse of the previous increment
  *                (4.38) is not kept: an increment Δt that is an arbitrary
  *                sum of ±dt/2^j has no forward differences obtainable by
  *                halving and doubling, so each pixel starts from whole steps
@@ -285,7 +285,7 @@ const persp_method persp__method_bezier = {
     .params_help = "step|quadt (default step)",
     .summary = "quadratic Bezier through the span ends, inner point at the tangent intersection, "
                "by forward differences",
-    .source = "seed 000 §4.7, (4.21)-(4.38)",
+    .source = "[Romanyuk-PCF] §4.7, (4.21)-(4.38)",
     .cost = "step: 6 add /whole step, 12 add + 15 mul (2^k scalings) /correction, ~1.6 steps + "
             "~3.3 corrections /px, 3 div /span; quadt: 8 add /px, 6 div /span",
     .parse = bez_parse,

@@ -1,6 +1,6 @@
 /*
  * `biquadratic` and `bicubic` — one polynomial in (x, y) per triangle
- * (seed 000 §4.4):
+ * ([Romanyuk-PCF] §4.4):
  *
  *   biquadratic  u = A1x² + A2y² + A3xy + A4x + A5y + A6, interpolating the
  *                exact u at the three vertices and the three edge midpoints;
@@ -26,7 +26,7 @@
  * (Λ: Lebesgue constants of the P2 / P3 equispaced triangle nodes), plus the
  * float rounding of the output. The error grows with the triangle's depth
  * range; large triangles with strong perspective are this method's weakness,
- * which is why the seed calls its use limited.
+ * which is why the chapter calls its use limited.
  *
  * Cost: per triangle 6 (10) exact evaluations (1 div, 5 mul, 3 add each) and
  * the solve (~n³/3 mul for n = 6, 10 with two right-hand sides); per span
@@ -49,7 +49,7 @@ typedef struct bip_prep {
     int ok;     /* 0: the solve failed; spans fall back to the exact form */
 } bip_prep;
 
-/* Monomials in the seed's coefficient order. */
+/* Monomials in the chapter's coefficient order. */
 static void monomials(int degree, double X, double Y, double *m)
 {
     if (degree == 2) {
@@ -226,7 +226,7 @@ const persp_method persp__method_biquadratic = {
     .name = "biquadratic",
     .params_help = "",
     .summary = "one quadratic in (x, y) per triangle through vertices and edge midpoints",
-    .source = "seed 000 §4.4",
+    .source = "[Romanyuk-PCF] §4.4",
     .cost = "4 add /px; ~40 mul, ~35 add /span; 6 div + 6x6 solve /triangle",
     .prepare = biquad_prepare,
     .span = bip_span,
@@ -236,7 +236,7 @@ const persp_method persp__method_bicubic = {
     .name = "bicubic",
     .params_help = "",
     .summary = "one cubic in (x, y) per triangle through 10 nodes (vertices, edge thirds, centroid)",
-    .source = "seed 000 §4.4",
+    .source = "[Romanyuk-PCF] §4.4",
     .cost = "6 add /px; ~60 mul, ~50 add /span; 10 div + 10x10 solve /triangle",
     .prepare = bicubic_prepare,
     .span = bip_span,

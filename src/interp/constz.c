@@ -1,5 +1,5 @@
 /*
- * `constz` — texturing along lines of constant depth (seed 000 §4.8, §4.9,
+ * `constz` — texturing along lines of constant depth ([Romanyuk-PCF] §4.8, §4.9,
  * (4.49)-(4.54)), with the bounding-rectangle traversal of §4.8 (Fig. 4.13).
  *
  * Along a line where the denominator D = g·x + h·y + i of (4.8) is constant,
@@ -30,14 +30,14 @@
  * coverage test says it is inside, so the pixel set equals the standard one.
  *
  * Cost (counted in ops): per call 1 div (Δy), per line with a covered pixel
- * 1 div, 6 mul, 4 add; per emitted pixel 7 mul, 7 add, 1 cmp (the seed: "8
+ * 1 div, 6 mul, 4 add; per emitted pixel 7 mul, 7 add, 1 cmp (the chapter: "8
  * multiplication and 7 addition operations" for a pair computed directly);
  * per visited rectangle position 1 mul, 1 add, 2 cmp for the discretised line
  * and the coverage test. The `span` form (for tools that need spans) puts each
  * pixel of a row on its own line and so pays 1 div per pixel; it returns the
  * same values as the traversal bit for bit.
  *
- * Seed: divisions per polygon q + 1 for q lines (§4.8/§4.9); here per tile
+ * [Romanyuk-PCF]: divisions per polygon q + 1 for q lines (§4.8/§4.9); here per tile
  * (lines are restarted in each 64×64 block) plus the eps fallbacks.
  */
 #include "interp/method.h"
@@ -284,7 +284,7 @@ const persp_method persp__method_constz = {
     .params_help = "eps=F",
     .summary = "lines of constant depth (Δy = −g/h), one reciprocal per line with the kor "
                "correction; bounding-rectangle traversal",
-    .source = "seed 000 §4.8, §4.9, (4.49)-(4.54)",
+    .source = "[Romanyuk-PCF] §4.8, §4.9, (4.49)-(4.54)",
     .cost = "7 mul, 7 add, 1 cmp /px; 1 div /line; rectangle walk 2 cmp /position",
     .parse = cz_parse,
     .span = cz_span,

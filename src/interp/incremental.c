@@ -1,18 +1,18 @@
 /*
  * `incremental` — Heckbert's rational form with the numerators and the
- * denominator advanced by additions (seed 001 (3)-(4)):
+ * denominator advanced by additions ([Romaniuk-Incr] (3)-(4)):
  *
  *     u_n = w_n / v_n,   w_n = w_{n−1} + A1,   v_n = v_{n−1} + D          (4)
  *
- * (seed 001 names the u-numerator w and the denominator v; here W1, W2 are
+ * ([Romaniuk-Incr] names the u-numerator w and the denominator v; here W1, W2 are
  * the numerators of u and v and Q the shared denominator, A1 = a, D = g of
  * Heckbert's planes). Variants:
  *
- *   incremental:k=N  N interleaved lanes, w_n = w_{n−k} + k·A1 (seed 001 (5)
+ *   incremental:k=N  N interleaved lanes, w_n = w_{n−k} + k·A1 ([Romaniuk-Incr] (5)
  *                    and its generalisation); lane j starts at w_j = w_0 + j·A1.
  *                    The lanes are independent, so they map onto SIMD lanes.
  *   incremental:bidir two chains, from the left with +A1 and from the right
- *                    with −A1 (seed 001 Fig. 4), meeting in the middle.
+ *                    with −A1 ([Romaniuk-Incr] Fig. 4), meeting in the middle.
  *
  * Identical images. Repeated addition in floating point depends on the order
  * of the additions, which the variants change. To make every variant produce
@@ -186,7 +186,7 @@ const persp_method persp__method_incremental = {
     .name = "incremental",
     .params_help = "k=N (1..16 lanes)|bidir",
     .summary = "Heckbert's form, numerators and denominator advanced by additions; lanes/bidir give identical images",
-    .source = "seed 001 (3)-(5), Fig. 4; Heckbert 1989 §2.3.2",
+    .source = "[Romaniuk-Incr] (3)-(5), Fig. 4; Heckbert 1989 §2.3.2",
     .cost = "1 div, 2 mul, 3 add /px; 15 mul, 12 add (+3k mul, 3k add lanes) /span",
     .parse = inc_parse,
     .span = inc_span,

@@ -10,7 +10,7 @@
  * evaluated at pixel centres (x + 0.5, y + 0.5) in window coordinates.
  * For texturing s1, s2 are u, v; for perspective-correct shading the same
  * methods run on the planes of the barycentric weights b1/w, b2/w, so the
- * shading approximations share this code (seed 000 §4.2-4.3).
+ * shading approximations share this code ([Romanyuk-PCF] §4.2-4.3).
  */
 #ifndef PERSP_INTERP_METHOD_H
 #define PERSP_INTERP_METHOD_H
@@ -70,7 +70,8 @@ typedef struct persp_method {
     const char *name;
     const char *params_help; /* e.g. "k=N|bidir"; "" if none */
     const char *summary;
-    const char *source;
+    const char *source; /* citation key and section, e.g. "[Romanyuk-PCF] §4.5";
+                         * the keys are defined in docs/SOURCES.md */
     const char *cost;
     /* Parses the text after ':' (NULL if none) into params. Returns
      * PERSP_OK or PERSP_ERR_INVALID_ARGUMENT. May be NULL (no parameters). */
@@ -83,7 +84,7 @@ typedef struct persp_method {
     void (*span)(const persp_rational *r, const persp_method_params *params,
                  const persp_method_prep *prep, int x0, int y, int n, float *s1, float *s2,
                  persp_opcount *ops);
-    /* Optional custom traversal (e.g. constant-depth lines, seed 000 §4.8):
+    /* Optional custom traversal (e.g. constant-depth lines, [Romanyuk-PCF] §4.8):
      * visits exactly the covered pixels of area once each, filling s1/s2,
      * and passes them to sink in batches of at most PERSP_SPAN_MAX. */
     void (*traverse)(const persp_rational *r, const persp_method_params *params,

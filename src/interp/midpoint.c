@@ -1,8 +1,8 @@
 /*
- * `midpoint` — the improved Barenbrug division-free method (seed 000 §4.5,
+ * `midpoint` — the improved Barenbrug division-free method ([Romanyuk-PCF] §4.5,
  * (4.10)-(4.15)), and its fixed-point model `midpoint:int`.
  *
- * Seed 000 §4.5 replaces the divisions of u = (a·x+b·y+c)/(g·x+h·y+i)
+ * [Romanyuk-PCF] §4.5 replaces the divisions of u = (a·x+b·y+c)/(g·x+h·y+i)
  * (formula (4.8)) by a search: u walks a lattice of step Δu = 1/P (P texels
  * along the axis) and is accepted when it lies within half a step of the
  * exact value, condition (4.11). Multiplying (4.11) by E = 2(g·x+h·y+i) > 0
@@ -15,22 +15,22 @@
  *
  *   E  = 2D = g·X2 + h·Y2 + 2i,     N2 = 2N = A·X2 + B·Y2 + 2C   (A = P·a, ...)
  *   lattice value m = n + o  (o = 1/2: texel centres, the default;
- *                              o = 0: texel edges as printed in the seed)
+ *                              o = 0: texel edges as printed in the chapter)
  *   M  = 2m = 2n + 2o  (an integer)
- *   W  = M·E − 2·N2 + E            (twice the seed's W of (4.13), in texels)
- *   Q  = W − 2E                    (twice the seed's Q)
+ *   W  = M·E − 2·N2 + E            (twice the chapter's W of (4.13), in texels)
+ *   Q  = W − 2E                    (twice the chapter's Q)
  *   accept n  ⇔  W > 0 and Q ≤ 0  ⇔  m − 1/2 ≤ t < m + 1/2, read as
  *                                    n = floor(t)       for o = 1/2,
  *                                    n = floor(t + 1/2) for o = 0.
  *   pixel step x → x+1:  E += 2g;  W += T − K,  T = 2g·M,  K = 4A − 2g
  *   lattice step n → n±1: M ±= 2;  W ±= 2E;  T ±= 4g          ((4.14), (4.15))
  *
- * T is the seed's "2g·u" term kept as a running sum, so the per-pixel work is
- * additions and comparisons only (the seed's own step multiplies 2g·u).
+ * T is the chapter's "2g·u" term kept as a running sum, so the per-pixel work is
+ * additions and comparisons only (the chapter's own step multiplies 2g·u).
  *
  * Texel centres by default: with o = 1/2 the accepted value is the centre of
  * the texel containing the exact coordinate, so nearest sampling picks the
- * same texel as the exact form. The seed's lattice (o = 0, `midpoint:edge`)
+ * same texel as the exact form. The chapter's lattice (o = 0, `midpoint:edge`)
  * rounds to the nearest texel *edge*, which makes nearest sampling pick the
  * neighbouring texel for half of the positions. The strictness of the two
  * tests is swapped against (4.13) so that o = 1/2 gives floor(), matching
@@ -85,7 +85,7 @@
 
 typedef struct mp_params {
     int fixed; /* `int`: the fixed-point model */
-    int edge;  /* `edge`: the seed's lattice u = n·Δu instead of texel centres */
+    int edge;  /* `edge`: the chapter's lattice u = n·Δu instead of texel centres */
 } mp_params;
 
 typedef struct mp_fixed {
@@ -466,7 +466,7 @@ const persp_method persp__method_midpoint = {
     .params_help = "int|edge|int,edge",
     .summary = "improved Barenbrug midpoint search: lattice u within half a texel, "
                "additions and comparisons per pixel (int: fixed-point model)",
-    .source = "seed 000 §4.5, (4.10)-(4.15)",
+    .source = "[Romanyuk-PCF] §4.5, (4.10)-(4.15)",
     .cost = "0 div, 0 mul, 5 add, 4 cmp /px + 3 add, 1 cmp per texel step; 1 div /span",
     .parse = mp_parse,
     .prepare = mp_prepare,

@@ -1,8 +1,8 @@
 /*
  * Span polynomials (see poly.h): interpolation through 2..4 nodes, forward
  * differences, and the fitted approximations of a 1-D rational function used
- * by the approximating texture methods (seed 000 §4.4, §4.6) and by the
- * perspective-correct shading approximations (seed 000 §4.2-4.3).
+ * by the approximating texture methods ([Romanyuk-PCF] §4.4, §4.6) and by the
+ * perspective-correct shading approximations ([Romanyuk-PCF] §4.2-4.3).
  */
 #include "interp/poly.h"
 #include "interp/method.h"

@@ -5,9 +5,9 @@
  * Along one rasterization line every perspective-correct quantity is a
  * 1-D rational function of the screen position,
  *
- *     f(s) = (alpha·s + beta) / (gamma·s + delta),             (seed 000 (4.8))
+ *     f(s) = (alpha·s + beta) / (gamma·s + delta),             ([Romanyuk-PCF] (4.8))
  *
- * and so is the world-space parameter t_w of seed 000 §4.2-4.3 as a function
+ * and so is the world-space parameter t_w of [Romanyuk-PCF] §4.2-4.3 as a function
  * of the screen parameter t_v ((4.6): alpha = Z_A, beta = 0,
  * gamma = Z_A − Z_B, delta = Z_B). The approximating texture methods
  * (quadratic, cubic, subdiv-quad, bi-polynomials) and the perspective-correct
@@ -91,7 +91,7 @@ void persp__fd_run(persp_fd *fd, int n, float *out, int stride, persp_opcount *o
  *
  *     f = p(t),  d1 = p(t + h) − p(t) = h·(B + 2C·t) + C·h²,  d2 = 2C·h².
  *
- * Step forward (t → t + h):  f += d1, d1 += d2            (seed 000 (4.34))
+ * Step forward (t → t + h):  f += d1, d1 += d2            ([Romanyuk-PCF] (4.34))
  * Step back    (t → t − h):  d1 −= d2, f −= d1
  * Halve  (h → h/2):  d1 ← d1/2 − d2/8, d2 ← d2/4
  *     since h·(B + 2C·t) = d1 − d2/2, so (h/2)(B + 2C·t) + C·h²/4 = d1/2 − d2/4 + d2/8;
@@ -146,7 +146,7 @@ void persp__approx_span(const persp_rat1 *f, persp_approx_kind kind, double tau,
  * nodes s[0..count−1] (formula above). */
 double persp__approx_error(const persp_rat1 *f, const double *nodes, int count, double s);
 
-/* Inner anchor (fraction of the line) of the shifted quadratic, seed 000
+/* Inner anchor (fraction of the line) of the shifted quadratic, [Romanyuk-PCF]
  * Table 4.2, for the values u0, u1 of a normalised texture coordinate at the
  * two ends of the line, taken as they are (no reduction modulo 1: outside
  * [0, 1] the table's "all other cases" gives 1/2). "→ 0" and "→ 1" are read
@@ -154,7 +154,7 @@ double persp__approx_error(const persp_rat1 *f, const double *nodes, int count, 
 double persp__quad_shift_anchor(double u0, double u1);
 
 /* Inner control point (x1, u1) of the quadratic Bézier of f on [0, L]: the
- * intersection of the tangents at s = 0 and s = L (seed 000 (4.25)-(4.26));
+ * intersection of the tangents at s = 0 and s = L ([Romanyuk-PCF] (4.25)-(4.26));
  * bezier.c. */
 void persp__bezier_control(const persp_rat1 *f, double L, double *x1, double *u1);
 

@@ -1,7 +1,7 @@
 /*
- * `quadratic-pw` — piecewise quadratic along the span (seed 000 §4.3).
+ * `quadratic-pw` — piecewise quadratic along the span ([Romanyuk-PCF] §4.3).
  *
- * The seed improves the quadratic approximation of t_w by "piecewise
+ * The chapter improves the quadratic approximation of t_w by "piecewise
  * quadratic interpolation on two intervals of change t_v": one quadratic on
  * each half of the line, each through its ends and its middle. Applied to
  * the texture coordinates directly, on the span k = 0..L (L = n − 1):
@@ -15,7 +15,7 @@
  * t_w; both run persp__approx_span(PERSP_APPROX_PWQUAD) of poly.c, so the
  * texture and the shading approximation are the same code. (u is a Möbius
  * function of t_w, and t_w of t_v, so the interpolant of u at the nodes is
- * not the seed's t_w polynomial mapped through u; it is the same
+ * not the chapter's t_w polynomial mapped through u; it is the same
  * construction applied to u.)
  *
  * Error bound (exact remainder of interpolation, poly.h), per piece of
@@ -56,7 +56,7 @@ const persp_method persp__method_quadratic_pw = {
     .name = "quadratic-pw",
     .params_help = "",
     .summary = "two quadratics along the span, each through its half's ends and middle",
-    .source = "seed 000 §4.3 (piecewise quadratic on two intervals)",
+    .source = "[Romanyuk-PCF] §4.3 (piecewise quadratic on two intervals)",
     .cost = "4 add /px; 24 div, 122 mul, 98 add /span",
     .span = pwquad_span,
 };

@@ -1,5 +1,5 @@
 /*
- * Polynomial approximations along the span (seed 000 §4.4, §4.6):
+ * Polynomial approximations along the span ([Romanyuk-PCF] §4.4, §4.6):
  *
  *   `quadratic`          the traditional quadratic on normalised x through the
  *                        span's start, middle and end, coefficients (4.9);
@@ -65,12 +65,12 @@ static void run_poly(const persp_poly *p, double h, int n, float *out, persp_opc
 
 /* ------------------------------------------------------------ quadratic */
 
-/* Traditional quadratic, seed 000 (4.9) with its erratum corrected:
+/* Traditional quadratic, [Romanyuk-PCF] (4.9) with its erratum corrected:
  * on s ∈ [0, 1] through (0, u0), (1/2, u1), (1, u2)
  *     A1 = 2u0 − 4u1 + 2u2,  A2 = −3u0 + 4u1 − u2,  A3 = u0
- * (the seed prints A2 = −3u0 + 4u1 − 2u2, which misses u(1) = u2).
+ * (the chapter prints A2 = −3u0 + 4u1 − 2u2, which misses u(1) = u2).
  * Cost: per span 3 div (anchors) + 1 div (h = 1/L, the normalisation the
- * seed objects to), 27 mul, 25 add; per pixel 4 add (2 per coordinate). */
+ * chapter objects to), 27 mul, 25 add; per pixel 4 add (2 per coordinate). */
 static void quadratic_span(const persp_rational *r, const persp_method_params *params,
                            const persp_method_prep *prep, int x0, int y, int n, float *s1,
                            float *s2, persp_opcount *ops)
@@ -98,7 +98,7 @@ static void quadratic_span(const persp_rational *r, const persp_method_params *p
 /* ---------------------------------------------------- quadratic-shifted */
 
 /* q = 1/(τ² − τ) of (4.19) for the anchors of Table 4.2: constants, so the
- * per-span division of (4.20) disappears (as the seed notes for a fixed τ). */
+ * per-span division of (4.20) disappears (as the chapter notes for a fixed τ). */
 static double shift_q(double tau)
 {
     if (tau == 0.25 || tau == 0.75) return -16.0 / 3.0;
@@ -109,7 +109,7 @@ static double shift_q(double tau)
 }
 
 /* Quadratic on s ∈ [0, 1] through (0, c0), (τ, cin), (1, c1), derived from
- * the system (4.16) with x0 = 0, x1 = 1 (the seed's (4.17)):
+ * the system (4.16) with x0 = 0, x1 = 1 (the chapter's (4.17)):
  *     C = c0,  A + B = c1 − c0,  A·τ² + B·τ = cin − c0
  *  ⇒  B = (τ²(c1 − c0) + c0 − cin)/(τ² − τ),  A = −(τ(c1 − c0) + c0 − cin)/(τ² − τ),
  * i.e. with r = τ(c1 − c0), s = c0 − cin, q = 1/(τ² − τ):
@@ -242,7 +242,7 @@ const persp_method persp__method_quadratic = {
     .name = "quadratic",
     .params_help = "",
     .summary = "quadratic through the span's start, middle and end on normalised x",
-    .source = "seed 000 §4.4, (4.9) (A2 corrected)",
+    .source = "[Romanyuk-PCF] §4.4, (4.9) (A2 corrected)",
     .cost = "4 add /px; 4 div, ~45 mul, ~45 add /span",
     .span = quadratic_span,
 };
@@ -251,7 +251,7 @@ const persp_method persp__method_quadratic_shifted = {
     .name = "quadratic-shifted",
     .params_help = "",
     .summary = "quadratic with the inner anchor moved by Table 4.2 (per coordinate)",
-    .source = "seed 000 §4.6, (4.16)-(4.20), Tables 4.1, 4.2",
+    .source = "[Romanyuk-PCF] §4.6, (4.16)-(4.20), Tables 4.1, 4.2",
     .cost = "4 add /px; 4-5 div, ~60 mul, ~55 add, 28 cmp /span",
     .span = shifted_span,
 };
@@ -260,7 +260,7 @@ const persp_method persp__method_quadratic_unnorm = {
     .name = "quadratic-unnorm",
     .params_help = "",
     .summary = "quadratic on un-normalised screen x, Cramer's rule, one division for the fit",
-    .source = "seed 000 §4.6 (end)",
+    .source = "[Romanyuk-PCF] §4.6 (end)",
     .cost = "4 add /px; 4 div, ~90 mul, ~85 add /span",
     .span = unnorm_span,
 };
@@ -269,7 +269,7 @@ const persp_method persp__method_cubic = {
     .name = "cubic",
     .params_help = "",
     .summary = "cubic through the span's ends and the points dividing it in thirds",
-    .source = "seed 000 §4.4",
+    .source = "[Romanyuk-PCF] §4.4",
     .cost = "6 add /px; 5 div (+12 constant), ~90 mul, ~110 add /span",
     .span = cubic_span,
 };

@@ -1,6 +1,6 @@
 /*
  * `subdiv:N` and `subdiv-quad:N` — exact values every N pixels, interpolated
- * in between (seed 002 "Optimization": "perform the perspective-correct
+ * in between ([CS300-TexMap] "Optimization": "perform the perspective-correct
  * division after a fixed interval (8/16/24 pixels), linearly interpolate the
  * values in between"; the classic Quake-era scheme).
  *
@@ -148,7 +148,7 @@ const persp_method persp__method_subdiv = {
     .name = "subdiv",
     .params_help = "N (4|8|16|32, default 16)",
     .summary = "exact every N pixels, linear in between",
-    .source = "seed 002 \"Optimization\"",
+    .source = "[CS300-TexMap] \"Optimization\"",
     .cost = "2 add /px + (1 div, 7 mul, 5 add) per N px; 6 mul, 6 add /span",
     .parse = subdiv_parse,
     .span = subdiv_span,
@@ -158,7 +158,7 @@ const persp_method persp__method_subdiv_quad = {
     .name = "subdiv-quad",
     .params_help = "N (4|8|16|32, default 16)",
     .summary = "exact every N pixels, quadratic through each segment's ends and middle",
-    .source = "seed 002 \"Optimization\"; seed 000 §4.4 (piecewise approximation)",
+    .source = "[CS300-TexMap] \"Optimization\"; [Romanyuk-PCF] §4.4 (piecewise approximation)",
     .cost = "4 add /px + (2 div, ~40 mul, ~40 add) per N px; 6 mul, 6 add /span",
     .parse = subdiv_parse,
     .span = subdiv_quad_span,

@@ -1,21 +1,21 @@
 /*
- * Texturing in object space with filtering in screen space (seed 004).
+ * Texturing in object space with filtering in screen space ([Romaniuk-ObjSpace]).
  *
  * Per polygon: rotate it into a plane parallel to the screen (two rotations,
- * about x by α and about y by β, seed 004 (1)–(7)), choose the mip level once
+ * about x by α and about y by β, [Romaniuk-ObjSpace] (1)–(7)), choose the mip level once
  * for the polygon, walk texel centres of that level over the polygon, rotate
  * each back and project it to the screen, and splat its colour onto the four
  * pixels around it with the area weights S1..S4; each pixel resolves to
  * Σ S_i·I_i / Σ S_i.
  *
- * The seed forms the rotation back and the projection as one matrix per
- * polygon, [P·R_xy⁻¹] (seed 004, after (7)); the texel walk adds the affine
+ * The paper forms the rotation back and the projection as one matrix per
+ * polygon, [P·R_xy⁻¹] ([Romaniuk-ObjSpace], after (7)); the texel walk adds the affine
  * map from texel indices to the rotated plane, so each texel costs one 3×3
  * projective map: three affine rows and one division.
  *
- * Choices the seed leaves open, made here (docs/TEXTURES.md):
+ * Choices the paper leaves open, made here (docs/TEXTURES.md):
  *  - Pixel centres are at +0.5, so the weights are bilinear about centres
- *    (the seed's floor(x) corners shifted by half a pixel).
+ *    (the paper's floor(x) corners shifted by half a pixel).
  *  - Visibility: the screen pipeline's depth test decides which triangle is
  *    visible at each pixel; a splat lands only on pixels where its own
  *    triangle is the visible one (no bleeding across silhouettes).
@@ -90,15 +90,16 @@ typedef struct os_job {
     uint64_t *walked, *splats, *holes; /* per tile */
 } os_job;
 
-/* ---------------------------------------------------------- seed 004 maths */
+/* ---------------------------------------------------------- [Romaniuk-ObjSpace] maths */
 
-/* Rotation of seed 004 that makes the polygon parallel to the xy plane.
+/* Rotation of [Romaniuk-ObjSpace] that makes the polygon parallel to the xy plane.
  * With the unit normal N and d = sqrt(Ny² + Nz²):
  *   cos α = Nz/d, sin α = Ny/d (about x), cos β = d, sin β = Nx (about y),
- * and in row-vector form p' = p·[Rxy] (seed (6)):
+ * and in row-vector form p' = p·[Rxy] ([Romaniuk-ObjSpace] (6)):
  *   x' = x cos β − y sin α sin β − z cos α sin β
  *   y' = y cos α − z sin α
- *   z' = x sin β + y cos β sin α + z cos α cos β = x·Nx + y·Ny + z·Nz  (seed (7)).
+ *   z' = x sin β + y cos β sin α + z cos α cos β = x·Nx + y·Ny + z·Nz
+ *   ([Romaniuk-ObjSpace] (7)).
  * Errata (docs/REPRODUCTION.md): the printed d = sqrt(Ny² − Nz²) must be a
  * sum; (7)'s second line prints sin α = Nz/d for Ny/d; [Ry]'s last diagonal
  * entry must be 1. */
@@ -212,7 +213,7 @@ typedef struct tri_setup {
     double wmin, wmax;  /* clip w over the (visible) triangle */
 } tri_setup;
 
-/* The seed's composed map for one triangle: uv -> rotated plane (affine)
+/* The paper's composed map for one triangle: uv -> rotated plane (affine)
  * -> eye ([Rxy]⁻¹) -> clip (P) -> window (viewport), as one 3×3 matrix. */
 static int triangle_setup(const persp_frame *f, int W, int H, const persp_tri *t, tri_setup *ts)
 {
@@ -231,7 +232,7 @@ static int triangle_setup(const persp_frame *f, int W, int H, const persp_tri *t
     if (!make_rotation(n, &rot)) return 0;
     double r[3][3];
     for (int k = 0; k < 3; k++) rotate(&rot, p[k], r[k]);
-    const double zc = r[0][2]; /* the plane is now z' = zc (seed: one vertex suffices) */
+    const double zc = r[0][2]; /* the plane is now z' = zc (the paper: one vertex suffices) */
     double du1 = ts->uv[1][0] - ts->uv[0][0], dv1 = ts->uv[1][1] - ts->uv[0][1];
     double du2 = ts->uv[2][0] - ts->uv[0][0], dv2 = ts->uv[2][1] - ts->uv[0][1];
     double det = du1 * dv2 - du2 * dv1;
@@ -339,7 +340,7 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         if (win[1] > by1) by1 = win[1];
     }
     if (!(smax > 0.0) || !isfinite(smax)) return 0;
-    /* One level for the piece (seed 004: "LOD once per polygon"). */
+    /* One level for the piece ([Romaniuk-ObjSpace]: "LOD once per polygon"). */
     int top = tex->levels - 1, level = 0;
     if (smax < SPACING_TARGET) level = (int)floor(log2(SPACING_TARGET / smax));
     if (level > top) level = top;
@@ -567,7 +568,7 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
             }
             const float cr = (float)(texel & 0xffu), cg = (float)(texel >> 8 & 0xffu);
             const float cb = (float)(texel >> 16 & 0xffu), ca = (float)(texel >> 24);
-            /* Seed 004's S1..S4: the sample's share of the four pixels
+            /* [Romaniuk-ObjSpace]'s S1..S4: the sample's share of the four pixels
              * around it (pixel centres at +0.5). */
             const float ax = (float)(X - fx), ay = (float)(Y - fy);
             for (int k = 0; k < 4; k++) {

@@ -21,8 +21,8 @@ typedef struct persp_lighting {
     float ambient[3];
 } persp_lighting;
 
-/* Everything a draw needs, resolved once (ARCHITECTURE.md: choices resolved
- * once per draw, never a switch per pixel). */
+/* Everything a draw needs, resolved once (docs/DESIGN.md, "Choices resolved
+ * once per draw"): never a switch per pixel. */
 typedef struct persp_draw_state {
     persp_method_sel method;          /* texture coordinates */
     persp_method_sel shade_method;    /* perspective parameter for shading */
@@ -33,7 +33,7 @@ typedef struct persp_draw_state {
     persp_lighting lighting;
     int depth_test, depth_write;
     /* The span shader returns the texel unchanged (texture, no lighting:
-     * seed 002's "replace"), so the renderer may sample straight into the
+     * [CS300-TexMap]'s "replace"), so the renderer may sample straight into the
      * destination. */
     int shade_is_texel;
     /* Span shader chosen from shading and texture environment. */
@@ -76,7 +76,7 @@ persp_status persp__frame_flush(persp_frame *f);
 const persp_tri *persp__frame_tris(const persp_frame *f);
 const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index);
 
-/* Object-space texturing with screen-space filtering (seed 004), run after
+/* Object-space texturing with screen-space filtering ([Romaniuk-ObjSpace]), run after
  * the screen pipeline has filled fb and cap (visible triangle per pixel):
  * re-colours every pixel from splatted texels (src/objspace/objspace.c). */
 typedef struct persp_objspace_stats {

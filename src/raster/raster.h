@@ -12,7 +12,7 @@
 /* Guard band: after clipping, window coordinates stay within this many pixels
  * of the viewport, so 8.8 fixed point and 64-bit edge products never overflow
  * (|coord| < 2^15 · 2^8 = 2^23, products < 2^47). Only the near plane, the
- * far plane and w > 0 are clipped exactly (ARCHITECTURE.md: guard band). */
+ * far plane and w > 0 are clipped exactly (docs/CONVENTIONS.md, "Rasterization"). */
 #define PERSP_GUARD_PIXELS 16384.0
 
 /* Per-vertex attributes carried through clipping (linear in clip space). */

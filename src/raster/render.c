@@ -267,7 +267,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         if (!ds->depth_test) {
             for (int k = 0; k < n; k++) live[k] = 1;
         } else if (invw) {
-            /* "1/z buffering" (seed 002): 1/w grows towards the eye and is
+            /* "1/z buffering" ([CS300-TexMap]): 1/w grows towards the eye and is
              * linear in screen space, so the largest value is the nearest. */
             for (int k = 0; k < n; k++) live[k] = q[k] > drow[k];
         } else {

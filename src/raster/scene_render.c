@@ -140,7 +140,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
     if (!scene || !fb) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: no scene or framebuffer");
     persp_frame f;
     if (desc && desc->pipeline == PERSP_PIPELINE_OBJECT) {
-        /* Seed 004: the screen pipeline decides visibility (which triangle
+        /* [Romaniuk-ObjSpace]: the screen pipeline decides visibility (which triangle
          * owns each pixel), then texels walked in object space re-colour it. */
         persp_capture cap;
         memset(&cap, 0, sizeof cap);

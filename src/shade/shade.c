@@ -1,5 +1,5 @@
 /*
- * Shading modes (seed 000 §4.2–4.3, seed 003) and the span shaders they
+ * Shading modes ([Romanyuk-PCF] §4.2–4.3, [Romaniuk-ACIT18]) and the span shaders they
  * resolve to.
  *
  * Every mode reduces to barycentric weights (b0, b1, b2) per pixel:
@@ -14,6 +14,7 @@
  */
 #include "shade/shade.h"
 
+#include "core/fmath.h"
 #include "core/internal.h"
 #include "interp/poly.h"
 
@@ -52,11 +53,6 @@ static uint32_t pack(const float c[4])
     return r;
 }
 
-static void unpack(uint32_t p, float c[4])
-{
-    for (int k = 0; k < 4; k++) c[k] = (float)((p >> (8 * k)) & 255u) * (1.0f / 255.0f);
-}
-
 /* Blinn–Phong at eye-space point e with unit normal n. Writes the ambient +
  * diffuse part (which a texture modulates) and the specular part. */
 static void light_point(const persp_draw_state *ds, const float n_in[3], const float e[3], float side,
@@ -68,7 +64,10 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
     float n[3] = {side * n_in[0], side * n_in[1], side * n_in[2]};
     float vlen = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     float v[3] = {0.0f, 0.0f, 1.0f};
-    if (vlen > 0.0f) v[0] = -e[0] / vlen, v[1] = -e[1] / vlen, v[2] = -e[2] / vlen;
+    if (vlen > 0.0f) {
+        float inv = -1.0f / vlen;
+        v[0] = e[0] * inv, v[1] = e[1] * inv, v[2] = e[2] * inv;
+    }
     for (int c = 0; c < 3; c++) {
         diff[c] = L->ambient[c] * m->ambient[c];
         spec[c] = 0.0f;
@@ -81,7 +80,8 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
         } else {
             d[0] = l->pos[0] - e[0], d[1] = l->pos[1] - e[1], d[2] = l->pos[2] - e[2];
             float dist = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-            if (dist > 0.0f) d[0] /= dist, d[1] /= dist, d[2] /= dist;
+            float inv = 1.0f / (dist > 0.0f ? dist : 1.0f);
+            d[0] *= inv, d[1] *= inv, d[2] *= inv;
             float den = l->atten[0] + l->atten[1] * dist + l->atten[2] * dist * dist;
             att = den > 0.0f ? 1.0f / den : 1.0f;
         }
@@ -90,7 +90,7 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
         float h[3] = {d[0] + v[0], d[1] + v[1], d[2] + v[2]};
         float hl = sqrtf(h[0] * h[0] + h[1] * h[1] + h[2] * h[2]);
         float ndh = hl > 0.0f ? (n[0] * h[0] + n[1] * h[1] + n[2] * h[2]) / hl : 0.0f;
-        float sp = ndh > 0.0f && m->shininess > 0.0f ? powf(ndh, m->shininess) : 0.0f;
+        float sp = ndh > 0.0f && m->shininess > 0.0f ? persp__powf_unit(ndh, m->shininess) : 0.0f;
         for (int c = 0; c < 3; c++) {
             diff[c] += att * l->color[c] * m->diffuse[c] * ndl;
             spec[c] += att * l->color[c] * m->specular[c] * sp;
@@ -98,23 +98,140 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
     }
 }
 
-/* Combines lighting with the texel per the texture environment (seed 002):
- * replace takes the texel, modulate multiplies the lit diffuse colour by it
- * and adds the specular highlight, itself multiplied by the texel when the
- * material uses the texture as specular colour too. */
-static uint32_t combine(const persp_draw_state *ds, const float diff[3], const float spec[3],
-                        const uint32_t *texel, int k)
+/* ------------------------------------------------- lighting across a span */
+
+/* What each pixel of a span is lit with, one array per component, so that
+ * the lighting loops run across pixels in vector lanes (the same operations
+ * in the same order as light_point, so the scalar and the vector paths
+ * agree wherever both are used). */
+typedef struct lit_span {
+    float nx[PERSP_SPAN_MAX], ny[PERSP_SPAN_MAX], nz[PERSP_SPAN_MAX];
+    float ex[PERSP_SPAN_MAX], ey[PERSP_SPAN_MAX], ez[PERSP_SPAN_MAX];
+} lit_span;
+
+/* Lighting loops run over whole vectors of 16 lanes: the spans of small
+ * triangles are short, and a loop's scalar remainder would otherwise cost
+ * more than its vector body. Lanes past the span's end hold zero normals
+ * and positions, which light to finite values that are never stored. */
+static int span_lanes(int n) { return (n + 15) & ~15; }
+
+static void pad_lit_span(lit_span *g, int n)
 {
-    float c[4] = {diff[0] + spec[0], diff[1] + spec[1], diff[2] + spec[2], 1.0f};
-    if (texel) {
-        float t[4];
-        unpack(texel[k], t);
-        if (ds->material.env == PERSP_TEXENV_REPLACE) return texel[k];
-        const int spec_tex = ds->material.specular_texture >= 0;
-        for (int i = 0; i < 3; i++) c[i] = diff[i] * t[i] + (spec_tex ? spec[i] * t[i] : spec[i]);
-        c[3] = t[3];
+    for (int k = n; k < span_lanes(n); k++)
+        g->nx[k] = g->ny[k] = g->nz[k] = g->ex[k] = g->ey[k] = g->ez[k] = 0.0f;
+}
+
+/* One light's contribution across a span; directional is a constant at
+ * each call site, so each instance is a straight-line loop. */
+static inline __attribute__((always_inline)) void
+light_add(const persp_material *m, const persp_eye_light *l, const int directional, int n, const lit_span *g,
+          const float *nx, const float *ny, const float *nz, const float *vx, const float *vy,
+          const float *vz, float *restrict dr, float *restrict dg, float *restrict db, float *restrict sr,
+          float *restrict sg, float *restrict sb)
+{
+    const float lx = l->pos[0], ly = l->pos[1], lz = l->pos[2];
+    const float k0 = l->atten[0], k1 = l->atten[1], k2 = l->atten[2];
+    const float shin = m->shininess;
+    const int shiny = shin > 0.0f;
+    const float c0 = l->color[0], c1 = l->color[1], c2 = l->color[2];
+    const float md0 = m->diffuse[0], md1 = m->diffuse[1], md2 = m->diffuse[2];
+    const float ms0 = m->specular[0], ms1 = m->specular[1], ms2 = m->specular[2];
+    for (int k = 0; k < n; k++) {
+        float dx = lx, dy = ly, dz = lz, att = 1.0f;
+        if (!directional) {
+            dx = lx - g->ex[k], dy = ly - g->ey[k], dz = lz - g->ez[k];
+            float dist = sqrtf(dx * dx + dy * dy + dz * dz);
+            float inv = 1.0f / (dist > 0.0f ? dist : 1.0f);
+            dx *= inv, dy *= inv, dz *= inv;
+            float den = k0 + k1 * dist + k2 * dist * dist;
+            att = den > 0.0f ? 1.0f / (den > 0.0f ? den : 1.0f) : 1.0f;
+        }
+        float ndl = nx[k] * dx + ny[k] * dy + nz[k] * dz;
+        float hx = dx + vx[k], hy = dy + vy[k], hz = dz + vz[k];
+        float hl = sqrtf(hx * hx + hy * hy + hz * hz);
+        float ndh = hl > 0.0f ? (nx[k] * hx + ny[k] * hy + nz[k] * hz) / (hl > 0.0f ? hl : 1.0f) : 0.0f;
+        float sp = persp__powf_unit(ndh, shin);
+        sp = ((ndh > 0.0f) & shiny) ? sp : 0.0f;
+        int lit = ndl > 0.0f;
+        dr[k] += lit ? att * c0 * md0 * ndl : 0.0f;
+        dg[k] += lit ? att * c1 * md1 * ndl : 0.0f;
+        db[k] += lit ? att * c2 * md2 * ndl : 0.0f;
+        sr[k] += lit ? att * c0 * ms0 * sp : 0.0f;
+        sg[k] += lit ? att * c1 * ms1 * sp : 0.0f;
+        sb[k] += lit ? att * c2 * ms2 * sp : 0.0f;
     }
-    return pack(c);
+}
+
+/* Ambient + diffuse (d*) and specular (s*) light per pixel: Blinn–Phong,
+ * light_point's arithmetic with its branches turned into selects. */
+PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, float side, int n, const lit_span *g,
+                                        float *restrict dr, float *restrict dg, float *restrict db,
+                                        float *restrict sr, float *restrict sg, float *restrict sb)
+{
+    const persp_material *m = &ds->material;
+    const persp_lighting *L = &ds->lighting;
+    float vx[PERSP_SPAN_MAX], vy[PERSP_SPAN_MAX], vz[PERSP_SPAN_MAX];
+    float nx[PERSP_SPAN_MAX], ny[PERSP_SPAN_MAX], nz[PERSP_SPAN_MAX];
+    const float a0 = L->ambient[0] * m->ambient[0], a1 = L->ambient[1] * m->ambient[1],
+                a2 = L->ambient[2] * m->ambient[2];
+    n = span_lanes(n);
+    for (int k = 0; k < n; k++) {
+        nx[k] = side * g->nx[k], ny[k] = side * g->ny[k], nz[k] = side * g->nz[k];
+        float ex = g->ex[k], ey = g->ey[k], ez = g->ez[k];
+        float vlen = sqrtf(ex * ex + ey * ey + ez * ez);
+        float inv = -1.0f / (vlen > 0.0f ? vlen : 1.0f);
+        vx[k] = vlen > 0.0f ? ex * inv : 0.0f;
+        vy[k] = vlen > 0.0f ? ey * inv : 0.0f;
+        vz[k] = vlen > 0.0f ? ez * inv : 1.0f;
+        dr[k] = a0, dg[k] = a1, db[k] = a2;
+        sr[k] = sg[k] = sb[k] = 0.0f;
+    }
+    for (int i = 0; i < L->count; i++) {
+        if (L->light[i].type == PERSP_LIGHT_DIRECTIONAL)
+            light_add(m, &L->light[i], 1, n, g, nx, ny, nz, vx, vy, vz, dr, dg, db, sr, sg, sb);
+        else
+            light_add(m, &L->light[i], 0, n, g, nx, ny, nz, vx, vy, vz, dr, dg, db, sr, sg, sb);
+    }
+}
+
+static inline uint32_t pack_channel(float c, int shift)
+{
+    float x = c * 255.0f + 0.5f;
+    x = x < 0.0f ? 0.0f : x > 255.0f ? 255.0f : x;
+    return (uint32_t)x << shift;
+}
+
+/* Combines lighting with the texels per the texture environment
+ * ([CS300-TexMap]): replace takes the texel, modulate multiplies the lit
+ * diffuse colour (d*) by it and adds the specular highlight (s*), itself
+ * multiplied by the texel when the material uses the texture as specular
+ * colour too; packed to RGBA8 like pack(). */
+PERSP_SIMD_CLONES static void combine_soa(const persp_draw_state *ds, int n, const float *dr,
+                                          const float *dg, const float *db, const float *sr,
+                                          const float *sg, const float *sb, const uint32_t *texel,
+                                          uint32_t *out)
+{
+    if (texel && ds->material.env == PERSP_TEXENV_REPLACE) {
+        memcpy(out, texel, (size_t)n * sizeof *out);
+        return;
+    }
+    if (!texel) {
+        for (int k = 0; k < n; k++)
+            out[k] = pack_channel(dr[k] + sr[k], 0) | pack_channel(dg[k] + sg[k], 8) |
+                     pack_channel(db[k] + sb[k], 16) | 255u << 24;
+        return;
+    }
+    const float inv = 1.0f / 255.0f;
+    const int spec_tex = ds->material.specular_texture >= 0;
+    for (int k = 0; k < n; k++) {
+        uint32_t p = texel[k];
+        float t0 = (float)(p & 255u) * inv, t1 = (float)((p >> 8) & 255u) * inv;
+        float t2 = (float)((p >> 16) & 255u) * inv;
+        float s0 = spec_tex ? sr[k] * t0 : sr[k], s1 = spec_tex ? sg[k] * t1 : sg[k];
+        float s2 = spec_tex ? sb[k] * t2 : sb[k];
+        out[k] = pack_channel(dr[k] * t0 + s0, 0) | pack_channel(dg[k] * t1 + s1, 8) |
+                 pack_channel(db[k] * t2 + s2, 16) | (p & 0xff000000u);
+    }
 }
 
 /* ----------------------------------------------------------- barycentrics */
@@ -172,6 +289,33 @@ static void interp3(const persp_tri *t, int attr, float b1, float b2, float out[
     float b0 = 1.0f - b1 - b2;
     for (int c = 0; c < 3; c++)
         out[c] = b0 * t->vattr[0][attr + c] + b1 * t->vattr[1][attr + c] + b2 * t->vattr[2][attr + c];
+}
+
+/* interp3 for a span, one output array per component. */
+static void interp_soa(const persp_tri *t, int attr, int n, const float *b1, const float *b2, float *o0,
+                       float *o1, float *o2)
+{
+    float *o[3] = {o0, o1, o2};
+    for (int c = 0; c < 3; c++) {
+        const float v0 = t->vattr[0][attr + c], v1 = t->vattr[1][attr + c], v2 = t->vattr[2][attr + c];
+        float *restrict oc = o[c];
+        for (int k = 0; k < n; k++) {
+            float b0 = 1.0f - b1[k] - b2[k];
+            oc[k] = b0 * v0 + b1[k] * v1 + b2[k] * v2;
+        }
+    }
+}
+
+/* normalize3 for a span of vectors. */
+static void normalize_soa(int n, float *restrict x, float *restrict y, float *restrict z)
+{
+    for (int k = 0; k < n; k++) {
+        float l = sqrtf(x[k] * x[k] + y[k] * y[k] + z[k] * z[k]);
+        float d = l > 0.0f ? l : 1.0f;
+        x[k] = l > 0.0f ? x[k] / d : x[k];
+        y[k] = l > 0.0f ? y[k] / d : y[k];
+        z[k] = l > 0.0f ? z[k] / d : z[k];
+    }
 }
 
 static void normalize3(float v[3])
@@ -234,15 +378,13 @@ static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const 
     (void)q;
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
     bary_for(ds, t, b, b1, b2);
-    const float zero[3] = {0, 0, 0};
     /* Front or back colour by the triangle's facing (face_side), as
      * OpenGL's two-sided lighting picks them per polygon. */
     const int attr = face_side(t) < 0.0f ? PERSP_A_BR : PERSP_A_R;
-    for (int k = 0; k < b->n; k++) {
-        float c[3];
-        interp3(t, attr, b1[k], b2[k], c);
-        out[k] = combine(ds, c, zero, texel, k);
-    }
+    float c[3][PERSP_SPAN_MAX], zero[PERSP_SPAN_MAX];
+    interp_soa(t, attr, b->n, b1, b2, c[0], c[1], c[2]);
+    for (int k = 0; k < b->n; k++) zero[k] = 0.0f;
+    combine_soa(ds, b->n, c[0], c[1], c[2], zero, zero, zero, texel, out);
 }
 
 void persp__slerp_init(persp_slerp *s, const float na[3], const float nb[3], double hbar)
@@ -307,7 +449,7 @@ static void bary_exact(const persp_tri *t, const persp_frag_batch *b, float *b1,
 }
 
 /* Flat: the face normal, lit at the centroid. */
-static void flat_normals(const persp_tri *t, int n, float (*nrm)[3], float (*eye)[3])
+static void flat_normals(const persp_tri *t, int n, lit_span *g)
 {
     const float *p0 = &t->vattr[0][PERSP_A_EX], *p1 = &t->vattr[1][PERSP_A_EX],
                 *p2 = &t->vattr[2][PERSP_A_EX];
@@ -319,8 +461,8 @@ static void flat_normals(const persp_tri *t, int n, float (*nrm)[3], float (*eye
     float c[3] = {(p0[0] + p1[0] + p2[0]) / 3.0f, (p0[1] + p1[1] + p2[1]) / 3.0f,
                   (p0[2] + p1[2] + p2[2]) / 3.0f};
     for (int k = 0; k < n; k++) {
-        memcpy(nrm[k], f, sizeof f);
-        memcpy(eye[k], c, sizeof c);
+        g->nx[k] = f[0], g->ny[k] = f[1], g->nz[k] = f[2];
+        g->ex[k] = c[0], g->ey[k] = c[1], g->ez[k] = c[2];
     }
 }
 
@@ -328,17 +470,20 @@ static void flat_normals(const persp_tri *t, int n, float (*nrm)[3], float (*eye
  * t_w or its polynomial approximations, §4.3) and renormalised. The eye
  * position is always perspective-correct (where the pixel's ray meets the
  * triangle's plane) so that modes differ only in the normal scheme. */
-static void phong_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                          float (*nrm)[3], float (*eye)[3])
+PERSP_SIMD_CLONES static void phong_normals(const persp_draw_state *ds, const persp_tri *t,
+                                            const persp_frag_batch *b, lit_span *g)
 {
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    const int lanes = span_lanes(b->n);
     bary_for(ds, t, b, b1, b2);
-    for (int k = 0; k < b->n; k++) {
-        interp3(t, PERSP_A_NX, b1[k], b2[k], nrm[k]);
-        normalize3(nrm[k]);
+    for (int k = b->n; k < lanes; k++) b1[k] = b2[k] = 0.0f;
+    interp_soa(t, PERSP_A_NX, lanes, b1, b2, g->nx, g->ny, g->nz);
+    normalize_soa(lanes, g->nx, g->ny, g->nz);
+    if (!ds->shade_method.m || ds->shading != PERSP_SHADING_PHONG_PC) {
+        bary_exact(t, b, b1, b2);
+        for (int k = b->n; k < lanes; k++) b1[k] = b2[k] = 0.0f;
     }
-    if (!ds->shade_method.m || ds->shading != PERSP_SHADING_PHONG_PC) bary_exact(t, b, b1, b2);
-    for (int k = 0; k < b->n; k++) interp3(t, PERSP_A_EX, b1[k], b2[k], eye[k]);
+    interp_soa(t, PERSP_A_EX, lanes, b1, b2, g->ex, g->ey, g->ez);
 }
 
 /* Spherical-angular normals along the span (§4.3). The end normals are
@@ -346,17 +491,15 @@ static void phong_normals(const persp_draw_state *ds, const persp_tri *t, const 
  * normalised); ħ = z_b/z_a = q_a/q_b from the 1/w plane. Batches without a
  * span (custom traversals) or of one pixel get exact per-pixel normals. */
 static void slerp_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                          int perspective, float (*nrm)[3], float (*eye)[3])
+                          int perspective, lit_span *g)
 {
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
     bary_exact(t, b, b1, b2);
     (void)ds;
-    for (int k = 0; k < b->n; k++) interp3(t, PERSP_A_EX, b1[k], b2[k], eye[k]);
+    interp_soa(t, PERSP_A_EX, b->n, b1, b2, g->ex, g->ey, g->ez);
     if (b->px || b->n < 2) {
-        for (int k = 0; k < b->n; k++) {
-            interp3(t, PERSP_A_NX, b1[k], b2[k], nrm[k]);
-            normalize3(nrm[k]);
-        }
+        interp_soa(t, PERSP_A_NX, b->n, b1, b2, g->nx, g->ny, g->nz);
+        normalize_soa(b->n, g->nx, g->ny, g->nz);
         return;
     }
     const int last = b->n - 1;
@@ -378,34 +521,42 @@ static void slerp_normals(const persp_draw_state *ds, const persp_tri *t, const 
     if (perspective && la > 0.0 && lb > 0.0) hbar *= la / lb;
     persp_slerp sl;
     persp__slerp_init(&sl, na, nb, hbar);
-    for (int k = 0; k < b->n; k++) persp__slerp_eval(&sl, (double)k / last, perspective, nrm[k]);
+    for (int k = 0; k < b->n; k++) {
+        float nk[3];
+        persp__slerp_eval(&sl, (double)k / last, perspective, nk);
+        g->nx[k] = nk[0], g->ny[k] = nk[1], g->nz[k] = nk[2];
+    }
 }
 
 int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                          float (*nrm)[3], float (*eye)[3])
 {
+    lit_span g;
     switch (ds->shading) {
-    case PERSP_SHADING_FLAT: flat_normals(t, b->n, nrm, eye); return 1;
+    case PERSP_SHADING_FLAT: flat_normals(t, b->n, &g); break;
     case PERSP_SHADING_PHONG:
     case PERSP_SHADING_PHONG_PC:
     case PERSP_SHADING_PHONG_PC_QUAD:
     case PERSP_SHADING_PHONG_PC_PWQUAD:
-    case PERSP_SHADING_PHONG_PC_CUBIC: phong_normals(ds, t, b, nrm, eye); return 1;
-    case PERSP_SHADING_PHONG_SLERP: slerp_normals(ds, t, b, 1, nrm, eye); return 1;
-    case PERSP_SHADING_PHONG_SLERP_SCREEN: slerp_normals(ds, t, b, 0, nrm, eye); return 1;
+    case PERSP_SHADING_PHONG_PC_CUBIC: phong_normals(ds, t, b, &g); break;
+    case PERSP_SHADING_PHONG_SLERP: slerp_normals(ds, t, b, 1, &g); break;
+    case PERSP_SHADING_PHONG_SLERP_SCREEN: slerp_normals(ds, t, b, 0, &g); break;
     default: return 0;
     }
+    for (int k = 0; k < b->n; k++) {
+        nrm[k][0] = g.nx[k], nrm[k][1] = g.ny[k], nrm[k][2] = g.nz[k];
+        eye[k][0] = g.ex[k], eye[k][1] = g.ey[k], eye[k][2] = g.ez[k];
+    }
+    return 1;
 }
 
-static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, const float (*nrm)[3],
-                       const float (*eye)[3], const uint32_t *texel, uint32_t *out)
+static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, lit_span *g,
+                       const uint32_t *texel, uint32_t *out)
 {
-    const float side = face_side(t);
-    for (int k = 0; k < n; k++) {
-        float diff[3], spec[3];
-        light_point(ds, nrm[k], eye[k], side, diff, spec);
-        out[k] = combine(ds, diff, spec, texel, k);
-    }
+    float c[6][PERSP_SPAN_MAX];
+    pad_lit_span(g, n);
+    light_soa(ds, face_side(t), n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
+    combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
 }
 
 /* Flat: one lighting evaluation per triangle. */
@@ -413,29 +564,35 @@ static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const per
                        const float *q, const uint32_t *texel, uint32_t *out)
 {
     (void)q;
-    float nrm[1][3], eye[1][3], diff[3], spec[3];
-    flat_normals(t, 1, nrm, eye);
-    const float *f = nrm[0], *c = eye[0];
+    lit_span g;
+    float diff[3], spec[3];
+    flat_normals(t, 1, &g);
+    const float f[3] = {g.nx[0], g.ny[0], g.nz[0]}, c[3] = {g.ex[0], g.ey[0], g.ez[0]};
     light_point(ds, f, c, f[0] * c[0] + f[1] * c[1] + f[2] * c[2] > 0.0f ? -1.0f : 1.0f, diff, spec);
-    for (int k = 0; k < b->n; k++) out[k] = combine(ds, diff, spec, texel, k);
+    float d[6][PERSP_SPAN_MAX];
+    for (int k = 0; k < b->n; k++) {
+        d[0][k] = diff[0], d[1][k] = diff[1], d[2][k] = diff[2];
+        d[3][k] = spec[0], d[4][k] = spec[1], d[5][k] = spec[2];
+    }
+    combine_soa(ds, b->n, d[0], d[1], d[2], d[3], d[4], d[5], texel, out);
 }
 
 static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                         const float *q, const uint32_t *texel, uint32_t *out)
 {
     (void)q;
-    float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
-    phong_normals(ds, t, b, nrm, eye);
-    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
+    lit_span g;
+    phong_normals(ds, t, b, &g);
+    light_span(ds, t, b->n, &g, texel, out);
 }
 
 static void shade_slerp(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                         const float *q, const uint32_t *texel, uint32_t *out)
 {
     (void)q;
-    float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
-    slerp_normals(ds, t, b, 1, nrm, eye);
-    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
+    lit_span g;
+    slerp_normals(ds, t, b, 1, &g);
+    light_span(ds, t, b->n, &g, texel, out);
 }
 
 static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
@@ -443,9 +600,9 @@ static void shade_slerp_screen(const persp_draw_state *ds, const persp_tri *t,
                                uint32_t *out)
 {
     (void)q;
-    float nrm[PERSP_SPAN_MAX][3], eye[PERSP_SPAN_MAX][3];
-    slerp_normals(ds, t, b, 0, nrm, eye);
-    light_span(ds, t, b->n, (const float(*)[3])nrm, (const float(*)[3])eye, texel, out);
+    lit_span g;
+    slerp_normals(ds, t, b, 0, &g);
+    light_span(ds, t, b->n, &g, texel, out);
 }
 
 /* The method computing perspective-correct weights for each mode (NULL:

@@ -26,7 +26,7 @@ int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const p
                          float (*nrm)[3], float (*eye)[3]);
 
 /*
- * Spherical-angular interpolation of unit normals along a span (seed 000
+ * Spherical-angular interpolation of unit normals along a span ([Romanyuk-PCF]
  * §4.3), in the cotangent form that yields unit vectors without
  * renormalisation: with ψ = ∠(Na, Nb), Nk the unit vector orthogonal to Na
  * in their plane, and b = ctg(angle from Na), N = (Na·b + Nk)/sqrt(1 + b²).

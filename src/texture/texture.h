@@ -25,7 +25,7 @@ struct persp_texture {
     size_t bytes_all, bytes_base;
 };
 
-/* Inputs for sampling one span. Derivatives are analytic (seed 000 §4.8):
+/* Inputs for sampling one span. Derivatives are analytic ([Romanyuk-PCF] §4.8):
  * with u = U/Q, U = a·x + b·y + c, Q = g·x + h·y + i,
  *   du/dx = (a - u·g)/Q,  du/dy = (b - u·h)/Q,  dv/dx = (d - v·g)/Q,  dv/dy = (e - v·h)/Q,
  * all in normalised texture units (multiply by the level size for texels). */
@@ -92,7 +92,7 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa);
 /* The general (table-driven) span sampler of a filter and wrap pair, for
  * comparing the vectorised one against it. */
 persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt);
-/* Per-polygon level of detail (seed 002, "mipmap level selection"):
+/* Per-polygon level of detail ([CS300-TexMap], "mipmap level selection"):
  * lambda = 0.5·log2(texel area / pixel area), areas of the same triangle in
  * texels (uv area × W × H) and in pixels. */
 float persp__polygon_lambda(const struct persp_texture *tex, double uv_area, double pixel_area);
@@ -102,7 +102,7 @@ float persp__polygon_lambda(const struct persp_texture *tex, double uv_area, dou
  * EXT_texture_filter_anisotropic tap count N with its lambda'. */
 float persp__pixel_lambda(const persp_sampler_state *st, float dudx, float dvdx, float dudy,
                           float dvdy);
-/* The rotated rectangular window of seed 000 §4.8 on one mip level
+/* The rotated rectangular window of [Romanyuk-PCF] §4.8 on one mip level
  * (src/texture/window.c): len texels per row along the major axis, rows
  * rows, rows offset by the major axis' digital steps rotated by 90 degrees.
  * The major axis' digital line has slope dy/dx (0 <= dy <= dx) along x when

@@ -1,5 +1,5 @@
 /*
- * Anisotropic filtering over a rotated rectangular window (seed 000 §4.8).
+ * Anisotropic filtering over a rotated rectangular window ([Romanyuk-PCF] §4.8).
  *
  * The pixel's footprint in the texture is the parallelogram spanned by the
  * Jacobian's columns P1 = d(u,v)/dx and P2 = d(u,v)/dy (§4.8, Fig. 4.15). It
@@ -85,7 +85,7 @@ int persp__window_setup(const persp_sampler_state *st, float u, float v, float d
     if (width * n > len) n = ceil(len / width);
     /* One level below EXT's lambda': there the window is at least two
      * texels wide, so the box over it integrates the footprint instead of
-     * point-sampling across its width (the seed leaves the level open;
+     * point-sampling across its width (the chapter leaves the level open;
      * measured with persp accuracy --filter, docs/TEXTURES.md). */
     float lam = persp__clamp_lod(st, (float)log2(len / n) - 1.0f + st->lod_bias);
     int level = 0;

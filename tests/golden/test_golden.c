@@ -1,5 +1,5 @@
 /*
- * Golden images with explicit tolerances (ARCHITECTURE.md, testing layer 3).
+ * Golden images with explicit tolerances (docs/DESIGN.md, "Testing", layer 3).
  * On failure the rendered image and an amplified difference image are
  * written into the build folder. PERSP_UPDATE_GOLDEN=1 rewrites the
  * references instead of comparing (review the new images before committing).

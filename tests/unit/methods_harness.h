@@ -1,7 +1,7 @@
 /*
  * Shared by the test_methods_*.c programs of the approximating methods:
  * seeded random triangles of the `random-triangles` accuracy set
- * (BENCHMARKS.md: eye-space vertices with a fixed depth ratio ħ, corridor
+ * (docs/WORKLOADS.md: eye-space vertices with a fixed depth ratio ħ, corridor
  * projection, 1024×768, u, v in [0, 1], 256×256 texels, 100..100,000 pixels)
  * set up by the real triangle setup, and a walk over their covered spans cut
  * at 64-pixel tile borders, as the renderer cuts them.
@@ -32,7 +32,7 @@ typedef struct h_triangle {
     float attr[3][PERSP_A_COUNT];
 } h_triangle;
 
-/* Corridor projection (BENCHMARKS.md): glFrustum(−t·a, t·a, −t, t, 0.1, 100),
+/* Corridor projection (docs/WORKLOADS.md): glFrustum(−t·a, t·a, −t, t, 0.1, 100),
  * t = 0.1·tan(30°), a = width/height; eye point → window vertex. */
 static inline void h_project(const double eye[3], const float *attr, persp_winvert *out)
 {

@@ -162,7 +162,7 @@ static void test_paper_quad_corners(void **state)
         assert_true(fabs(u - us[k]) < 1e-12);
         assert_true(fabs(v - vs[k]) < 1e-12);
     }
-    /* The seed's line: v runs from 0 on edge c0c1 to 1 at c3 = (128, 32),
+    /* The chapter's line: v runs from 0 on edge c0c1 to 1 at c3 = (128, 32),
      * where u = 0; both ends lie on the quad's edges. */
     persp_rational r;
     double xl, xr, u, v;
@@ -237,7 +237,7 @@ static void test_affine_far_off(void **state)
     const persp_accuracy_row *lo = persp_accuracy_row_at(res, 0);
     const persp_accuracy_row *hi = persp_accuracy_row_at(res, PERSP_HBAR_COUNT - 1);
     assert_true(lo->hbar == 1.25 && hi->hbar == 8.0);
-    /* Seed 000 §4.2 Fig. 4.4: the affine error grows with the depth ratio. */
+    /* [Romanyuk-PCF] §4.2 Fig. 4.4: the affine error grows with the depth ratio. */
     assert_true(fmax(hi->max_u, hi->max_v) > 10.0);
     assert_true(fmax(hi->max_u, hi->max_v) > fmax(lo->max_u, lo->max_v));
     assert_true(hi->texel_miss > 0.5);
@@ -339,7 +339,7 @@ static void test_scene_case(void **state)
     assert_int_equal(persp_accuracy_row_count(res), 2);
     const persp_accuracy_row *e = persp_accuracy_row_at(res, 0), *a = persp_accuracy_row_at(res, 1);
     assert_string_equal(e->case_name, "corridor@64x48");
-    /* The corridor covers every pixel (BENCHMARKS.md). */
+    /* The corridor covers every pixel (docs/WORKLOADS.md). */
     assert_int_equal(e->pixels, 64 * 48);
     assert_true(e->max_u < 0.01 && e->max_v < 0.01);
     assert_true(fmax(a->max_u, a->max_v) > 100.0 * fmax(e->max_u, e->max_v));

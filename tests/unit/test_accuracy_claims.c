@@ -1,5 +1,5 @@
 /*
- * The seed claims that hold on paper-quad (seed 000 §4.6 Fig. 4.10: the line
+ * The claims of [Romanyuk-PCF] that hold on paper-quad ([Romanyuk-PCF] §4.6 Fig. 4.10: the line
  * y = 32 of the quad (1,1), (32,96), (96,128), (128,32), one span from edge
  * to edge), each under a stated metric; docs/REPRODUCTION.md has the numbers
  * and the claims that do not hold. Metric unless said otherwise: maximum
@@ -121,7 +121,7 @@ static void test_cubic_beats_quadratic(void **state)
     assert_true(r[1].relpt_u < r[0].relpt_u && r[1].relpt_v < r[0].relpt_v);
 }
 
-/* Seed 001 (3)-(4): the incremental rational form is exact up to rounding. */
+/* [Romaniuk-Incr] (3)-(4): the incremental rational form is exact up to rounding. */
 static void test_incremental_exact(void **state)
 {
     (void)state;

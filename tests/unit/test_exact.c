@@ -1,7 +1,7 @@
 /*
  * The `exact` method against the rational form evaluated in double at each
  * pixel centre, on seeded random triangles over the depth ratios of
- * BENCHMARKS.md (random-triangles), and `affine` shown to be far off.
+ * docs/WORKLOADS.md (random-triangles), and `affine` shown to be far off.
  */
 #include "support.h"
 

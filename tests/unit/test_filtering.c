@@ -113,7 +113,7 @@ static const persp_filter_accuracy_row *row(const persp_filter_accuracy_result *
 
 /* Minified surfaces: point sampling aliases (mip maps help, Williams 1983),
  * trilinear over-blurs along the minor axis where EXT anisotropic taps do
- * not, and seed 004's object-space texturing (every texel of a level fine
+ * not, and [Romaniuk-ObjSpace]'s object-space texturing (every texel of a level fine
  * enough for the piece, splatted with area weights) beats isotropic
  * filtering. Texel counts follow from the filters' definitions. */
 static void test_filter_orderings(void **state)

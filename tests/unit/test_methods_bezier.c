@@ -1,5 +1,5 @@
 /*
- * `bezier` by forward differences (src/interp/bezier.c, seed 000 §4.7):
+ * `bezier` by forward differences (src/interp/bezier.c, [Romanyuk-PCF] §4.7):
  *
  *   - the adaptive forward differences of a quadratic (poly.h): stepping
  *     forward and back, halving and doubling the step, reproduce the

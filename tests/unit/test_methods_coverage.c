@@ -134,7 +134,7 @@ static void test_every_method_every_scene(void **state)
             for (size_t p = 0; p < (size_t)w * (size_t)h; p++)
                 covered += ref.cap.tri[p] >= 0;
             assert_true(covered > (size_t)(w * h) / 4);
-            /* seed 001 (5), Fig. 4: the lane and two-stream forms give the
+            /* [Romaniuk-Incr] (5), Fig. 4: the lane and two-stream forms give the
              * same image as the sequential incremental form, bit for bit. */
             run_out inc;
             run(ctx, scene, "incremental", w, h, &inc);

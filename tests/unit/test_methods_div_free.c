@@ -1,7 +1,7 @@
 /*
- * `midpoint` (seed 000 §4.5) and its fixed-point model `midpoint:int`:
+ * `midpoint` ([Romanyuk-PCF] §4.5) and its fixed-point model `midpoint:int`:
  * against the rational form in double on seeded random triangles of the
- * random-triangles set (BENCHMARKS.md: corridor projection, 1024×768, u, v in
+ * random-triangles set (docs/WORKLOADS.md: corridor projection, 1024×768, u, v in
  * [0, 1], 256 texels), grouped by depth ratio.
  */
 #include "support.h"

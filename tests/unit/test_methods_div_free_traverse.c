@@ -1,5 +1,5 @@
 /*
- * The traversal methods: `constz` (lines of constant depth, seed 000 §4.8,
+ * The traversal methods: `constz` (lines of constant depth, [Romanyuk-PCF] §4.8,
  * §4.9) and `adaptive` (direction from the coefficients, §4.9). The visited
  * pixel set must equal the standard coverage of every tile, each pixel once,
  * and the values must stay within the documented bounds of the exact form.
@@ -249,9 +249,9 @@ static void test_constz_coverage_and_values(void **state)
     assert_true(ops.div * 10 < (uint64_t)all.grid_pixels);
 }
 
-/* The seed's method without the eps fallback (eps = 1e9): still no holes, and
+/* The chapter's method without the eps fallback (eps = 1e9): still no holes, and
  * the error stays |s|·δ² with |δ| < max(|g|,|h|)/D. */
-static void test_constz_pure_seed(void **state)
+static void test_constz_unguarded(void **state)
 {
     (void)state;
     persp_method_sel sel = resolve("constz:eps=1e9");
@@ -452,7 +452,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_constz_coverage_and_values),
-        cmocka_unit_test(test_constz_pure_seed),
+        cmocka_unit_test(test_constz_unguarded),
         cmocka_unit_test(test_constz_constant_depth),
         cmocka_unit_test(test_adaptive_floor_takes_row_path),
         cmocka_unit_test(test_adaptive_wall_takes_column_path),

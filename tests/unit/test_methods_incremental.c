@@ -1,5 +1,5 @@
 /*
- * `incremental` and its variants (seed 001 (3)-(5)): the lane and
+ * `incremental` and its variants ([Romaniuk-Incr] (3)-(5)): the lane and
  * bidirectional forms return bit-identical floats to the sequential form on
  * every span, and all of them stay within the documented bound of the
  * double-precision rational form.

@@ -1,16 +1,16 @@
 /*
- * The `paper-quad` case (BENCHMARKS.md; seed 000 §4.6 Fig. 4.10 and §4.7):
+ * The `paper-quad` case (docs/WORKLOADS.md; [Romanyuk-PCF] §4.6 Fig. 4.10 and §4.7):
  * the quadrilateral (1,1), (32,96), (96,128), (128,32), image of the unit
  * texture square under Heckbert's square-to-quad projective mapping, studied
  * along the rasterization line y = 32.
  *
  * On that line v rises from 0 (edge (1,1)-(32,96), where v = 0) to 1 (the
  * vertex (128,32) = (u,v) (0,1)) and u falls to 0: v is the "increasing
- * coordinate going from 0 to 1" of the seed's figure. The line is sampled at
+ * coordinate going from 0 to 1" of the chapter's figure. The line is sampled at
  * n = 118 equally spaced points from its left end x_L ≈ 11.1 to x = 128
- * (about one per pixel, ends exactly on the edges as in the seed).
+ * (about one per pixel, ends exactly on the edges as in the chapter).
  *
- * Metric (stated because the seed does not define it): maximum point-wise
+ * Metric (stated because the chapter does not define it): maximum point-wise
  * relative error max_j |v̂_j − v_j| / v_j over the samples with v_j ≥ 0.01
  * (j = 0 has v = 0 and is an exact anchor).
  *

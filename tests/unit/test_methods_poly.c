@@ -1,7 +1,7 @@
 /*
- * The shared span-polynomial module (src/interp/poly.c) and the seed
- * formulas it replaces: interpolation, forward differences, the exact
- * remainder formula, Table 4.1 of seed 000, and the Bézier control point
+ * The shared span-polynomial module (src/interp/poly.c) and the formulas of
+ * [Romanyuk-PCF] it replaces: interpolation, forward differences, the exact
+ * remainder formula, Table 4.1, and the Bézier control point
  * (4.29)-(4.30).
  */
 #include "support.h"
@@ -121,7 +121,7 @@ static void test_approx_span(void **state)
     }
 }
 
-/* Table 4.1 of seed 000 from (4.18): A = a1·u1 + a0·u0 + ai·u_in,
+/* Table 4.1 of [Romanyuk-PCF] from (4.18): A = a1·u1 + a0·u0 + ai·u_in,
  * B = b1·u1 + b0·u0 + bi·u_in, compared with the printed coefficients
  * (to their 3-4 printed digits). The printed 1.4297 for τ = 0.3 is an
  * erratum (10/7 = 1.4286), checked separately. */
@@ -196,7 +196,7 @@ static void test_bezier_control(void **state)
     }
 }
 
-/* Seed 000 §4.7, t as a quadratic in x through (x0,0), (x1,t1), (x2,1):
+/* [Romanyuk-PCF] §4.7, t as a quadratic in x through (x0,0), (x1,t1), (x2,1):
  * the printed A3 = d(x0²(x1 − x2t1) − x0(x1² + x2²t1)) has a sign error;
  * Cramer's rule gives A3 = d(x0²(x1 − x2t1) − x0(x1² − x2²t1)). */
 static void test_quadt_cramer(void **state)
@@ -214,7 +214,7 @@ static void test_quadt_cramer(void **state)
     assert_true(fabs(A1 * x0 * x0 + A2 * x0 + A3p) > 1e-3);
 }
 
-/* Seed 000 §4.3 piecewise quadratic for t_w(t_v) on [0, 1/2] (Z_A = 1,
+/* [Romanyuk-PCF] §4.3 piecewise quadratic for t_w(t_v) on [0, 1/2] (Z_A = 1,
  * Z_B = ħ): through t_v = 0, 1/4, 1/2 the fit gives a = 8(ħ − 1)/((ħ + 1)(3ħ + 1)),
  * b = 2(ħ + 3)/((ħ + 1)(3ħ + 1)); the printed a has the opposite sign and
  * the printed b lacks the factor 2. */

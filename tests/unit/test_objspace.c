@@ -1,4 +1,4 @@
-/* Object-space texturing with screen-space filtering (seed 004,
+/* Object-space texturing with screen-space filtering ([Romaniuk-ObjSpace],
  * src/objspace/objspace.c): thread independence, no holes, no bleeding. */
 #include "support.h"
 
@@ -56,7 +56,7 @@ static void test_threads_bit_identical(void **state)
 }
 
 /* Texel density >= 1 per pixel on every piece: no covered pixel may be
- * left without a sample (seed 004's "holes"), at several sizes, including
+ * left without a sample ([Romaniuk-ObjSpace]'s "holes"), at several sizes, including
  * the corridor's strongly magnified near end and minified far end. */
 static void test_no_holes(void **state)
 {
@@ -111,14 +111,14 @@ static void test_constant_texture_no_bleeding(void **state)
     free(r.color);
 }
 
-/* Seed 004's rotation and projection, checked numerically (the erratum is
+/* [Romaniuk-ObjSpace]'s rotation and projection, checked numerically (the erratum is
  * recorded in docs/REPRODUCTION.md): with cos α = Nz/d, sin α = Ny/d,
  * cos β = d, sin β = Nx, d = sqrt(Ny² + Nz²) (printed with a minus), the
  * rotation takes N to the z axis, and the product (x, y, z, 1)·[Rxy]⁻¹·P
  * with the one-point projection P (r = -1/zc) has the denominator
  * 1 − r·sin α·y + r·Nz·z − r·cos α·sin β·x, not the printed
  * 1 − r·sin α·y + r·Nz·z − r·Ny·x (cos α·sin β = Nx·Nz/d is not Ny). */
-static void test_seed004_rotation_errata(void **state)
+static void test_rotation_errata(void **state)
 {
     (void)state;
     test_rng rng = {61};
@@ -132,12 +132,12 @@ static void test_seed004_rotation_errata(void **state)
         double d = sqrt(n[1] * n[1] + n[2] * n[2]);
         if (d < 1e-3) continue;
         double ca = n[2] / d, sa = n[1] / d, cb = d, sb = n[0];
-        /* [Rxy] of the seed (row vectors): rows (cb, 0, sb), (-sa·sb, ca, cb·sa), (-ca·sb, -sa, ca·cb). */
+        /* [Rxy] of the paper (row vectors): rows (cb, 0, sb), (-sa·sb, ca, cb·sa), (-ca·sb, -sa, ca·cb). */
         double R[3][3] = {{cb, 0, sb}, {-sa * sb, ca, cb * sa}, {-ca * sb, -sa, ca * cb}};
         double Nr[3];
         for (int c = 0; c < 3; c++) Nr[c] = n[0] * R[0][c] + n[1] * R[1][c] + n[2] * R[2][c];
         assert_true(fabs(Nr[0]) < 1e-12 && fabs(Nr[1]) < 1e-12 && fabs(Nr[2] - 1.0) < 1e-12);
-        /* Inverse: the transpose, as the seed prints it. */
+        /* Inverse: the transpose, as the paper prints it. */
         double r = -1.0 / test_rng_uniform(&rng, 1, 5);
         double x = test_rng_uniform(&rng, -2, 2), y = test_rng_uniform(&rng, -2, 2),
                z = test_rng_uniform(&rng, -2, 2);
@@ -161,7 +161,7 @@ int main(void)
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_no_holes),
         cmocka_unit_test(test_constant_texture_no_bleeding),
-        cmocka_unit_test(test_seed004_rotation_errata),
+        cmocka_unit_test(test_rotation_errata),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -237,7 +237,7 @@ static void test_count_ops(void **state)
 static void test_every_pixel_covered_corridor(void **state)
 {
     (void)state;
-    /* BENCHMARKS.md: every pixel of the corridor is covered, each once per
+    /* docs/WORKLOADS.md: every pixel of the corridor is covered, each once per
      * depth-passing fragment; with depth mode 1/w the image is the same as
      * with z (both resolve the same nearest surface). */
     persp_context *ctx = test_context();

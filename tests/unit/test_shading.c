@@ -1,4 +1,4 @@
-/* Shading: spherical-angular normals (seed 000 §4.3) and perspective-correct
+/* Shading: spherical-angular normals ([Romanyuk-PCF] §4.3) and perspective-correct
  * vertex colours against independent double-precision references. */
 #include "support.h"
 
@@ -153,7 +153,7 @@ static void test_vertex_colour_perspective_correct(void **state)
     persp_context_destroy(ctx);
 }
 
-/* Texture environment (seed 002): replace shows the texel whatever the
+/* Texture environment ([CS300-TexMap]): replace shows the texel whatever the
  * lighting; modulate multiplies the lit ambient + diffuse colour by it and
  * adds the specular highlight (Blinn–Phong). A uniform texture on a square
  * facing the eye, lit head-on by a directional light, so every term is

@@ -1,4 +1,4 @@
-/* Shading accuracy (seed 000 §4.2-4.3): the ΔI factor and its maximum, the
+/* Shading accuracy ([Romanyuk-PCF] §4.2-4.3): the ΔI factor and its maximum, the
  * derived t_w polynomial coefficients, every shading mode's span shader
  * against the exact per-pixel reference with stated bounds, and the SVG
  * writer. */
@@ -15,7 +15,7 @@
 #define PI 3.14159265358979323846
 
 /* The derived extremum of Δ agrees with a brute-force search, |Δ| is the
- * same for r and 1/r and the argument mirrors (seed: "the maximum value
+ * same for r and 1/r and the argument mirrors (the chapter: "the maximum value
  * occurs at 1 − u"). */
 static void test_delta_extremum(void **state)
 {
@@ -41,7 +41,7 @@ static void test_delta_extremum(void **state)
     assert_true(fabs(persp__delta_factor(1.0, 4.0)) < 1e-15);
 }
 
-/* The closed-form coefficients (derived here, the seed's printed ones
+/* The closed-form coefficients (derived here, the chapter's printed ones
  * contain errors) agree with a Newton interpolation of t_w at the nodes,
  * and the pieces of the piecewise quadratic meet at t_v = 1/2. */
 static void test_tw_coefficients(void **state)
@@ -79,12 +79,12 @@ static void test_tw_coefficients(void **state)
     }
 }
 
-/* The seed's stated maximum relative errors (§4.3: piecewise quadratic 1, 4,
+/* The chapter's stated maximum relative errors (§4.3: piecewise quadratic 1, 4,
  * 8, 13 %; cubic 0.64, 2.9, 6.3, 10.6 % for ħ = 2..5) are reproduced, to
  * the rounding of the stated figures, by |p − t_w|/t_w over t_v ∈ [1/3, 1];
  * over the whole line the cubic's relative error is far larger. The
  * absolute error follows the exact interpolation remainder. */
-static void test_tw_errors_vs_seed(void **state)
+static void test_tw_errors_vs_claims(void **state)
 {
     (void)state;
     const double pw[4] = {1.0, 4.0, 8.0, 13.0}, cu[4] = {0.64, 2.9, 6.3, 10.6};
@@ -237,7 +237,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_delta_extremum),       cmocka_unit_test(test_tw_coefficients),
-        cmocka_unit_test(test_tw_errors_vs_seed),    cmocka_unit_test(test_modes_random_triangles),
+        cmocka_unit_test(test_tw_errors_vs_claims),    cmocka_unit_test(test_modes_random_triangles),
         cmocka_unit_test(test_modes_scene),          cmocka_unit_test(test_svg_writer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

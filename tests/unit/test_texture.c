@@ -364,13 +364,13 @@ static void test_lod_rules(void **state)
     assert_true(fabsf(persp__pixel_lambda(&st, 2.0f / 256, 0, 0, 2.0f / 128) - 2.5f) < 1e-5f);
     assert_true(fabsf(persp__pixel_lambda(&st, 16.0f / 256, 0, 0, 16.0f / 128) - 3.0f) < 1e-5f);
     assert_true(fabsf(persp__pixel_lambda(&st, 0.01f / 256, 0, 0, 0.01f / 128) - 0.25f) < 1e-5f);
-    /* Per polygon (seed 002): 0.5·log2(texel area / pixel area). */
+    /* Per polygon ([CS300-TexMap]): 0.5·log2(texel area / pixel area). */
     assert_true(fabsf(persp__polygon_lambda(t, 0.5, 256.0 * 128.0 * 0.5 / 16.0) - 2.0f) < 1e-6f);
     persp_texture_destroy(t);
     persp_context_destroy(ctx);
 }
 
-/* The span Jacobian du/dx = (a - u·g)/Q ... (seed 000 §4.8) is the
+/* The span Jacobian du/dx = (a - u·g)/Q ... ([Romanyuk-PCF] §4.8) is the
  * derivative of the rational mapping: compare with central differences of
  * the mapping evaluated in double here. */
 static void test_span_jacobian_is_derivative(void **state)
@@ -459,7 +459,7 @@ static int cmp_xy(const void *a, const void *b)
     return (p[0] > q[0]) - (p[0] < q[0]);
 }
 
-/* Seed 000 §4.8: the daisy chain (one interpolator, the step pattern
+/* [Romanyuk-PCF] §4.8: the daisy chain (one interpolator, the step pattern
  * remembered and replayed rotated between rows) visits exactly the texels
  * of the window computed directly as A + P(i) + Q(r), each once. */
 static void test_window_daisy_chain_equals_direct(void **state)

@@ -1,5 +1,5 @@
 /* persp accuracy --shading: shading modes against the exact per-pixel
- * reference, the t_w approximations and the ΔI analysis of seed 000 §4.2-4.3. */
+ * reference, the t_w approximations and the ΔI analysis of [Romanyuk-PCF] §4.2-4.3. */
 #include "cli.h"
 
 #include <string.h>
@@ -14,8 +14,9 @@ static void usage(FILE *out)
             "8-bit levels and normal angle error in degrees on seeded random lit\n"
             "triangles for each depth ratio, and colour error on a lit scene against its\n"
             "phong-pc render. Then tabulates the polynomial approximations of t_w\n"
-            "(seed 000 §4.3) and the error factor Delta(u) of screen-linear Gouraud with\n"
-            "its maximum (§4.2, Fig. 4.3-4.4).\n\n"
+            "([Romanyuk-PCF] §4.3) and the error factor Delta(u) of screen-linear\n"
+            "Gouraud with its maximum (§4.2, Fig. 4.3-4.4). Sources are cited by the\n"
+            "keys of docs/SOURCES.md.\n\n"
             "options:\n"
             "  --seed N          seed of the random triangles (default 1)\n"
             "  --triangles N     random triangles per depth ratio (default 20)\n"

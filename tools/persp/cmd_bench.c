@@ -1,5 +1,5 @@
 /*
- * `persp bench`: fill rate of persp_render on a scene (BENCHMARKS.md), per
+ * `persp bench`: fill rate of persp_render on a scene (docs/WORKLOADS.md), per
  * texture-coordinate method, optionally against Mesa llvmpipe / softpipe
  * rendering the same `corridor` frame through OSMesa (bench/peer_osmesa.c).
  *

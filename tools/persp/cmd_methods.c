@@ -7,7 +7,9 @@ int cmd_methods(int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
             printf("usage: persp methods\n\nLists every texture-coordinate method: name and "
-                   "parameters, summary,\nsource section and cost per pixel / span.\n");
+                   "parameters, summary,\nsource and cost per pixel / span. A source is a "
+                   "citation key and a section;\nthe keys (e.g. [Romanyuk-PCF]) are defined in "
+                   "docs/SOURCES.md.\n");
             return CLI_OK;
         }
         return cli_error(CLI_USAGE, "methods: unknown option '%s'", argv[i]);
