@@ -21,7 +21,7 @@
  * - Ownership: buffers passed in stay the caller's and are only read or
  *   written during the call. Objects persp creates (context, scene, texture,
  *   images from persp_image_alloc/_load) are the caller's to release with the
- *   matching *_destroy / *_free; views (persp_image_view) point into an
+ *   matching *_destroy / *_free, which accept NULL; views (persp_image_view) point into an
  *   object and live as long as it. Memory persp returns comes from the
  *   context's allocator; libjpeg and jansson allocate their transient
  *   working memory with malloc (their APIs offer no per-call allocator),
@@ -93,6 +93,8 @@ PERSP_API const char *persp_status_string(persp_status status);
 
 /* ----------------------------------------------------------------- context */
 
+/* Called only from the thread that called into persp (never from a
+ * context's worker threads), so it needs no locking for one context. */
 typedef struct persp_allocator {
     void *(*alloc)(void *user, size_t size); /* 16-byte aligned or better */
     void (*free)(void *user, void *ptr);
