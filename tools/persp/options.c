@@ -212,7 +212,7 @@ int cli_parse(cli_command *cmd, int argc, char **argv)
         } else {
             char accepts[512];
             describe(opt, accepts, sizeof accepts);
-            return cli_error(CLI_USAGE, "%s: option %s needs a value (%s)", cmd->name, a, accepts);
+            return cli_error(CLI_USAGE, "%s: option %s needs a value (expected %s)", cmd->name, a, accepts);
         }
         opt->seen++;
         int rc = apply(cmd, opt, value);
