@@ -197,7 +197,8 @@ PERSP_API persp_status persp_image_format_from_path(const char *path, persp_imag
 PERSP_API persp_status persp_image_write_jpeg(persp_context *ctx, const char *path, const persp_image *img,
                                               int quality);
 /* Writes a PNG or JPEG as desc says (NULL: all defaults, the format by the
- * path's extension; PERSP_ERR_UNSUPPORTED, and no file, for an unknown one).
+ * path's extension; PERSP_ERR_UNSUPPORTED, and no file, for an unknown one,
+ * except that an existing device or pipe without one gets a PNG).
  * A regular file (or a link to one) is replaced atomically: the image goes
  * to a temporary file in the same folder, renamed on success and removed on
  * failure. Any other existing file (a device such as /dev/null, a pipe) is

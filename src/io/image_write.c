@@ -252,19 +252,22 @@ persp_status persp_image_write(persp_context *ctx, const char *path, const persp
     if (desc) d = *desc;
     persp_status st = check_image(ctx, path, img);
     if (st != PERSP_OK) return st;
-    if (d.format == PERSP_IMAGE_FORMAT_DEFAULT &&
-        persp_image_format_from_path(path, &d.format) != PERSP_OK)
-        return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
-                           "%s: unknown image file extension (expected .png, .jpg or .jpeg)", path);
+    struct stat sb;
+    int in_place = stat(path, &sb) == 0 && !S_ISREG(sb.st_mode);
+    if (d.format == PERSP_IMAGE_FORMAT_DEFAULT && persp_image_format_from_path(path, &d.format) != PERSP_OK) {
+        /* A device or pipe is a stream with a name. */
+        if (in_place && !S_ISDIR(sb.st_mode)) d.format = PERSP_IMAGE_FORMAT_PNG;
+        else
+            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                               "%s: unknown image file extension (expected .png, .jpg or .jpeg)", path);
+    }
     if (d.format != PERSP_IMAGE_FORMAT_PNG && d.format != PERSP_IMAGE_FORMAT_JPEG)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: unknown image format %d", path,
                            (int)d.format);
     int quality = 0;
     if (d.format == PERSP_IMAGE_FORMAT_JPEG && (st = check_quality(ctx, path, d.quality, &quality)) != PERSP_OK)
         return st;
-    struct stat sb;
-    if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode))
-        return write_in_place(ctx, path, img, d.format, quality);
+    if (in_place) return write_in_place(ctx, path, img, d.format, quality);
     return write_atomic(ctx, path, img, d.format, quality);
 }
 

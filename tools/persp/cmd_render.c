@@ -24,14 +24,18 @@ static int is_builtin(const char *name)
     return 0;
 }
 
-/* The encoding of the output: --format, else the -o file's extension; a
- * known extension that --format contradicts is refused. */
+/* The encoding of the output: --format, else the -o file's extension (PNG
+ * for standard output and for a device or pipe without one); a known
+ * extension that --format contradicts is refused. */
 static int output_format(const char *output, persp_image_format format, persp_image_format *out)
 {
     persp_image_format by_name = PERSP_IMAGE_FORMAT_DEFAULT;
-    int known = output && strcmp(output, "-") && persp_image_format_from_path(output, &by_name) == PERSP_OK;
+    int named = output && strcmp(output, "-");
+    int known = named && persp_image_format_from_path(output, &by_name) == PERSP_OK;
+    struct stat sb;
+    if (named && !known && stat(output, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode)) named = 0;
     if (format == PERSP_IMAGE_FORMAT_DEFAULT) {
-        if (output && strcmp(output, "-") && !known)
+        if (named && !known)
             return cli_error(CLI_USAGE,
                              "render: cannot tell the image format of '%s' from its extension (expected "
                              ".png, .jpg or .jpeg, or --format png|jpeg)",
