@@ -177,7 +177,7 @@ PERSP_API persp_status persp_image_write_png(persp_context *ctx, const char *pat
 typedef enum persp_image_format {
     PERSP_IMAGE_FORMAT_DEFAULT = 0, /* by the path's extension; PNG for a stream */
     PERSP_IMAGE_FORMAT_PNG,
-    PERSP_IMAGE_FORMAT_JPEG         /* baseline, 4:2:0; alpha is dropped (JPEG has none) */
+    PERSP_IMAGE_FORMAT_JPEG         /* baseline, no chroma subsampling; alpha is dropped */
 } persp_image_format;
 
 #define PERSP_JPEG_QUALITY_DEFAULT 92

@@ -117,6 +117,10 @@ static int run_jpeg_job(jpeg_write_job *job)
     job->cinfo.in_color_space = JCS_EXT_RGBA;
     jpeg_set_defaults(&job->cinfo);
     jpeg_set_quality(&job->cinfo, job->quality, TRUE);
+    /* Full-resolution chroma: renders have one-pixel colour edges (texel
+     * boundaries, polygon edges) that 4:2:0 would smear over two pixels. */
+    job->cinfo.comp_info[0].h_samp_factor = 1;
+    job->cinfo.comp_info[0].v_samp_factor = 1;
     jpeg_start_compress(&job->cinfo, TRUE);
     while (job->cinfo.next_scanline < job->cinfo.image_height) {
         size_t row = (size_t)(job->cinfo.image_height - 1u - job->cinfo.next_scanline);
