@@ -51,7 +51,8 @@ static persp_status check_quality(persp_context *ctx, const char *name, int qual
 
 /* ------------------------------------------------------------------ PNG */
 
-static persp_status encode_png(persp_context *ctx, FILE *f, const char *name, const persp_image *img)
+static persp_status encode_png(persp_context *ctx, FILE *f, const char *name,
+                               const persp_image *img)
 {
     png_image pi;
     memset(&pi, 0, sizeof pi);
@@ -131,8 +132,8 @@ static int run_jpeg_job(jpeg_write_job *job)
     return 0;
 }
 
-static persp_status encode_jpeg(persp_context *ctx, FILE *f, const char *name, const persp_image *img,
-                                int quality)
+static persp_status encode_jpeg(persp_context *ctx, FILE *f, const char *name,
+                                const persp_image *img, int quality)
 {
     jpeg_write_job *job = persp__calloc(ctx, 1, sizeof *job);
     if (!job) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", name);
@@ -179,7 +180,8 @@ static persp_status write_in_place(persp_context *ctx, const char *path, const p
                                    persp_image_format format, int quality)
 {
     FILE *f = fopen(path, "wb");
-    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path, strerror(errno));
+    if (!f)
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path, strerror(errno));
     return finish_file(ctx, f, path, encode(ctx, f, path, img, format, quality));
 }
 
@@ -241,9 +243,12 @@ persp_status persp_image_format_from_path(const char *path, persp_image_format *
     base = base ? base + 1 : path;
     const char *dot = strrchr(base, '.');
     if (!dot || dot == base) return PERSP_ERR_UNSUPPORTED;
-    if (ext_is(dot + 1, "png")) *out = PERSP_IMAGE_FORMAT_PNG;
-    else if (ext_is(dot + 1, "jpg") || ext_is(dot + 1, "jpeg")) *out = PERSP_IMAGE_FORMAT_JPEG;
-    else return PERSP_ERR_UNSUPPORTED;
+    if (ext_is(dot + 1, "png"))
+        *out = PERSP_IMAGE_FORMAT_PNG;
+    else if (ext_is(dot + 1, "jpg") || ext_is(dot + 1, "jpeg"))
+        *out = PERSP_IMAGE_FORMAT_JPEG;
+    else
+        return PERSP_ERR_UNSUPPORTED;
     return PERSP_OK;
 }
 
@@ -258,18 +263,22 @@ persp_status persp_image_write(persp_context *ctx, const char *path, const persp
     if (st != PERSP_OK) return st;
     struct stat sb;
     int in_place = stat(path, &sb) == 0 && !S_ISREG(sb.st_mode);
-    if (d.format == PERSP_IMAGE_FORMAT_DEFAULT && persp_image_format_from_path(path, &d.format) != PERSP_OK) {
+    if (d.format == PERSP_IMAGE_FORMAT_DEFAULT &&
+        persp_image_format_from_path(path, &d.format) != PERSP_OK) {
         /* A device or pipe is a stream with a name. */
-        if (in_place && !S_ISDIR(sb.st_mode)) d.format = PERSP_IMAGE_FORMAT_PNG;
+        if (in_place && !S_ISDIR(sb.st_mode))
+            d.format = PERSP_IMAGE_FORMAT_PNG;
         else
             return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
-                               "%s: unknown image file extension (expected .png, .jpg or .jpeg)", path);
+                               "%s: unknown image file extension (expected .png, .jpg or .jpeg)",
+                               path);
     }
     if (d.format != PERSP_IMAGE_FORMAT_PNG && d.format != PERSP_IMAGE_FORMAT_JPEG)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: unknown image format %d", path,
                            (int)d.format);
     int quality = 0;
-    if (d.format == PERSP_IMAGE_FORMAT_JPEG && (st = check_quality(ctx, path, d.quality, &quality)) != PERSP_OK)
+    if (d.format == PERSP_IMAGE_FORMAT_JPEG &&
+        (st = check_quality(ctx, path, d.quality, &quality)) != PERSP_OK)
         return st;
     if (in_place) return write_in_place(ctx, path, img, d.format, quality);
     return write_atomic(ctx, path, img, d.format, quality);
@@ -297,7 +306,8 @@ persp_status persp_image_write_stream(persp_context *ctx, void *stream, const ch
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: unknown image format %d", name,
                            (int)d.format);
     int quality = 0;
-    if (d.format == PERSP_IMAGE_FORMAT_JPEG && (st = check_quality(ctx, name, d.quality, &quality)) != PERSP_OK)
+    if (d.format == PERSP_IMAGE_FORMAT_JPEG &&
+        (st = check_quality(ctx, name, d.quality, &quality)) != PERSP_OK)
         return st;
     FILE *f = stream;
     st = encode(ctx, f, name, img, d.format, quality);

@@ -176,7 +176,8 @@ static void test_jpeg_quality(void **state)
     test_rng rng = {12345};
     for (int y = 0; y < img.height; y++)
         for (int x = 0; x < img.width; x++)
-            img.pixels[(size_t)y * img.stride + 4u * (size_t)x] = (uint8_t)(test_rng_next(&rng) & 255u);
+            img.pixels[(size_t)y * img.stride + 4u * (size_t)x] =
+                (uint8_t)(test_rng_next(&rng) & 255u);
     char lo[300], hi[300], bad[300];
     path_in(lo, sizeof lo, "q20.jpg");
     path_in(hi, sizeof hi, "q95.jpeg");
@@ -262,19 +263,24 @@ static void test_write_to_stream(void **state)
         assert_non_null(data);
         assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
         fclose(f);
-        if (format == PERSP_IMAGE_FORMAT_JPEG) assert_int_equal(data[0], 0xff);
-        else assert_memory_equal(data, "\x89PNG", 4);
+        if (format == PERSP_IMAGE_FORMAT_JPEG)
+            assert_int_equal(data[0], 0xff);
+        else
+            assert_memory_equal(data, "\x89PNG", 4);
         persp_image back;
         assert_int_equal(persp_image_load_memory(ctx, data, (size_t)n, "back", &back), PERSP_OK);
         int max_abs;
         double mean_abs;
         rgb_diff(&img, &back, &max_abs, &mean_abs);
-        if (format == PERSP_IMAGE_FORMAT_JPEG) assert_true(mean_abs < 2.0);
-        else assert_int_equal(max_abs, 0); /* PNG is lossless */
+        if (format == PERSP_IMAGE_FORMAT_JPEG)
+            assert_true(mean_abs < 2.0);
+        else
+            assert_int_equal(max_abs, 0); /* PNG is lossless */
         persp_image_free(ctx, &back);
         free(data);
     }
-    assert_int_equal(persp_image_write_stream(ctx, NULL, NULL, &img, NULL), PERSP_ERR_INVALID_ARGUMENT);
+    assert_int_equal(persp_image_write_stream(ctx, NULL, NULL, &img, NULL),
+                     PERSP_ERR_INVALID_ARGUMENT);
     persp_image_free(ctx, &img);
     persp_context_destroy(ctx);
 }
@@ -296,7 +302,8 @@ static void test_write_errors_on_full_device(void **state)
             persp_image_write_desc d = {(persp_image_format)format, 0};
             FILE *f = fopen("/dev/full", "wb");
             assert_non_null(f);
-            assert_int_equal(persp_image_write_stream(ctx, f, "full stream", imgs[i], &d), PERSP_ERR_IO);
+            assert_int_equal(persp_image_write_stream(ctx, f, "full stream", imgs[i], &d),
+                             PERSP_ERR_IO);
             assert_non_null(strstr(persp_context_error(ctx), "full stream: write failed"));
             fclose(f);
             assert_int_equal(persp_image_write(ctx, "/dev/full", imgs[i], &d), PERSP_ERR_IO);

@@ -38,8 +38,8 @@ int cli_split_list(char *text, const char **list, size_t *n, size_t cap);
  * only once everything was written. */
 typedef struct cli_output {
     FILE *f;
-    const char *path;    /* NULL: standard output */
-    char *tmp, *target;  /* the temporary file and the file it replaces */
+    const char *path;   /* NULL: standard output */
+    char *tmp, *target; /* the temporary file and the file it replaces */
 } cli_output;
 /* Opens path for a report (NULL or "-": standard output); CLI_OK, or
  * CLI_FAIL after printing "persp: COMMAND: ...". */

@@ -60,8 +60,9 @@ static int parse_method_list(const cli_command *cmd, const cli_option *opt, char
     char copy[256];
     snprintf(copy, sizeof copy, "%s", value);
     if (!add_method_list(value, list->items, &list->count))
-        return cli_error(CLI_USAGE, "%s: bad --method '%s' (expected a comma-separated list of methods, "
-                                    "none empty, at most %d in all)",
+        return cli_error(CLI_USAGE,
+                         "%s: bad --method '%s' (expected a comma-separated list of methods, "
+                         "none empty, at most %d in all)",
                          cmd->name, copy, MAX_LIST);
     return CLI_OK;
 }
@@ -75,26 +76,44 @@ static int parse_rel_floor(const cli_command *cmd, const cli_option *opt, char *
     return CLI_OK;
 }
 
-static const cli_spec opt_method_list = {.name = "method", .kind = CLI_KIND_CUSTOM, .metavar = "M[,M...]",
-                                         .parse = parse_method_list,
-                                         .accepts = "methods of `persp methods`, comma-separated",
-                                         .help = "methods to measure, repeatable (default: every method of\n"
-                                                 "`persp methods` that runs without parameters)"};
-static const cli_spec opt_case = {.name = "case", .kind = CLI_KIND_CUSTOM, .metavar = "C[,C...]",
-                                  .parse = cli_parse_list, .accepts = "cases, comma-separated",
-                                  .help = "cases, repeatable (default: paper-quad,random-triangles)"};
-static const cli_spec opt_triangles = {.name = "triangles", .kind = CLI_KIND_INT, .metavar = "N", .lo = 1,
+static const cli_spec opt_method_list = {
+    .name = "method",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "M[,M...]",
+    .parse = parse_method_list,
+    .accepts = "methods of `persp methods`, comma-separated",
+    .help = "methods to measure, repeatable (default: every method of\n"
+            "`persp methods` that runs without parameters)"};
+static const cli_spec opt_case = {.name = "case",
+                                  .kind = CLI_KIND_CUSTOM,
+                                  .metavar = "C[,C...]",
+                                  .parse = cli_parse_list,
+                                  .accepts = "cases, comma-separated",
+                                  .help =
+                                      "cases, repeatable (default: paper-quad,random-triangles)"};
+static const cli_spec opt_triangles = {.name = "triangles",
+                                       .kind = CLI_KIND_INT,
+                                       .metavar = "N",
+                                       .lo = 1,
                                        .hi = 100000,
-                                       .help = "random triangles per depth-ratio group (default 40)"};
-static const cli_spec opt_rel_floor = {.name = "rel-floor", .kind = CLI_KIND_CUSTOM, .metavar = "X",
-                                       .parse = parse_rel_floor, .accepts = "0 < X <= 1",
-                                       .help = "relative errors only where |s| (and a span's range)\n"
-                                               ">= X, s normalised to [0,1] per texture (default 0.01)"};
+                                       .help =
+                                           "random triangles per depth-ratio group (default 40)"};
+static const cli_spec opt_rel_floor = {
+    .name = "rel-floor",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "X",
+    .parse = parse_rel_floor,
+    .accepts = "0 < X <= 1",
+    .help = "relative errors only where |s| (and a span's range)\n"
+            ">= X, s normalised to [0,1] per texture (default 0.01)"};
 /* Listed for the help only: --filter switches to cmd_accuracy_filter first. */
-static const cli_spec opt_filter_mode = {.name = "filter", .kind = CLI_KIND_STRING, .metavar = "[F,...]",
-                                         .optional = 1,
-                                         .help = "texture filters instead of methods (see persp accuracy "
-                                                 "--filter --help)"};
+static const cli_spec opt_filter_mode = {
+    .name = "filter",
+    .kind = CLI_KIND_STRING,
+    .metavar = "[F,...]",
+    .optional = 1,
+    .help = "texture filters instead of methods (see persp accuracy "
+            "--filter --help)"};
 
 int cmd_accuracy(int argc, char **argv)
 {
@@ -117,15 +136,17 @@ int cmd_accuracy(int argc, char **argv)
         CLI_OPT(opt_rel_floor, &desc.rel_floor),
         CLI_OPT_HELP(cli_opt_csv, &format, "CSV instead of the table"),
         CLI_OPT_HELP(cli_opt_json, &format, "JSON instead of the table"),
-        CLI_OPT_HELP(cli_opt_output, &output, "write the report to FILE (default, and -: standard output)"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the report to FILE (default, and -: standard output)"),
         CLI_OPT_HELP(cli_opt_heatmap, &desc.heatmap_dir,
                      "write one PNG per method and case with the per-pixel\n"
                      "error in texels on a logarithmic colour scale"),
         CLI_OPT(opt_filter_mode, &filter_mode),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
-    cli_command cmd = {"accuracy", "persp accuracy --help", NULL, opts, sizeof opts / sizeof opts[0],
-                       NULL, 0, 0, NULL};
+    cli_command cmd = {
+        "accuracy", "persp accuracy --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0,
+        NULL};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         accuracy_usage(stdout, &cmd);
@@ -168,7 +189,8 @@ int cmd_accuracy(int argc, char **argv)
         rc = cli_status(ctx, st, "accuracy");
     } else if ((st = persp_accuracy_write(ctx, res, format, out.f)) != PERSP_OK) {
         char what[512];
-        snprintf(what, sizeof what, "accuracy: writing the report to %s", out.path ? out.path : "standard output");
+        snprintf(what, sizeof what, "accuracy: writing the report to %s",
+                 out.path ? out.path : "standard output");
         rc = cli_status(ctx, st, what);
     }
     int out_rc = cli_output_close("accuracy", &out, rc == CLI_OK);

@@ -11,36 +11,55 @@
 
 static void usage(FILE *out, const cli_command *cmd)
 {
-    fprintf(out,
-            "usage: persp accuracy --filter [F[,F...]] [options]\n\n"
-            "Renders each texture filter (screen pipeline) and the object-space pipeline\n"
-            "(seed 004, filter name \"object\") and compares them with a supersampled\n"
-            "reference: N x N samples per pixel of the exact mapping, bilinear on level 0,\n"
-            "box-filtered. Reports PSNR, SSIM, the largest and mean channel error, texels\n"
-            "read per pixel, render time, and the texture's mip-chain memory overhead.\n\n"
-            "options:\n");
+    fprintf(out, "usage: persp accuracy --filter [F[,F...]] [options]\n\n"
+                 "Renders each texture filter (screen pipeline) and the object-space pipeline\n"
+                 "(seed 004, filter name \"object\") and compares them with a supersampled\n"
+                 "reference: N x N samples per pixel of the exact mapping, bilinear on level 0,\n"
+                 "box-filtered. Reports PSNR, SSIM, the largest and mean channel error, texels\n"
+                 "read per pixel, render time, and the texture's mip-chain memory overhead.\n\n"
+                 "options:\n");
     cli_print_options(out, cmd);
     fprintf(out, "\ncases:\n");
     for (size_t i = 0; i < persp_filter_accuracy_case_count(); i++)
         fprintf(out, "  %-10s %s\n", persp_filter_accuracy_case_name(i), persp_filter_accuracy_case_summary(i));
 }
 
-static const cli_spec opt_filters = {.name = "filter", .kind = CLI_KIND_CUSTOM, .metavar = "[F,...]",
-                                     .optional = 1, .parse = cli_parse_list,
-                                     .accepts = "filters, comma-separated",
-                                     .help = "filters to measure (default: nearest, bilinear,\n"
-                                             "nearest-mip-nearest, bilinear-mip-nearest,\n"
-                                             "nearest-mip-linear, trilinear, aniso:16, aniso-window:16,\n"
-                                             "ewa, object)"};
-static const cli_spec opt_case = {.name = "case", .kind = CLI_KIND_CUSTOM, .metavar = "C[,C...]",
-                                  .parse = cli_parse_list, .accepts = "cases, comma-separated",
+static const cli_spec opt_filters = {
+    .name = "filter",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "[F,...]",
+    .optional = 1,
+    .parse = cli_parse_list,
+    .accepts = "filters, comma-separated",
+    .help = "filters to measure (default: nearest, bilinear,\n"
+            "nearest-mip-nearest, bilinear-mip-nearest,\n"
+            "nearest-mip-linear, trilinear, aniso:16, aniso-window:16,\n"
+            "ewa, object)"};
+static const cli_spec opt_case = {.name = "case",
+                                  .kind = CLI_KIND_CUSTOM,
+                                  .metavar = "C[,C...]",
+                                  .parse = cli_parse_list,
+                                  .accepts = "cases, comma-separated",
                                   .help = "cases (default: corridor, floor, tilt-0 ... tilt-85)"};
-static const cli_spec opt_size = {.name = "size", .kind = CLI_KIND_SIZE, .metavar = "WxH", .hi = 4096,
+static const cli_spec opt_size = {.name = "size",
+                                  .kind = CLI_KIND_SIZE,
+                                  .metavar = "WxH",
+                                  .hi = 4096,
                                   .help = "image size, each side 1..4096 (default 256x192)"};
-static const cli_spec opt_samples = {.name = "samples", .kind = CLI_KIND_INT, .metavar = "N", .lo = 1, .hi = 64,
-                                     .help = "reference samples per pixel along each axis, 1..64 (default 16)"};
-static const cli_spec opt_repeats = {.name = "repeats", .kind = CLI_KIND_INT, .metavar = "N", .lo = 1, .hi = 100,
-                                     .help = "timed renders per filter, the fastest kept (default 3)"};
+static const cli_spec opt_samples = {
+    .name = "samples",
+    .kind = CLI_KIND_INT,
+    .metavar = "N",
+    .lo = 1,
+    .hi = 64,
+    .help = "reference samples per pixel along each axis, 1..64 (default 16)"};
+static const cli_spec opt_repeats = {.name = "repeats",
+                                     .kind = CLI_KIND_INT,
+                                     .metavar = "N",
+                                     .lo = 1,
+                                     .hi = 100,
+                                     .help =
+                                         "timed renders per filter, the fastest kept (default 3)"};
 
 int cmd_accuracy_filter(int argc, char **argv)
 {
@@ -60,14 +79,23 @@ int cmd_accuracy_filter(int argc, char **argv)
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT_HELP(cli_opt_lod, &d.lod_mode, "level of detail per pixel or per polygon"),
         CLI_OPT(cli_opt_lod_bias, &d.lod_bias),
-        CLI_OPT_HELP(cli_opt_heatmap, &d.heatmap_dir, "one PNG per filter and case: per-pixel error in 8-bit levels"),
+        CLI_OPT_HELP(cli_opt_heatmap, &d.heatmap_dir,
+                     "one PNG per filter and case: per-pixel error in 8-bit levels"),
         CLI_OPT(cli_opt_csv, &format),
         CLI_OPT(cli_opt_json, &format),
-        CLI_OPT_HELP(cli_opt_output, &output, "write the report to FILE (default, and -: standard output)"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the report to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
-    cli_command cmd = {"accuracy", "persp accuracy --filter --help", " with --filter", opts,
-                       sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
+    cli_command cmd = {"accuracy",
+                       "persp accuracy --filter --help",
+                       " with --filter",
+                       opts,
+                       sizeof opts / sizeof opts[0],
+                       NULL,
+                       0,
+                       0,
+                       NULL};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         usage(stdout, &cmd);

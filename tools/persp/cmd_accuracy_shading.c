@@ -6,26 +6,34 @@
 
 static void usage(FILE *out, const cli_command *cmd)
 {
-    fprintf(out,
-            "usage: persp accuracy --shading [options]\n\n"
-            "Measures every shading mode (flat, gouraud, gouraud-pc, phong, phong-pc,\n"
-            "phong-pc:quad, phong-pc:pwquad, phong-pc:cubic, phong-slerp,\n"
-            "phong-slerp-screen) against the exact per-pixel reference: colour error in\n"
-            "8-bit levels and normal angle error in degrees on seeded random lit\n"
-            "triangles for each depth ratio, and colour error on a lit scene against its\n"
-            "phong-pc render. Then tabulates the polynomial approximations of t_w\n"
-            "(seed 000 §4.3) and the error factor Delta(u) of screen-linear Gouraud with\n"
-            "its maximum (§4.2, Fig. 4.3-4.4).\n\n"
-            "options:\n");
+    fprintf(out, "usage: persp accuracy --shading [options]\n\n"
+                 "Measures every shading mode (flat, gouraud, gouraud-pc, phong, phong-pc,\n"
+                 "phong-pc:quad, phong-pc:pwquad, phong-pc:cubic, phong-slerp,\n"
+                 "phong-slerp-screen) against the exact per-pixel reference: colour error in\n"
+                 "8-bit levels and normal angle error in degrees on seeded random lit\n"
+                 "triangles for each depth ratio, and colour error on a lit scene against its\n"
+                 "phong-pc render. Then tabulates the polynomial approximations of t_w\n"
+                 "(seed 000 §4.3) and the error factor Delta(u) of screen-linear Gouraud with\n"
+                 "its maximum (§4.2, Fig. 4.3-4.4).\n\n"
+                 "options:\n");
     cli_print_options(out, cmd);
 }
 
-static const cli_spec opt_triangles = {.name = "triangles", .kind = CLI_KIND_INT, .metavar = "N", .lo = 1,
-                                       .hi = 10000, .help = "random triangles per depth ratio (default 20)"};
-static const cli_spec opt_scene = {.name = "scene", .kind = CLI_KIND_STRING, .metavar = "FILE",
-                                   .help = "JSON scene for the lit-scene case (default: a built-in\n"
-                                           "floor, coarse sphere, torus and long cylinder)"};
-static const cli_spec opt_svg = {.name = "svg", .kind = CLI_KIND_STRING, .metavar = "FILE",
+static const cli_spec opt_triangles = {.name = "triangles",
+                                       .kind = CLI_KIND_INT,
+                                       .metavar = "N",
+                                       .lo = 1,
+                                       .hi = 10000,
+                                       .help = "random triangles per depth ratio (default 20)"};
+static const cli_spec opt_scene = {.name = "scene",
+                                   .kind = CLI_KIND_STRING,
+                                   .metavar = "FILE",
+                                   .help =
+                                       "JSON scene for the lit-scene case (default: a built-in\n"
+                                       "floor, coarse sphere, torus and long cylinder)"};
+static const cli_spec opt_svg = {.name = "svg",
+                                 .kind = CLI_KIND_STRING,
+                                 .metavar = "FILE",
                                  .help = "write Fig. 4.3, Fig. 4.4 and the t_w errors as SVG"};
 
 int cmd_accuracy_shading(int argc, char **argv)
@@ -38,13 +46,22 @@ int cmd_accuracy_shading(int argc, char **argv)
         CLI_OPT(cli_opt_seed, &desc.seed),
         CLI_OPT(opt_triangles, &desc.triangles),
         CLI_OPT(opt_scene, &desc.scene),
-        CLI_OPT_HELP(cli_opt_size, &size, "lit-scene image size (default: the scene's, else 640x480)"),
+        CLI_OPT_HELP(cli_opt_size, &size,
+                     "lit-scene image size (default: the scene's, else 640x480)"),
         CLI_OPT(opt_svg, &desc.svg_path),
-        CLI_OPT_HELP(cli_opt_output, &output, "write the report to FILE (default, and -: standard output)"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the report to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
-    cli_command cmd = {"accuracy --shading", "persp accuracy --shading --help", NULL, opts,
-                       sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
+    cli_command cmd = {"accuracy --shading",
+                       "persp accuracy --shading --help",
+                       NULL,
+                       opts,
+                       sizeof opts / sizeof opts[0],
+                       NULL,
+                       0,
+                       0,
+                       NULL};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         usage(stdout, &cmd);

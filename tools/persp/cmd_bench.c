@@ -390,17 +390,22 @@ static void json_string(FILE *out, const char *s)
     fputc('"', out);
     for (; s && *s; s++) {
         unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') fprintf(out, "\\%c", c);
-        else if (c < 0x20) fprintf(out, "\\u%04x", c);
-        else fputc(c, out);
+        if (c == '"' || c == '\\')
+            fprintf(out, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(out, "\\u%04x", c);
+        else
+            fputc(c, out);
     }
     fputc('"', out);
 }
 
 static void json_number(FILE *out, double x)
 {
-    if (isfinite(x)) fprintf(out, "%.6g", x);
-    else fprintf(out, "null");
+    if (isfinite(x))
+        fprintf(out, "%.6g", x);
+    else
+        fprintf(out, "null");
 }
 
 static void json_stats(FILE *out, const run_stats *s)
@@ -485,7 +490,7 @@ static void print_json(FILE *out, const bench_report *r)
         fprintf(out, ",\n \"peer_image\": {\"file\": ");
         json_string(out, o->peer_image);
         fprintf(out, ", \"compared_with\": \"exact\", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
-               d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
+                d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
         json_number(out, d->pct_gt1);
         fprintf(out, ", \"pct_gt2\": ");
         json_number(out, d->pct_gt2);
@@ -503,9 +508,9 @@ static void print_text(FILE *out, const bench_report *r)
     const bench_opts *o = r->o;
     const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
     fprintf(out, "bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
-           o->filter_name, o->threads, o->reps);
+            o->filter_name, o->threads, o->reps);
     fprintf(out, "%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
-           "vs_exact");
+            "vs_exact");
     if (peer_col) fprintf(out, " %9s", "vs_peer");
     fprintf(out, "   (Mpixels/s)\n");
     for (size_t i = 0; i < r->count; i++) {
@@ -515,9 +520,11 @@ static void print_text(FILE *out, const bench_report *r)
             continue;
         }
         fprintf(out, "%-20s %8d %10.2f %10.2f %10.2f", m->spec, m->stats.frames, m->stats.median,
-               m->stats.min, m->stats.max);
-        if (r->exact) fprintf(out, " %9.3f", m->stats.median / r->exact->stats.median);
-        else fprintf(out, " %9s", "-");
+                m->stats.min, m->stats.max);
+        if (r->exact)
+            fprintf(out, " %9.3f", m->stats.median / r->exact->stats.median);
+        else
+            fprintf(out, " %9s", "-");
         if (peer_col) fprintf(out, " %9.3f", m->stats.median / r->peer->stats.median);
         fprintf(out, "\n");
     }
@@ -526,24 +533,27 @@ static void print_text(FILE *out, const bench_report *r)
         char label[40];
         snprintf(label, sizeof label, "peer:%s", o->peer);
         fprintf(out, "%-20s %8d %10.2f %10.2f %10.2f %9s %9.3f\n", label, p->stats.frames,
-               p->stats.median, p->stats.min, p->stats.max, "-", 1.0);
+                p->stats.median, p->stats.min, p->stats.max, "-", 1.0);
         fprintf(out, "peer renderer: %s, OpenGL %s, LP_NUM_THREADS=%d", p->renderer, p->version,
-               o->peer_threads);
+                o->peer_threads);
         if (p->aniso > 0.0) fprintf(out, ", anisotropy %g", p->aniso);
         fprintf(out, "\n");
     }
     fprintf(out, "peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
-           r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
+            r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
     if (peer_col) fprintf(out, ", peer process %.1f MiB", r->peer->maxrss_mib);
     fprintf(out, "\n");
     if (r->diff) {
         const image_diff *d = r->diff;
-        fprintf(out, "peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
-               "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
-               o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
-               d->pct_gt1, d->pct_gt2, d->pct_gt8);
-        if (isfinite(d->psnr)) fprintf(out, "%.2f dB\n", d->psnr);
-        else fprintf(out, "inf (identical)\n");
+        fprintf(out,
+                "peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
+                "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
+                o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
+                d->pct_gt1, d->pct_gt2, d->pct_gt8);
+        if (isfinite(d->psnr))
+            fprintf(out, "%.2f dB\n", d->psnr);
+        else
+            fprintf(out, "inf (identical)\n");
     }
 }
 
@@ -562,30 +572,60 @@ static int parse_bench_method(const cli_command *cmd, const cli_option *opt, cha
 }
 
 static const char *const peer_names[] = {"llvmpipe", "softpipe", NULL};
-static const cli_spec opt_bench_method = {.name = "method", .kind = CLI_KIND_CUSTOM, .metavar = "M|all",
-                                          .parse = parse_bench_method,
-                                          .accepts = "a method of `persp methods`, or all",
-                                          .help = "texture-coordinate method, or every registered one with its\n"
-                                                  "ratio to exact (default exact)"};
-static const cli_spec opt_frames = {.name = "frames", .kind = CLI_KIND_INT, .metavar = "N", .lo = 1,
+static const cli_spec opt_bench_method = {
+    .name = "method",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "M|all",
+    .parse = parse_bench_method,
+    .accepts = "a method of `persp methods`, or all",
+    .help = "texture-coordinate method, or every registered one with its\n"
+            "ratio to exact (default exact)"};
+static const cli_spec opt_frames = {.name = "frames",
+                                    .kind = CLI_KIND_INT,
+                                    .metavar = "N",
+                                    .lo = 1,
                                     .hi = (double)BENCH_MAX_FRAMES,
-                                    .help = "frames per run (default: as many as fill --time seconds)"};
-static const cli_spec opt_reps = {.name = "reps", .kind = CLI_KIND_INT, .metavar = "N", .lo = 1, .hi = BENCH_MAX_REPS,
-                                  .help = "timed runs; median and min/max are reported (default 5)"};
-static const cli_spec opt_time = {.name = "time", .kind = CLI_KIND_REAL, .metavar = "S", .lo = 0.001, .hi = 60.0,
-                                  .accepts = "0.001..60 seconds",
-                                  .help = "target seconds per run when --frames is not given (default 0.5)"};
-static const cli_spec opt_peer = {.name = "peer", .kind = CLI_KIND_STRING, .metavar = "D", .names = peer_names,
-                                  .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
-                                          "corridor, in a child process, and report persp's ratio to it"};
-static const cli_spec opt_peer_threads = {.name = "peer-threads", .kind = CLI_KIND_INT, .metavar = "N", .lo = 0,
-                                          .hi = 256, .help = "LP_NUM_THREADS for the peer (default: --threads)"};
-static const cli_spec opt_peer_image = {.name = "peer-image", .kind = CLI_KIND_STRING, .metavar = "FILE",
-                                        .help = "write the peer's frame as PNG and print its difference to\n"
-                                                "persp's exact image with the same filter"};
+                                    .help =
+                                        "frames per run (default: as many as fill --time seconds)"};
+static const cli_spec opt_reps = {.name = "reps",
+                                  .kind = CLI_KIND_INT,
+                                  .metavar = "N",
+                                  .lo = 1,
+                                  .hi = BENCH_MAX_REPS,
+                                  .help =
+                                      "timed runs; median and min/max are reported (default 5)"};
+static const cli_spec opt_time = {
+    .name = "time",
+    .kind = CLI_KIND_REAL,
+    .metavar = "S",
+    .lo = 0.001,
+    .hi = 60.0,
+    .accepts = "0.001..60 seconds",
+    .help = "target seconds per run when --frames is not given (default 0.5)"};
+static const cli_spec opt_peer = {
+    .name = "peer",
+    .kind = CLI_KIND_STRING,
+    .metavar = "D",
+    .names = peer_names,
+    .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
+            "corridor, in a child process, and report persp's ratio to it"};
+static const cli_spec opt_peer_threads = {.name = "peer-threads",
+                                          .kind = CLI_KIND_INT,
+                                          .metavar = "N",
+                                          .lo = 0,
+                                          .hi = 256,
+                                          .help =
+                                              "LP_NUM_THREADS for the peer (default: --threads)"};
+static const cli_spec opt_peer_image = {
+    .name = "peer-image",
+    .kind = CLI_KIND_STRING,
+    .metavar = "FILE",
+    .help = "write the peer's frame as PNG and print its difference to\n"
+            "persp's exact image with the same filter"};
 /* The peer's own process (run_peer): the driver it renders with, and whether
  * it sends its image back. Not for people. */
-static const cli_spec opt_peer_child = {.name = "peer-child", .kind = CLI_KIND_STRING, .metavar = "D"};
+static const cli_spec opt_peer_child = {
+    .name = "peer-child", .kind = CLI_KIND_STRING, .metavar = "D"};
 static const cli_spec opt_dump = {.name = "dump", .kind = CLI_KIND_FLAG};
 
 /* The methods to measure: one spec, or every registry entry for "all". */
@@ -635,7 +675,8 @@ int cmd_bench(int argc, char **argv)
     int dump = 0;
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
-        CLI_OPT_HELP(cli_opt_filter, &filter, "texture filter for every texture (default bilinear)"),
+        CLI_OPT_HELP(cli_opt_filter, &filter,
+                     "texture filter for every texture (default bilinear)"),
         CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
         CLI_OPT(opt_frames, &o.frames),
         CLI_OPT(opt_reps, &o.reps),
@@ -645,13 +686,15 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT(opt_peer_threads, &o.peer_threads),
         CLI_OPT(opt_peer_image, &o.peer_image),
         CLI_OPT_HELP(cli_opt_json, &format, "print the results as one JSON object"),
-        CLI_OPT_HELP(cli_opt_output, &output, "write the results to FILE (default, and -: standard output)"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the results to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
         CLI_OPT(opt_peer_child, &o.peer),
         CLI_OPT(opt_dump, &dump),
     };
-    cli_command cmd = {"bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0],
-                       &o.scene, 1, 0, "scene"};
+    cli_command cmd = {
+        "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o.scene, 1, 0,
+        "scene"};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         bench_usage(stdout, &cmd);
@@ -786,8 +829,10 @@ int cmd_bench(int argc, char **argv)
 
     bench_report report = {&o, results, count, exact, o.peer && peer.ok ? &peer : NULL,
                            have_diff ? &diff : NULL, rss, rss_start};
-    if (o.json) print_json(out.f, &report);
-    else print_text(out.f, &report);
+    if (o.json)
+        print_json(out.f, &report);
+    else
+        print_text(out.f, &report);
     printed = 1;
     if (failures && rc == CLI_OK) rc = CLI_FAIL;
     if (failures) {

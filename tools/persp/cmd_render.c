@@ -33,13 +33,15 @@ static int output_format(const char *output, persp_image_format format, persp_im
     int named = output && strcmp(output, "-");
     int known = named && persp_image_format_from_path(output, &by_name) == PERSP_OK;
     struct stat sb;
-    if (named && !known && stat(output, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode)) named = 0;
+    if (named && !known && stat(output, &sb) == 0 && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode))
+        named = 0;
     if (format == PERSP_IMAGE_FORMAT_DEFAULT) {
         if (named && !known)
-            return cli_error(CLI_USAGE,
-                             "render: cannot tell the image format of '%s' from its extension (expected "
-                             ".png, .jpg or .jpeg, or --format png|jpeg)",
-                             output);
+            return cli_error(
+                CLI_USAGE,
+                "render: cannot tell the image format of '%s' from its extension (expected "
+                ".png, .jpg or .jpeg, or --format png|jpeg)",
+                output);
         *out = known ? by_name : PERSP_IMAGE_FORMAT_PNG;
         return CLI_OK;
     }
@@ -83,13 +85,15 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT(cli_opt_cull, &desc.cull_backfaces),
         CLI_OPT(cli_opt_count_ops, &desc.count_ops),
-        CLI_OPT_HELP(cli_opt_quiet, &quiet, "print nothing on success (with -o -, the summary goes\n"
-                                            "to standard error unless -q)"),
+        CLI_OPT_HELP(cli_opt_quiet, &quiet,
+                     "print nothing on success (with -o -, the summary goes\n"
+                     "to standard error unless -q)"),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
     const char *scene_arg[1] = {NULL};
-    cli_command cmd = {"render", "persp render --help", NULL, opts, sizeof opts / sizeof opts[0],
-                       scene_arg, 1, 0, "scene"};
+    cli_command cmd = {
+        "render", "persp render --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0,
+        "scene"};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         render_usage(stdout, &cmd);
@@ -99,8 +103,8 @@ int cmd_render(int argc, char **argv)
 
     if (cli_given(&cmd, &cli_opt_min_lod) || cli_given(&cmd, &cli_opt_max_lod)) {
         if (min_lod > max_lod)
-            return cli_error(CLI_USAGE, "render: --min-lod %g is above --max-lod %g", (double)min_lod,
-                             (double)max_lod);
+            return cli_error(CLI_USAGE, "render: --min-lod %g is above --max-lod %g",
+                             (double)min_lod, (double)max_lod);
         desc.lod_clamp = PERSP_TOGGLE_ON;
         desc.min_lod = min_lod;
         desc.max_lod = max_lod;
@@ -109,8 +113,9 @@ int cmd_render(int argc, char **argv)
     if ((rc = output_format(output, format, &wd.format)) != CLI_OK) return rc;
     int to_stdout = output && !strcmp(output, "-");
     if (to_stdout && isatty(STDOUT_FILENO))
-        return cli_error(CLI_USAGE, "render: not writing a binary image to a terminal (redirect -o - "
-                                    "to a file or a pipe)");
+        return cli_error(CLI_USAGE,
+                         "render: not writing a binary image to a terminal (redirect -o - "
+                         "to a file or a pipe)");
     /* With the image on standard output, the summary must not mix with it. */
     FILE *summary = to_stdout ? stderr : stdout;
 
@@ -195,8 +200,10 @@ int cmd_render(int argc, char **argv)
             goto done;
         }
     }
-    if (to_stdout) st = persp_image_write_stream(ctx, stdout, "standard output", &img, &wd);
-    else st = persp_image_write(ctx, output, &img, &wd);
+    if (to_stdout)
+        st = persp_image_write_stream(ctx, stdout, "standard output", &img, &wd);
+    else
+        st = persp_image_write(ctx, output, &img, &wd);
     if (st != PERSP_OK) {
         rc = cli_status(ctx, st, "render");
         goto done;
@@ -217,27 +224,35 @@ int cmd_render(int argc, char **argv)
                 snprintf(scene_filter + strlen(scene_filter), sizeof scene_filter - strlen(scene_filter),
                          " (and others per object)");
         }
-        fprintf(summary, "rendered %s: %dx%d, method %s, filter %s, shading %s, depth %s, %d thread%s\n",
-               scene_name, width, height, method ? method : info.method, filter.name ? filter.name : scene_filter,
-               shading.name ? shading.name : persp_shading_name(info.shading),
-               desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", threads, threads == 1 ? "" : "s");
-        fprintf(summary, "  %llu triangles in, %llu after clipping, %llu fragments, %llu pixels written\n",
-               (unsigned long long)stats.triangles_in, (unsigned long long)stats.triangles_drawn,
-               (unsigned long long)stats.fragments, (unsigned long long)stats.pixels_written);
+        fprintf(summary,
+                "rendered %s: %dx%d, method %s, filter %s, shading %s, depth %s, %d thread%s\n",
+                scene_name, width, height, method ? method : info.method,
+                filter.name ? filter.name : scene_filter,
+                shading.name ? shading.name : persp_shading_name(info.shading),
+                desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", threads,
+                threads == 1 ? "" : "s");
+        fprintf(summary,
+                "  %llu triangles in, %llu after clipping, %llu fragments, %llu pixels written\n",
+                (unsigned long long)stats.triangles_in, (unsigned long long)stats.triangles_drawn,
+                (unsigned long long)stats.fragments, (unsigned long long)stats.pixels_written);
         if (desc.pipeline == PERSP_PIPELINE_OBJECT)
-            fprintf(summary, "  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes\n",
-                   (unsigned long long)stats.objspace_pieces, (unsigned long long)stats.objspace_samples,
-                   (unsigned long long)stats.objspace_splats, (unsigned long long)stats.objspace_holes);
+            fprintf(summary,
+                    "  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes\n",
+                    (unsigned long long)stats.objspace_pieces,
+                    (unsigned long long)stats.objspace_samples,
+                    (unsigned long long)stats.objspace_splats,
+                    (unsigned long long)stats.objspace_holes);
         if (desc.count_ops == PERSP_TOGGLE_ON) {
             /* Per fragment the method was run for (covered and not hidden at
              * the time it was drawn). */
             double fr = stats.fragments ? (double)stats.fragments : 1.0;
-            fprintf(summary, "  method operations per fragment: %.3f div, %.3f mul, %.3f add, %.3f cmp\n",
-                   (double)stats.ops.div / fr, (double)stats.ops.mul / fr, (double)stats.ops.add / fr,
-                   (double)stats.ops.cmp / fr);
+            fprintf(summary,
+                    "  method operations per fragment: %.3f div, %.3f mul, %.3f add, %.3f cmp\n",
+                    (double)stats.ops.div / fr, (double)stats.ops.mul / fr,
+                    (double)stats.ops.add / fr, (double)stats.ops.cmp / fr);
         }
         fprintf(summary, "  %.2f ms (%.1f Mpixels/s) -> %s\n", (t1 - t0) * 1e3,
-               (double)width * height / ((t1 - t0) * 1e6), to_stdout ? "standard output" : output);
+                (double)width * height / ((t1 - t0) * 1e6), to_stdout ? "standard output" : output);
     }
 done:
     persp_image_free(ctx, &depth_img);

@@ -14,12 +14,13 @@
 #define CLI_HELP (-1)
 
 typedef enum cli_kind {
-    CLI_KIND_HELP,   /* -h, --help */
-    CLI_KIND_FLAG,   /* no value: stores spec->set (0: 1) into an int or enum */
-    CLI_KIND_INT,    /* a decimal integer in [lo, hi] into an int, long or uint64_t */
-    CLI_KIND_REAL,   /* a number in [lo, hi] into a float or double */
-    CLI_KIND_ENUM,   /* one of names; stores the matching values[i] into an int or enum */
-    CLI_KIND_SIZE,   /* WxH, each side in [lo, hi] and W·H <= PERSP_IMAGE_MAX_PIXELS, into a cli_size */
+    CLI_KIND_HELP, /* -h, --help */
+    CLI_KIND_FLAG, /* no value: stores spec->set (0: 1) into an int or enum */
+    CLI_KIND_INT,  /* a decimal integer in [lo, hi] into an int, long or uint64_t */
+    CLI_KIND_REAL, /* a number in [lo, hi] into a float or double */
+    CLI_KIND_ENUM, /* one of names; stores the matching values[i] into an int or enum */
+    CLI_KIND_SIZE, /* WxH, each side in [lo, hi] and W·H <= PERSP_IMAGE_MAX_PIXELS, into a cli_size
+                    */
     CLI_KIND_STRING, /* the text itself into a const char *; one of names where names is set */
     CLI_KIND_CUSTOM  /* spec->parse */
 } cli_kind;
@@ -28,18 +29,18 @@ typedef struct cli_command cli_command;
 typedef struct cli_option cli_option;
 
 typedef struct cli_spec {
-    const char *name;         /* long name without the leading "--" */
-    char short_name;          /* 0: none */
+    const char *name; /* long name without the leading "--" */
+    char short_name;  /* 0: none */
     cli_kind kind;
-    const char *metavar;      /* the value as the help shows it ("N", "WxH"); NULL: takes none */
-    const char *help;         /* lines separated by '\n'; NULL: not listed in the help */
-    double lo, hi;            /* INT, REAL: the range; SIZE: each side's (0, 0: 1..PERSP_IMAGE_MAX_SIDE) */
+    const char *metavar; /* the value as the help shows it ("N", "WxH"); NULL: takes none */
+    const char *help;    /* lines separated by '\n'; NULL: not listed in the help */
+    double lo, hi; /* INT, REAL: the range; SIZE: each side's (0, 0: 1..PERSP_IMAGE_MAX_SIDE) */
     const char *const *names; /* ENUM, STRING: NULL-terminated */
     const int *values;        /* ENUM: the value of each name */
     int set;                  /* FLAG */
-    const char *accepts;      /* the accepted values in error messages; NULL: from the range or names */
-    int optional;             /* the value may be left out: the next argument is taken only if it
-                                 does not start with '-' (--opt=value always gives one) */
+    const char *accepts; /* the accepted values in error messages; NULL: from the range or names */
+    int optional;        /* the value may be left out: the next argument is taken only if it
+                            does not start with '-' (--opt=value always gives one) */
     /* CUSTOM: parses value (NULL where an optional value was left out) into
      * opt->dest; returns CLI_OK or an exit code, the error already printed. */
     int (*parse)(const cli_command *cmd, const cli_option *opt, char *value);
@@ -53,9 +54,18 @@ struct cli_option {
     int seen;         /* how often it was given (set by cli_parse) */
 };
 
-#define CLI_OPT(spec, dest) {&(spec), (dest), sizeof *(dest), NULL, 0}
-#define CLI_OPT_HELP(spec, dest, text) {&(spec), (dest), sizeof *(dest), (text), 0}
-#define CLI_OPT_NO_DEST(spec) {&(spec), NULL, 0, NULL, 0}
+#define CLI_OPT(spec, dest)                                                                        \
+    {                                                                                              \
+        &(spec), (dest), sizeof *(dest), NULL, 0                                                   \
+    }
+#define CLI_OPT_HELP(spec, dest, text)                                                             \
+    {                                                                                              \
+        &(spec), (dest), sizeof *(dest), (text), 0                                                 \
+    }
+#define CLI_OPT_NO_DEST(spec)                                                                      \
+    {                                                                                              \
+        &(spec), NULL, 0, NULL, 0                                                                  \
+    }
 
 struct cli_command {
     const char *name;         /* starts every message: "render", "accuracy --shading" */
@@ -106,23 +116,23 @@ typedef struct cli_list {
 int cli_parse_list(const cli_command *cmd, const cli_option *opt, char *value);
 
 /* The shared options. */
-extern const cli_spec cli_opt_help;      /* -h, --help */
-extern const cli_spec cli_opt_output;    /* -o, --output FILE (const char *; "-": standard output) */
-extern const cli_spec cli_opt_quiet;     /* -q, --quiet (int) */
-extern const cli_spec cli_opt_method;    /* --method M (const char *, checked) */
-extern const cli_spec cli_opt_filter;    /* --filter F (cli_filter) */
-extern const cli_spec cli_opt_wrap;      /* --wrap W (persp_wrap) */
-extern const cli_spec cli_opt_shading;   /* --shading S (cli_shading) */
-extern const cli_spec cli_opt_size;      /* --size WxH (cli_size) */
-extern const cli_spec cli_opt_depth;     /* --depth z|invw (persp_depth_mode) */
-extern const cli_spec cli_opt_lod;       /* --lod pixel|polygon (persp_lod_mode) */
-extern const cli_spec cli_opt_lod_bias;  /* --lod-bias B (float) */
-extern const cli_spec cli_opt_min_lod;   /* --min-lod L (float) */
-extern const cli_spec cli_opt_max_lod;   /* --max-lod L (float) */
-extern const cli_spec cli_opt_pipeline;  /* --pipeline screen|object (persp_pipeline) */
-extern const cli_spec cli_opt_texture;   /* --texture FILE (const char *) */
-extern const cli_spec cli_opt_threads;   /* --threads N (int) */
-extern const cli_spec cli_opt_cull;      /* --cull on|off (persp_toggle) */
+extern const cli_spec cli_opt_help;     /* -h, --help */
+extern const cli_spec cli_opt_output;   /* -o, --output FILE (const char *; "-": standard output) */
+extern const cli_spec cli_opt_quiet;    /* -q, --quiet (int) */
+extern const cli_spec cli_opt_method;   /* --method M (const char *, checked) */
+extern const cli_spec cli_opt_filter;   /* --filter F (cli_filter) */
+extern const cli_spec cli_opt_wrap;     /* --wrap W (persp_wrap) */
+extern const cli_spec cli_opt_shading;  /* --shading S (cli_shading) */
+extern const cli_spec cli_opt_size;     /* --size WxH (cli_size) */
+extern const cli_spec cli_opt_depth;    /* --depth z|invw (persp_depth_mode) */
+extern const cli_spec cli_opt_lod;      /* --lod pixel|polygon (persp_lod_mode) */
+extern const cli_spec cli_opt_lod_bias; /* --lod-bias B (float) */
+extern const cli_spec cli_opt_min_lod;  /* --min-lod L (float) */
+extern const cli_spec cli_opt_max_lod;  /* --max-lod L (float) */
+extern const cli_spec cli_opt_pipeline; /* --pipeline screen|object (persp_pipeline) */
+extern const cli_spec cli_opt_texture;  /* --texture FILE (const char *) */
+extern const cli_spec cli_opt_threads;  /* --threads N (int) */
+extern const cli_spec cli_opt_cull;     /* --cull on|off (persp_toggle) */
 extern const cli_spec cli_opt_count_ops; /* --count-ops (persp_toggle) */
 extern const cli_spec cli_opt_format;    /* --format png|jpeg (persp_image_format) */
 extern const cli_spec cli_opt_quality;   /* --quality N (int) */

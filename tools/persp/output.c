@@ -56,16 +56,19 @@ int cli_output_close(const char *command, cli_output *out, int ok)
         /* A failure already reported leaves standard output to main's check. */
         errno = 0;
         if (ok && (fflush(stdout) != 0 || ferror(stdout)))
-            rc = cli_error(CLI_FAIL, "%s: write error on standard output%s%s", command, errno ? ": " : "",
-                           errno ? strerror(errno) : "");
+            rc = cli_error(CLI_FAIL, "%s: write error on standard output%s%s", command,
+                           errno ? ": " : "", errno ? strerror(errno) : "");
     } else if (out->f) {
         int err = 0;
         errno = 0;
         if (fflush(out->f) != 0 || ferror(out->f)) err = errno ? errno : EIO;
         if (fclose(out->f) != 0 && !err) err = errno;
-        if (ok && err) rc = cli_error(CLI_FAIL, "%s: cannot write '%s': %s", command, out->path, strerror(err));
+        if (ok && err)
+            rc =
+                cli_error(CLI_FAIL, "%s: cannot write '%s': %s", command, out->path, strerror(err));
         if (ok && !err && out->tmp && rename(out->tmp, out->target ? out->target : out->path) != 0)
-            rc = cli_error(CLI_FAIL, "%s: cannot write '%s': %s", command, out->path, strerror(errno));
+            rc = cli_error(CLI_FAIL, "%s: cannot write '%s': %s", command, out->path,
+                           strerror(errno));
         if (out->tmp && (!ok || rc != CLI_OK)) unlink(out->tmp);
     }
     free(out->tmp);
