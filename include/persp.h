@@ -176,6 +176,48 @@ PERSP_API void persp_image_free(persp_context *ctx, persp_image *img);
  * so a failure leaves nothing half-written. */
 PERSP_API persp_status persp_image_write_png(persp_context *ctx, const char *path, const persp_image *img);
 
+/* Encoded image formats. */
+typedef enum persp_image_format {
+    PERSP_IMAGE_FORMAT_DEFAULT = 0, /* by the path's extension; PNG for a stream */
+    PERSP_IMAGE_FORMAT_PNG,
+    PERSP_IMAGE_FORMAT_JPEG /* baseline, no chroma subsampling; alpha is dropped */
+} persp_image_format;
+
+#define PERSP_JPEG_QUALITY_DEFAULT 92
+
+/* Zero-initialised: format by extension, JPEG quality 92. */
+typedef struct persp_image_write_desc {
+    persp_image_format format;
+    int quality; /* JPEG quality 1..100 (libjpeg's scale); 0: PERSP_JPEG_QUALITY_DEFAULT.
+                    Ignored for PNG. */
+} persp_image_write_desc;
+
+/* The format a file name's extension names: ".png"; ".jpg", ".jpeg" (any
+ * case). PERSP_ERR_UNSUPPORTED for any other extension or none. */
+PERSP_API persp_status persp_image_format_from_path(const char *path, persp_image_format *out);
+/* Writes a JPEG, top row first, atomically like persp_image_write_png.
+ * quality 1..100; 0: PERSP_JPEG_QUALITY_DEFAULT. */
+PERSP_API persp_status persp_image_write_jpeg(persp_context *ctx, const char *path,
+                                              const persp_image *img, int quality);
+/* Writes a PNG or JPEG as desc says (NULL: all defaults, the format by the
+ * path's extension; PERSP_ERR_UNSUPPORTED, and no file, for an unknown one,
+ * except that an existing device or pipe without one gets a PNG).
+ * A regular file (or a link to one) is replaced atomically: the image goes
+ * to a temporary file in the same folder, renamed on success and removed on
+ * failure. Any other existing file (a device such as /dev/null, a pipe) is
+ * opened and written in place. */
+PERSP_API persp_status persp_image_write(persp_context *ctx, const char *path,
+                                         const persp_image *img,
+                                         const persp_image_write_desc *desc);
+/* Writes a PNG or JPEG to a stdio stream (FILE *, passed as void * so that
+ * this header does not need <stdio.h>) and flushes it; desc NULL or format
+ * DEFAULT: PNG. name is used in the error detail (NULL: "<stream>").
+ * PERSP_ERR_IO if writing fails; what was written up to then stays in the
+ * stream. */
+PERSP_API persp_status persp_image_write_stream(persp_context *ctx, void *stream, const char *name,
+                                                const persp_image *img,
+                                                const persp_image_write_desc *desc);
+
 /* ---------------------------------------------------------------- textures */
 
 typedef enum persp_wrap {

@@ -1,6 +1,6 @@
 /*
  * RGBA8 images: allocation, PNG and JPEG decoding (format detected from the
- * content), PNG encoding through a temporary file.
+ * content); encoding is in image_write.c.
  *
  * Rows are stored bottom-to-top (row 0 = bottom of the displayed image,
  * docs/CONVENTIONS.md); both file formats store the top row first, so every
@@ -310,56 +310,6 @@ persp_status persp_image_load(persp_context *ctx, const char *path, persp_image 
 
 persp_status persp_image_write_png(persp_context *ctx, const char *path, const persp_image *img)
 {
-    if (!ctx || !path || !img) return PERSP_ERR_INVALID_ARGUMENT;
-    persp__clear_error(ctx);
-    if (!img->pixels || img->width <= 0 || img->height <= 0 ||
-        img->stride < (size_t)img->width * 4u || img->stride > 0x7fffffffu)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: invalid image to write",
-                                  path);
-    size_t len = strlen(path);
-    char *tmp = persp__alloc(ctx, len + 16);
-    if (!tmp) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    memcpy(tmp, path, len);
-    memcpy(tmp + len, ".tmp-XXXXXX", 12);
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        persp_status st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create file: %s", path,
-                                             strerror(errno));
-        persp__free(ctx, tmp);
-        return st;
-    }
-    /* mkstemp creates the file private (0600); an output image is not. */
-    (void)fchmod(fd, 0644);
-    FILE *f = fdopen(fd, "wb");
-    if (!f) {
-        persp_status st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path,
-                                             strerror(errno));
-        close(fd);
-        unlink(tmp);
-        persp__free(ctx, tmp);
-        return st;
-    }
-    png_image pi;
-    memset(&pi, 0, sizeof pi);
-    pi.version = PNG_IMAGE_VERSION;
-    pi.width = (png_uint_32)img->width;
-    pi.height = (png_uint_32)img->height;
-    pi.format = PNG_FORMAT_RGBA;
-    /* Negative stride: libpng writes the last stored row (the top) first. */
-    png_int_32 stride = -(png_int_32)img->stride;
-    int ok = png_image_write_to_stdio(&pi, f, 0, img->pixels, stride, NULL);
-    persp_status st = PERSP_OK;
-    if (!ok)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: PNG encoding failed: %s", path, pi.message);
-    png_image_free(&pi);
-    if (fflush(f) != 0 && st == PERSP_OK)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
-    if (fclose(f) != 0 && st == PERSP_OK)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", path, strerror(errno));
-    if (st == PERSP_OK && rename(tmp, path) != 0)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot rename temporary file: %s", path,
-                                strerror(errno));
-    if (st != PERSP_OK) unlink(tmp);
-    persp__free(ctx, tmp);
-    return st;
+    persp_image_write_desc desc = {PERSP_IMAGE_FORMAT_PNG, 0};
+    return persp_image_write(ctx, path, img, &desc);
 }

@@ -34,6 +34,20 @@ int cli_check_method(const char *command, const char *spec);
 /* Splits a comma list in place, appending its items to list[*n ...] (at
  * most cap in all); 0 on an empty item or when the list is full. */
 int cli_split_list(char *text, const char **list, size_t *n, size_t cap);
+/* Where a report goes: standard output, or a file that replaces its path
+ * only once everything was written. */
+typedef struct cli_output {
+    FILE *f;
+    const char *path;   /* NULL: standard output */
+    char *tmp, *target; /* the temporary file and the file it replaces */
+} cli_output;
+/* Opens path for a report (NULL or "-": standard output); CLI_OK, or
+ * CLI_FAIL after printing "persp: COMMAND: ...". */
+int cli_output_open(const char *command, const char *path, cli_output *out);
+/* With ok: flushes and closes, puts a file in place and reports any write
+ * error (CLI_FAIL). Without (the command failed): removes a file, reports
+ * nothing. */
+int cli_output_close(const char *command, cli_output *out, int ok);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 

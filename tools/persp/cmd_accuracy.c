@@ -1,5 +1,5 @@
 /* persp accuracy: every texture-coordinate method against the exact rational form. */
-#include "cli.h"
+#include "options.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -8,7 +8,7 @@
 
 #define MAX_LIST 256
 
-static void accuracy_usage(FILE *out)
+static void accuracy_usage(FILE *out, const cli_command *cmd)
 {
     fprintf(out,
             "usage: persp accuracy [options]\n"
@@ -19,21 +19,9 @@ static void accuracy_usage(FILE *out)
             "u and v, the share of pixels whose nearest texel differs, the maximum\n"
             "point-wise and span-relative errors, and operations per pixel as counted by\n"
             "each method.\n\n"
-            "options:\n"
-            "  --method M[,M...]   methods to measure, repeatable (default: every method of\n"
-            "                      `persp methods` that runs without parameters)\n"
-            "  --case C[,C...]     cases, repeatable (default: paper-quad,random-triangles)\n"
-            "  --size WxH          image size of scene cases (default 1024x768)\n"
-            "  --seed N            seed of random-triangles (default 1)\n"
-            "  --triangles N       random triangles per depth-ratio group (default 40)\n"
-            "  --rel-floor X       relative errors only where |s| (and a span's range)\n"
-            "                      >= X, s normalised to [0,1] per texture (default 0.01)\n"
-            "  --csv | --json      machine-readable output instead of the table\n"
-            "  --heatmap DIR       write one PNG per method and case with the per-pixel\n"
-            "                      error in texels on a logarithmic colour scale\n"
-            "  --filter [F,...]    texture filters instead of methods (see persp accuracy --filter --help)\n"
-            "  -h, --help          this help\n"
-            "\ncases:\n");
+            "options:\n");
+    cli_print_options(out, cmd);
+    fprintf(out, "\ncases:\n");
     for (size_t i = 0; i < persp_accuracy_case_count(); i++)
         fprintf(out, "  %-17s %s\n", persp_accuracy_case_name(i), persp_accuracy_case_summary(i));
 }
@@ -66,76 +54,108 @@ static int add_method_list(char *text, const char **list, size_t *n)
     }
 }
 
+static int parse_method_list(const cli_command *cmd, const cli_option *opt, char *value)
+{
+    cli_list *list = opt->dest;
+    char copy[256];
+    snprintf(copy, sizeof copy, "%s", value);
+    if (!add_method_list(value, list->items, &list->count))
+        return cli_error(CLI_USAGE,
+                         "%s: bad --method '%s' (expected a comma-separated list of methods, "
+                         "none empty, at most %d in all)",
+                         cmd->name, copy, MAX_LIST);
+    return CLI_OK;
+}
+
+static int parse_rel_floor(const cli_command *cmd, const cli_option *opt, char *value)
+{
+    char *end;
+    double f = strtod(value, &end);
+    if (*end || end == value || !(f > 0.0 && f <= 1.0)) return cli_bad_value(cmd, opt, value);
+    memcpy(opt->dest, &f, sizeof f);
+    return CLI_OK;
+}
+
+static const cli_spec opt_method_list = {
+    .name = "method",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "M[,M...]",
+    .parse = parse_method_list,
+    .accepts = "methods of `persp methods`, comma-separated",
+    .help = "methods to measure, repeatable (default: every method of\n"
+            "`persp methods` that runs without parameters)"};
+static const cli_spec opt_case = {.name = "case",
+                                  .kind = CLI_KIND_CUSTOM,
+                                  .metavar = "C[,C...]",
+                                  .parse = cli_parse_list,
+                                  .accepts = "cases, comma-separated",
+                                  .help =
+                                      "cases, repeatable (default: paper-quad,random-triangles)"};
+static const cli_spec opt_triangles = {.name = "triangles",
+                                       .kind = CLI_KIND_INT,
+                                       .metavar = "N",
+                                       .lo = 1,
+                                       .hi = 100000,
+                                       .help =
+                                           "random triangles per depth-ratio group (default 40)"};
+static const cli_spec opt_rel_floor = {
+    .name = "rel-floor",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "X",
+    .parse = parse_rel_floor,
+    .accepts = "0 < X <= 1",
+    .help = "relative errors only where |s| (and a span's range)\n"
+            ">= X, s normalised to [0,1] per texture (default 0.01)"};
+/* Listed for the help only: --filter switches to cmd_accuracy_filter first. */
+static const cli_spec opt_filter_mode = {
+    .name = "filter",
+    .kind = CLI_KIND_STRING,
+    .metavar = "[F,...]",
+    .optional = 1,
+    .help = "texture filters instead of methods (see persp accuracy "
+            "--filter --help)"};
+
 int cmd_accuracy(int argc, char **argv)
 {
     for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--filter")) return cmd_accuracy_filter(argc, argv);
-    const char *methods[MAX_LIST], *cases[MAX_LIST];
-    size_t nmethods = 0, ncases = 0;
+        if (!strcmp(argv[i], "--filter") || !strncmp(argv[i], "--filter=", 9))
+            return cmd_accuracy_filter(argc, argv);
+    if (argc > 1 && !strcmp(argv[1], "--shading")) return cmd_accuracy_shading(argc - 1, argv + 1);
+    const char *methods[MAX_LIST], *cases[MAX_LIST], *filter_mode = NULL, *output = NULL;
+    cli_list method_list = {methods, 0, MAX_LIST}, case_list = {cases, 0, MAX_LIST};
+    cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
     persp_accuracy_desc desc;
     memset(&desc, 0, sizeof desc);
-    if (argc > 1 && !strcmp(argv[1], "--shading")) return cmd_accuracy_shading(argc - 1, argv + 1);
-
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        char *val = i + 1 < argc ? argv[i + 1] : NULL;
-#define NEED_VALUE()                                                                               \
-    do {                                                                                           \
-        if (!val) return cli_error(CLI_USAGE, "accuracy: option %s needs a value", a);           \
-        i++;                                                                                       \
-    } while (0)
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            accuracy_usage(stdout);
-            return CLI_OK;
-        } else if (!strcmp(a, "--method")) {
-            NEED_VALUE();
-            if (!add_method_list(val, methods, &nmethods))
-                return cli_error(CLI_USAGE, "accuracy: bad --method '%s' (empty name or too many)", val);
-        } else if (!strcmp(a, "--case")) {
-            NEED_VALUE();
-            if (!cli_split_list(val, cases, &ncases, MAX_LIST))
-                return cli_error(CLI_USAGE, "accuracy: bad --case '%s' (empty name or too many)", val);
-        } else if (!strcmp(a, "--size")) {
-            NEED_VALUE();
-            if (!cli_parse_size(val, &desc.width, &desc.height))
-                return cli_error(CLI_USAGE,
-                                 "accuracy: bad --size '%s' (expected WxH, each 1..%d, at most %u pixels)",
-                                 val, PERSP_IMAGE_MAX_SIDE, PERSP_IMAGE_MAX_PIXELS);
-        } else if (!strcmp(a, "--seed")) {
-            NEED_VALUE();
-            long s;
-            if (!cli_parse_int(val, 1, 2147483647L, &s))
-                return cli_error(CLI_USAGE, "accuracy: bad --seed '%s' (expected 1..2147483647)", val);
-            desc.seed = (uint64_t)s;
-        } else if (!strcmp(a, "--triangles")) {
-            NEED_VALUE();
-            long n;
-            if (!cli_parse_int(val, 1, 100000, &n))
-                return cli_error(CLI_USAGE, "accuracy: bad --triangles '%s' (expected 1..100000)", val);
-            desc.triangles = (int)n;
-        } else if (!strcmp(a, "--rel-floor")) {
-            NEED_VALUE();
-            char *end;
-            double f = strtod(val, &end);
-            if (*end || end == val || !(f > 0.0 && f <= 1.0))
-                return cli_error(CLI_USAGE, "accuracy: bad --rel-floor '%s' (expected 0 < X <= 1)", val);
-            desc.rel_floor = f;
-        } else if (!strcmp(a, "--csv")) {
-            format = PERSP_REPORT_CSV;
-        } else if (!strcmp(a, "--json")) {
-            format = PERSP_REPORT_JSON;
-        } else if (!strcmp(a, "--heatmap")) {
-            NEED_VALUE();
-            desc.heatmap_dir = val;
-        } else if (a[0] == '-') {
-            return cli_error(CLI_USAGE, "accuracy: unknown option '%s' (see persp accuracy --help)", a);
-        } else {
-            return cli_error(CLI_USAGE, "accuracy: unexpected argument '%s' (see persp accuracy --help)",
-                             a);
-        }
-#undef NEED_VALUE
+    cli_option opts[] = {
+        CLI_OPT(opt_method_list, &method_list),
+        CLI_OPT(opt_case, &case_list),
+        CLI_OPT_HELP(cli_opt_size, &size, "image size of scene cases (default 1024x768)"),
+        CLI_OPT_HELP(cli_opt_seed, &desc.seed, "seed of random-triangles (default 1)"),
+        CLI_OPT(opt_triangles, &desc.triangles),
+        CLI_OPT(opt_rel_floor, &desc.rel_floor),
+        CLI_OPT_HELP(cli_opt_csv, &format, "CSV instead of the table"),
+        CLI_OPT_HELP(cli_opt_json, &format, "JSON instead of the table"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the report to FILE (default, and -: standard output)"),
+        CLI_OPT_HELP(cli_opt_heatmap, &desc.heatmap_dir,
+                     "write one PNG per method and case with the per-pixel\n"
+                     "error in texels on a logarithmic colour scale"),
+        CLI_OPT(opt_filter_mode, &filter_mode),
+        CLI_OPT_NO_DEST(cli_opt_help),
+    };
+    cli_command cmd = {
+        "accuracy", "persp accuracy --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0,
+        NULL};
+    int rc = cli_parse(&cmd, argc, argv);
+    if (rc == CLI_HELP) {
+        accuracy_usage(stdout, &cmd);
+        return CLI_OK;
     }
+    if (rc != CLI_OK) return rc;
+    desc.width = size.width;
+    desc.height = size.height;
+    size_t nmethods = method_list.count, ncases = case_list.count;
 
     /* Usage errors first, before any work. */
     for (size_t i = 0; i < nmethods; i++) {
@@ -158,14 +178,23 @@ int cmd_accuracy(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
+    cli_output out;
+    if ((rc = cli_output_open("accuracy", output, &out)) != CLI_OK) {
+        persp_context_destroy(ctx);
+        return rc;
+    }
     persp_accuracy_result *res = NULL;
     st = persp_accuracy_run(ctx, &desc, &res);
-    int rc = CLI_OK;
     if (st != PERSP_OK) {
         rc = cli_status(ctx, st, "accuracy");
-    } else if ((st = persp_accuracy_write(ctx, res, format, stdout)) != PERSP_OK) {
-        rc = cli_status(ctx, st, "accuracy: writing the report");
+    } else if ((st = persp_accuracy_write(ctx, res, format, out.f)) != PERSP_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "accuracy: writing the report to %s",
+                 out.path ? out.path : "standard output");
+        rc = cli_status(ctx, st, what);
     }
+    int out_rc = cli_output_close("accuracy", &out, rc == CLI_OK);
+    if (rc == CLI_OK) rc = out_rc;
     persp_accuracy_destroy(res);
     persp_context_destroy(ctx);
     return rc;

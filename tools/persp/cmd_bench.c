@@ -14,7 +14,7 @@
  * for. The child reports its timings and, when asked, its image through a
  * pipe; its memory stays out of persp's peak resident size.
  */
-#include "cli.h"
+#include "options.h"
 
 #ifdef PERSP_HAVE_OSMESA
 #include "../../bench/peer.h"
@@ -70,31 +70,16 @@ typedef struct bench_opts {
     double run_seconds;
 } bench_opts;
 
-static void bench_usage(FILE *out)
+static void bench_usage(FILE *out, const cli_command *cmd)
 {
-    fprintf(out,
-            "usage: persp bench [SCENE] [options]\n\n"
-            "Measures fill rate (Mpixels/s = width*height*frames/seconds) of persp_render.\n"
-            "SCENE is a built-in scene or a JSON scene file (default: corridor).\n\n"
-            "options:\n"
-            "  --method M|all      texture-coordinate method, or every registered one with its\n"
-            "                      ratio to exact (default exact)\n"
-            "  --filter F          texture filter for every texture (default bilinear)\n"
-            "  --threads N         persp worker threads (default 1)\n"
-            "  --frames N          frames per run (default: as many as fill --time seconds)\n"
-            "  --reps N            timed runs; median and min/max are reported (default 5)\n"
-            "  --time S            target seconds per run when --frames is not given (default 0.5)\n"
-            "  --size WxH          image size (default: the scene's, corridor 1024x768)\n"
-            "  --peer D            also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
-            "                      corridor, in a child process, and report persp's ratio to it\n"
-            "  --peer-threads N    LP_NUM_THREADS for the peer (default: --threads)\n"
-            "  --peer-image FILE   write the peer's frame as PNG and print its difference to\n"
-            "                      persp's exact image with the same filter\n"
-            "  --json              print the results as one JSON object\n"
+    fprintf(out, "usage: persp bench [SCENE] [options]\n\n"
+                 "Measures fill rate (Mpixels/s = width*height*frames/seconds) of persp_render.\n"
+                 "SCENE is a built-in scene or a JSON scene file (default: corridor).\n\n"
+                 "options:\n");
+    cli_print_options(out, cmd);
 #ifndef PERSP_HAVE_OSMESA
-            "\nthis persp was not built with OSMesa: --peer is unavailable\n"
+    fprintf(out, "\nthis persp was not built with OSMesa: --peer is unavailable\n");
 #endif
-    );
 }
 
 static int is_builtin(const char *name)
@@ -400,38 +385,43 @@ static image_diff compare_images(const uint8_t *a, const uint8_t *b, size_t pixe
 
 /* ------------------------------------------------------------------ output */
 
-static void json_string(const char *s)
+static void json_string(FILE *out, const char *s)
 {
-    putchar('"');
+    fputc('"', out);
     for (; s && *s; s++) {
         unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\') printf("\\%c", c);
-        else if (c < 0x20) printf("\\u%04x", c);
-        else putchar(c);
+        if (c == '"' || c == '\\')
+            fprintf(out, "\\%c", c);
+        else if (c < 0x20)
+            fprintf(out, "\\u%04x", c);
+        else
+            fputc(c, out);
     }
-    putchar('"');
+    fputc('"', out);
 }
 
-static void json_number(double x)
+static void json_number(FILE *out, double x)
 {
-    if (isfinite(x)) printf("%.6g", x);
-    else printf("null");
+    if (isfinite(x))
+        fprintf(out, "%.6g", x);
+    else
+        fprintf(out, "null");
 }
 
-static void json_stats(const run_stats *s)
+static void json_stats(FILE *out, const run_stats *s)
 {
-    printf("\"frames\": %d, \"reps\": %d, \"mpix_median\": ", s->frames, s->reps);
-    json_number(s->median);
-    printf(", \"mpix_min\": ");
-    json_number(s->min);
-    printf(", \"mpix_max\": ");
-    json_number(s->max);
-    printf(", \"mpix_runs\": [");
+    fprintf(out, "\"frames\": %d, \"reps\": %d, \"mpix_median\": ", s->frames, s->reps);
+    json_number(out, s->median);
+    fprintf(out, ", \"mpix_min\": ");
+    json_number(out, s->min);
+    fprintf(out, ", \"mpix_max\": ");
+    json_number(out, s->max);
+    fprintf(out, ", \"mpix_runs\": [");
     for (int i = 0; i < s->reps; i++) {
-        if (i) printf(", ");
-        json_number(s->mpix[i]);
+        if (i) fprintf(out, ", ");
+        json_number(out, s->mpix[i]);
     }
-    printf("]");
+    fprintf(out, "]");
 }
 
 typedef struct bench_report {
@@ -444,207 +434,199 @@ typedef struct bench_report {
     double rss_mib, rss_start_mib;
 } bench_report;
 
-static void print_json(const bench_report *r)
+static void print_json(FILE *out, const bench_report *r)
 {
     const bench_opts *o = r->o;
-    printf("{\"scene\": ");
-    json_string(o->scene);
-    printf(", \"width\": %d, \"height\": %d, \"filter\": ", o->width, o->height);
-    json_string(o->filter_name);
-    printf(", \"threads\": %d, \"peak_rss_mib\": ", o->threads);
-    json_number(r->rss_mib);
-    printf(", \"rss_at_start_mib\": ");
-    json_number(r->rss_start_mib);
-    printf(",\n \"results\": [");
+    fprintf(out, "{\"scene\": ");
+    json_string(out, o->scene);
+    fprintf(out, ", \"width\": %d, \"height\": %d, \"filter\": ", o->width, o->height);
+    json_string(out, o->filter_name);
+    fprintf(out, ", \"threads\": %d, \"peak_rss_mib\": ", o->threads);
+    json_number(out, r->rss_mib);
+    fprintf(out, ", \"rss_at_start_mib\": ");
+    json_number(out, r->rss_start_mib);
+    fprintf(out, ",\n \"results\": [");
     for (size_t i = 0; i < r->count; i++) {
         const method_result *m = &r->results[i];
-        printf("%s\n  {\"method\": ", i ? "," : "");
-        json_string(m->spec);
+        fprintf(out, "%s\n  {\"method\": ", i ? "," : "");
+        json_string(out, m->spec);
         if (!m->ok) {
-            printf(", \"error\": ");
-            json_string(m->error);
-            printf("}");
+            fprintf(out, ", \"error\": ");
+            json_string(out, m->error);
+            fprintf(out, "}");
             continue;
         }
-        printf(", ");
-        json_stats(&m->stats);
+        fprintf(out, ", ");
+        json_stats(out, &m->stats);
         if (r->exact) {
-            printf(", \"vs_exact\": ");
-            json_number(m->stats.median / r->exact->stats.median);
+            fprintf(out, ", \"vs_exact\": ");
+            json_number(out, m->stats.median / r->exact->stats.median);
         }
         if (r->peer && r->peer->ok) {
-            printf(", \"vs_peer\": ");
-            json_number(m->stats.median / r->peer->stats.median);
+            fprintf(out, ", \"vs_peer\": ");
+            json_number(out, m->stats.median / r->peer->stats.median);
         }
-        printf("}");
+        fprintf(out, "}");
     }
-    printf("\n ]");
+    fprintf(out, "\n ]");
     if (r->peer && r->peer->ok) {
         const peer_result *p = r->peer;
-        printf(",\n \"peer\": {\"driver\": ");
-        json_string(o->peer);
-        printf(", \"renderer\": ");
-        json_string(p->renderer);
-        printf(", \"version\": ");
-        json_string(p->version);
-        printf(", \"lp_num_threads\": %d, \"aniso\": ", o->peer_threads);
-        json_number(p->aniso);
-        printf(", \"peak_rss_mib\": ");
-        json_number(p->maxrss_mib);
-        printf(", ");
-        json_stats(&p->stats);
-        printf("}");
+        fprintf(out, ",\n \"peer\": {\"driver\": ");
+        json_string(out, o->peer);
+        fprintf(out, ", \"renderer\": ");
+        json_string(out, p->renderer);
+        fprintf(out, ", \"version\": ");
+        json_string(out, p->version);
+        fprintf(out, ", \"lp_num_threads\": %d, \"aniso\": ", o->peer_threads);
+        json_number(out, p->aniso);
+        fprintf(out, ", \"peak_rss_mib\": ");
+        json_number(out, p->maxrss_mib);
+        fprintf(out, ", ");
+        json_stats(out, &p->stats);
+        fprintf(out, "}");
     }
     if (r->diff) {
         const image_diff *d = r->diff;
-        printf(",\n \"peer_image\": {\"file\": ");
-        json_string(o->peer_image);
-        printf(", \"compared_with\": \"exact\", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
-               d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
-        json_number(d->pct_gt1);
-        printf(", \"pct_gt2\": ");
-        json_number(d->pct_gt2);
-        printf(", \"pct_gt8\": ");
-        json_number(d->pct_gt8);
-        printf(", \"psnr_db\": ");
-        json_number(d->psnr);
-        printf("}");
+        fprintf(out, ",\n \"peer_image\": {\"file\": ");
+        json_string(out, o->peer_image);
+        fprintf(out, ", \"compared_with\": \"exact\", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
+                d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
+        json_number(out, d->pct_gt1);
+        fprintf(out, ", \"pct_gt2\": ");
+        json_number(out, d->pct_gt2);
+        fprintf(out, ", \"pct_gt8\": ");
+        json_number(out, d->pct_gt8);
+        fprintf(out, ", \"psnr_db\": ");
+        json_number(out, d->psnr);
+        fprintf(out, "}");
     }
-    printf("\n}\n");
+    fprintf(out, "\n}\n");
 }
 
-static void print_text(const bench_report *r)
+static void print_text(FILE *out, const bench_report *r)
 {
     const bench_opts *o = r->o;
     const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
-    printf("bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
-           o->filter_name, o->threads, o->reps);
-    printf("%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
-           "vs_exact");
-    if (peer_col) printf(" %9s", "vs_peer");
-    printf("   (Mpixels/s)\n");
+    fprintf(out, "bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
+            o->filter_name, o->threads, o->reps);
+    fprintf(out, "%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
+            "vs_exact");
+    if (peer_col) fprintf(out, " %9s", "vs_peer");
+    fprintf(out, "   (Mpixels/s)\n");
     for (size_t i = 0; i < r->count; i++) {
         const method_result *m = &r->results[i];
         if (!m->ok) {
-            printf("%-20s error: %s\n", m->spec, m->error);
+            fprintf(out, "%-20s error: %s\n", m->spec, m->error);
             continue;
         }
-        printf("%-20s %8d %10.2f %10.2f %10.2f", m->spec, m->stats.frames, m->stats.median,
-               m->stats.min, m->stats.max);
-        if (r->exact) printf(" %9.3f", m->stats.median / r->exact->stats.median);
-        else printf(" %9s", "-");
-        if (peer_col) printf(" %9.3f", m->stats.median / r->peer->stats.median);
-        printf("\n");
+        fprintf(out, "%-20s %8d %10.2f %10.2f %10.2f", m->spec, m->stats.frames, m->stats.median,
+                m->stats.min, m->stats.max);
+        if (r->exact)
+            fprintf(out, " %9.3f", m->stats.median / r->exact->stats.median);
+        else
+            fprintf(out, " %9s", "-");
+        if (peer_col) fprintf(out, " %9.3f", m->stats.median / r->peer->stats.median);
+        fprintf(out, "\n");
     }
     if (peer_col) {
         const peer_result *p = r->peer;
         char label[40];
         snprintf(label, sizeof label, "peer:%s", o->peer);
-        printf("%-20s %8d %10.2f %10.2f %10.2f %9s %9.3f\n", label, p->stats.frames,
-               p->stats.median, p->stats.min, p->stats.max, "-", 1.0);
-        printf("peer renderer: %s, OpenGL %s, LP_NUM_THREADS=%d", p->renderer, p->version,
-               o->peer_threads);
-        if (p->aniso > 0.0) printf(", anisotropy %g", p->aniso);
-        printf("\n");
+        fprintf(out, "%-20s %8d %10.2f %10.2f %10.2f %9s %9.3f\n", label, p->stats.frames,
+                p->stats.median, p->stats.min, p->stats.max, "-", 1.0);
+        fprintf(out, "peer renderer: %s, OpenGL %s, LP_NUM_THREADS=%d", p->renderer, p->version,
+                o->peer_threads);
+        if (p->aniso > 0.0) fprintf(out, ", anisotropy %g", p->aniso);
+        fprintf(out, "\n");
     }
-    printf("peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
-           r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
-    if (peer_col) printf(", peer process %.1f MiB", r->peer->maxrss_mib);
-    printf("\n");
+    fprintf(out, "peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
+            r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
+    if (peer_col) fprintf(out, ", peer process %.1f MiB", r->peer->maxrss_mib);
+    fprintf(out, "\n");
     if (r->diff) {
         const image_diff *d = r->diff;
-        printf("peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
-               "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
-               o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
-               d->pct_gt1, d->pct_gt2, d->pct_gt8);
-        if (isfinite(d->psnr)) printf("%.2f dB\n", d->psnr);
-        else printf("inf (identical)\n");
+        fprintf(out,
+                "peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
+                "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
+                o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
+                d->pct_gt1, d->pct_gt2, d->pct_gt8);
+        if (isfinite(d->psnr))
+            fprintf(out, "%.2f dB\n", d->psnr);
+        else
+            fprintf(out, "inf (identical)\n");
     }
 }
 
 /* ------------------------------------------------------------------ driver */
 
-static int parse_args(int argc, char **argv, bench_opts *o, int *child_mode, int *dump)
+/* --method: one method, checked, or "all". */
+static int parse_bench_method(const cli_command *cmd, const cli_option *opt, char *value)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *val = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-#define NEED_VALUE()                                                                               \
-    do {                                                                                           \
-        if (!val) return cli_error(CLI_USAGE, "bench: option %s needs a value", a);              \
-        i++;                                                                                       \
-    } while (0)
-        if (!strcmp(a, "-h") || !strcmp(a, "--help")) {
-            bench_usage(stdout);
-            return -1;
-        } else if (!strcmp(a, "--method")) {
-            NEED_VALUE();
-            o->method = val;
-        } else if (!strcmp(a, "--filter")) {
-            NEED_VALUE();
-            o->filter_name = val;
-        } else if (!strcmp(a, "--threads")) {
-            NEED_VALUE();
-            if (!cli_parse_int(val, 1, 256, &n))
-                return cli_error(CLI_USAGE, "bench: bad --threads '%s' (expected 1..256)", val);
-            o->threads = (int)n;
-        } else if (!strcmp(a, "--peer-threads")) {
-            NEED_VALUE();
-            if (!cli_parse_int(val, 0, 256, &n))
-                return cli_error(CLI_USAGE, "bench: bad --peer-threads '%s' (expected 0..256)", val);
-            o->peer_threads = (int)n;
-        } else if (!strcmp(a, "--frames")) {
-            NEED_VALUE();
-            if (!cli_parse_int(val, 1, BENCH_MAX_FRAMES, &n))
-                return cli_error(CLI_USAGE, "bench: bad --frames '%s' (expected 1..%ld)", val,
-                                 BENCH_MAX_FRAMES);
-            o->frames = n;
-        } else if (!strcmp(a, "--reps")) {
-            NEED_VALUE();
-            if (!cli_parse_int(val, 1, BENCH_MAX_REPS, &n))
-                return cli_error(CLI_USAGE, "bench: bad --reps '%s' (expected 1..%d)", val,
-                                 BENCH_MAX_REPS);
-            o->reps = (int)n;
-        } else if (!strcmp(a, "--time")) {
-            NEED_VALUE();
-            char *end;
-            double s = strtod(val, &end);
-            if (*end || !(s >= 0.001 && s <= 60.0))
-                return cli_error(CLI_USAGE, "bench: bad --time '%s' (expected 0.001..60 seconds)", val);
-            o->run_seconds = s;
-        } else if (!strcmp(a, "--size")) {
-            NEED_VALUE();
-            if (!cli_parse_size(val, &o->width, &o->height))
-                return cli_error(CLI_USAGE, "bench: bad --size '%s' (expected WxH, each 1..%d)", val,
-                                 PERSP_IMAGE_MAX_SIDE);
-        } else if (!strcmp(a, "--peer")) {
-            NEED_VALUE();
-            if (strcmp(val, "llvmpipe") && strcmp(val, "softpipe"))
-                return cli_error(CLI_USAGE, "bench: bad --peer '%s' (expected llvmpipe or softpipe)", val);
-            o->peer = val;
-        } else if (!strcmp(a, "--peer-image")) {
-            NEED_VALUE();
-            o->peer_image = val;
-        } else if (!strcmp(a, "--json")) {
-            o->json = 1;
-        } else if (!strcmp(a, "--peer-child")) {
-            NEED_VALUE();
-            o->peer = val;
-            *child_mode = 1;
-        } else if (!strcmp(a, "--dump")) {
-            *dump = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_error(CLI_USAGE, "bench: unknown option '%s' (see persp bench --help)", a);
-        } else if (!o->scene) {
-            o->scene = a;
-        } else {
-            return cli_error(CLI_USAGE, "bench: more than one scene given ('%s', '%s')", o->scene, a);
-        }
-#undef NEED_VALUE
+    if (strcmp(value, "all") != 0) {
+        int bad = cli_check_method(cmd->name, value);
+        if (bad) return bad;
     }
+    const char *v = value;
+    memcpy(opt->dest, &v, sizeof v);
     return CLI_OK;
 }
+
+static const char *const peer_names[] = {"llvmpipe", "softpipe", NULL};
+static const cli_spec opt_bench_method = {
+    .name = "method",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "M|all",
+    .parse = parse_bench_method,
+    .accepts = "a method of `persp methods`, or all",
+    .help = "texture-coordinate method, or every registered one with its\n"
+            "ratio to exact (default exact)"};
+static const cli_spec opt_frames = {.name = "frames",
+                                    .kind = CLI_KIND_INT,
+                                    .metavar = "N",
+                                    .lo = 1,
+                                    .hi = (double)BENCH_MAX_FRAMES,
+                                    .help =
+                                        "frames per run (default: as many as fill --time seconds)"};
+static const cli_spec opt_reps = {.name = "reps",
+                                  .kind = CLI_KIND_INT,
+                                  .metavar = "N",
+                                  .lo = 1,
+                                  .hi = BENCH_MAX_REPS,
+                                  .help =
+                                      "timed runs; median and min/max are reported (default 5)"};
+static const cli_spec opt_time = {
+    .name = "time",
+    .kind = CLI_KIND_REAL,
+    .metavar = "S",
+    .lo = 0.001,
+    .hi = 60.0,
+    .accepts = "0.001..60 seconds",
+    .help = "target seconds per run when --frames is not given (default 0.5)"};
+static const cli_spec opt_peer = {
+    .name = "peer",
+    .kind = CLI_KIND_STRING,
+    .metavar = "D",
+    .names = peer_names,
+    .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
+            "corridor, in a child process, and report persp's ratio to it"};
+static const cli_spec opt_peer_threads = {.name = "peer-threads",
+                                          .kind = CLI_KIND_INT,
+                                          .metavar = "N",
+                                          .lo = 0,
+                                          .hi = 256,
+                                          .help =
+                                              "LP_NUM_THREADS for the peer (default: --threads)"};
+static const cli_spec opt_peer_image = {
+    .name = "peer-image",
+    .kind = CLI_KIND_STRING,
+    .metavar = "FILE",
+    .help = "write the peer's frame as PNG and print its difference to\n"
+            "persp's exact image with the same filter"};
+/* The peer's own process (run_peer): the driver it renders with, and whether
+ * it sends its image back. Not for people. */
+static const cli_spec opt_peer_child = {
+    .name = "peer-child", .kind = CLI_KIND_STRING, .metavar = "D"};
+static const cli_spec opt_dump = {.name = "dump", .kind = CLI_KIND_FLAG};
 
 /* The methods to measure: one spec, or every registry entry for "all". */
 static int collect_methods(const char *method, method_result *out, size_t *count)
@@ -682,19 +664,52 @@ int cmd_bench(int argc, char **argv)
     bench_opts o;
     memset(&o, 0, sizeof o);
     o.method = "exact";
-    o.filter_name = "bilinear";
     o.threads = 1;
     o.peer_threads = -1;
     o.reps = 5;
     o.run_seconds = 0.5;
-    int child_mode = 0, dump = 0;
-    int rc = parse_args(argc, argv, &o, &child_mode, &dump);
-    if (rc < 0) return CLI_OK;
+    cli_filter filter = {"bilinear", PERSP_FILTER_BILINEAR, 16};
+    cli_size size = {0, 0};
+    persp_report_format format = PERSP_REPORT_TABLE;
+    const char *output = NULL;
+    int dump = 0;
+    cli_option opts[] = {
+        CLI_OPT(opt_bench_method, &o.method),
+        CLI_OPT_HELP(cli_opt_filter, &filter,
+                     "texture filter for every texture (default bilinear)"),
+        CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
+        CLI_OPT(opt_frames, &o.frames),
+        CLI_OPT(opt_reps, &o.reps),
+        CLI_OPT(opt_time, &o.run_seconds),
+        CLI_OPT_HELP(cli_opt_size, &size, "image size (default: the scene's, corridor 1024x768)"),
+        CLI_OPT(opt_peer, &o.peer),
+        CLI_OPT(opt_peer_threads, &o.peer_threads),
+        CLI_OPT(opt_peer_image, &o.peer_image),
+        CLI_OPT_HELP(cli_opt_json, &format, "print the results as one JSON object"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the results to FILE (default, and -: standard output)"),
+        CLI_OPT_NO_DEST(cli_opt_help),
+        CLI_OPT(opt_peer_child, &o.peer),
+        CLI_OPT(opt_dump, &dump),
+    };
+    cli_command cmd = {
+        "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o.scene, 1, 0,
+        "scene"};
+    int rc = cli_parse(&cmd, argc, argv);
+    if (rc == CLI_HELP) {
+        bench_usage(stdout, &cmd);
+        return CLI_OK;
+    }
     if (rc != CLI_OK) return rc;
+    int child_mode = cli_given(&cmd, &opt_peer_child) > 0;
+    o.filter_name = filter.name;
+    o.filter = filter.filter;
+    o.max_aniso = filter.max_aniso;
+    o.width = size.width;
+    o.height = size.height;
+    o.json = format == PERSP_REPORT_JSON;
     if (!o.scene) o.scene = "corridor";
     if (o.peer_threads < 0) o.peer_threads = o.threads;
-    if (persp_filter_parse(o.filter_name, &o.filter, &o.max_aniso) != PERSP_OK)
-        return cli_error(CLI_USAGE, "bench: unknown filter '%s' (see persp render --help)", o.filter_name);
     if (o.peer_image && !o.peer)
         return cli_error(CLI_USAGE, "bench: --peer-image needs --peer llvmpipe|softpipe");
     if (o.peer && strcmp(o.scene, "corridor") != 0)
@@ -716,10 +731,13 @@ int cmd_bench(int argc, char **argv)
     method_result *results = calloc(BENCH_MAX_METHODS, sizeof *results);
     if (!results) return cli_error(CLI_FAIL, "bench: out of memory");
     size_t count = 0;
-    if ((rc = collect_methods(o.method, results, &count)) != CLI_OK) {
+    cli_output out = {NULL, NULL, NULL, NULL};
+    if ((rc = collect_methods(o.method, results, &count)) != CLI_OK ||
+        (rc = cli_output_open("bench", output, &out)) != CLI_OK) {
         free(results);
         return rc;
     }
+    int printed = 0;
 
     persp_bench b;
     memset(&b, 0, sizeof b);
@@ -731,6 +749,7 @@ int cmd_bench(int argc, char **argv)
     persp_context_desc cd = {NULL, o.threads};
     persp_status st = persp_context_create(&cd, &b.ctx);
     if (st != PERSP_OK) {
+        cli_output_close("bench", &out, 0);
         free(results);
         return cli_status(NULL, st, "bench");
     }
@@ -810,15 +829,20 @@ int cmd_bench(int argc, char **argv)
 
     bench_report report = {&o, results, count, exact, o.peer && peer.ok ? &peer : NULL,
                            have_diff ? &diff : NULL, rss, rss_start};
-    if (o.json) print_json(&report);
-    else print_text(&report);
+    if (o.json)
+        print_json(out.f, &report);
+    else
+        print_text(out.f, &report);
+    printed = 1;
     if (failures && rc == CLI_OK) rc = CLI_FAIL;
     if (failures) {
         for (size_t i = 0; i < count; i++)
             if (!results[i].ok)
                 cli_error(CLI_FAIL, "bench: method %s failed: %s", results[i].spec, results[i].error);
     }
-done:
+done:;
+    int out_rc = cli_output_close("bench", &out, printed);
+    if (rc == CLI_OK) rc = out_rc;
     free(exact_image);
     free(peer.pixels);
     free(b.fb.color);

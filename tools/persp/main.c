@@ -11,7 +11,7 @@ static const struct {
     int (*run)(int, char **);
     const char *summary;
 } commands[] = {
-    {"render", cmd_render, "render a built-in scene or a scene file to a PNG"},
+    {"render", cmd_render, "render a built-in scene or a scene file to a PNG or JPEG"},
     {"methods", cmd_methods, "list the texture-coordinate methods"},
     {"accuracy", cmd_accuracy, "measure methods against the exact reference"},
     {"bench", cmd_bench, "measure fill rate, optionally against Mesa llvmpipe"},
@@ -100,6 +100,22 @@ double cli_now(void)
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+/* Output that never reached its file is a failure, as with coreutils'
+ * close_stdout: stdio reports a full disk or a closed pipe only when the
+ * buffer is flushed, often after the command has returned. A command that
+ * already failed has said why; only a success is turned into one. */
+static int finish_stdout(const char *command, int rc)
+{
+    errno = 0;
+    int failed = fflush(stdout) != 0 || ferror(stdout);
+    int err = errno;
+    if (fclose(stdout) != 0 && !failed) failed = 1, err = errno;
+    if (failed && rc == CLI_OK)
+        rc = cli_error(CLI_FAIL, "%s%swrite error on standard output%s%s", command ? command : "",
+                       command ? ": " : "", err ? ": " : "", err ? strerror(err) : "");
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -108,14 +124,15 @@ int main(int argc, char **argv)
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
         usage(stdout);
-        return CLI_OK;
+        return finish_stdout(NULL, CLI_OK);
     }
     if (!strcmp(argv[1], "--version") || !strcmp(argv[1], "version")) {
         printf("persp %s\n", persp_version());
-        return CLI_OK;
+        return finish_stdout(NULL, CLI_OK);
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-        if (!strcmp(argv[1], commands[i].name)) return commands[i].run(argc - 1, argv + 1);
+        if (!strcmp(argv[1], commands[i].name))
+            return finish_stdout(commands[i].name, commands[i].run(argc - 1, argv + 1));
     cli_error(CLI_USAGE, "unknown command '%s'", argv[1]);
     usage(stderr);
     return CLI_USAGE;
