@@ -64,7 +64,7 @@ void persp_context_destroy(persp_context *ctx)
 {
     if (!ctx) return;
     persp__pool_destroy(ctx);
-    persp__render_cache_free(ctx);
+    if (ctx->render_free) ctx->render_free(ctx);
     persp_allocator al = ctx->allocator;
     al.free(al.user, ctx);
 }

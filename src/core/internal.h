@@ -10,18 +10,18 @@
 #define PERSP_ERRMSG_BYTES 512
 
 struct persp_pool;
-struct persp_render_cache;
 
 struct persp_context {
     persp_allocator allocator;
     int threads;
     char error[PERSP_ERRMSG_BYTES];
     struct persp_pool *pool; /* created lazily for threads > 1 */
-    struct persp_render_cache *render; /* per-frame buffers kept between frames */
+    /* Per-frame buffers kept between frames, and how to release them: set by
+     * the layer that creates them, so that the context, below every other
+     * module, never needs to know their type. */
+    void *render;
+    void (*render_free)(persp_context *ctx);
 };
-
-/* Releases ctx->render (src/raster/render.c). */
-void persp__render_cache_free(persp_context *ctx);
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
 static inline int persp__size_mul(size_t a, size_t b, size_t *out)

@@ -38,7 +38,7 @@ struct persp_render_cache {
     int worker_cap;
 };
 
-void persp__render_cache_free(persp_context *ctx)
+static void render_cache_free(persp_context *ctx)
 {
     struct persp_render_cache *c = ctx ? ctx->render : NULL;
     if (!c) return;
@@ -52,6 +52,7 @@ void persp__render_cache_free(persp_context *ctx)
     persp__free(ctx, c->worker_stats);
     persp__free(ctx, c);
     ctx->render = NULL;
+    ctx->render_free = NULL;
 }
 
 /* Ensures *buf holds at least need elements; grows geometrically, keeping
@@ -85,8 +86,9 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
                                   "framebuffer: size must be 1..%d on each side with colour and depth buffers",
                                   PERSP_IMAGE_MAX_SIDE);
     if (!ctx->render) {
-        ctx->render = persp__calloc(ctx, 1, sizeof *ctx->render);
+        ctx->render = persp__calloc(ctx, 1, sizeof(struct persp_render_cache));
         if (!ctx->render) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        ctx->render_free = render_cache_free;
     }
     f->ctx = ctx;
     f->fb = fb;
