@@ -44,6 +44,10 @@ void persp__free(persp_context *ctx, void *ptr);
 /* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
 void *persp__calloc(persp_context *ctx, size_t n, size_t size);
 
+/* Fails ctx (PERSP_ERR_FORMAT for an empty size, PERSP_ERR_TOO_LARGE above
+ * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS) with name in the detail. */
+persp_status persp__image_check_size(persp_context *ctx, const char *name, long long w, long long h);
+
 /* Clears the context's error detail (called at the start of a public call). */
 void persp__clear_error(persp_context *ctx);
 
