@@ -7,40 +7,6 @@
 #include "raster/render.h"
 #include "texture/texture.h"
 
-/* Lights transformed to eye space once per frame. */
-typedef struct persp_eye_light {
-    persp_light_type type;
-    float pos[3];   /* eye-space position, or unit direction towards the light */
-    float color[3];
-    float atten[3];
-} persp_eye_light;
-
-typedef struct persp_lighting {
-    int count;
-    persp_eye_light light[PERSP_SCENE_MAX_LIGHTS];
-    float ambient[3];
-} persp_lighting;
-
-/* Everything a draw needs, resolved once (ARCHITECTURE.md: choices resolved
- * once per draw, never a switch per pixel). */
-typedef struct persp_draw_state {
-    persp_method_sel method;          /* texture coordinates */
-    persp_method_sel shade_method;    /* perspective parameter for shading */
-    const struct persp_texture *tex;  /* NULL: untextured */
-    persp_sampler_state sampler;
-    persp_shading shading;
-    persp_material material;
-    persp_lighting lighting;
-    int depth_test, depth_write;
-    /* The span shader returns the texel unchanged (texture, no lighting:
-     * seed 002's "replace"), so the renderer may sample straight into the
-     * destination. */
-    int shade_is_texel;
-    /* Span shader chosen from shading and texture environment. */
-    void (*shade)(const struct persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                  const float *q, const uint32_t *texel, uint32_t *out);
-} persp_draw_state;
-
 struct persp_render_cache;
 
 typedef struct persp_frame {
