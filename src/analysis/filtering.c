@@ -23,7 +23,7 @@
 #include "analysis/analysis.h"
 #include "core/internal.h"
 #include "geom/scene.h"
-#include "raster/render.h"
+#include "render/render.h"
 #include "texture/texture.h"
 
 #include <math.h>

@@ -41,7 +41,7 @@
  */
 #include "core/internal.h"
 #include "core/pool.h"
-#include "raster/frame.h"
+#include "objspace/objspace.h"
 #include "shade/shade.h"
 #include "texture/sample.h"
 

@@ -79,4 +79,20 @@ typedef struct persp_draw_state {
                   const float *q, const uint32_t *texel, uint32_t *out);
 } persp_draw_state;
 
+/* Per-pixel capture of a scene render for analysis (persp accuracy on a
+ * built-in scene): for every pixel the index of the triangle visible there
+ * (-1: background) and the s1 = u, s2 = v the method produced; rats[i] is
+ * the rational form (Heckbert's coefficients, texture coordinates in
+ * normalised units) of triangle i. All arrays are allocated with the
+ * context's allocator; release with persp__capture_free
+ * (src/render/render.h). */
+typedef struct persp_capture {
+    int width, height;
+    int32_t *tri;  /* width*height, row 0 = bottom */
+    float *s1, *s2;
+    persp_rational *rats;
+    size_t rat_count;
+    persp_opcount ops; /* the method's operations, with desc->count_ops */
+} persp_capture;
+
 #endif

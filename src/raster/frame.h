@@ -4,7 +4,6 @@
 
 #include "geom/scene.h"
 #include "raster/raster.h"
-#include "raster/render.h"
 #include "texture/texture.h"
 
 struct persp_render_cache;
@@ -41,14 +40,5 @@ persp_status persp__frame_flush(persp_frame *f);
 /* The set-up triangles of the frame so far (valid until the next frame). */
 const persp_tri *persp__frame_tris(const persp_frame *f);
 const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index);
-
-/* Object-space texturing with screen-space filtering (seed 004), run after
- * the screen pipeline has filled fb and cap (visible triangle per pixel):
- * re-colours every pixel from splatted texels (src/objspace/objspace.c). */
-typedef struct persp_objspace_stats {
-    uint64_t splats, texels_walked, holes, triangles_split, pieces;
-} persp_objspace_stats;
-persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
-                                     persp_objspace_stats *stats);
 
 #endif

@@ -11,7 +11,6 @@
 #include "core/pool.h"
 #include "geom/scene.h"
 #include "raster/raster.h"
-#include "raster/render.h"
 #include "raster/frame.h"
 #include "shade/shade.h"
 #include "texture/texture.h"
