@@ -11,7 +11,7 @@
  */
 #include "analysis/analysis.h"
 #include "core/internal.h"
-#include "raster/render.h"
+#include "render/render.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -23,7 +23,7 @@
 #include "analysis/analysis.h"
 #include "core/internal.h"
 #include "geom/scene.h"
-#include "raster/render.h"
+#include "render/render.h"
 #include "texture/texture.h"
 
 #include <math.h>
@@ -286,15 +286,9 @@ static double now_seconds(void)
 
 static persp_status add_row(persp_filter_accuracy_result *res, const persp_filter_accuracy_row *row)
 {
-    if (res->count == res->cap) {
-        size_t nc = res->cap ? 2 * res->cap : 16;
-        persp_filter_accuracy_row *nr = persp__calloc(res->ctx, nc, sizeof *nr);
-        if (!nr) return persp__fail(res->ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
-        if (res->count) memcpy(nr, res->rows, res->count * sizeof *nr);
-        persp__free(res->ctx, res->rows);
-        res->rows = nr;
-        res->cap = nc;
-    }
+    if (persp__grow(res->ctx, (void **)&res->rows, &res->cap, res->count + 1, sizeof *res->rows) !=
+        PERSP_OK)
+        return persp__fail(res->ctx, PERSP_ERR_OUT_OF_MEMORY, "filter accuracy: out of memory");
     res->rows[res->count++] = *row;
     return PERSP_OK;
 }

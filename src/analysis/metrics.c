@@ -34,19 +34,7 @@ void persp__errstats_reset(persp_errstats *s)
 persp_status persp__errstats_reserve(persp_errstats *s, size_t extra)
 {
     if (extra > (size_t)-1 / 2 - s->n) return PERSP_ERR_TOO_LARGE;
-    size_t need = s->n + extra;
-    if (need <= s->cap) return PERSP_OK;
-    size_t cap = s->cap ? s->cap : 1024;
-    while (cap < need) cap = cap > (size_t)-1 / 4 ? need : cap * 2;
-    size_t bytes;
-    if (!persp__size_mul(cap, sizeof *s->v, &bytes)) return PERSP_ERR_TOO_LARGE;
-    double *v = persp__alloc(s->ctx, bytes);
-    if (!v) return PERSP_ERR_OUT_OF_MEMORY;
-    if (s->n) memcpy(v, s->v, s->n * sizeof *v);
-    persp__free(s->ctx, s->v);
-    s->v = v;
-    s->cap = cap;
-    return PERSP_OK;
+    return persp__grow(s->ctx, (void **)&s->v, &s->cap, s->n + extra, sizeof *s->v);
 }
 
 double persp__errstats_mean(const persp_errstats *s)

@@ -64,7 +64,7 @@ void persp_context_destroy(persp_context *ctx)
 {
     if (!ctx) return;
     persp__pool_destroy(ctx);
-    persp__render_cache_free(ctx);
+    if (ctx->render_free) ctx->render_free(ctx);
     persp_allocator al = ctx->allocator;
     al.free(al.user, ctx);
 }
@@ -105,4 +105,30 @@ void *persp__calloc(persp_context *ctx, size_t n, size_t size)
     void *p = persp__alloc(ctx, bytes);
     if (p) memset(p, 0, bytes);
     return p;
+}
+
+/* Capacity of an array's first allocation: small arrays then grow a few
+ * times at most, and an empty one costs no allocation at all. */
+#define GROW_FIRST 16
+
+persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap) return PERSP_OK;
+    size_t bytes;
+    if (elem == 0 || !persp__size_mul(need, elem, &bytes)) return PERSP_ERR_TOO_LARGE;
+    size_t ncap = *cap ? *cap : GROW_FIRST;
+    while (ncap < need) ncap = ncap > (size_t)-1 / 2 ? need : ncap * 2;
+    if (!persp__size_mul(ncap, elem, &bytes)) {
+        ncap = need; /* doubling overflows where need itself does not */
+        bytes = need * elem;
+    }
+    unsigned char *n = persp__alloc(ctx, bytes);
+    if (!n) return PERSP_ERR_OUT_OF_MEMORY;
+    size_t kept = *cap * elem;
+    if (kept) memcpy(n, *ptr, kept);
+    memset(n + kept, 0, bytes - kept);
+    persp__free(ctx, *ptr);
+    *ptr = n;
+    *cap = ncap;
+    return PERSP_OK;
 }

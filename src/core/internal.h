@@ -10,18 +10,18 @@
 #define PERSP_ERRMSG_BYTES 512
 
 struct persp_pool;
-struct persp_render_cache;
 
 struct persp_context {
     persp_allocator allocator;
     int threads;
     char error[PERSP_ERRMSG_BYTES];
     struct persp_pool *pool; /* created lazily for threads > 1 */
-    struct persp_render_cache *render; /* per-frame buffers kept between frames */
+    /* Per-frame buffers kept between frames, and how to release them: set by
+     * the layer that creates them, so that the context, below every other
+     * module, never needs to know their type. */
+    void *render;
+    void (*render_free)(persp_context *ctx);
 };
-
-/* Releases ctx->render (src/raster/render.c). */
-void persp__render_cache_free(persp_context *ctx);
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
 static inline int persp__size_mul(size_t a, size_t b, size_t *out)
@@ -43,6 +43,20 @@ void persp__free(persp_context *ctx, void *ptr);
 
 /* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
 void *persp__calloc(persp_context *ctx, size_t n, size_t size);
+
+/* Makes *ptr, an array of *cap elements of elem bytes from the context's
+ * allocator (NULL and 0 at first), hold at least need elements. The capacity
+ * at least doubles, so appending one element at a time costs amortised
+ * constant time and a steady workload stops allocating; the contents are
+ * kept and the added elements are zero. On failure *ptr and *cap are left as
+ * they were: PERSP_ERR_TOO_LARGE when need elements do not fit in a size_t,
+ * PERSP_ERR_OUT_OF_MEMORY when the allocator fails. Sets no error detail:
+ * the caller knows what was being grown. */
+persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t need, size_t elem);
+
+/* Fails ctx (PERSP_ERR_FORMAT for an empty size, PERSP_ERR_TOO_LARGE above
+ * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS) with name in the detail. */
+persp_status persp__image_check_size(persp_context *ctx, const char *name, long long w, long long h);
 
 /* Clears the context's error detail (called at the start of a public call). */
 void persp__clear_error(persp_context *ctx);

@@ -47,24 +47,11 @@ void persp__mesh_free(persp_context *ctx, persp_mesh *mesh)
     memset(mesh, 0, sizeof *mesh);
 }
 
-/* Grows *arr (count elements of size bytes) by one slot; capacity doubles
- * when count is a power of two, so no separate capacity field is kept. */
-static int grow(persp_context *ctx, void **arr, size_t count, size_t size)
-{
-    if (count & (count - 1)) return 1; /* not a power of two: room left */
-    size_t cap = count ? count * 2 : 1, bytes;
-    if (!persp__size_mul(cap, size, &bytes)) return 0;
-    void *n = persp__alloc(ctx, bytes);
-    if (!n) return 0;
-    if (count) memcpy(n, *arr, count * size);
-    persp__free(ctx, *arr);
-    *arr = n;
-    return 1;
-}
-
 persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
 {
-    if (s->mesh_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->meshes, s->mesh_count, sizeof *s->meshes)) {
+    if (s->mesh_count >= PERSP_SCENE_MAX_OBJECTS ||
+        persp__grow(s->ctx, (void **)&s->meshes, &s->mesh_cap, s->mesh_count + 1,
+                    sizeof *s->meshes) != PERSP_OK) {
         persp__mesh_free(s->ctx, mesh);
         return persp__fail(s->ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: too many meshes");
     }
@@ -77,7 +64,9 @@ persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
 
 persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *index)
 {
-    if (s->texture_count >= PERSP_SCENE_MAX_TEXTURES || !grow(s->ctx, (void **)&s->textures, s->texture_count, sizeof *s->textures)) {
+    if (s->texture_count >= PERSP_SCENE_MAX_TEXTURES ||
+        persp__grow(s->ctx, (void **)&s->textures, &s->texture_cap, s->texture_count + 1,
+                    sizeof *s->textures) != PERSP_OK) {
         persp_texture_destroy(tex);
         return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many textures");
     }
@@ -89,7 +78,9 @@ persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *i
 
 persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index)
 {
-    if (s->material_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->materials, s->material_count, sizeof *s->materials))
+    if (s->material_count >= PERSP_SCENE_MAX_OBJECTS ||
+        persp__grow(s->ctx, (void **)&s->materials, &s->material_cap, s->material_count + 1,
+                    sizeof *s->materials) != PERSP_OK)
         return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many materials");
     s->materials[s->material_count] = *m;
     if (index) *index = (int)s->material_count;
@@ -102,7 +93,9 @@ persp_status persp__scene_add_object(persp_scene *s, const persp_object *o)
     if (o->mesh < 0 || (size_t)o->mesh >= s->mesh_count || o->material < 0 ||
         (size_t)o->material >= s->material_count)
         return persp__fail(s->ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: object refers to a missing mesh or material");
-    if (s->object_count >= PERSP_SCENE_MAX_OBJECTS || !grow(s->ctx, (void **)&s->objects, s->object_count, sizeof *s->objects))
+    if (s->object_count >= PERSP_SCENE_MAX_OBJECTS ||
+        persp__grow(s->ctx, (void **)&s->objects, &s->object_cap, s->object_count + 1,
+                    sizeof *s->objects) != PERSP_OK)
         return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many objects");
     s->objects[s->object_count++] = *o;
     return PERSP_OK;

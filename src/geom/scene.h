@@ -84,13 +84,13 @@ struct persp_scene {
     persp_filter filter;      /* the scene file's default texture filter, or DEFAULT */
     int max_aniso;
     persp_mesh *meshes;
-    size_t mesh_count;
+    size_t mesh_count, mesh_cap;
     persp_material *materials;
-    size_t material_count;
+    size_t material_count, material_cap;
     persp_texture **textures;
-    size_t texture_count;
+    size_t texture_count, texture_cap;
     persp_object *objects;
-    size_t object_count;
+    size_t object_count, object_cap;
     persp_light lights[PERSP_SCENE_MAX_LIGHTS];
     size_t light_count;
 };

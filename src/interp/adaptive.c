@@ -45,6 +45,10 @@
 #define AD_TOL (1.0 / 4194304.0) /* 2^-22 */
 #define AD_BLOCK 64
 #define AD_FB_BYTES 30 /* parameter bytes kept for the fallback; 2 more hold its index */
+_Static_assert(AD_FB_BYTES + sizeof(uint16_t) <= PERSP_METHOD_PARAM_BYTES,
+               "the fallback's parameters and index do not fit in persp_method_params");
+/* Affine triangles keep 1/D at the box centre; others the fallback's state. */
+PERSP_METHOD_BLOB_FITS(double, persp_method_prep);
 
 enum { AD_AFFINE, AD_ROW, AD_COLUMN, AD_FALLBACK, AD_INVALID };
 

@@ -12,6 +12,7 @@
 typedef struct affine_prep {
     double ux, uy, uc, vx, vy, vc;
 } affine_prep;
+PERSP_METHOD_BLOB_FITS(affine_prep, persp_method_prep);
 
 void persp__plane_through(const double vx[3], const double vy[3], const double val[3],
                           double *px, double *py, double *pc)

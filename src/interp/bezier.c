@@ -92,6 +92,7 @@
 typedef struct bez_params {
     int quadt;
 } bez_params;
+PERSP_METHOD_BLOB_FITS(bez_params, persp_method_params);
 
 static persp_status bez_parse(const char *text, persp_method_params *params)
 {

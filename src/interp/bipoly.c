@@ -48,6 +48,7 @@ typedef struct bip_prep {
     int degree; /* 2 or 3 */
     int ok;     /* 0: the solve failed; spans fall back to the exact form */
 } bip_prep;
+PERSP_METHOD_BLOB_FITS(bip_prep, persp_method_prep);
 
 /* Monomials in the chapter's coefficient order. */
 static void monomials(int degree, double X, double Y, double *m)

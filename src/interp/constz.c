@@ -54,6 +54,7 @@ typedef struct cz_params {
     double eps;
     int set;
 } cz_params;
+PERSP_METHOD_BLOB_FITS(cz_params, persp_method_params);
 
 typedef struct cz_geom {
     int xmajor;   /* lines advance along x (|h| >= |g|) */

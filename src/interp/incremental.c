@@ -48,6 +48,7 @@ typedef struct inc_params {
     int lanes; /* 1..16 */
     int bidir;
 } inc_params;
+PERSP_METHOD_BLOB_FITS(inc_params, persp_method_params);
 
 static persp_status inc_parse(const char *text, persp_method_params *params)
 {

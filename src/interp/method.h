@@ -43,6 +43,16 @@ typedef struct persp_method_params {
     _Alignas(8) unsigned char bytes[PERSP_METHOD_PARAM_BYTES];
 } persp_method_params;
 
+/* A method keeps its parameters and per-triangle state in these blobs as a
+ * struct of its own, copied in and out or read through a cast pointer. Next
+ * to each such struct, PERSP_METHOD_BLOB_FITS(type, persp_method_params or
+ * persp_method_prep) makes a struct that outgrows its blob, or needs more
+ * alignment than the blob has, a compile error instead of an overrun. */
+#define PERSP_METHOD_BLOB_FITS(type, blob)                                                   \
+    _Static_assert(sizeof(type) <= sizeof(((blob *)0)->bytes) &&                             \
+                       _Alignof(type) <= _Alignof(blob),                                     \
+                   #type " does not fit in " #blob)
+
 /* A batch of fragments handed downstream by a traversal. In span form
  * px == NULL and the pixels are (x0 + k, y); otherwise pixel k is
  * (px[k], py[k]). s1/s2 are filled by the method or the traversal. */

@@ -87,6 +87,7 @@ typedef struct mp_params {
     int fixed; /* `int`: the fixed-point model */
     int edge;  /* `edge`: the chapter's lattice u = n·Δu instead of texel centres */
 } mp_params;
+PERSP_METHOD_BLOB_FITS(mp_params, persp_method_params);
 
 typedef struct mp_fixed {
     int64_t G, H, I;
@@ -94,6 +95,7 @@ typedef struct mp_fixed {
     int64_t X2max, Y2max; /* pixel-centre coordinates the format covers: X2 < X2max */
     int ok;
 } mp_fixed;
+PERSP_METHOD_BLOB_FITS(mp_fixed, persp_method_prep);
 
 static persp_status mp_parse(const char *text, persp_method_params *params)
 {

@@ -35,6 +35,7 @@
 typedef struct subdiv_params {
     int step;
 } subdiv_params;
+PERSP_METHOD_BLOB_FITS(subdiv_params, persp_method_params);
 
 static persp_status subdiv_parse(const char *text, persp_method_params *params)
 {

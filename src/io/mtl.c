@@ -33,15 +33,9 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
     if (st != PERSP_OK) return st;
     st = persp__scene_add_texture(scene, tex, index);
     if (st != PERSP_OK || !cache) return st;
-    if (cache->count == cache->cap) {
-        size_t cap = cache->cap ? cache->cap * 2 : 8;
-        persp_texcache_entry *n = persp__calloc(ctx, cap, sizeof *n);
-        if (!n) return PERSP_OK; /* the cache is an optimisation only */
-        if (cache->count) memcpy(n, cache->entries, cache->count * sizeof *n);
-        persp__free(ctx, cache->entries);
-        cache->entries = n;
-        cache->cap = cap;
-    }
+    if (persp__grow(ctx, (void **)&cache->entries, &cache->cap, cache->count + 1,
+                    sizeof *cache->entries) != PERSP_OK)
+        return PERSP_OK; /* the cache is an optimisation only */
     size_t len = strlen(path);
     char *copy = persp__alloc(ctx, len + 1);
     if (!copy) return PERSP_OK;
@@ -232,17 +226,11 @@ static persp_status statement(mtl_parser *p, const char *kw, size_t kwlen, size_
         if (persp__token(&p->cur, &extra, &ecol))
             return fail(p, PERSP_ERR_FORMAT, ecol, "expected the end of the line after the material name");
         store_current(p);
-        if (p->lib->count == p->lib->cap) {
-            if (p->lib->cap >= PERSP_SCENE_MAX_OBJECTS)
-                return fail(p, PERSP_ERR_TOO_LARGE, kwcol, "more than %d materials", PERSP_SCENE_MAX_OBJECTS);
-            size_t cap = p->lib->cap ? p->lib->cap * 2 : 8;
-            persp_mtl_entry *e = persp__calloc(p->ctx, cap, sizeof *e);
-            if (!e) return fail(p, PERSP_ERR_OUT_OF_MEMORY, kwcol, "out of memory");
-            if (p->lib->count) memcpy(e, p->lib->entries, p->lib->count * sizeof *e);
-            persp__free(p->ctx, p->lib->entries);
-            p->lib->entries = e;
-            p->lib->cap = cap;
-        }
+        if (p->lib->count >= PERSP_SCENE_MAX_OBJECTS)
+            return fail(p, PERSP_ERR_TOO_LARGE, kwcol, "more than %d materials", PERSP_SCENE_MAX_OBJECTS);
+        if (persp__grow(p->ctx, (void **)&p->lib->entries, &p->lib->cap, p->lib->count + 1,
+                        sizeof *p->lib->entries) != PERSP_OK)
+            return fail(p, PERSP_ERR_OUT_OF_MEMORY, kwcol, "out of memory");
         p->mat = persp__material_default();
         int index;
         st = persp__scene_add_material(p->scene, &p->mat, &index);

@@ -63,22 +63,11 @@ static persp_status fail(obj_parser *p, persp_status st, size_t col, const char 
     return r;
 }
 
-/* Grows *arr to hold need elements (doubling), refusing past limit before
- * anything is allocated. */
+/* Grows *arr to hold need elements, refusing past limit before anything is
+ * allocated. */
 static int reserve(persp_context *ctx, void **arr, size_t *cap, size_t need, size_t elem, size_t limit)
 {
-    if (need <= *cap) return 1;
-    if (need > limit) return 0;
-    size_t n = *cap ? *cap : 64;
-    while (n < need) n *= 2;
-    if (n > limit) n = limit;
-    void *a = persp__calloc(ctx, n, elem);
-    if (!a) return 0;
-    if (*cap) memcpy(a, *arr, *cap * elem);
-    persp__free(ctx, *arr);
-    *arr = a;
-    *cap = n;
-    return 1;
+    return need <= limit && persp__grow(ctx, arr, cap, need, elem) == PERSP_OK;
 }
 
 static persp_status numbers(obj_parser *p, const char *kw, float *out, int max, int *count)

@@ -41,7 +41,7 @@
  */
 #include "core/internal.h"
 #include "core/pool.h"
-#include "raster/frame.h"
+#include "objspace/objspace.h"
 #include "shade/shade.h"
 #include "texture/sample.h"
 
@@ -436,18 +436,10 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
         for (double k = k0; k < k1 || k == k0; k += 1.0) {
             double wlo = k == k0 ? 0.0 : exp2(k / SLAB_STEPS);
             double whi = k + 1.0 >= k1 ? INFINITY : exp2((k + 1.0) / SLAB_STEPS);
-            if (n == cap_n) {
-                size_t nc = cap_n ? 2 * cap_n : 64;
-                os_piece *np = persp__calloc(ctx, nc, sizeof *np);
-                if (!np) {
-                    persp__free(ctx, pcs);
-                    return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
-                                              "object-space pipeline: out of memory");
-                }
-                if (n) memcpy(np, pcs, n * sizeof *np);
+            if (persp__grow(ctx, (void **)&pcs, &cap_n, n + 1, sizeof *pcs) != PERSP_OK) {
                 persp__free(ctx, pcs);
-                pcs = np;
-                cap_n = nc;
+                return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+                                          "object-space pipeline: out of memory");
             }
             if (make_piece(&ts, ds->tex, &ds->sampler, (int)ti, wlo,
                            isfinite(whi) ? whi : 1e300, &pcs[n])) {

@@ -4,42 +4,7 @@
 
 #include "geom/scene.h"
 #include "raster/raster.h"
-#include "raster/render.h"
 #include "texture/texture.h"
-
-/* Lights transformed to eye space once per frame. */
-typedef struct persp_eye_light {
-    persp_light_type type;
-    float pos[3];   /* eye-space position, or unit direction towards the light */
-    float color[3];
-    float atten[3];
-} persp_eye_light;
-
-typedef struct persp_lighting {
-    int count;
-    persp_eye_light light[PERSP_SCENE_MAX_LIGHTS];
-    float ambient[3];
-} persp_lighting;
-
-/* Everything a draw needs, resolved once (docs/DESIGN.md, "Choices resolved
- * once per draw"): never a switch per pixel. */
-typedef struct persp_draw_state {
-    persp_method_sel method;          /* texture coordinates */
-    persp_method_sel shade_method;    /* perspective parameter for shading */
-    const struct persp_texture *tex;  /* NULL: untextured */
-    persp_sampler_state sampler;
-    persp_shading shading;
-    persp_material material;
-    persp_lighting lighting;
-    int depth_test, depth_write;
-    /* The span shader returns the texel unchanged (texture, no lighting:
-     * [CS300-TexMap]'s "replace"), so the renderer may sample straight into the
-     * destination. */
-    int shade_is_texel;
-    /* Span shader chosen from shading and texture environment. */
-    void (*shade)(const struct persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                  const float *q, const uint32_t *texel, uint32_t *out);
-} persp_draw_state;
 
 struct persp_render_cache;
 
@@ -75,14 +40,5 @@ persp_status persp__frame_flush(persp_frame *f);
 /* The set-up triangles of the frame so far (valid until the next frame). */
 const persp_tri *persp__frame_tris(const persp_frame *f);
 const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index);
-
-/* Object-space texturing with screen-space filtering ([Romaniuk-ObjSpace]), run after
- * the screen pipeline has filled fb and cap (visible triangle per pixel):
- * re-colours every pixel from splatted texels (src/objspace/objspace.c). */
-typedef struct persp_objspace_stats {
-    uint64_t splats, texels_walked, holes, triangles_split, pieces;
-} persp_objspace_stats;
-persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
-                                     persp_objspace_stats *stats);
 
 #endif

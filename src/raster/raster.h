@@ -2,7 +2,7 @@
 #ifndef PERSP_RASTER_RASTER_H
 #define PERSP_RASTER_RASTER_H
 
-#include "interp/method.h"
+#include "pipeline/types.h"
 
 #include <stdint.h>
 
@@ -14,21 +14,6 @@
  * (|coord| < 2^15 · 2^8 = 2^23, products < 2^47). Only the near plane, the
  * far plane and w > 0 are clipped exactly (docs/CONVENTIONS.md, "Rasterization"). */
 #define PERSP_GUARD_PIXELS 16384.0
-
-/* Per-vertex attributes carried through clipping (linear in clip space). */
-enum {
-    PERSP_A_U, PERSP_A_V,
-    PERSP_A_R, PERSP_A_G, PERSP_A_B, PERSP_A_A,
-    PERSP_A_NX, PERSP_A_NY, PERSP_A_NZ, /* eye-space normal */
-    PERSP_A_EX, PERSP_A_EY, PERSP_A_EZ, /* eye-space position */
-    PERSP_A_BR, PERSP_A_BG, PERSP_A_BB, /* Gouraud: the back face's vertex colour */
-    PERSP_A_COUNT
-};
-
-typedef struct persp_clipvert {
-    float clip[4];
-    float attr[PERSP_A_COUNT];
-} persp_clipvert;
 
 /* A triangle clipped against near, far, w > 0 and the guard band yields a
  * convex polygon of at most 3 + 6 vertices. */
@@ -46,22 +31,6 @@ typedef struct persp_winvert {
     double q;       /* 1/w_clip */
     const float *attr;
 } persp_winvert;
-
-/* Set-up triangle: fixed-point edges, bounding box and the screen-space
- * planes every method reads (Heckbert's a..i in `rat`). */
-typedef struct persp_tri {
-    int64_t ea[3], eb[3], ec[3]; /* edge k: ea·X + eb·Y + ec >= 0 inside (X, Y in 1/256 px), top-left bias folded into ec */
-    int xmin, xmax, ymin, ymax;  /* inclusive pixel bounding box inside the viewport */
-    persp_rational rat;          /* s1 = u, s2 = v */
-    persp_rational bary;         /* s1 = b1, s2 = b2 (perspective-correct barycentrics) */
-    double zp[3];                /* window depth plane: z = zp0·x + zp1·y + zp2 */
-    double lb1[3], lb2[3];       /* screen-linear barycentric planes (classical Gouraud/Phong) */
-    uint32_t state;              /* index of the draw state */
-    uint32_t prep;               /* index into the method prep array, or UINT32_MAX */
-    float poly_lambda;           /* per-polygon level of detail */
-    int backfacing;
-    float vattr[3][PERSP_A_COUNT]; /* vertex attributes in setup vertex order */
-} persp_tri;
 
 /* Sets up one triangle. Returns 0 if it is degenerate (zero area), fully
  * outside the viewport, or culled; 1 otherwise. */

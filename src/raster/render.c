@@ -11,7 +11,6 @@
 #include "core/pool.h"
 #include "geom/scene.h"
 #include "raster/raster.h"
-#include "raster/render.h"
 #include "raster/frame.h"
 #include "shade/shade.h"
 #include "texture/texture.h"
@@ -31,14 +30,14 @@ struct persp_render_cache {
     persp_clipvert *verts;
     size_t vert_cap;
     uint32_t *bin_count, *bin_start, *bin_items;
-    size_t bin_cap, item_cap;
+    size_t bin_cap, start_cap, item_cap;
     persp_draw_state *states;
     size_t state_cap;
     persp_render_stats *worker_stats;
-    int worker_cap;
+    size_t worker_cap;
 };
 
-void persp__render_cache_free(persp_context *ctx)
+static void render_cache_free(persp_context *ctx)
 {
     struct persp_render_cache *c = ctx ? ctx->render : NULL;
     if (!c) return;
@@ -52,27 +51,7 @@ void persp__render_cache_free(persp_context *ctx)
     persp__free(ctx, c->worker_stats);
     persp__free(ctx, c);
     ctx->render = NULL;
-}
-
-/* Ensures *buf holds at least need elements; grows geometrically, keeping
- * contents, so steady-state frames allocate nothing. */
-static int reserve(persp_context *ctx, void **buf, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap) return 1;
-    size_t ncap = *cap ? *cap : 64;
-    while (ncap < need) {
-        if (ncap > ((size_t)-1) / 2) return 0;
-        ncap *= 2;
-    }
-    size_t bytes;
-    if (!persp__size_mul(ncap, elem, &bytes)) return 0;
-    void *n = persp__alloc(ctx, bytes);
-    if (!n) return 0;
-    if (*cap && *buf) memcpy(n, *buf, *cap * elem);
-    persp__free(ctx, *buf);
-    *buf = n;
-    *cap = ncap;
-    return 1;
+    ctx->render_free = NULL;
 }
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
@@ -85,8 +64,9 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
                                   "framebuffer: size must be 1..%d on each side with colour and depth buffers",
                                   PERSP_IMAGE_MAX_SIDE);
     if (!ctx->render) {
-        ctx->render = persp__calloc(ctx, 1, sizeof *ctx->render);
+        ctx->render = persp__calloc(ctx, 1, sizeof(struct persp_render_cache));
         if (!ctx->render) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        ctx->render_free = render_cache_free;
     }
     f->ctx = ctx;
     f->fb = fb;
@@ -107,7 +87,8 @@ void persp__frame_clear(persp_frame *f, const uint8_t rgba[4])
 persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index)
 {
     struct persp_render_cache *c = f->cache;
-    if (!reserve(f->ctx, (void **)&c->states, &c->state_cap, f->state_count + 1, sizeof *c->states))
+    if (persp__grow(f->ctx, (void **)&c->states, &c->state_cap, f->state_count + 1,
+                    sizeof *c->states) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     c->states[f->state_count] = *s;
     *index = (uint32_t)f->state_count++;
@@ -131,7 +112,8 @@ static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int
         wv[i].attr = poly[i].attr;
     }
     for (int i = 1; i + 1 < n; i++) {
-        if (!reserve(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris))
+        if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1,
+                        sizeof *c->tris) != PERSP_OK)
             return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
         persp_tri *t = &c->tris[f->tri_count];
@@ -150,7 +132,8 @@ static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int
             t->poly_lambda = persp__polygon_lambda(ds->tex, uv_area, px_area);
         }
         if (ds->method.m->prepare) {
-            if (!reserve(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps))
+            if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1,
+                            sizeof *c->preps) != PERSP_OK)
                 return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
             t->prep = (uint32_t)f->prep_count++;
             ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
@@ -167,7 +150,8 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
 {
     struct persp_render_cache *c = f->cache;
     if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
-    if (!reserve(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts))
+    if (persp__grow(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count,
+                    sizeof *c->verts) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     persp_mat4 mv = persp_mat4_mul(*view, *model);
     persp_mat4 mvp = persp_mat4_mul(*proj, mv);
@@ -476,11 +460,10 @@ persp_status persp__frame_flush(persp_frame *f)
     const int tiles_x = (f->fb->width + PERSP_TILE - 1) / PERSP_TILE;
     const int tiles_y = (f->fb->height + PERSP_TILE - 1) / PERSP_TILE;
     const size_t tiles = (size_t)tiles_x * (size_t)tiles_y;
-    size_t start_cap = c->bin_cap;
-    if (!reserve(ctx, (void **)&c->bin_count, &c->bin_cap, tiles, sizeof(uint32_t)) ||
-        !reserve(ctx, (void **)&c->bin_start, &start_cap, tiles, sizeof(uint32_t)))
+    const size_t u32 = sizeof(uint32_t);
+    if (persp__grow(ctx, (void **)&c->bin_count, &c->bin_cap, tiles, u32) != PERSP_OK ||
+        persp__grow(ctx, (void **)&c->bin_start, &c->start_cap, tiles, u32) != PERSP_OK)
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    if (start_cap != c->bin_cap) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: bins");
     memset(c->bin_count, 0, tiles * sizeof(uint32_t));
     /* Two passes: count triangles per tile, then place their indices in
      * submission order (the order that makes results thread-independent). */
@@ -495,7 +478,8 @@ persp_status persp__frame_flush(persp_frame *f)
     }
     if (total > UINT32_MAX)
         return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "render: too many triangle-tile pairs");
-    if (!reserve(ctx, (void **)&c->bin_items, &c->item_cap, total ? total : 1, sizeof(uint32_t)))
+    if (persp__grow(ctx, (void **)&c->bin_items, &c->item_cap, total ? total : 1,
+                    sizeof(uint32_t)) != PERSP_OK)
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     uint32_t acc = 0;
     for (size_t k = 0; k < tiles; k++) {
@@ -514,10 +498,9 @@ persp_status persp__frame_flush(persp_frame *f)
             }
     }
     int workers = persp__pool_workers(ctx);
-    size_t wcap = (size_t)c->worker_cap;
-    if (!reserve(ctx, (void **)&c->worker_stats, &wcap, (size_t)workers, sizeof *c->worker_stats))
+    if (persp__grow(ctx, (void **)&c->worker_stats, &c->worker_cap, (size_t)workers,
+                    sizeof *c->worker_stats) != PERSP_OK)
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    c->worker_cap = (int)wcap;
     memset(c->worker_stats, 0, (size_t)workers * sizeof *c->worker_stats);
     tile_job job = {f, tiles_x, workers,
                     (size_t)f->fb->width * (size_t)f->fb->height * 8u > PERSP_STREAM_BYTES};

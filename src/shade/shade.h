@@ -3,7 +3,7 @@
 #ifndef PERSP_SHADE_SHADE_H
 #define PERSP_SHADE_SHADE_H
 
-#include "raster/frame.h"
+#include "pipeline/types.h"
 
 /* Chooses ds->shade (and ds->shade_method) from ds->shading, the texture
  * environment and whether a texture is bound. */

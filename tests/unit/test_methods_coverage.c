@@ -13,7 +13,7 @@
 #include "support.h"
 
 #include "interp/method.h"
-#include "raster/render.h"
+#include "render/render.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,7 +1,8 @@
 /* persp_render, persp_draw and the analysis capture: scene → frame. */
 #include "core/internal.h"
-#include "core/pool.h"
+#include "objspace/objspace.h"
 #include "raster/frame.h"
+#include "render/render.h"
 #include "shade/shade.h"
 
 #include <math.h>

@@ -1,0 +1,65 @@
+/*
+ * RGBA8 image allocation and the size limits every image obeys. Here rather
+ * than with the file formats (src/io/image.c) because built-in scenes,
+ * textures and framebuffers allocate images without reading any file.
+ */
+#include "core/internal.h"
+
+#include <stdint.h>
+#include <string.h>
+
+persp_status persp__image_check_size(persp_context *ctx, const char *name, long long w, long long h)
+{
+    if (w <= 0 || h <= 0)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: image has an empty size %lldx%lld", name,
+                           w, h);
+    if (w > PERSP_IMAGE_MAX_SIDE || h > PERSP_IMAGE_MAX_SIDE ||
+        (unsigned long long)w * (unsigned long long)h > PERSP_IMAGE_MAX_PIXELS)
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: image size %lldx%lld exceeds the limit (side %d, %u pixels)", name,
+                           w, h, PERSP_IMAGE_MAX_SIDE, PERSP_IMAGE_MAX_PIXELS);
+    return PERSP_OK;
+}
+
+#define IMAGE_ALIGN 64
+
+persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out)
+{
+    if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    if (width <= 0 || height <= 0)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "image: invalid size %dx%d", width,
+                           height);
+    persp_status st = persp__image_check_size(ctx, "image", width, height);
+    if (st != PERSP_OK) return st;
+    size_t stride = (size_t)width * 4u;
+    /* Pixels start on a 64-byte boundary (the allocator guarantees 16): an
+     * image used as a framebuffer then shares no cache line between tiles
+     * drawn by different threads (docs/PERFORMANCE.md). The allocation's
+     * own address is kept just before the pixels for persp_image_free. */
+    size_t bytes = (size_t)height * stride + IMAGE_ALIGN + sizeof(void *);
+    uint8_t *raw = persp__calloc(ctx, 1, bytes);
+    if (!raw)
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "image: out of memory for %dx%d", width,
+                           height);
+    uintptr_t at = ((uintptr_t)raw + sizeof(void *) + IMAGE_ALIGN - 1) & ~(uintptr_t)(IMAGE_ALIGN - 1);
+    uint8_t *px = raw + (at - (uintptr_t)raw);
+    memcpy(px - sizeof(void *), &raw, sizeof raw);
+    out->width = width;
+    out->height = height;
+    out->stride = stride;
+    out->pixels = px;
+    return PERSP_OK;
+}
+
+void persp_image_free(persp_context *ctx, persp_image *img)
+{
+    if (!img) return;
+    if (img->pixels) {
+        uint8_t *raw;
+        memcpy(&raw, img->pixels - sizeof(void *), sizeof raw);
+        persp__free(ctx, raw);
+    }
+    memset(img, 0, sizeof *img);
+}
+

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# The module graph of src/ (scripts/depgraph.py, docs/DESIGN.md "Layers"):
+# no cycle and nothing depending on analysis, from the #include lines and,
+# where nm is at hand, from the symbols the built objects reference. Then
+# the same check on copies of src/ with one dependency added, which it must
+# refuse. (The persp binary in $1 is not used.)
+set -u
+. "$(dirname "$0")/lib.sh"
+
+graph=(python3 "$PERSP_SOURCE_DIR/scripts/depgraph.py")
+objects=()
+command -v nm >/dev/null && objects=(--objects "$PERSP_BINARY_DIR")
+expect 0 "^core +\(layer 0\) -> -$" -- "${graph[@]}" "${objects[@]}"
+expect 0 "^analysis .* render" -- "${graph[@]}" "${objects[@]}"
+expect 0 '^  "render" -> "raster";$' -- "${graph[@]}" --dot
+
+# core including a header of the renderer closes a cycle.
+cp -r "$PERSP_SOURCE_DIR/src" "$tmp/cycle"
+printf '#include "render/render.h"\n' >>"$tmp/cycle/core/pool.h"
+expect 1 "^cycle: core -> .*render" -- "${graph[@]}" --src "$tmp/cycle"
+expect 1 'core/pool.h includes render/' -- "${graph[@]}" --src "$tmp/cycle"
+# A new module using analysis, in no cycle, is refused all the same.
+cp -r "$PERSP_SOURCE_DIR/src" "$tmp/top"
+mkdir "$tmp/top/extra"
+printf '#include "analysis/analysis.h"\n' >"$tmp/top/extra/extra.c"
+expect 1 "^extra depends on top module analysis" -- "${graph[@]}" --src "$tmp/top"
+
+echo "$pass passed, $fail failed"
+[ "$fail" -eq 0 ]
