@@ -77,3 +77,15 @@ int persp__clip_triangle(const persp_clipvert in[3], double gx, double gy,
     if (src != out) memcpy(out, src, (size_t)n * sizeof *out);
     return n;
 }
+
+unsigned persp__clip_outcode(const persp_clipvert *v, double gx, double gy)
+{
+    for (int k = 0; k < 4; k++)
+        if (!isfinite(v->clip[k])) return PERSP_CLIP_NONFINITE;
+    for (int k = 0; k < PERSP_A_COUNT; k++)
+        if (!isfinite(v->attr[k])) return PERSP_CLIP_NONFINITE;
+    unsigned code = 0;
+    for (size_t p = 0; p < sizeof planes / sizeof planes[0]; p++)
+        if (planes[p](v, gx, gy) < 0.0) code |= 1u << p;
+    return code;
+}

@@ -25,6 +25,16 @@
 int persp__clip_triangle(const persp_clipvert in[3], double guard_x, double guard_y,
                          persp_clipvert out[PERSP_CLIP_MAX]);
 
+/* Per-vertex classification for trivial accept and reject (Cohen–Sutherland
+ * outcodes in clip space): bit p is set when the vertex lies outside the
+ * p-th plane persp__clip_triangle clips against, decided by the same
+ * arithmetic; PERSP_CLIP_NONFINITE alone when a coordinate or attribute is
+ * NaN or infinite. A triangle whose three codes share a bit is entirely
+ * outside (clipping would leave nothing); one whose codes are all zero
+ * passes clipping unchanged. */
+#define PERSP_CLIP_NONFINITE 0x100u
+unsigned persp__clip_outcode(const persp_clipvert *v, double guard_x, double guard_y);
+
 /* A vertex after the perspective divide and viewport transform. */
 typedef struct persp_winvert {
     double x, y, z; /* window coordinates, depth in [0,1] */

@@ -22,6 +22,14 @@
 #include <emmintrin.h>
 #endif
 
+/* A vertex's window coordinates, computed once however many triangles share
+ * it, with the same arithmetic emit_polygon applies to clipped vertices. */
+struct vert_win {
+    double x, y, z, q;
+    int64_t X, Y; /* llround(x·256), llround(y·256): the setup's fixed point */
+    unsigned code; /* persp__clip_outcode */
+};
+
 struct persp_render_cache {
     persp_tri *tris;
     size_t tri_cap;
@@ -29,6 +37,8 @@ struct persp_render_cache {
     size_t prep_cap;
     persp_clipvert *verts;
     size_t vert_cap;
+    struct vert_win *win; /* per vertex: window position and outcode */
+    size_t win_cap;
     uint32_t *bin_count, *bin_start, *bin_items;
     size_t bin_cap, start_cap, item_cap;
     persp_draw_state *states;
@@ -44,6 +54,7 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->tris);
     persp__free(ctx, c->preps);
     persp__free(ctx, c->verts);
+    persp__free(ctx, c->win);
     persp__free(ctx, c->bin_count);
     persp__free(ctx, c->bin_start);
     persp__free(ctx, c->bin_items);
@@ -95,53 +106,81 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
     return PERSP_OK;
 }
 
+/* Sets up one triangle and appends it (with its LOD and method state). */
+static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uint32_t state, int cull)
+{
+    struct persp_render_cache *c = f->cache;
+    const persp_draw_state *ds = &c->states[state];
+    if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris) != PERSP_OK)
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    persp_tri *t = &c->tris[f->tri_count];
+    if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) return PERSP_OK;
+    t->state = state;
+    if (ds->tex) {
+        t->rat.scale1 = (float)ds->tex->width;
+        t->rat.scale2 = (float)ds->tex->height;
+        double du1 = (double)t->vattr[1][PERSP_A_U] - t->vattr[0][PERSP_A_U];
+        double dv1 = (double)t->vattr[1][PERSP_A_V] - t->vattr[0][PERSP_A_V];
+        double du2 = (double)t->vattr[2][PERSP_A_U] - t->vattr[0][PERSP_A_U];
+        double dv2 = (double)t->vattr[2][PERSP_A_V] - t->vattr[0][PERSP_A_V];
+        double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
+        double px_area = 0.5 * fabs((t->rat.vx[1] - t->rat.vx[0]) * (t->rat.vy[2] - t->rat.vy[0]) -
+                                    (t->rat.vx[2] - t->rat.vx[0]) * (t->rat.vy[1] - t->rat.vy[0]));
+        t->poly_lambda = persp__polygon_lambda(ds->tex, uv_area, px_area);
+    }
+    if (ds->method.m->prepare) {
+        if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
+            PERSP_OK)
+            return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        t->prep = (uint32_t)f->prep_count++;
+        ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
+                              f->count_ops ? &f->stats.ops : NULL);
+    }
+    f->tri_count++;
+    return PERSP_OK;
+}
+
+/* Perspective divide and viewport transform of a clip-space vertex. */
+static void to_window(const persp_clipvert *v, double W, double H, double *x, double *y, double *z,
+                      double *q)
+{
+    *q = 1.0 / (double)v->clip[3];
+    *x = ((double)v->clip[0] * *q + 1.0) * 0.5 * W;
+    *y = ((double)v->clip[1] * *q + 1.0) * 0.5 * H;
+    *z = ((double)v->clip[2] * *q + 1.0) * 0.5;
+}
+
 /* Emits the clipped polygon as a fan (v0, vi, vi+1) of set-up triangles. */
 static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int n, uint32_t state,
                                  int cull)
 {
-    struct persp_render_cache *c = f->cache;
-    const persp_draw_state *ds = &c->states[state];
     const double W = f->fb->width, H = f->fb->height;
     persp_winvert wv[PERSP_CLIP_MAX];
     for (int i = 0; i < n; i++) {
-        double q = 1.0 / (double)poly[i].clip[3];
-        wv[i].x = ((double)poly[i].clip[0] * q + 1.0) * 0.5 * W;
-        wv[i].y = ((double)poly[i].clip[1] * q + 1.0) * 0.5 * H;
-        wv[i].z = ((double)poly[i].clip[2] * q + 1.0) * 0.5;
-        wv[i].q = q;
+        to_window(&poly[i], W, H, &wv[i].x, &wv[i].y, &wv[i].z, &wv[i].q);
         wv[i].attr = poly[i].attr;
     }
     for (int i = 1; i + 1 < n; i++) {
-        if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1,
-                        sizeof *c->tris) != PERSP_OK)
-            return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
-        persp_tri *t = &c->tris[f->tri_count];
-        if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) continue;
-        t->state = state;
-        if (ds->tex) {
-            t->rat.scale1 = (float)ds->tex->width;
-            t->rat.scale2 = (float)ds->tex->height;
-            double du1 = (double)t->vattr[1][PERSP_A_U] - t->vattr[0][PERSP_A_U];
-            double dv1 = (double)t->vattr[1][PERSP_A_V] - t->vattr[0][PERSP_A_V];
-            double du2 = (double)t->vattr[2][PERSP_A_U] - t->vattr[0][PERSP_A_U];
-            double dv2 = (double)t->vattr[2][PERSP_A_V] - t->vattr[0][PERSP_A_V];
-            double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
-            double px_area = 0.5 * fabs((t->rat.vx[1] - t->rat.vx[0]) * (t->rat.vy[2] - t->rat.vy[0]) -
-                                        (t->rat.vx[2] - t->rat.vx[0]) * (t->rat.vy[1] - t->rat.vy[0]));
-            t->poly_lambda = persp__polygon_lambda(ds->tex, uv_area, px_area);
-        }
-        if (ds->method.m->prepare) {
-            if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1,
-                            sizeof *c->preps) != PERSP_OK)
-                return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-            t->prep = (uint32_t)f->prep_count++;
-            ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
-                                  f->count_ops ? &f->stats.ops : NULL);
-        }
-        f->tri_count++;
+        persp_status st = emit_triangle(f, tv, state, cull);
+        if (st != PERSP_OK) return st;
     }
     return PERSP_OK;
+}
+
+/* A triangle inside every clip plane that persp__setup_triangle would
+ * refuse anyway: zero area or culled (the same fixed-point area), or a
+ * bounding box wholly left of, right of, below or above the viewport. Most
+ * triangles of a closed mesh end here, before their attributes are read. */
+static int quick_reject(const struct vert_win *a, const struct vert_win *b, const struct vert_win *c,
+                        int cull, int width, int height)
+{
+    int64_t area = (b->X - a->X) * (c->Y - a->Y) - (c->X - a->X) * (b->Y - a->Y);
+    if (area == 0 || (cull && area < 0)) return 1;
+    int64_t minx = PERSP_MIN(a->X, PERSP_MIN(b->X, c->X)), maxx = PERSP_MAX(a->X, PERSP_MAX(b->X, c->X));
+    int64_t miny = PERSP_MIN(a->Y, PERSP_MIN(b->Y, c->Y)), maxy = PERSP_MAX(a->Y, PERSP_MAX(b->Y, c->Y));
+    return maxx < 0 || maxy < 0 || minx > (int64_t)width * PERSP_SUBPIXEL ||
+           miny > (int64_t)height * PERSP_SUBPIXEL;
 }
 
 persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
@@ -150,8 +189,9 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
 {
     struct persp_render_cache *c = f->cache;
     if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
-    if (persp__grow(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count,
-                    sizeof *c->verts) != PERSP_OK)
+    if (persp__grow(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts) !=
+            PERSP_OK ||
+        persp__grow(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     persp_mat4 mv = persp_mat4_mul(*view, *model);
     persp_mat4 mvp = persp_mat4_mul(*proj, mv);
@@ -175,18 +215,39 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     persp__shade_vertices(&c->states[state], c->verts, mesh->vertex_count);
     const double gx = PERSP_GUARD_PIXELS / (0.5 * f->fb->width);
     const double gy = PERSP_GUARD_PIXELS / (0.5 * f->fb->height);
+    const int width = f->fb->width, height = f->fb->height;
+    for (size_t i = 0; i < mesh->vertex_count; i++) {
+        struct vert_win *w = &c->win[i];
+        w->code = persp__clip_outcode(&c->verts[i], gx, gy);
+        if (w->code) continue;
+        to_window(&c->verts[i], width, height, &w->x, &w->y, &w->z, &w->q);
+        w->X = (int64_t)llround(w->x * PERSP_SUBPIXEL);
+        w->Y = (int64_t)llround(w->y * PERSP_SUBPIXEL);
+    }
     for (size_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *ix = &mesh->indices[t];
         if (ix[0] >= mesh->vertex_count || ix[1] >= mesh->vertex_count || ix[2] >= mesh->vertex_count)
             return persp__fail(f->ctx, PERSP_ERR_INVALID_ARGUMENT,
                                       "mesh: index out of range in triangle %zu", t / 3);
-        persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
-        persp_clipvert poly[PERSP_CLIP_MAX];
-        int n = persp__clip_triangle(in, gx, gy, poly);
-        if (n >= 3) {
-            persp_status st = emit_polygon(f, poly, n, state, cull);
-            if (st != PERSP_OK) return st;
+        const struct vert_win *w0 = &c->win[ix[0]], *w1 = &c->win[ix[1]], *w2 = &c->win[ix[2]];
+        const unsigned any = w0->code | w1->code | w2->code;
+        if ((any & PERSP_CLIP_NONFINITE) || (w0->code & w1->code & w2->code)) continue;
+        persp_status st;
+        if (!any) {
+            if (quick_reject(w0, w1, w2, cull, width, height)) continue;
+            persp_winvert tv[3];
+            for (int k = 0; k < 3; k++) {
+                const struct vert_win *w = &c->win[ix[k]];
+                tv[k] = (persp_winvert){w->x, w->y, w->z, w->q, c->verts[ix[k]].attr};
+            }
+            st = emit_triangle(f, tv, state, cull);
+        } else {
+            persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
+            persp_clipvert poly[PERSP_CLIP_MAX];
+            int n = persp__clip_triangle(in, gx, gy, poly);
+            st = n >= 3 ? emit_polygon(f, poly, n, state, cull) : PERSP_OK;
         }
+        if (st != PERSP_OK) return st;
     }
     return PERSP_OK;
 }
