@@ -106,11 +106,24 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
     return PERSP_OK;
 }
 
+/* Set-up triangles held before the tiles draw them. A frame with more is
+ * drawn in batches of this many: each tile draws its triangles in
+ * submission order whatever the batches, so the image is the same, while
+ * the triangle records (~800 bytes each) stay within 52 MiB instead of
+ * growing with the mesh (a 2M-triangle mesh would need 650 MiB). A capture
+ * refers to triangles by their index in the frame, so it takes one batch. */
+#define PERSP_FRAME_BATCH 65536u
+
 /* Sets up one triangle and appends it (with its LOD and method state). */
 static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uint32_t state, int cull)
 {
     struct persp_render_cache *c = f->cache;
     const persp_draw_state *ds = &c->states[state];
+    if (!f->capture && f->tri_count >= PERSP_FRAME_BATCH) {
+        persp_status st = persp__frame_flush(f);
+        if (st != PERSP_OK) return st;
+        f->tri_count = f->prep_count = 0;
+    }
     if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     persp_tri *t = &c->tris[f->tri_count];
