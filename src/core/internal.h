@@ -21,6 +21,9 @@ struct persp_context {
      * module, never needs to know their type. */
     void *render;
     void (*render_free)(persp_context *ctx);
+    /* Set-up triangles the renderer holds before drawing a batch; 0: its
+     * default. Changed only by tests, to compare batch sizes. */
+    size_t frame_batch;
 };
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */

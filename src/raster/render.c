@@ -119,7 +119,8 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uin
 {
     struct persp_render_cache *c = f->cache;
     const persp_draw_state *ds = &c->states[state];
-    if (!f->capture && f->tri_count >= PERSP_FRAME_BATCH) {
+    const size_t batch = f->ctx->frame_batch ? f->ctx->frame_batch : PERSP_FRAME_BATCH;
+    if (!f->capture && f->tri_count >= batch) {
         persp_status st = persp__frame_flush(f);
         if (st != PERSP_OK) return st;
         f->tri_count = f->prep_count = 0;

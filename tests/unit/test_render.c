@@ -2,6 +2,7 @@
  * immediate drawing, bad framebuffers. */
 #include "support.h"
 
+#include "core/internal.h"
 #include "raster/raster.h"
 
 #include <math.h>
@@ -348,6 +349,43 @@ static void test_bad_inputs(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Frames with many triangles are drawn in batches; the image must not
+ * depend on where the batches end (tiles draw in submission order), for
+ * any thread count, with lit and textured objects. */
+static void test_batches_bit_identical(void **state)
+{
+    (void)state;
+    char path[1024];
+    test_source_path(path, sizeof path, "scenes/spheres.json");
+    enum { W = 200, H = 150 };
+    uint64_t ref = 0;
+    const size_t batches[] = {0, 1, 7, 1000};
+    for (int threads = 1; threads <= 3; threads += 2)
+        for (size_t bi = 0; bi < sizeof batches / sizeof *batches; bi++) {
+            persp_context *ctx = test_context_threads(threads);
+            ctx->frame_batch = batches[bi] ? batches[bi] : (size_t)-1;
+            persp_scene *scene = NULL;
+            assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+            uint8_t *color = malloc((size_t)W * H * 4);
+            float *depth = malloc((size_t)W * H * sizeof(float));
+            assert_non_null(color);
+            assert_non_null(depth);
+            persp_framebuffer fb = {W, H, color, depth};
+            persp_render_stats st;
+            assert_int_equal(persp_render(ctx, scene, NULL, &fb, &st), PERSP_OK);
+            assert_true(st.triangles_drawn > 1000);
+            uint64_t h = fnv(color, (size_t)W * H * 4);
+            if (threads == 1 && bi == 0) ref = h;
+            else if (h != ref)
+                fail_msg("batch %zu, %d threads: hash %016llx, one batch %016llx", batches[bi], threads,
+                         (unsigned long long)h, (unsigned long long)ref);
+            free(color);
+            free(depth);
+            persp_scene_destroy(scene);
+            persp_context_destroy(ctx);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -356,6 +394,7 @@ int main(void)
         cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_count_ops),
+        cmocka_unit_test(test_batches_bit_identical),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
