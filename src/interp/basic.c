@@ -14,23 +14,6 @@ typedef struct affine_prep {
 } affine_prep;
 PERSP_METHOD_BLOB_FITS(affine_prep, persp_method_prep);
 
-void persp__plane_through(const double vx[3], const double vy[3], const double val[3],
-                          double *px, double *py, double *pc)
-{
-    double x10 = vx[1] - vx[0], y10 = vy[1] - vy[0];
-    double x20 = vx[2] - vx[0], y20 = vy[2] - vy[0];
-    double det = x10 * y20 - x20 * y10;
-    if (det == 0.0) {
-        *px = *py = 0.0;
-        *pc = val[0];
-        return;
-    }
-    double d1 = val[1] - val[0], d2 = val[2] - val[0];
-    *px = (d1 * y20 - d2 * y10) / det;
-    *py = (d2 * x10 - d1 * x20) / det;
-    *pc = val[0] - *px * vx[0] - *py * vy[0];
-}
-
 static void affine_prepare(const persp_rational *r, const persp_method_params *params,
                            persp_method_prep *prep, persp_opcount *ops)
 {

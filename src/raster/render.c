@@ -133,6 +133,9 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uin
     if (ds->tex) {
         t->rat.scale1 = (float)ds->tex->width;
         t->rat.scale2 = (float)ds->tex->height;
+    }
+    /* Only the per-polygon level of detail reads it (a log2 per triangle). */
+    if (ds->tex && ds->sampler.desc.lod_mode == PERSP_LOD_POLYGON) {
         double du1 = (double)t->vattr[1][PERSP_A_U] - t->vattr[0][PERSP_A_U];
         double dv1 = (double)t->vattr[1][PERSP_A_V] - t->vattr[0][PERSP_A_V];
         double du2 = (double)t->vattr[2][PERSP_A_U] - t->vattr[0][PERSP_A_U];
