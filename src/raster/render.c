@@ -200,25 +200,34 @@ static int quick_reject(const struct vert_win *a, const struct vert_win *b, cons
            miny > (int64_t)height * PERSP_SUBPIXEL;
 }
 
-persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
-                                   const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
-                                   const float *uv, int cull)
-{
-    struct persp_render_cache *c = f->cache;
-    if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
-    if (persp__grow(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts) !=
-            PERSP_OK ||
-        persp__grow(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
-        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    persp_mat4 mv = persp_mat4_mul(*view, *model);
-    persp_mat4 mvp = persp_mat4_mul(*proj, mv);
+/* The vertex stage of one mesh: each vertex is transformed, lit (Gouraud)
+ * and classified independently, so the work is split over the worker
+ * threads in ranges of VERTEX_TASK vertices with the same result. */
+#define VERTEX_TASK 4096u
+
+typedef struct vertex_job {
+    persp_frame *f;
+    const persp_mesh *mesh;
+    const float *uv;
+    const persp_draw_state *ds;
+    persp_mat4 mv, mvp;
     float nm[9];
-    if (!persp_mat4_normal_matrix(mv, nm)) memset(nm, 0, sizeof nm);
-    f->stats.triangles_in += mesh->index_count / 3;
-    for (size_t i = 0; i < mesh->vertex_count; i++) {
+    double gx, gy;
+} vertex_job;
+
+static void vertex_task(void *user, int task, int worker)
+{
+    (void)worker;
+    const vertex_job *j = user;
+    struct persp_render_cache *c = j->f->cache;
+    const persp_mesh *mesh = j->mesh;
+    const size_t a = (size_t)task * VERTEX_TASK;
+    const size_t b = PERSP_MIN(a + VERTEX_TASK, mesh->vertex_count);
+    const float *nm = j->nm, *uv = j->uv;
+    for (size_t i = a; i < b; i++) {
         const persp_vertex *v = &mesh->vertices[i];
         persp_vec4 p = {v->pos[0], v->pos[1], v->pos[2], 1.0f};
-        persp_vec4 cp = persp_mat4_apply(mvp, p), ep = persp_mat4_apply(mv, p);
+        persp_vec4 cp = persp_mat4_apply(j->mvp, p), ep = persp_mat4_apply(j->mv, p);
         persp_clipvert *o = &c->verts[i];
         o->clip[0] = cp.x, o->clip[1] = cp.y, o->clip[2] = cp.z, o->clip[3] = cp.w;
         o->attr[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
@@ -229,18 +238,40 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
             o->attr[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
         o->attr[PERSP_A_EX] = ep.x, o->attr[PERSP_A_EY] = ep.y, o->attr[PERSP_A_EZ] = ep.z;
     }
-    persp__shade_vertices(&c->states[state], c->verts, mesh->vertex_count);
-    const double gx = PERSP_GUARD_PIXELS / (0.5 * f->fb->width);
-    const double gy = PERSP_GUARD_PIXELS / (0.5 * f->fb->height);
-    const int width = f->fb->width, height = f->fb->height;
-    for (size_t i = 0; i < mesh->vertex_count; i++) {
+    persp__shade_vertices(j->ds, c->verts + a, b - a);
+    const int width = j->f->fb->width, height = j->f->fb->height;
+    for (size_t i = a; i < b; i++) {
         struct vert_win *w = &c->win[i];
-        w->code = persp__clip_outcode(&c->verts[i], gx, gy);
+        w->code = persp__clip_outcode(&c->verts[i], j->gx, j->gy);
         if (w->code) continue;
         to_window(&c->verts[i], width, height, &w->x, &w->y, &w->z, &w->q);
         w->X = (int64_t)llround(w->x * PERSP_SUBPIXEL);
         w->Y = (int64_t)llround(w->y * PERSP_SUBPIXEL);
     }
+}
+
+persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
+                                   const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
+                                   const float *uv, int cull)
+{
+    struct persp_render_cache *c = f->cache;
+    if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
+    if (persp__grow(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts) !=
+            PERSP_OK ||
+        persp__grow(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = &c->states[state]};
+    job.mv = persp_mat4_mul(*view, *model);
+    job.mvp = persp_mat4_mul(*proj, job.mv);
+    if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
+    job.gx = PERSP_GUARD_PIXELS / (0.5 * f->fb->width);
+    job.gy = PERSP_GUARD_PIXELS / (0.5 * f->fb->height);
+    f->stats.triangles_in += mesh->index_count / 3;
+    const int tasks = (int)((mesh->vertex_count + VERTEX_TASK - 1) / VERTEX_TASK);
+    persp_status vst = persp__pool_run(f->ctx, tasks, vertex_task, &job);
+    if (vst != PERSP_OK) return persp__fail(f->ctx, vst, "render: cannot start worker threads");
+    const double gx = job.gx, gy = job.gy;
+    const int width = f->fb->width, height = f->fb->height;
     for (size_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *ix = &mesh->indices[t];
         if (ix[0] >= mesh->vertex_count || ix[1] >= mesh->vertex_count || ix[2] >= mesh->vertex_count)
