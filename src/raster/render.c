@@ -39,6 +39,10 @@ struct persp_render_cache {
     size_t vert_cap;
     struct vert_win *win; /* per vertex: window position and outcode */
     size_t win_cap;
+    persp_tri *slab_tris; /* records set up by the worker threads */
+    size_t slab_cap;
+    struct setup_slab *slabs;
+    size_t slabs_cap;
     uint32_t *bin_count, *bin_start, *bin_items;
     size_t bin_cap, start_cap, item_cap;
     persp_draw_state *states;
@@ -55,6 +59,8 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->preps);
     persp__free(ctx, c->verts);
     persp__free(ctx, c->win);
+    persp__free(ctx, c->slab_tris);
+    persp__free(ctx, c->slabs);
     persp__free(ctx, c->bin_count);
     persp__free(ctx, c->bin_start);
     persp__free(ctx, c->bin_items);
@@ -114,11 +120,11 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
  * refers to triangles by their index in the frame, so it takes one batch. */
 #define PERSP_FRAME_BATCH 65536u
 
-/* Sets up one triangle and appends it (with its LOD and method state). */
-static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uint32_t state, int cull)
+/* Makes room for one more triangle in the frame, drawing the batch first
+ * when it is full. */
+static persp_status reserve_triangle(persp_frame *f)
 {
     struct persp_render_cache *c = f->cache;
-    const persp_draw_state *ds = &c->states[state];
     const size_t batch = f->ctx->frame_batch ? f->ctx->frame_batch : PERSP_FRAME_BATCH;
     if (!f->capture && f->tri_count >= batch) {
         persp_status st = persp__frame_flush(f);
@@ -127,8 +133,15 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uin
     }
     if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    persp_tri *t = &c->tris[f->tri_count];
-    if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) return PERSP_OK;
+    return PERSP_OK;
+}
+
+/* The set-up record of one triangle with its texture scale and per-polygon
+ * LOD; 0 if set-up refuses it. Touches nothing but *t (worker threads). */
+static int setup_record(const persp_frame *f, const persp_draw_state *ds, const persp_winvert tv[3],
+                        uint32_t state, int cull, persp_tri *t)
+{
+    if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) return 0;
     t->state = state;
     if (ds->tex) {
         t->rat.scale1 = (float)ds->tex->width;
@@ -145,6 +158,18 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uin
                                     (t->rat.vx[2] - t->rat.vx[0]) * (t->rat.vy[1] - t->rat.vy[0]));
         t->poly_lambda = persp__polygon_lambda(ds->tex, uv_area, px_area);
     }
+    return 1;
+}
+
+/* Sets up one triangle and appends it (with its LOD and method state). */
+static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uint32_t state, int cull)
+{
+    struct persp_render_cache *c = f->cache;
+    const persp_draw_state *ds = &c->states[state];
+    persp_status st = reserve_triangle(f);
+    if (st != PERSP_OK) return st;
+    persp_tri *t = &c->tris[f->tri_count];
+    if (!setup_record(f, ds, tv, state, cull, t)) return PERSP_OK;
     if (ds->method.m->prepare) {
         if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
             PERSP_OK)
@@ -167,10 +192,32 @@ static void to_window(const persp_clipvert *v, double W, double H, double *x, do
     *z = ((double)v->clip[2] * *q + 1.0) * 0.5;
 }
 
+/* Where set-up triangles go: the frame (slab NULL), or a worker's slab of
+ * records that the calling thread appends to the frame in order. */
+typedef struct setup_slab {
+    persp_tri *tris;
+    size_t count, cap;
+    size_t stop; /* first input triangle not processed (the slab ran out of room) */
+} setup_slab;
+
+typedef struct tri_sink {
+    persp_frame *f;
+    setup_slab *slab;
+} tri_sink;
+
+static persp_status sink_triangle(const tri_sink *s, const persp_winvert tv[3], uint32_t state, int cull)
+{
+    if (!s->slab) return emit_triangle(s->f, tv, state, cull);
+    const persp_draw_state *ds = &s->f->cache->states[state];
+    if (setup_record(s->f, ds, tv, state, cull, &s->slab->tris[s->slab->count])) s->slab->count++;
+    return PERSP_OK;
+}
+
 /* Emits the clipped polygon as a fan (v0, vi, vi+1) of set-up triangles. */
-static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int n, uint32_t state,
+static persp_status emit_polygon(const tri_sink *sk, const persp_clipvert *poly, int n, uint32_t state,
                                  int cull)
 {
+    persp_frame *f = sk->f;
     const double W = f->fb->width, H = f->fb->height;
     persp_winvert wv[PERSP_CLIP_MAX];
     for (int i = 0; i < n; i++) {
@@ -179,7 +226,7 @@ static persp_status emit_polygon(persp_frame *f, const persp_clipvert *poly, int
     }
     for (int i = 1; i + 1 < n; i++) {
         persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
-        persp_status st = emit_triangle(f, tv, state, cull);
+        persp_status st = sink_triangle(sk, tv, state, cull);
         if (st != PERSP_OK) return st;
     }
     return PERSP_OK;
@@ -250,6 +297,108 @@ static void vertex_task(void *user, int task, int worker)
     }
 }
 
+/* Triangles of one mesh after its vertex stage. */
+typedef struct tri_job {
+    tri_sink sink;
+    const persp_mesh *mesh;
+    uint32_t state;
+    int cull;
+    double gx, gy;
+    setup_slab *slabs;
+    size_t first; /* first input triangle of the round */
+} tri_job;
+
+/* Input triangles [a, b) into the job's sink (or slab, when given): trivial
+ * reject, quick reject, clipping, set-up. A slab stops early, recording
+ * where, when it might not hold a clipped polygon's fan. */
+static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_slab *slab)
+{
+    persp_frame *f = j->sink.f;
+    struct persp_render_cache *c = f->cache;
+    const persp_mesh *mesh = j->mesh;
+    const int width = f->fb->width, height = f->fb->height;
+    tri_sink sk = {f, slab};
+    for (size_t t = a; t < b; t++) {
+        if (slab && slab->count + (PERSP_CLIP_MAX - 2) > slab->cap) {
+            slab->stop = t;
+            return PERSP_OK;
+        }
+        const uint32_t *ix = &mesh->indices[3 * t];
+        const struct vert_win *w0 = &c->win[ix[0]], *w1 = &c->win[ix[1]], *w2 = &c->win[ix[2]];
+        const unsigned any = w0->code | w1->code | w2->code;
+        if ((any & PERSP_CLIP_NONFINITE) || (w0->code & w1->code & w2->code)) continue;
+        persp_status st;
+        if (!any) {
+            if (quick_reject(w0, w1, w2, j->cull, width, height)) continue;
+            persp_winvert tv[3];
+            for (int k = 0; k < 3; k++) {
+                const struct vert_win *w = &c->win[ix[k]];
+                tv[k] = (persp_winvert){w->x, w->y, w->z, w->q, c->verts[ix[k]].attr};
+            }
+            st = sink_triangle(&sk, tv, j->state, j->cull);
+        } else {
+            persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
+            persp_clipvert poly[PERSP_CLIP_MAX];
+            int n = persp__clip_triangle(in, j->gx, j->gy, poly);
+            st = n >= 3 ? emit_polygon(&sk, poly, n, j->state, j->cull) : PERSP_OK;
+        }
+        if (st != PERSP_OK) return st;
+    }
+    if (slab) slab->stop = b;
+    return PERSP_OK;
+}
+
+/* Triangle set-up on the worker threads: a round gives each of its tasks
+ * SETUP_CHUNK consecutive input triangles and a slab for their records;
+ * the calling thread then appends the slabs in input order, and sets up
+ * itself whatever a full slab left over before moving to the next slab, so
+ * the frame receives exactly the serial sequence of triangles. */
+#define SETUP_CHUNK 512u
+#define SETUP_SLAB (SETUP_CHUNK + SETUP_CHUNK / 2)
+
+static void setup_task(void *user, int task, int worker)
+{
+    (void)worker;
+    tri_job *j = user;
+    setup_slab *slab = &j->slabs[task];
+    const size_t a = j->first + (size_t)task * SETUP_CHUNK;
+    const size_t b = PERSP_MIN(a + SETUP_CHUNK, j->mesh->index_count / 3);
+    slab->count = 0;
+    (void)mesh_triangles(j, a, b, slab); /* a slab sink cannot fail */
+}
+
+static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers)
+{
+    persp_frame *f = j->sink.f;
+    struct persp_render_cache *c = f->cache;
+    const size_t tasks_max = (size_t)workers * 2;
+    if (persp__grow(f->ctx, (void **)&c->slab_tris, &c->slab_cap, tasks_max * SETUP_SLAB,
+                    sizeof *c->slab_tris) != PERSP_OK ||
+        persp__grow(f->ctx, (void **)&c->slabs, &c->slabs_cap, tasks_max, sizeof *c->slabs) != PERSP_OK)
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    for (size_t i = 0; i < tasks_max; i++) {
+        c->slabs[i].tris = c->slab_tris + i * SETUP_SLAB;
+        c->slabs[i].cap = SETUP_SLAB;
+    }
+    j->slabs = c->slabs;
+    for (j->first = 0; j->first < ntri; j->first += tasks_max * SETUP_CHUNK) {
+        const size_t left = ntri - j->first;
+        const int tasks = (int)PERSP_MIN(tasks_max, (left + SETUP_CHUNK - 1) / SETUP_CHUNK);
+        persp_status st = persp__pool_run(f->ctx, tasks, setup_task, j);
+        if (st != PERSP_OK) return persp__fail(f->ctx, st, "render: cannot start worker threads");
+        for (int k = 0; k < tasks; k++) {
+            const setup_slab *slab = &j->slabs[k];
+            for (size_t i = 0; i < slab->count; i++) {
+                if ((st = reserve_triangle(f)) != PERSP_OK) return st;
+                c->tris[f->tri_count++] = slab->tris[i];
+            }
+            const size_t end = PERSP_MIN(j->first + ((size_t)k + 1) * SETUP_CHUNK, ntri);
+            if (slab->stop < end && (st = mesh_triangles(j, slab->stop, end, NULL)) != PERSP_OK) return st;
+        }
+    }
+    return PERSP_OK;
+}
+
 persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
                                    const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
                                    const float *uv, int cull)
@@ -270,34 +419,18 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     const int tasks = (int)((mesh->vertex_count + VERTEX_TASK - 1) / VERTEX_TASK);
     persp_status vst = persp__pool_run(f->ctx, tasks, vertex_task, &job);
     if (vst != PERSP_OK) return persp__fail(f->ctx, vst, "render: cannot start worker threads");
-    const double gx = job.gx, gy = job.gy;
-    const int width = f->fb->width, height = f->fb->height;
     for (size_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *ix = &mesh->indices[t];
         if (ix[0] >= mesh->vertex_count || ix[1] >= mesh->vertex_count || ix[2] >= mesh->vertex_count)
             return persp__fail(f->ctx, PERSP_ERR_INVALID_ARGUMENT,
-                                      "mesh: index out of range in triangle %zu", t / 3);
-        const struct vert_win *w0 = &c->win[ix[0]], *w1 = &c->win[ix[1]], *w2 = &c->win[ix[2]];
-        const unsigned any = w0->code | w1->code | w2->code;
-        if ((any & PERSP_CLIP_NONFINITE) || (w0->code & w1->code & w2->code)) continue;
-        persp_status st;
-        if (!any) {
-            if (quick_reject(w0, w1, w2, cull, width, height)) continue;
-            persp_winvert tv[3];
-            for (int k = 0; k < 3; k++) {
-                const struct vert_win *w = &c->win[ix[k]];
-                tv[k] = (persp_winvert){w->x, w->y, w->z, w->q, c->verts[ix[k]].attr};
-            }
-            st = emit_triangle(f, tv, state, cull);
-        } else {
-            persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
-            persp_clipvert poly[PERSP_CLIP_MAX];
-            int n = persp__clip_triangle(in, gx, gy, poly);
-            st = n >= 3 ? emit_polygon(f, poly, n, state, cull) : PERSP_OK;
-        }
-        if (st != PERSP_OK) return st;
+                               "mesh: index out of range in triangle %zu", t / 3);
     }
-    return PERSP_OK;
+    const size_t ntri = mesh->index_count / 3;
+    tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .gx = job.gx, .gy = job.gy};
+    const int workers = persp__pool_workers(f->ctx);
+    if (workers < 2 || job.ds->method.m->prepare || ntri < 4 * SETUP_CHUNK)
+        return mesh_triangles(&tj, 0, ntri, NULL);
+    return mesh_triangles_parallel(&tj, ntri, workers);
 }
 
 /* ------------------------------------------------------------ rasterization */

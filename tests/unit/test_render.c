@@ -349,41 +349,92 @@ static void test_bad_inputs(void **state)
     persp_context_destroy(ctx);
 }
 
-/* Frames with many triangles are drawn in batches; the image must not
- * depend on where the batches end (tiles draw in submission order), for
- * any thread count, with lit and textured objects. */
+/* Frames with many triangles are drawn in batches, and meshes of more than
+ * a few thousand triangles are set up on the worker threads in slabs; the
+ * image must depend neither on where the batches end (tiles draw in
+ * submission order) nor on the thread count, lit and textured. */
 static void test_batches_bit_identical(void **state)
 {
     (void)state;
-    char path[1024];
-    test_source_path(path, sizeof path, "scenes/spheres.json");
+    const char *scenes[] = {"scenes/spheres.json", "scenes/bench/torus-20k.json"};
     enum { W = 200, H = 150 };
-    uint64_t ref = 0;
     const size_t batches[] = {0, 1, 7, 1000};
-    for (int threads = 1; threads <= 3; threads += 2)
+    for (size_t si = 0; si < 2; si++) {
+        char path[1024];
+        test_source_path(path, sizeof path, scenes[si]);
+        uint64_t ref = 0;
+        for (int threads = 1; threads <= 5; threads += 2)
+            for (size_t bi = 0; bi < sizeof batches / sizeof *batches; bi++) {
+                persp_context *ctx = test_context_threads(threads);
+                ctx->frame_batch = batches[bi] ? batches[bi] : (size_t)-1;
+                persp_scene *scene = NULL;
+                assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+                uint8_t *color = malloc((size_t)W * H * 4);
+                float *depth = malloc((size_t)W * H * sizeof(float));
+                assert_non_null(color);
+                assert_non_null(depth);
+                persp_framebuffer fb = {W, H, color, depth};
+                persp_render_stats st;
+                assert_int_equal(persp_render(ctx, scene, NULL, &fb, &st), PERSP_OK);
+                assert_true(st.triangles_drawn > 1000);
+                uint64_t h = fnv(color, (size_t)W * H * 4);
+                if (threads == 1 && bi == 0) ref = h;
+                else if (h != ref)
+                    fail_msg("%s, batch %zu, %d threads: hash %016llx, serial one batch %016llx", scenes[si],
+                             batches[bi], threads, (unsigned long long)h, (unsigned long long)ref);
+                free(color);
+                free(depth);
+                persp_scene_destroy(scene);
+                persp_context_destroy(ctx);
+            }
+    }
+}
+
+/* The same with the depth test off, where the image shows the submission
+ * order itself: thousands of overlapping triangles drawn with persp_draw,
+ * last one wins at every pixel. */
+static void test_submission_order_kept(void **state)
+{
+    (void)state;
+    enum { S = 96, NT = 6000 };
+    persp_vertex *v = calloc(3 * NT, sizeof *v);
+    uint32_t *idx = malloc(3 * NT * sizeof *idx);
+    assert_non_null(v);
+    assert_non_null(idx);
+    test_rng rng = {77};
+    for (int i = 0; i < 3 * NT; i++) {
+        v[i].pos[0] = (float)test_rng_uniform(&rng, -1.2, 1.2);
+        v[i].pos[1] = (float)test_rng_uniform(&rng, -1.2, 1.2);
+        v[i].pos[2] = (float)test_rng_uniform(&rng, -0.9, 0.9);
+        for (int k = 0; k < 3; k++) v[i].color[k] = (float)((i / 3 * (k + 3)) % 251) / 250.0f;
+        v[i].color[3] = 1.0f;
+        idx[i] = (uint32_t)i;
+    }
+    const size_t batches[] = {0, 5, 999};
+    uint64_t ref = 0;
+    for (int threads = 1; threads <= 4; threads += 3)
         for (size_t bi = 0; bi < sizeof batches / sizeof *batches; bi++) {
             persp_context *ctx = test_context_threads(threads);
             ctx->frame_batch = batches[bi] ? batches[bi] : (size_t)-1;
-            persp_scene *scene = NULL;
-            assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
-            uint8_t *color = malloc((size_t)W * H * 4);
-            float *depth = malloc((size_t)W * H * sizeof(float));
-            assert_non_null(color);
-            assert_non_null(depth);
-            persp_framebuffer fb = {W, H, color, depth};
-            persp_render_stats st;
-            assert_int_equal(persp_render(ctx, scene, NULL, &fb, &st), PERSP_OK);
-            assert_true(st.triangles_drawn > 1000);
-            uint64_t h = fnv(color, (size_t)W * H * 4);
+            uint8_t color[S * S * 4];
+            float depth[S * S];
+            persp_framebuffer fb = {S, S, color, depth};
+            const uint8_t black[4] = {0, 0, 0, 255};
+            persp_framebuffer_clear(&fb, black, PERSP_DEPTH_DEFAULT);
+            persp_draw_desc d;
+            memset(&d, 0, sizeof d);
+            d.mvp = persp_mat4_identity();
+            d.depth_test = PERSP_TOGGLE_OFF;
+            assert_int_equal(persp_draw(ctx, &fb, &d, v, 3 * NT, idx, 3 * NT), PERSP_OK);
+            uint64_t h = fnv(color, sizeof color);
             if (threads == 1 && bi == 0) ref = h;
             else if (h != ref)
-                fail_msg("batch %zu, %d threads: hash %016llx, one batch %016llx", batches[bi], threads,
+                fail_msg("batch %zu, %d threads: hash %016llx, serial %016llx", batches[bi], threads,
                          (unsigned long long)h, (unsigned long long)ref);
-            free(color);
-            free(depth);
-            persp_scene_destroy(scene);
             persp_context_destroy(ctx);
         }
+    free(v);
+    free(idx);
 }
 
 int main(void)
@@ -395,6 +446,7 @@ int main(void)
         cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_batches_bit_identical),
+        cmocka_unit_test(test_submission_order_kept),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
