@@ -182,6 +182,24 @@ PERSP_API persp_status persp_filter_accuracy_filter_check(const char *name);
 PERSP_API persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_accuracy_result *res,
                                          persp_report_format format, void *stream);
 
+/* ------------------------------------------------------------ the study */
+
+/* persp report: the whole study as one self-contained web page, dir/index.html,
+ * with its images (PNG) and data (accuracy.json, filter.json) beside it and
+ * the plots inline as SVG; every number is measured in the call (or read
+ * from a merged sweep, from_dir/accuracy.json). */
+typedef struct persp_report_html_desc {
+    const char *dir;        /* created if missing */
+    int quick;              /* fewer triangles and smaller images (seconds, not minutes) */
+    const char *from_dir;   /* NULL: measure; else the method accuracy is read from
+                               from_dir/accuracy.json (e.g. written by persp merge) */
+    const char *command;    /* the command line that made the page, shown on it; NULL: none */
+    const char *git_commit; /* shown with the environment; NULL: not known */
+    void *log;              /* FILE * for progress lines; NULL: silent */
+} persp_report_html_desc;
+
+PERSP_API persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc *desc);
+
 #ifdef __cplusplus
 }
 #endif
