@@ -175,8 +175,8 @@ static void plot_by_depth(rep *r)
             for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
                 const persp_accuracy_row *x = row_of(r, r->specs[i], "random-triangles", xs[g]);
                 used |= x != NULL;
-                ys[0][i][g] = x ? log10(fmax(rmax(x), 1e-7)) : NAN;
-                ys[1][i][g] = x ? log10(fmax(rp99(x), 1e-7)) : NAN;
+                ys[0][i][g] = x ? log10(fmax(rmax(x), 1e-6)) : NAN;
+                ys[1][i][g] = x ? log10(fmax(rp99(x), 1e-6)) : NAN;
                 ys[2][i][g] = x ? 100.0 * x->texel_miss : NAN;
             }
             if (!used) continue;
@@ -548,7 +548,8 @@ static void images(rep *r)
     fputs("<script>\n(function(){var s=document.getElementById('sr'),t=document.getElementById('st'),"
           "m=document.getElementById('sm'),i=document.getElementById('si');\n"
           "s.oninput=function(){t.style.width=s.value+'%';};\n"
-          "m.onchange=function(){i.src=m.value;};})();\n</script>\n",
+          "m.onchange=function(){i.src=m.value;};\n"
+          "document.getElementById('sl').setAttribute('data-slider','ready');})();\n</script>\n",
           r->f);
     cmd(r, "persp render corridor --method affine --size %dx%d -o affine.png", r->w, r->h);
     for (int s = 0; s < SCENES; s++) {
