@@ -51,12 +51,22 @@ static void say(rep *r, const char *fmt, ...)
 
 static void esc(FILE *f, const char *s)
 {
-    for (; s && *s; s++) switch (*s) {
-        case '<': fputs("&lt;", f); break;
-        case '>': fputs("&gt;", f); break;
-        case '&': fputs("&amp;", f); break;
-        case '"': fputs("&quot;", f); break;
-        default: fputc(*s, f);
+    for (; s && *s; s++)
+        switch (*s) {
+        case '<':
+            fputs("&lt;", f);
+            break;
+        case '>':
+            fputs("&gt;", f);
+            break;
+        case '&':
+            fputs("&amp;", f);
+            break;
+        case '"':
+            fputs("&quot;", f);
+            break;
+        default:
+            fputc(*s, f);
         }
 }
 
@@ -75,6 +85,19 @@ static int file_exists(const char *path)
     return stat(path, &st) == 0 && st.st_size > 0;
 }
 
+static void copy_file(const char *from, const char *to)
+{
+    FILE *in = fopen(from, "rb"), *out = in ? fopen(to, "wb") : NULL;
+    char buf[65536];
+    size_t n;
+    int ok = in && out;
+    while (ok && (n = fread(buf, 1, sizeof buf, in)) > 0)
+        ok = fwrite(buf, 1, n, out) == n;
+    if (in) fclose(in);
+    if (out && fclose(out) != 0) ok = 0;
+    if (out && !ok) remove(to);
+}
+
 static void num(FILE *f, double v)
 {
     if (v != v)
@@ -89,22 +112,33 @@ static void num(FILE *f, double v)
 
 /* The row of method on case (a scene case matches "NAME@WxH"); hbar > 0
  * selects a random-triangles group. */
-static const persp_accuracy_row *row_of(const rep *r, const char *method, const char *cname, double hbar)
+static const persp_accuracy_row *row_of(const rep *r, const char *method, const char *cname,
+                                        double hbar)
 {
     size_t cl = strlen(cname);
     for (size_t i = 0; i < persp_accuracy_row_count(r->acc); i++) {
         const persp_accuracy_row *x = persp_accuracy_row_at(r->acc, i);
         if (strcmp(x->method, method)) continue;
-        if (strncmp(x->case_name, cname, cl) || (x->case_name[cl] && x->case_name[cl] != '@')) continue;
+        if (strncmp(x->case_name, cname, cl) || (x->case_name[cl] && x->case_name[cl] != '@'))
+            continue;
         if (hbar > 0.0 && fabs(x->hbar - hbar) > 1e-9) continue;
         return x;
     }
     return NULL;
 }
 
-static double rmax(const persp_accuracy_row *x) { return x ? fmax(x->max_u, x->max_v) : NAN; }
-static double rp99(const persp_accuracy_row *x) { return x ? fmax(x->p99_u, x->p99_v) : NAN; }
-static double rrel(const persp_accuracy_row *x) { return x ? fmax(x->relpt_u, x->relpt_v) : NAN; }
+static double rmax(const persp_accuracy_row *x)
+{
+    return x ? fmax(x->max_u, x->max_v) : NAN;
+}
+static double rp99(const persp_accuracy_row *x)
+{
+    return x ? fmax(x->p99_u, x->p99_v) : NAN;
+}
+static double rrel(const persp_accuracy_row *x)
+{
+    return x ? fmax(x->relpt_u, x->relpt_v) : NAN;
+}
 
 /* Methods present in the accuracy result, in its order. */
 static void methods_of_result(rep *r)
@@ -113,7 +147,8 @@ static void methods_of_result(rep *r)
     for (size_t i = 0; i < persp_accuracy_row_count(r->acc) && r->nspecs < MAX_METHODS; i++) {
         const char *m = persp_accuracy_row_at(r->acc, i)->method;
         size_t k = 0;
-        while (k < r->nspecs && strcmp(r->specs[k], m)) k++;
+        while (k < r->nspecs && strcmp(r->specs[k], m))
+            k++;
         if (k == r->nspecs) r->specs[r->nspecs++] = m;
     }
 }
@@ -153,13 +188,15 @@ static void plot_by_depth(rep *r)
     /* Two panels' worth of methods, so that each legend stays readable. */
     const size_t per = r->nspecs > 10 ? (r->nspecs + 1) / 2 : 10;
     static double xs[PERSP_HBAR_COUNT];
-    for (int g = 0; g < PERSP_HBAR_COUNT; g++) xs[g] = persp__hbar_groups[g];
+    for (int g = 0; g < PERSP_HBAR_COUNT; g++)
+        xs[g] = persp__hbar_groups[g];
     static double ys[3][MAX_METHODS][PERSP_HBAR_COUNT];
     for (size_t c = 0; c * per < r->nspecs; c++) {
         persp_svg_panel p[3];
         memset(p, 0, sizeof p);
         const char *titles[3] = {"max error", "p99 error", "texel miss"};
-        const char *ylab[3] = {"log10 max |Δ| (texels)", "log10 p99 |Δ| (texels)", "texel miss (%)"};
+        const char *ylab[3] = {"log10 max |Δ| (texels)", "log10 p99 |Δ| (texels)",
+                               "texel miss (%)"};
         for (int k = 0; k < 3; k++) {
             p[k].title = titles[k];
             p[k].xlabel = "depth ratio ħ = z_far / z_near";
@@ -224,7 +261,8 @@ static persp_status render_all(rep *r)
     uint8_t *color = malloc(px * 4);
     float *depth = malloc(px * sizeof(float));
     persp_status st = color && depth ? PERSP_OK : PERSP_ERR_OUT_OF_MEMORY;
-    for (size_t i = 0; i < MAX_METHODS; i++) r->ms[i] = NAN;
+    for (size_t i = 0; i < MAX_METHODS; i++)
+        r->ms[i] = NAN;
     for (int s = 0; s < SCENES && st == PERSP_OK; s++) {
         persp_scene *scene = NULL;
         st = persp_scene_builtin(r->ctx, scenes[s], &scene);
@@ -241,7 +279,8 @@ static persp_status render_all(rep *r)
                 clock_gettime(CLOCK_MONOTONIC, &t0);
                 st = persp_render(r->ctx, scene, &rd, &fb, NULL);
                 clock_gettime(CLOCK_MONOTONIC, &t1);
-                double ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+                double ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 +
+                            (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
                 if (ms < best) best = ms;
             }
             if (s == 0) r->ms[i] = best;
@@ -265,25 +304,29 @@ static persp_status render_all(rep *r)
 
 static void head(rep *r)
 {
-    fputs("<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>\n"
-          "<title>persp: perspective-correct texture mapping, the study</title>\n<style>\n"
-          "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;color:#222}\n"
-          "table{border-collapse:collapse;font-size:13px;margin:.5em 0}\n"
-          "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}\n"
-          "td:first-child,th:first-child{text-align:left}\n"
-          "th{background:#eee}\n.holds{background:#dfd}.fails{background:#fdd}.partly{background:#ffd}\n"
-          "code{background:#f4f4f4;padding:1px 3px}\npre{background:#f7f7f7;padding:.5em;overflow:auto;font-size:12px}\n"
-          "figure{display:inline-block;margin:4px;vertical-align:top;font-size:12px}\n"
-          "figure img{display:block;image-rendering:pixelated}\n"
-          ".plot svg{max-width:100%;height:auto}\n"
-          ".slider{position:relative;display:inline-block}\n"
-          ".slider img{display:block;image-rendering:pixelated}\n"
-          ".slider .top{position:absolute;left:0;top:0;overflow:hidden;border-right:2px solid #f00}\n"
-          "</style></head><body>\n"
-          "<h1>persp: perspective-correct texture mapping — the study</h1>\n",
-          r->f);
-    fprintf(r->f, "<p>Every number, plot and image below was produced by <code>persp report</code> "
-                  "in one run (%s mode)%s. Sources are cited by the keys of docs/SOURCES.md.</p>\n",
+    fputs(
+        "<!DOCTYPE html>\n<html lang=en><head><meta charset=utf-8>\n"
+        "<title>persp: perspective-correct texture mapping, the study</title>\n<style>\n"
+        "body{font-family:sans-serif;max-width:1400px;margin:1em auto;padding:0 1em;color:#222}\n"
+        "table{border-collapse:collapse;font-size:13px;margin:.5em 0}\n"
+        "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}\n"
+        "td:first-child,th:first-child{text-align:left}\n"
+        "th{background:#eee}\n.holds{background:#dfd}.fails{background:#fdd}.partly{background:#"
+        "ffd}\n"
+        "code{background:#f4f4f4;padding:1px "
+        "3px}\npre{background:#f7f7f7;padding:.5em;overflow:auto;font-size:12px}\n"
+        "figure{display:inline-block;margin:4px;vertical-align:top;font-size:12px}\n"
+        "figure img{display:block;image-rendering:pixelated}\n"
+        ".plot svg{max-width:100%;height:auto}\n"
+        ".slider{position:relative;display:inline-block}\n"
+        ".slider img{display:block;image-rendering:pixelated}\n"
+        ".slider .top{position:absolute;left:0;top:0;overflow:hidden;border-right:2px solid #f00}\n"
+        "</style></head><body>\n"
+        "<h1>persp: perspective-correct texture mapping — the study</h1>\n",
+        r->f);
+    fprintf(r->f,
+            "<p>Every number, plot and image below was produced by <code>persp report</code> "
+            "in one run (%s mode)%s. Sources are cited by the keys of docs/SOURCES.md.</p>\n",
             r->quick ? "quick" : "full",
             r->d->from_dir ? "; the method accuracy was read from a merged sweep" : "");
 }
@@ -339,27 +382,32 @@ static void cmd(rep *r, const char *fmt, ...)
 
 static void method_table(rep *r)
 {
-    fputs("<h2 id=methods>Texture-coordinate methods</h2>\n"
-          "<p>Absolute errors in texels against the exact rational form (Heckbert 1989 §2.3.2) in double "
-          "precision at each pixel centre; relpt = point-wise relative error; ops per pixel as counted by "
-          "each method on the corridor; render time of the corridor image below, relative to "
-          "<code>exact</code>.</p>\n<table>\n<tr><th>method<th>paper-quad max u / v<th>relpt u / v %"
-          "<th>ħ=2 max<th>ħ=8 max<th>corridor max / p99 / miss %<th>floor max / p99 / miss %"
-          "<th>div / mul / add / cmp per px<th>time vs exact\n",
-          r->f);
+    fputs(
+        "<h2 id=methods>Texture-coordinate methods</h2>\n"
+        "<p>Absolute errors in texels against the exact rational form (Heckbert 1989 §2.3.2) in "
+        "double "
+        "precision at each pixel centre; relpt = point-wise relative error; ops per pixel as "
+        "counted by "
+        "each method on the corridor; render time of the corridor image below, relative to "
+        "<code>exact</code>.</p>\n<table>\n<tr><th>method<th>paper-quad max u / v<th>relpt u / v %"
+        "<th>ħ=2 max<th>ħ=8 max<th>corridor max / p99 / miss %<th>floor max / p99 / miss %"
+        "<th>div / mul / add / cmp per px<th>time vs exact\n",
+        r->f);
     double exact_ms = NAN;
     for (size_t i = 0; i < r->nspecs; i++)
         if (!strcmp(r->specs[i], "exact")) exact_ms = r->ms[i];
     for (size_t i = 0; i < r->nspecs; i++) {
         const char *m = r->specs[i];
-        const persp_accuracy_row *pq = row_of(r, m, "paper-quad", 0), *h2 = row_of(r, m, "random-triangles", 2.0),
+        const persp_accuracy_row *pq = row_of(r, m, "paper-quad", 0),
+                                 *h2 = row_of(r, m, "random-triangles", 2.0),
                                  *h8 = row_of(r, m, "random-triangles", 8.0);
         fputs("<tr><td>", r->f);
         esc(r->f, m);
         fputs("<td>", r->f);
         num(r->f, pq ? pq->max_u : NAN), fputs(" / ", r->f), num(r->f, pq ? pq->max_v : NAN);
         fputs("<td>", r->f);
-        num(r->f, pq ? 100 * pq->relpt_u : NAN), fputs(" / ", r->f), num(r->f, pq ? 100 * pq->relpt_v : NAN);
+        num(r->f, pq ? 100 * pq->relpt_u : NAN), fputs(" / ", r->f),
+            num(r->f, pq ? 100 * pq->relpt_v : NAN);
         fputs("<td>", r->f), num(r->f, rmax(h2));
         fputs("<td>", r->f), num(r->f, rmax(h8));
         const persp_accuracy_row *ops = NULL;
@@ -390,8 +438,8 @@ static void method_table(rep *r)
 
 typedef enum { V_NA, V_HOLDS, V_PARTLY, V_FAILS } verdict;
 
-static void claim(rep *r, const char *source, const char *text, const char *published, const char *measured,
-                  verdict v)
+static void claim(rep *r, const char *source, const char *text, const char *published,
+                  const char *measured, verdict v)
 {
     static const char *const cls[] = {"", "holds", "partly", "fails"};
     static const char *const word[] = {"not measured", "holds", "partly", "does not hold"};
@@ -408,7 +456,8 @@ static void claim(rep *r, const char *source, const char *text, const char *publ
 
 static void claims(rep *r)
 {
-    fputs("<h2 id=claims>Claims of the sources</h2>\n<p>As listed in docs/REPRODUCTION.md, measured again "
+    fputs("<h2 id=claims>Claims of the sources</h2>\n<p>As listed in docs/REPRODUCTION.md, "
+          "measured again "
           "in this run (paper-quad: the line y = 32 of [Romanyuk-PCF] Fig. 4.10; relpt in %).</p>\n"
           "<table>\n<tr><th>source<th>claim<th>published<th>measured here<th>verdict\n",
           r->f);
@@ -423,60 +472,77 @@ static void claims(rep *r)
     buf[0] = '\0';
     if (q && qs) {
         double ratio = qs->relpt_v / q->relpt_v;
-        snprintf(buf, sizeof buf, "relpt v %.3f %% → %.3f %%, ratio %.3f", 100 * q->relpt_v, 100 * qs->relpt_v, ratio);
+        snprintf(buf, sizeof buf, "relpt v %.3f %% → %.3f %%, ratio %.3f", 100 * q->relpt_v,
+                 100 * qs->relpt_v, ratio);
         v = ratio >= 0.4 && ratio <= 0.7 ? V_HOLDS : V_FAILS;
     }
-    claim(r, "[Romanyuk-PCF] §4.6", "shifting the inner anchor to x_int = 0.25 reduces the maximum relative error "
-          "by almost half", "ratio ≈ 0.5", buf, v);
+    claim(r, "[Romanyuk-PCF] §4.6",
+          "shifting the inner anchor to x_int = 0.25 reduces the maximum relative error "
+          "by almost half",
+          "ratio ≈ 0.5", buf, v);
     v = V_NA, buf[0] = '\0';
     if (q && bz) {
         double e = rrel(bz), k = fmin(q->relpt_u / bz->relpt_u, q->relpt_v / bz->relpt_v);
         snprintf(buf, sizeof buf, "%.3f %%, %.1f× below the quadratic", 100 * e, k);
         v = e <= 0.007 && k >= 7 ? V_HOLDS : e <= 0.007 || k >= 7 ? V_PARTLY : V_FAILS;
     }
-    claim(r, "[Romanyuk-PCF] §4.7", "Bézier with the inner control point at the tangents' intersection: max "
-          "relative error ≤ 0.7 %, 7 times less than the quadratic", "≤ 0.7 %, 7×", buf, v);
+    claim(r, "[Romanyuk-PCF] §4.7",
+          "Bézier with the inner control point at the tangents' intersection: max "
+          "relative error ≤ 0.7 %, 7 times less than the quadratic",
+          "≤ 0.7 %, 7×", buf, v);
     v = V_NA, buf[0] = '\0';
     if (q && bt) {
         double e = rrel(bt), k = fmin(q->relpt_u / bt->relpt_u, q->relpt_v / bt->relpt_v);
         snprintf(buf, sizeof buf, "%.2f %%, %.1f× below the quadratic", 100 * e, k);
         v = e <= 0.017 ? V_HOLDS : k > 1 ? V_PARTLY : V_FAILS;
     }
-    claim(r, "[Romanyuk-PCF] §4.7", "t as a quadratic in x: max relative error ≤ 1.7 %, almost 3 times less "
-          "than the quadratic", "≤ 1.7 %, ≈3×", buf, v);
+    claim(r, "[Romanyuk-PCF] §4.7",
+          "t as a quadratic in x: max relative error ≤ 1.7 %, almost 3 times less "
+          "than the quadratic",
+          "≤ 1.7 %, ≈3×", buf, v);
     v = V_NA, buf[0] = '\0';
     if (q && qu) {
         int same = q->max_u == qu->max_u && q->max_v == qu->max_v && q->relpt_u == qu->relpt_u;
         double d = fmax(fabs(q->max_u - qu->max_u), fabs(q->max_v - qu->max_v));
-        snprintf(buf, sizeof buf, "max errors %.4g / %.4g vs %.4g / %.4g (difference %.2g)", q->max_u, q->max_v,
-                 qu->max_u, qu->max_v, d);
+        snprintf(buf, sizeof buf, "max errors %.4g / %.4g vs %.4g / %.4g (difference %.2g)",
+                 q->max_u, q->max_v, qu->max_u, qu->max_v, d);
         v = same || d < 1e-3 ? V_HOLDS : V_FAILS;
     }
-    claim(r, "[Romanyuk-PCF] §4.6", "the quadratic on un-normalised x (Cramer's rule) gives the same "
-          "approximation", "same errors", buf, v);
+    claim(r, "[Romanyuk-PCF] §4.6",
+          "the quadratic on un-normalised x (Cramer's rule) gives the same "
+          "approximation",
+          "same errors", buf, v);
     v = V_NA, buf[0] = '\0';
     if (q && cu) {
         int groups = 0, wins = 0;
         for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
-            const persp_accuracy_row *a = row_of(r, "cubic", "random-triangles", persp__hbar_groups[g]),
-                                     *b = row_of(r, "quadratic", "random-triangles", persp__hbar_groups[g]);
+            const persp_accuracy_row *a = row_of(r, "cubic", "random-triangles",
+                                                 persp__hbar_groups[g]),
+                                     *b = row_of(r, "quadratic", "random-triangles",
+                                                 persp__hbar_groups[g]);
             if (a && b) groups++, wins += rmax(a) <= rmax(b);
         }
-        snprintf(buf, sizeof buf, "paper-quad max %.3g vs %.3g texels; better in %d of %d depth groups", rmax(cu),
+        snprintf(buf, sizeof buf,
+                 "paper-quad max %.3g vs %.3g texels; better in %d of %d depth groups", rmax(cu),
                  rmax(q), wins, groups);
-        v = rmax(cu) < rmax(q) && wins == groups ? V_HOLDS : rmax(cu) < rmax(q) ? V_PARTLY : V_FAILS;
+        v = rmax(cu) < rmax(q) && wins == groups ? V_HOLDS
+            : rmax(cu) < rmax(q)                 ? V_PARTLY
+                                                 : V_FAILS;
     }
-    claim(r, "[Romanyuk-PCF] §4.4", "the cubic through the thirds is more accurate than the quadratic",
-          "more accurate", buf, v);
+    claim(r, "[Romanyuk-PCF] §4.4",
+          "the cubic through the thirds is more accurate than the quadratic", "more accurate", buf,
+          v);
     v = V_NA, buf[0] = '\0';
     {
         double worst = -1;
         for (size_t i = 0; i < persp_accuracy_row_count(r->acc); i++) {
             const persp_accuracy_row *x = persp_accuracy_row_at(r->acc, i);
-            if (!strcmp(x->method, "incremental") && !strchr(x->case_name, '@')) worst = fmax(worst, rmax(x));
+            if (!strcmp(x->method, "incremental") && !strchr(x->case_name, '@'))
+                worst = fmax(worst, rmax(x));
         }
         if (worst >= 0) {
-            snprintf(buf, sizeof buf, "max %.2g texels over paper-quad and random triangles", worst);
+            snprintf(buf, sizeof buf, "max %.2g texels over paper-quad and random triangles",
+                     worst);
             v = worst < 1e-4 ? V_HOLDS : V_FAILS;
         }
     }
@@ -486,7 +552,8 @@ static void claims(rep *r)
         int n = 0, rising = 1;
         double prev = -1, first = NAN, last = NAN;
         for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
-            const persp_accuracy_row *x = row_of(r, "affine", "random-triangles", persp__hbar_groups[g]);
+            const persp_accuracy_row *x =
+                row_of(r, "affine", "random-triangles", persp__hbar_groups[g]);
             if (!x) continue;
             if (n++ == 0) first = x->max_u;
             rising &= x->max_u > prev;
@@ -508,16 +575,18 @@ static void claims(rep *r)
         }
         if (e == e && inc == inc) {
             double gain = e / inc - 1.0;
-            snprintf(buf, sizeof buf, "%+.0f %% (corridor %dx%d, %.3g vs %.3g ms; timing noise included)",
+            snprintf(buf, sizeof buf,
+                     "%+.0f %% (corridor %dx%d, %.3g vs %.3g ms; timing noise included)",
                      100 * gain, r->w, r->h, inc, e);
             v = gain >= 0.13 ? V_HOLDS : gain > 0 ? V_PARTLY : V_FAILS;
         }
     }
-    claim(r, "[Romaniuk-ACIT18]", "the incremental form renders faster than the per-pixel division", "+26 %", buf,
-          v);
-    claim(r, "[Romanyuk-PCF] §4.3", "t_w approximated at ħ = 2, 3, 4, 5: piecewise quadratic ≤ 1, 4, 8, 13 %; "
-          "cubic ≤ 0.64, 2.9, 6.3, 10.6 %", "see Shading", r->d->from_dir ? "" : "in the shading report below",
-          V_NA);
+    claim(r, "[Romaniuk-ACIT18]", "the incremental form renders faster than the per-pixel division",
+          "+26 %", buf, v);
+    claim(r, "[Romanyuk-PCF] §4.3",
+          "t_w approximated at ħ = 2, 3, 4, 5: piecewise quadratic ≤ 1, 4, 8, 13 %; "
+          "cubic ≤ 0.64, 2.9, 6.3, 10.6 %",
+          "see Shading", r->d->from_dir ? "" : "in the shading report below", V_NA);
     fputs("</table>\n", r->f);
 }
 
@@ -525,32 +594,38 @@ static void claims(rep *r)
 
 static void images(rep *r)
 {
-    fprintf(r->f, "<h2 id=images>Images</h2>\n<p>Every method on the built-in scenes at %dx%d, the middle "
-                  "fifth enlarged 4×, and the per-pixel error against the exact form (max of |Δu|, |Δv| in "
-                  "texels, logarithmic scale with its legend).</p>\n",
-            r->w, r->h);
+    fprintf(
+        r->f,
+        "<h2 id=images>Images</h2>\n<p>Every method on the built-in scenes at %dx%d, the middle "
+        "fifth enlarged 4×, and the per-pixel error against the exact form (max of |Δu|, |Δv| in "
+        "texels, logarithmic scale with its legend).</p>\n",
+        r->w, r->h);
     /* The slider: a method over exact, the split dragged with a range input. */
     fputs("<h3>Before / after</h3>\n<p><select id=sm>", r->f);
     for (size_t i = 0; i < r->nspecs; i++) {
         char name[256];
         snprintf(name, sizeof name, "corridor_%s", r->specs[i]);
         file_name(name);
-        fprintf(r->f, "<option value=\"img/%s.png\"%s>", name, !strcmp(r->specs[i], "affine") ? " selected" : "");
+        fprintf(r->f, "<option value=\"img/%s.png\"%s>", name,
+                !strcmp(r->specs[i], "affine") ? " selected" : "");
         esc(r->f, r->specs[i]);
         fputs("</option>", r->f);
     }
-    fprintf(r->f, "</select> (left) against exact (right)</p>\n<div class=slider id=sl>"
-                  "<img src=\"img/corridor_exact.png\" width=%d height=%d alt=exact>"
-                  "<div class=top id=st style=\"width:50%%\"><img id=si src=\"img/corridor_affine.png\" width=%d "
-                  "height=%d alt=method></div></div><br><input type=range id=sr min=0 max=100 value=50 "
-                  "style=\"width:%dpx\">\n",
+    fprintf(r->f,
+            "</select> (left) against exact (right)</p>\n<div class=slider id=sl>"
+            "<img src=\"img/corridor_exact.png\" width=%d height=%d alt=exact>"
+            "<div class=top id=st style=\"width:50%%\"><img id=si src=\"img/corridor_affine.png\" "
+            "width=%d "
+            "height=%d alt=method></div></div><br><input type=range id=sr min=0 max=100 value=50 "
+            "style=\"width:%dpx\">\n",
             2 * r->w, 2 * r->h, 2 * r->w, 2 * r->h, 2 * r->w);
-    fputs("<script>\n(function(){var s=document.getElementById('sr'),t=document.getElementById('st'),"
-          "m=document.getElementById('sm'),i=document.getElementById('si');\n"
-          "s.oninput=function(){t.style.width=s.value+'%';};\n"
-          "m.onchange=function(){i.src=m.value;};\n"
-          "document.getElementById('sl').setAttribute('data-slider','ready');})();\n</script>\n",
-          r->f);
+    fputs(
+        "<script>\n(function(){var s=document.getElementById('sr'),t=document.getElementById('st'),"
+        "m=document.getElementById('sm'),i=document.getElementById('si');\n"
+        "s.oninput=function(){t.style.width=s.value+'%';};\n"
+        "m.onchange=function(){i.src=m.value;};\n"
+        "document.getElementById('sl').setAttribute('data-slider','ready');})();\n</script>\n",
+        r->f);
     cmd(r, "persp render corridor --method affine --size %dx%d -o affine.png", r->w, r->h);
     for (int s = 0; s < SCENES; s++) {
         fprintf(r->f, "<h3>%s</h3>\n", scenes[s]);
@@ -561,17 +636,27 @@ static void images(rep *r)
             snprintf(heat, sizeof heat, "%s@%dx%d_%s", scenes[s], r->w, r->h, r->specs[i]);
             file_name(heat);
             fputs("<figure>", r->f);
-            fprintf(r->f, "<img src=\"img/%s.png\" width=%d height=%d alt=\"%s\">", name, r->w, r->h, name);
-            fprintf(r->f, "<img src=\"img/%s_crop.png\" width=%d height=%d alt=\"%s crop\">", name, r->w / 5 * 4 / 2,
-                    r->h / 5 * 4 / 2, name);
+            fprintf(r->f, "<img src=\"img/%s.png\" width=%d height=%d alt=\"%s\">", name, r->w,
+                    r->h, name);
+            fprintf(r->f, "<img src=\"img/%s_crop.png\" width=%d height=%d alt=\"%s crop\">", name,
+                    r->w / 5 * 4, r->h / 5 * 4, name);
             snprintf(path, sizeof path, "%s/heat/%s.png", r->dir, heat);
+            if (r->d->from_dir && !file_exists(path)) {
+                /* A sweep run with --heatmap FROM/heat: its maps join the page. */
+                char src[1400];
+                snprintf(src, sizeof src, "%s/heat/%s.png", r->d->from_dir, heat);
+                if (file_exists(src)) copy_file(src, path);
+            }
             if (file_exists(path))
-                fprintf(r->f, "<img src=\"heat/%s.png\" width=%d alt=\"%s error\">", heat, r->w, heat);
+                fprintf(r->f, "<img src=\"heat/%s.png\" width=%d alt=\"%s error\">", heat, r->w,
+                        heat);
             fputs("<figcaption>", r->f);
             esc(r->f, r->specs[i]);
             fputs("</figcaption></figure>\n", r->f);
         }
-        cmd(r, "persp render %s --method M --size %dx%d -o M.png; persp accuracy --case %s --size %dx%d --heatmap heat/",
+        cmd(r,
+            "persp render %s --method M --size %dx%d -o M.png; persp accuracy --case %s --size "
+            "%dx%d --heatmap heat/",
             scenes[s], r->w, r->h, scenes[s], r->w, r->h);
     }
 }
@@ -597,24 +682,28 @@ static persp_status shading(rep *r)
     sd.width = r->quick ? 160 : 640, sd.height = r->quick ? 120 : 480;
     sd.svg_path = svg;
     persp_status st = persp_shading_accuracy_report(r->ctx, &sd, t);
-    if (fclose(t) != 0 && st == PERSP_OK) st = persp__fail(r->ctx, PERSP_ERR_IO, "%s: write failed", txt);
+    if (fclose(t) != 0 && st == PERSP_OK)
+        st = persp__fail(r->ctx, PERSP_ERR_IO, "%s: write failed", txt);
     if (st != PERSP_OK) return st;
-    fputs("<p>Fig. 4.3–4.4 (Gouraud's error factor Δ(u) and its maximum by depth ratio) and the errors of the t_w "
+    fputs("<p>Fig. 4.3–4.4 (Gouraud's error factor Δ(u) and its maximum by depth ratio) and the "
+          "errors of the t_w "
           "approximations of §4.3, measured in this run:</p>\n<figure class=plot>",
           r->f);
     inline_svg_file(r, svg);
-    fputs("</figure>\n<details><summary>The full shading report (colour and normal errors of every mode by depth "
+    fputs("</figure>\n<details><summary>The full shading report (colour and normal errors of every "
+          "mode by depth "
           "ratio, t_w table, lit scene)</summary><pre>",
           r->f);
     FILE *in = fopen(txt, "r");
     if (in) {
         char line[1024];
-        while (fgets(line, sizeof line, in)) esc(r->f, line);
+        while (fgets(line, sizeof line, in))
+            esc(r->f, line);
         fclose(in);
     }
     fputs("</pre></details>\n", r->f);
-    cmd(r, "persp accuracy --shading --triangles %d --size %dx%d --svg shading.svg", sd.triangles, sd.width,
-        sd.height);
+    cmd(r, "persp accuracy --shading --triangles %d --size %dx%d --svg shading.svg", sd.triangles,
+        sd.width, sd.height);
     return PERSP_OK;
 }
 
@@ -634,7 +723,8 @@ static persp_status filters(rep *r)
         fd.cases = quick_cases, fd.case_count = 3;
         fd.width = 128, fd.height = 96, fd.samples = 4, fd.repeats = 1;
     }
-    say(r, "filter accuracy (%s)", r->quick ? "3 cases at 128x96, 4x4 reference samples" : "all cases, defaults");
+    say(r, "filter accuracy (%s)",
+        r->quick ? "3 cases at 128x96, 4x4 reference samples" : "all cases, defaults");
     persp_filter_accuracy_result *fr = NULL;
     persp_status st = persp_filter_accuracy_run(r->ctx, &fd, &fr);
     if (st != PERSP_OK) return st;
@@ -645,8 +735,10 @@ static persp_status filters(rep *r)
         persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j);
         fclose(j);
     }
-    fputs("<p>PSNR over R, G, B of covered pixels and mean SSIM of luma; texels read per pixel; render time per "
-          "pixel. <a href=\"filter.json\">filter.json</a></p>\n<table>\n<tr><th>filter<th>pipeline<th>case"
+    fputs("<p>PSNR over R, G, B of covered pixels and mean SSIM of luma; texels read per pixel; "
+          "render time per "
+          "pixel. <a "
+          "href=\"filter.json\">filter.json</a></p>\n<table>\n<tr><th>filter<th>pipeline<th>case"
           "<th>PSNR dB<th>SSIM<th>max err<th>mean err<th>fetches/px<th>ns/px\n",
           r->f);
     for (size_t i = 0; i < persp_filter_accuracy_row_count(fr); i++) {
@@ -657,12 +749,13 @@ static persp_status filters(rep *r)
         esc(r->f, x->pipeline);
         fputs("<td>", r->f);
         esc(r->f, x->case_name);
-        fprintf(r->f, "<td>%.2f<td>%.4f<td>%.3g<td>%.3g<td>%.3g<td>%.3g\n", x->psnr, x->ssim, x->max_err, x->mean_err,
-                x->fetches_px, x->ns_px);
+        fprintf(r->f, "<td>%.2f<td>%.4f<td>%.3g<td>%.3g<td>%.3g<td>%.3g\n", x->psnr, x->ssim,
+                x->max_err, x->mean_err, x->fetches_px, x->ns_px);
     }
     fputs("</table>\n", r->f);
     if (r->quick)
-        cmd(r, "persp accuracy --filter --case corridor,floor,tilt-70 --size 128x96 --samples 4 --repeats 1");
+        cmd(r, "persp accuracy --filter --case corridor,floor,tilt-70 --size 128x96 --samples 4 "
+               "--repeats 1");
     else
         cmd(r, "persp accuracy --filter");
     persp_filter_accuracy_destroy(fr);
@@ -671,7 +764,10 @@ static persp_status filters(rep *r)
 
 /* ------------------------------------------------------------------ entry */
 
-static int make_dir(const char *path) { return mkdir(path, 0777) == 0 || errno == EEXIST; }
+static int make_dir(const char *path)
+{
+    return mkdir(path, 0777) == 0 || errno == EEXIST;
+}
 
 /* Every method that runs without parameters, and the second approach of
  * [Romanyuk-PCF] §4.7, which the claims need. */
@@ -688,16 +784,20 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
 {
     if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
-    if (!desc || !desc->dir) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: no folder");
+    if (!desc || !desc->dir)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: no folder");
     rep r;
     memset(&r, 0, sizeof r);
     r.ctx = ctx, r.d = desc, r.log = desc->log, r.dir = desc->dir, r.quick = desc->quick;
     r.w = r.quick ? 192 : 512, r.h = r.quick ? 144 : 384;
     r.triangles = r.quick ? 4 : 40;
     char path[1200];
-    if (strlen(desc->dir) > 1000) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: folder name too long");
+    if (strlen(desc->dir) > 1000)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: folder name too long");
     snprintf(path, sizeof path, "%s/img", desc->dir);
-    if (!make_dir(desc->dir) || !make_dir(path))
+    char heatdir[1200];
+    snprintf(heatdir, sizeof heatdir, "%s/heat", desc->dir);
+    if (!make_dir(desc->dir) || !make_dir(path) || !make_dir(heatdir))
         return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
     persp_accuracy_result *acc = NULL;
     persp_status st;
@@ -712,16 +812,14 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
         for (size_t i = 0; i < persp_accuracy_row_count(acc); i++) {
             const char *at = strchr(persp_accuracy_row_at(acc, i)->case_name, '@');
             int w, h;
-            if (at && sscanf(at + 1, "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 4096 && h <= 4096) {
+            if (at && sscanf(at + 1, "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 4096 &&
+                h <= 4096) {
                 r.w = w, r.h = h;
                 break;
             }
         }
     } else {
         default_methods(&r);
-        char heat[1200];
-        snprintf(heat, sizeof heat, "%s/heat", desc->dir);
-        if (!make_dir(heat)) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create: %s", heat, strerror(errno));
         static const char *const cases[] = {"paper-quad", "random-triangles", "corridor", "floor"};
         persp_accuracy_desc ad;
         memset(&ad, 0, sizeof ad);
@@ -729,9 +827,9 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
         ad.cases = cases, ad.case_count = 4;
         ad.width = r.w, ad.height = r.h;
         ad.triangles = r.triangles;
-        ad.heatmap_dir = heat;
-        say(&r, "method accuracy: %zu methods, %d triangles per depth ratio, scenes at %dx%d", r.nspecs, r.triangles,
-            r.w, r.h);
+        ad.heatmap_dir = heatdir;
+        say(&r, "method accuracy: %zu methods, %d triangles per depth ratio, scenes at %dx%d",
+            r.nspecs, r.triangles, r.w, r.h);
         st = persp_accuracy_run(ctx, &ad, &acc);
         if (st != PERSP_OK) return st;
         r.acc = acc;
@@ -744,24 +842,30 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
     }
     st = render_all(&r);
     snprintf(path, sizeof path, "%s/index.html.tmp", desc->dir);
-    if (st == PERSP_OK && !(r.f = fopen(path, "w"))) st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create", path);
+    if (st == PERSP_OK && !(r.f = fopen(path, "w")))
+        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create", path);
     if (st == PERSP_OK) {
         head(&r);
-        fputs("<p><a href=#methods>methods</a> · <a href=#claims>claims</a> · <a href=#images>images</a> · "
-              "<a href=#shading>shading</a> · <a href=#filters>filters</a> · <a href=#env>environment</a> · "
+        fputs("<p><a href=#methods>methods</a> · <a href=#claims>claims</a> · <a "
+              "href=#images>images</a> · "
+              "<a href=#shading>shading</a> · <a href=#filters>filters</a> · <a "
+              "href=#env>environment</a> · "
               "<a href=\"accuracy.json\">accuracy.json</a></p>\n",
               r.f);
         method_table(&r);
         if (desc->from_dir)
-            cmd(&r, "persp accuracy --case paper-quad,random-triangles,corridor,floor --json --shard K/N; persp merge; "
+            cmd(&r, "persp accuracy --case paper-quad,random-triangles,corridor,floor --json "
+                    "--shard K/N; persp merge; "
                     "persp report --from DIR");
         else {
             char ml[700] = "";
             for (size_t i = 0; i < r.nspecs; i++)
                 if (strlen(ml) + strlen(r.specs[i]) + 2 < sizeof ml)
                     strcat(ml, i ? "," : ""), strcat(ml, r.specs[i]);
-            cmd(&r, "persp accuracy --method %s --case paper-quad,random-triangles,corridor,floor --size %dx%d "
-                    "--triangles %d --json",
+            cmd(&r,
+                "persp accuracy --method %s --case paper-quad,random-triangles,corridor,floor "
+                "--size %dx%d "
+                "--triangles %d --json",
                 ml, r.w, r.h, r.triangles);
         }
         claims(&r);
@@ -779,8 +883,10 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
         snprintf(final, sizeof final, "%s/index.html", desc->dir);
         if (st == PERSP_OK && rename(path, final) != 0)
             st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot rename: %s", final, strerror(errno));
-        if (st != PERSP_OK) remove(path);
-        else say(&r, "wrote %s", final);
+        if (st != PERSP_OK)
+            remove(path);
+        else
+            say(&r, "wrote %s", final);
     }
     persp_accuracy_destroy(acc);
     return st;

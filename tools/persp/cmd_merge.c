@@ -21,12 +21,13 @@ int cmd_merge(int argc, char **argv)
     const char *operands[MAX_SHARDS], *output = NULL;
     persp_report_format format = PERSP_REPORT_JSON;
     cli_option opts[] = {
-        CLI_OPT_HELP(cli_opt_output, &output, "write the merged JSON to FILE (default, and -: standard output)"),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "write the merged JSON to FILE (default, and -: standard output)"),
         CLI_OPT_HELP(cli_opt_csv, &format, "CSV instead of JSON"),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
-    cli_command cmd = {"merge", "persp merge --help", NULL, opts, sizeof opts / sizeof opts[0],
-                       operands, MAX_SHARDS, 0, "FILE"};
+    cli_command cmd = {"merge",  "persp merge --help", NULL, opts,  sizeof opts / sizeof opts[0],
+                       operands, MAX_SHARDS,           0,    "FILE"};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         merge_usage(stdout, &cmd);
@@ -48,9 +49,8 @@ int cmd_merge(int argc, char **argv)
     for (size_t i = 0; i < n && rc == CLI_OK; i++)
         if ((st = persp_accuracy_read(ctx, operands[i], &parts[i])) != PERSP_OK)
             rc = cli_status(ctx, st, operands[i]);
-    if (rc == CLI_OK &&
-        (st = persp_accuracy_merge(ctx, (const persp_accuracy_result *const *)parts, n, &merged)) !=
-            PERSP_OK)
+    if (rc == CLI_OK && (st = persp_accuracy_merge(ctx, (const persp_accuracy_result *const *)parts,
+                                                   n, &merged)) != PERSP_OK)
         rc = cli_status(ctx, st, "merge");
     cli_output out = {0};
     if (rc == CLI_OK && (rc = cli_output_open("merge", output, &out)) == CLI_OK) {
@@ -60,7 +60,8 @@ int cmd_merge(int argc, char **argv)
         if (rc == CLI_OK) rc = out_rc;
     }
     persp_accuracy_destroy(merged);
-    for (size_t i = 0; i < n; i++) persp_accuracy_destroy(parts[i]);
+    for (size_t i = 0; i < n; i++)
+        persp_accuracy_destroy(parts[i]);
     free(parts);
     persp_context_destroy(ctx);
     return rc;

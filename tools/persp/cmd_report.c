@@ -22,8 +22,9 @@ static const cli_spec opt_quick = {
 static const cli_spec opt_from = {.name = "from",
                                   .kind = CLI_KIND_STRING,
                                   .metavar = "DIR",
-                                  .help = "read the method accuracy from DIR/accuracy.json (e.g.\n"
-                                          "`persp merge` of a sharded sweep) instead of measuring it"};
+                                  .help =
+                                      "read the method accuracy from DIR/accuracy.json (e.g.\n"
+                                      "`persp merge` of a sharded sweep) instead of measuring it"};
 
 /* The commit of the working directory's repository, if git knows one. */
 static void git_commit(char *buf, size_t size)
@@ -46,7 +47,9 @@ int cmd_report(int argc, char **argv)
         CLI_OPT(opt_from, &from),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
-    cli_command cmd = {"report", "persp report --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
+    cli_command cmd = {
+        "report", "persp report --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0,
+        NULL};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         report_usage(stdout, &cmd);
