@@ -436,13 +436,14 @@ static void method_table(rep *r)
 
 /* ---------------------------------------------------------------- claims */
 
-typedef enum { V_NA, V_HOLDS, V_PARTLY, V_FAILS } verdict;
+typedef enum { V_NA, V_HOLDS, V_PARTLY, V_FAILS, V_SEE } verdict;
 
 static void claim(rep *r, const char *source, const char *text, const char *published,
                   const char *measured, verdict v)
 {
-    static const char *const cls[] = {"", "holds", "partly", "fails"};
-    static const char *const word[] = {"not measured", "holds", "partly", "does not hold"};
+    static const char *const cls[] = {"", "holds", "partly", "fails", ""};
+    static const char *const word[] = {"not measured", "holds", "partly", "does not hold",
+                                       "see <a href=#shading>Shading</a>"};
     fprintf(r->f, "<tr class=%s><td>", cls[v]);
     esc(r->f, source);
     fputs("<td style=text-align:left>", r->f);
@@ -586,7 +587,15 @@ static void claims(rep *r)
     claim(r, "[Romanyuk-PCF] §4.3",
           "t_w approximated at ħ = 2, 3, 4, 5: piecewise quadratic ≤ 1, 4, 8, 13 %; "
           "cubic ≤ 0.64, 2.9, 6.3, 10.6 %",
-          "see Shading", r->d->from_dir ? "" : "in the shading report below", V_NA);
+          "see Shading", r->d->from_dir ? "" : "in the shading report below",
+          r->d->from_dir ? V_NA : V_SEE);
+    claim(r, "[Romanyuk-PCF] §4.2 (4.1), Fig. 4.3–4.4",
+          "screen-linear Gouraud misses the perspective-correct intensity by ΔI = (I_B − "
+          "I_A)·Δ(u); for z1 > z2 "
+          "the extremum mirrors",
+          "Fig. 4.3, 4.4",
+          r->d->from_dir ? "" : "the figures and the ΔI table in the shading report below",
+          r->d->from_dir ? V_NA : V_SEE);
     fputs("</table>\n", r->f);
 }
 
