@@ -7,6 +7,7 @@
  * numbers mirror docs/REPRODUCTION.md; the verdicts are recomputed here.
  */
 #include "analysis/analysis.h"
+#include "analysis/shading.h"
 #include "analysis/svg.h"
 #include "core/internal.h"
 
@@ -455,6 +456,82 @@ static void claim(rep *r, const char *source, const char *text, const char *publ
     fprintf(r->f, "<td>%s\n", word[v]);
 }
 
+/* The analytic claims of [Romanyuk-PCF] §4.2-4.3, recomputed from the
+ * shading analysis (src/analysis/shading.c): they need no measurement run,
+ * so every page has them, --from included. */
+static void shading_claims(rep *r)
+{
+    char buf[512];
+    static const double ratios[] = {1.25, 1.5, 2, 3, 5, 10};
+    double worst = 0.0, worst_sym = 0.0;
+    size_t len = 0;
+    buf[0] = '\0';
+    for (size_t k = 0; k < sizeof ratios / sizeof ratios[0]; k++) {
+        double rr = ratios[k], ustar, ustar_inv, best = 0.0;
+        double dstar = persp__delta_extremum(rr, &ustar);
+        for (int i = 0; i <= 100000; i++)
+            best = fmax(best, persp__delta_factor(i / 100000.0, rr));
+        worst = fmax(worst, fabs(best - dstar));
+        double dinv = persp__delta_extremum(1.0 / rr, &ustar_inv);
+        worst_sym = fmax(worst_sym, fmax(fabs(dinv + dstar), fabs(ustar_inv - (1.0 - ustar))));
+        int n = snprintf(buf + len, sizeof buf - len, "%s%.3g", k ? ", " : "Δ* = ", dstar);
+        if (n > 0 && (size_t)n < sizeof buf - len) len += (size_t)n;
+    }
+    snprintf(buf + len, sizeof buf - len,
+             " for r = 1.25 … 10; a search over 100 001 u agrees to %.1g", worst);
+    claim(r, "[Romanyuk-PCF] §4.2 (4.1), Fig. 4.3",
+          "screen-linear Gouraud misses the perspective-correct intensity by ΔI = (I_B − I_A)·Δ(u)",
+          "Fig. 4.3 (extremum derived: (√r − 1)/(√r + 1))", buf, worst < 1e-6 ? V_HOLDS : V_FAILS);
+    snprintf(buf, sizeof buf, "|Δ*(1/r) + Δ*(r)|, |u*(1/r) − (1 − u*(r))| ≤ %.1g", worst_sym);
+    claim(r, "[Romanyuk-PCF] §4.2 Fig. 4.4",
+          "for z1 > z2 Δ < 0, the extremum lies at 1 − u and the maxima coincide", "mirror image",
+          buf, worst_sym < 1e-9 ? V_HOLDS : V_FAILS);
+
+    static const double hb[] = {2, 3, 4, 5};
+    static const double pub_pw[] = {1, 4, 8, 13}, pub_cu[] = {0.64, 2.9, 6.3, 10.6};
+    persp_tw_error pw[4], cu[4], qu[4];
+    double off = -1.0;
+    int cubic_better = 1;
+    for (int k = 0; k < 4; k++) {
+        persp__tw_error(PERSP_APPROX_PWQUAD, hb[k], &pw[k]);
+        persp__tw_error(PERSP_APPROX_CUBIC, hb[k], &cu[k]);
+        persp__tw_error(PERSP_APPROX_QUAD, hb[k], &qu[k]);
+        off = fmax(off, fmax(100 * pw[k].rel_third - pub_pw[k], 100 * cu[k].rel_third - pub_cu[k]));
+        cubic_better &= cu[k].rel_third < pw[k].rel_third;
+    }
+    snprintf(
+        buf, sizeof buf,
+        "relative error over t_v ∈ [1/3, 1]: piecewise quadratic %.2f / %.2f / %.2f / %.2f %%, "
+        "cubic %.2f / %.2f / %.2f / %.2f %% (max absolute error %.2f / %.2f / %.2f / %.2f %% "
+        "and %.2f / %.2f / %.2f / %.2f %%)",
+        100 * pw[0].rel_third, 100 * pw[1].rel_third, 100 * pw[2].rel_third, 100 * pw[3].rel_third,
+        100 * cu[0].rel_third, 100 * cu[1].rel_third, 100 * cu[2].rel_third, 100 * cu[3].rel_third,
+        100 * pw[0].abs_max, 100 * pw[1].abs_max, 100 * pw[2].abs_max, 100 * pw[3].abs_max,
+        100 * cu[0].abs_max, 100 * cu[1].abs_max, 100 * cu[2].abs_max, 100 * cu[3].abs_max);
+    /* "Does not exceed" is exceeded by a few tenths of a point under the one
+     * metric that comes close (docs/REPRODUCTION.md, S3): partly. */
+    claim(
+        r, "[Romanyuk-PCF] §4.3",
+        "t_w on a segment of depth ratio ħ = 2, 3, 4, 5: piecewise quadratic does not exceed 1, 4, "
+        "8, 13 %; cubic 0.64, 2.9, 6.3, 10.6 %",
+        "1 / 4 / 8 / 13 %; 0.64 / 2.9 / 6.3 / 10.6 %", buf,
+        off <= 0.0  ? V_HOLDS
+        : off < 0.5 ? V_PARTLY
+                    : V_FAILS);
+    snprintf(buf, sizeof buf,
+             "cubic below the piecewise quadratic at %s ħ = 2 … 5 (relative error over [1/3, 1])",
+             cubic_better ? "every" : "not every");
+    claim(r, "[Romanyuk-PCF] §4.3",
+          "the cubic results in higher accuracy than the piecewise quadratic", "more accurate", buf,
+          cubic_better ? V_HOLDS : V_FAILS);
+    snprintf(buf, sizeof buf,
+             "max absolute t_w error %.1f / %.1f / %.1f / %.1f %% at ħ = 2 / 3 / 4 / 5",
+             100 * qu[0].abs_max, 100 * qu[1].abs_max, 100 * qu[2].abs_max, 100 * qu[3].abs_max);
+    claim(r, "[Romanyuk-PCF] §4.3",
+          "the quadratic approximation gives satisfactory results only for ħ ≤ 3", "ħ ≤ 3", buf,
+          qu[1].abs_max < 0.08 && qu[2].abs_max > 0.1 ? V_HOLDS : V_PARTLY);
+}
+
 static void claims(rep *r)
 {
     fputs("<h2 id=claims>Claims of the sources</h2>\n<p>As listed in docs/REPRODUCTION.md, "
@@ -550,19 +627,20 @@ static void claims(rep *r)
     claim(r, "[Romaniuk-Incr] (3)–(4)", "the incremental form is exact", "exact", buf, v);
     v = V_NA, buf[0] = '\0';
     {
-        int n = 0, rising = 1;
+        /* With few triangles per group one step may dip; the trend is the claim. */
+        int n = 0, rising = 0;
         double prev = -1, first = NAN, last = NAN;
         for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
             const persp_accuracy_row *x =
                 row_of(r, "affine", "random-triangles", persp__hbar_groups[g]);
             if (!x) continue;
             if (n++ == 0) first = x->max_u;
-            rising &= x->max_u > prev;
+            rising += x->max_u > prev;
             prev = last = x->max_u;
         }
         if (n > 1) {
             snprintf(buf, sizeof buf, "max u %.3g → %.3g texels from ħ = 1.25 to 8", first, last);
-            v = rising ? V_HOLDS : last > first ? V_PARTLY : V_FAILS;
+            v = last > first && rising >= n - 1 ? V_HOLDS : last > first ? V_PARTLY : V_FAILS;
         }
     }
     claim(r, "[Romanyuk-PCF] §4.2 Fig. 4.4", "the affine error grows with the depth ratio",
@@ -584,18 +662,7 @@ static void claims(rep *r)
     }
     claim(r, "[Romaniuk-ACIT18]", "the incremental form renders faster than the per-pixel division",
           "+26 %", buf, v);
-    claim(r, "[Romanyuk-PCF] §4.3",
-          "t_w approximated at ħ = 2, 3, 4, 5: piecewise quadratic ≤ 1, 4, 8, 13 %; "
-          "cubic ≤ 0.64, 2.9, 6.3, 10.6 %",
-          "see Shading", r->d->from_dir ? "" : "in the shading report below",
-          r->d->from_dir ? V_NA : V_SEE);
-    claim(r, "[Romanyuk-PCF] §4.2 (4.1), Fig. 4.3–4.4",
-          "screen-linear Gouraud misses the perspective-correct intensity by ΔI = (I_B − "
-          "I_A)·Δ(u); for z1 > z2 "
-          "the extremum mirrors",
-          "Fig. 4.3, 4.4",
-          r->d->from_dir ? "" : "the figures and the ΔI table in the shading report below",
-          r->d->from_dir ? V_NA : V_SEE);
+    shading_claims(r);
     fputs("</table>\n", r->f);
 }
 
