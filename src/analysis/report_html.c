@@ -12,6 +12,7 @@
 #include "core/internal.h"
 
 #include <errno.h>
+#include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -785,52 +786,150 @@ static persp_status shading(rep *r)
 
 /* --------------------------------------------------------------- filters */
 
-static persp_status filters(rep *r)
+/* The rows of `persp accuracy --filter --json` read back, for --from. */
+static persp_filter_accuracy_row *filter_rows_read(const char *path, size_t *count)
 {
-    fputs("<h2 id=filters>Texture filters against the supersampled reference</h2>\n", r->f);
-    if (r->d->from_dir) {
-        fputs("<p>Not part of the sweep read from the merged results.</p>\n", r->f);
-        return PERSP_OK;
+    json_t *root = json_load_file(path, 0, NULL);
+    *count = 0;
+    if (!json_is_array(root)) {
+        json_decref(root);
+        return NULL;
     }
-    static const char *const quick_cases[] = {"corridor", "floor", "tilt-70"};
-    persp_filter_accuracy_desc fd;
-    memset(&fd, 0, sizeof fd);
-    if (r->quick) {
-        fd.cases = quick_cases, fd.case_count = 3;
-        fd.width = 128, fd.height = 96, fd.samples = 4, fd.repeats = 1;
+    size_t n = json_array_size(root);
+    persp_filter_accuracy_row *rows = calloc(n ? n : 1, sizeof *rows);
+    for (size_t i = 0; rows && i < n; i++) {
+        json_t *o = json_array_get(root, i);
+        persp_filter_accuracy_row *x = &rows[*count];
+        const char *c = json_string_value(json_object_get(o, "case")),
+                   *p = json_string_value(json_object_get(o, "pipeline")),
+                   *f = json_string_value(json_object_get(o, "filter"));
+        if (!c || !p || !f) continue;
+        snprintf(x->case_name, sizeof x->case_name, "%s", c);
+        snprintf(x->pipeline, sizeof x->pipeline, "%s", p);
+        snprintf(x->filter, sizeof x->filter, "%s", f);
+        json_t *ps = json_object_get(o, "psnr_db");
+        x->psnr = json_is_number(ps) ? json_number_value(ps) : INFINITY;
+        x->ssim = json_number_value(json_object_get(o, "ssim"));
+        x->max_err = json_number_value(json_object_get(o, "max_err"));
+        x->mean_err = json_number_value(json_object_get(o, "mean_err"));
+        x->fetches_px = json_number_value(json_object_get(o, "fetches_px"));
+        x->ns_px = json_number_value(json_object_get(o, "ns_px"));
+        (*count)++;
     }
-    say(r, "filter accuracy (%s)",
-        r->quick ? "3 cases at 128x96, 4x4 reference samples" : "all cases, defaults");
-    persp_filter_accuracy_result *fr = NULL;
-    persp_status st = persp_filter_accuracy_run(r->ctx, &fd, &fr);
-    if (st != PERSP_OK) return st;
-    char path[1200];
-    snprintf(path, sizeof path, "%s/filter.json", r->dir);
-    FILE *j = fopen(path, "w");
-    if (j) {
-        persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j);
-        fclose(j);
+    json_decref(root);
+    return rows;
+}
+
+/* PSNR against the tilt of the plane, one line per filter: how each filter
+ * holds up as the footprint grows anisotropic. */
+static void filter_plot(rep *r, const persp_filter_accuracy_row *rows, size_t n)
+{
+    enum { MAXP = 16 };
+    static double xs[PERSP_SVG_MAX_SERIES][MAXP], ys[PERSP_SVG_MAX_SERIES][MAXP];
+    persp_svg_panel p;
+    memset(&p, 0, sizeof p);
+    p.title = "filter quality against tilt";
+    p.xlabel = "tilt of the plane (degrees)";
+    p.ylabel = "PSNR (dB)";
+    p.xmin = 0, p.xmax = 90;
+    const char *names[PERSP_SVG_MAX_SERIES];
+    int points = 0;
+    for (size_t i = 0; i < n; i++) {
+        int deg;
+        if (sscanf(rows[i].case_name, "tilt-%d", &deg) != 1 || !isfinite(rows[i].psnr)) continue;
+        int k = 0;
+        while (k < p.series_count && strcmp(names[k], rows[i].filter))
+            k++;
+        if (k == p.series_count) {
+            if (k == PERSP_SVG_MAX_SERIES) continue;
+            names[k] = rows[i].filter;
+            p.series[k].label = names[k];
+            p.series[k].x = xs[k], p.series[k].y = ys[k];
+            p.series_count++;
+        }
+        if (p.series[k].n < MAXP) {
+            xs[k][p.series[k].n] = deg, ys[k][p.series[k].n] = rows[i].psnr;
+            p.series[k].n++, points++;
+        }
     }
-    fputs("<p>PSNR over R, G, B of covered pixels and mean SSIM of luma; texels read per pixel; "
-          "render time per "
-          "pixel. <a "
-          "href=\"filter.json\">filter.json</a></p>\n<table>\n<tr><th>filter<th>pipeline<th>case"
+    if (points < 2 * p.series_count || !p.series_count) return;
+    fputs("<figure class=plot>", r->f);
+    inline_svg(r, &p, 1, 620, 360);
+    fputs("</figure>\n", r->f);
+}
+
+static void filter_table(rep *r, const persp_filter_accuracy_row *rows, size_t n)
+{
+    fputs("<p>PSNR over R, G, B of covered pixels and mean SSIM of luma against N×N samples per "
+          "pixel of the exact "
+          "mapping (bilinear on level 0, box-filtered); texels read and render time per pixel. "
+          "<a href=\"filter.json\">filter.json</a></p>\n<table>\n<tr><th>filter<th>pipeline<th>case"
           "<th>PSNR dB<th>SSIM<th>max err<th>mean err<th>fetches/px<th>ns/px\n",
           r->f);
-    for (size_t i = 0; i < persp_filter_accuracy_row_count(fr); i++) {
-        const persp_filter_accuracy_row *x = persp_filter_accuracy_row_at(fr, i);
+    for (size_t i = 0; i < n; i++) {
+        const persp_filter_accuracy_row *x = &rows[i];
         fputs("<tr><td>", r->f);
         esc(r->f, x->filter);
         fputs("<td>", r->f);
         esc(r->f, x->pipeline);
         fputs("<td>", r->f);
         esc(r->f, x->case_name);
-        fprintf(r->f, "<td>%.2f<td>%.4f<td>%.3g<td>%.3g<td>%.3g<td>%.3g\n", x->psnr, x->ssim,
-                x->max_err, x->mean_err, x->fetches_px, x->ns_px);
+        if (isfinite(x->psnr))
+            fprintf(r->f, "<td>%.2f", x->psnr);
+        else
+            fputs("<td>∞", r->f);
+        fprintf(r->f, "<td>%.4f<td>%.3g<td>%.3g<td>%.3g<td>%.3g\n", x->ssim, x->max_err,
+                x->mean_err, x->fetches_px, x->ns_px);
     }
     fputs("</table>\n", r->f);
+    filter_plot(r, rows, n);
+}
+
+static persp_status filters(rep *r)
+{
+    fputs("<h2 id=filters>Texture filters against the supersampled reference</h2>\n", r->f);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/filter.json", r->dir);
+    if (r->d->from_dir) {
+        char src[1200];
+        size_t n = 0;
+        snprintf(src, sizeof src, "%s/filter.json", r->d->from_dir);
+        persp_filter_accuracy_row *rows = file_exists(src) ? filter_rows_read(src, &n) : NULL;
+        if (!rows || !n) {
+            fputs("<p>Not in the folder the page was built from (put the output of <code>persp "
+                  "accuracy "
+                  "--filter --json</code> there as filter.json).</p>\n",
+                  r->f);
+        } else {
+            copy_file(src, path);
+            filter_table(r, rows, n);
+            cmd(r, "persp accuracy --filter --json -o filter.json");
+        }
+        free(rows);
+        return PERSP_OK;
+    }
+    static const char *const quick_cases[] = {"corridor", "floor", "tilt-45", "tilt-70", "tilt-85"};
+    persp_filter_accuracy_desc fd;
+    memset(&fd, 0, sizeof fd);
+    if (r->quick) {
+        fd.cases = quick_cases, fd.case_count = 5;
+        fd.width = 96, fd.height = 72, fd.samples = 4, fd.repeats = 1;
+    }
+    say(r, "filter accuracy (%s)",
+        r->quick ? "5 cases at 96x72, 4x4 reference samples" : "all cases, defaults");
+    persp_filter_accuracy_result *fr = NULL;
+    persp_status st = persp_filter_accuracy_run(r->ctx, &fd, &fr);
+    if (st != PERSP_OK) return st;
+    FILE *j = fopen(path, "w");
+    if (j) {
+        persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j);
+        fclose(j);
+    }
+    size_t n = persp_filter_accuracy_row_count(fr);
+    filter_table(r, n ? persp_filter_accuracy_row_at(fr, 0) : NULL, n);
     if (r->quick)
-        cmd(r, "persp accuracy --filter --case corridor,floor,tilt-70 --size 128x96 --samples 4 "
+        cmd(r, "persp accuracy --filter --case corridor,floor,tilt-45,tilt-70,tilt-85 --size 96x72 "
+               "--samples 4 "
                "--repeats 1");
     else
         cmd(r, "persp accuracy --filter");

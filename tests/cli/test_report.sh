@@ -21,6 +21,7 @@ grep -q "^report: method accuracy" "$tmp/log" && grep -q "^report: wrote" "$tmp/
 svgs=$(grep -o "<svg" "$page" | wc -l)
 [ "$svgs" -ge 3 ] && ok || bad "expected at least 3 inline SVGs, found $svgs"
 grep -q "<polyline" "$page" && ok || bad "plots have no lines"
+grep -q "filter quality against tilt" "$page" && ok || bad "no filter plot"
 for section in 'id=methods' 'id=claims' 'id=images' 'id=shading' 'id=filters' 'id=env' 'PSNR' \
     'Reproduce:' 'class=holds' 'model name\|CPU'; do
     grep -q "$section" "$page" && ok || bad "page lacks '$section'"
@@ -111,10 +112,13 @@ sweep=(accuracy --method exact,affine,quadratic,quadratic-shifted,quadratic-unno
     --case paper-quad,random-triangles,corridor,floor --size 64x48 --triangles 2 --json)
 for k in 1 2; do "$persp" "${sweep[@]}" --shard $k/2 >"$tmp/sweep/s$k.json" || bad "shard $k"; done
 "$persp" merge -o "$tmp/sweep/accuracy.json" "$tmp"/sweep/s*.json || bad "merge"
+cp "$tmp/r/filter.json" "$tmp/sweep/filter.json"
 "$persp" report --from "$tmp/sweep" -o "$tmp/r2" 2>"$tmp/log2" || bad "report --from: $(cat "$tmp/log2")"
 grep -q "read from a merged sweep" "$tmp/r2/index.html" && ok || bad "--from page does not say where its data came from"
 grep -q "<td>quadratic-shifted<td>" "$tmp/r2/index.html" && ok || bad "--from page lacks the sweep's methods"
 [ -s "$tmp/r2/img/corridor_affine_crop.png" ] && ok || bad "--from page lacks images"
+grep -q "filter quality against tilt" "$tmp/r2/index.html" && [ -s "$tmp/r2/filter.json" ] && ok ||
+    bad "--from page lacks the filter results of filter.json"
 grep -q "^report: method accuracy" "$tmp/log2" && bad "--from measured the methods again" || ok
 expect 1 "accuracy.json" -- "$persp" report --from "$tmp/nowhere" -o "$tmp/r3"
 
