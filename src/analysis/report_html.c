@@ -313,7 +313,8 @@ static void head(rep *r)
         "table{border-collapse:collapse;font-size:13px;margin:.5em 0}\n"
         "td,th{border:1px solid #bbb;padding:2px 6px;text-align:right}\n"
         "td:first-child,th:first-child{text-align:left}\n"
-        "th{background:#eee}\n.holds{background:#dfd}.fails{background:#fdd}.partly{background:#"
+        "th{background:#eee}\n.claims td,.claims "
+        "th{text-align:left}\n.holds{background:#dfd}.fails{background:#fdd}.partly{background:#"
         "ffd}\n"
         "code{background:#f4f4f4;padding:1px "
         "3px}\npre{background:#f7f7f7;padding:.5em;overflow:auto;font-size:12px}\n"
@@ -535,11 +536,12 @@ static void shading_claims(rep *r)
 
 static void claims(rep *r)
 {
-    fputs("<h2 id=claims>Claims of the sources</h2>\n<p>As listed in docs/REPRODUCTION.md, "
-          "measured again "
-          "in this run (paper-quad: the line y = 32 of [Romanyuk-PCF] Fig. 4.10; relpt in %).</p>\n"
-          "<table>\n<tr><th>source<th>claim<th>published<th>measured here<th>verdict\n",
-          r->f);
+    fputs(
+        "<h2 id=claims>Claims of the sources</h2>\n<p>As listed in docs/REPRODUCTION.md, "
+        "measured again "
+        "in this run (paper-quad: the line y = 32 of [Romanyuk-PCF] Fig. 4.10; relpt in %).</p>\n"
+        "<table class=claims>\n<tr><th>source<th>claim<th>published<th>measured here<th>verdict\n",
+        r->f);
     char buf[256];
     const persp_accuracy_row *q = row_of(r, "quadratic", "paper-quad", 0),
                              *qs = row_of(r, "quadratic-shifted", "paper-quad", 0),
@@ -858,6 +860,61 @@ static void filter_plot(rep *r, const persp_filter_accuracy_row *rows, size_t n)
     fputs("</figure>\n", r->f);
 }
 
+static const persp_filter_accuracy_row *filter_row(const persp_filter_accuracy_row *rows, size_t n,
+                                                   const char *filter, const char *cname)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!strcmp(rows[i].filter, filter) && !strcmp(rows[i].case_name, cname)) return &rows[i];
+    return NULL;
+}
+
+/* The conclusions of [Romaniuk-ObjSpace] that the filter rows decide
+ * (docs/REPRODUCTION.md, claims 3 and 4 of that section). */
+static void objspace_claims(rep *r, const persp_filter_accuracy_row *rows, size_t n)
+{
+    int cases = 0, over_iso = 0, over_aniso = 0, faster = 0;
+    double log_ratio = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        if (strcmp(rows[i].filter, "object")) continue;
+        const persp_filter_accuracy_row *o = &rows[i],
+                                        *t = filter_row(rows, n, "trilinear", o->case_name),
+                                        *e = filter_row(rows, n, "ewa", o->case_name),
+                                        *a = filter_row(rows, n, "aniso:16", o->case_name);
+        if (!t || !e || !a) continue;
+        cases++;
+        over_iso += o->psnr > t->psnr && o->psnr > e->psnr;
+        over_aniso += o->psnr > a->psnr;
+        faster += o->ns_px < a->ns_px;
+        log_ratio += log(o->ns_px / a->ns_px);
+    }
+    if (!cases) return;
+    fputs("<h3>Claims of [Romaniuk-ObjSpace]</h3>\n<table "
+          "class=claims>\n<tr><th>source<th>claim<th>published"
+          "<th>measured here<th>verdict\n",
+          r->f);
+    char buf[256];
+    snprintf(buf, sizeof buf,
+             "PSNR of object above trilinear and EWA in %d of %d cases, above aniso:16 in %d of %d",
+             over_iso, cases, over_aniso, cases);
+    claim(r, "[Romaniuk-ObjSpace]",
+          "texturing in object space gives higher accuracy than screen-space texturing",
+          "higher accuracy", buf,
+          over_iso == cases && over_aniso == cases ? V_HOLDS
+          : over_iso == cases                      ? V_PARTLY
+                                                   : V_FAILS);
+    snprintf(buf, sizeof buf,
+             "object faster than aniso:16 in %d of %d cases (time ratio %.2g, geometric mean)",
+             faster, cases, exp(log_ratio / cases));
+    claim(r, "[Romaniuk-ObjSpace]",
+          "filtering in screen space is substantially more productive than anisotropic "
+          "filtering",
+          "more productive", buf,
+          faster == cases ? V_HOLDS
+          : faster        ? V_PARTLY
+                          : V_FAILS);
+    fputs("</table>\n", r->f);
+}
+
 static void filter_table(rep *r, const persp_filter_accuracy_row *rows, size_t n)
 {
     fputs("<p>PSNR over R, G, B of covered pixels and mean SSIM of luma against N×N samples per "
@@ -883,6 +940,7 @@ static void filter_table(rep *r, const persp_filter_accuracy_row *rows, size_t n
     }
     fputs("</table>\n", r->f);
     filter_plot(r, rows, n);
+    objspace_claims(r, rows, n);
 }
 
 static persp_status filters(rep *r)
