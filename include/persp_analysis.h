@@ -39,6 +39,11 @@ typedef struct persp_accuracy_desc {
     int triangles;              /* random triangles per depth-ratio group; 0: 40 */
     double rel_floor;           /* relative errors count |s| >= rel_floor (normalised units); 0: 0.01 */
     const char *heatmap_dir;    /* NULL: no heat maps; else one PNG per method and case */
+    /* Sharded sweeps: with shard_count > 0 only the rows whose position in
+     * the unsharded run, modulo shard_count, equals shard_index (0-based)
+     * are measured. Each row is measured whole by one shard, so
+     * persp_accuracy_merge of all shards equals the unsharded result. */
+    int shard_index, shard_count;
 } persp_accuracy_desc;
 
 /* One method on one case. Errors of u (s1) and v (s2) separately;
@@ -68,6 +73,18 @@ PERSP_API persp_status persp_accuracy_run(persp_context *ctx, const persp_accura
 PERSP_API size_t persp_accuracy_row_count(const persp_accuracy_result *res);
 PERSP_API const persp_accuracy_row *persp_accuracy_row_at(const persp_accuracy_result *res, size_t index);
 PERSP_API void persp_accuracy_destroy(persp_accuracy_result *res);
+
+/* Reads what persp_accuracy_write wrote as JSON (a whole run or one shard).
+ * PERSP_ERR_IO, PERSP_ERR_FORMAT on a malformed file. Numbers written as
+ * null (NaN) read back as NaN; written rows read back bit-exact. */
+PERSP_API persp_status persp_accuracy_read(persp_context *ctx, const char *path,
+                                           persp_accuracy_result **out);
+/* Combines the shards of one sweep (same shard_count and desc, each shard
+ * once, in any order) into the result the unsharded run gives.
+ * PERSP_ERR_INVALID_ARGUMENT if they are not one complete sweep. */
+PERSP_API persp_status persp_accuracy_merge(persp_context *ctx,
+                                            const persp_accuracy_result *const *parts,
+                                            size_t count, persp_accuracy_result **out);
 
 /* Case names for --help and validation. */
 PERSP_API size_t persp_accuracy_case_count(void);
@@ -164,6 +181,24 @@ PERSP_API persp_status persp_filter_accuracy_filter_check(const char *name);
 /* Table (with definitions), CSV or JSON to a FILE * passed as void *. */
 PERSP_API persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_accuracy_result *res,
                                          persp_report_format format, void *stream);
+
+/* ------------------------------------------------------------ the study */
+
+/* persp report: the whole study as one self-contained web page, dir/index.html,
+ * with its images (PNG) and data (accuracy.json, filter.json) beside it and
+ * the plots inline as SVG; every number is measured in the call (or read
+ * from a merged sweep, from_dir/accuracy.json). */
+typedef struct persp_report_html_desc {
+    const char *dir;        /* created if missing */
+    int quick;              /* fewer triangles and smaller images (seconds, not minutes) */
+    const char *from_dir;   /* NULL: measure; else the method accuracy is read from
+                               from_dir/accuracy.json (e.g. written by persp merge) */
+    const char *command;    /* the command line that made the page, shown on it; NULL: none */
+    const char *git_commit; /* shown with the environment; NULL: not known */
+    void *log;              /* FILE * for progress lines; NULL: silent */
+} persp_report_html_desc;
+
+PERSP_API persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc *desc);
 
 #ifdef __cplusplus
 }

@@ -64,6 +64,7 @@ void persp_accuracy_destroy(persp_accuracy_result *res)
     if (!res) return;
     persp_context *ctx = res->ctx;
     persp__free(ctx, res->rows);
+    persp__free(ctx, res->index);
     persp__free(ctx, res);
 }
 
@@ -78,7 +79,15 @@ typedef struct acc_run {
     float *grid; /* heat-map grid, NaN = not covered; NULL if no heat map */
     int gw, gh;
     const persp_rational *rat; /* triangle being measured */
+    size_t next_row;           /* position of the next row in the unsharded run */
 } acc_run;
+
+/* Whether this run's shard measures the next row. */
+static int row_wanted(const acc_run *a)
+{
+    return a->desc->shard_count <= 0 ||
+           a->next_row % (size_t)a->desc->shard_count == (size_t)a->desc->shard_index;
+}
 
 static void grid_put(acc_run *a, int x, int y, float e)
 {
@@ -181,6 +190,7 @@ static persp_status finish_row(acc_run *a, persp_accuracy_result *res, const cha
 {
     if (res->count >= res->cap)
         return persp__fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: row overflow");
+    res->index[res->count] = a->next_row++;
     persp_accuracy_row *row = &res->rows[res->count++];
     memset(row, 0, sizeof *row);
     snprintf(row->method, sizeof row->method, "%s", a->spec);
@@ -300,6 +310,10 @@ static persp_status case_random(acc_run *a, persp_accuracy_result *res, persp_tr
     int count = a->desc->triangles > 0 ? a->desc->triangles : 40;
     uint64_t seed = a->desc->seed ? a->desc->seed : 1;
     for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
+        if (!row_wanted(a)) {
+            a->next_row++;
+            continue;
+        }
         /* Each group has its own stream, so a group's triangles do not
          * depend on the other groups or on the methods measured. */
         persp_rng rng = {seed * UINT64_C(0x100000001b3) + (uint64_t)g * UINT64_C(0x9e3779b97f4a7c15)};
@@ -370,12 +384,37 @@ static persp_status case_scene(acc_run *a, persp_accuracy_result *res, const cha
 
 /* ------------------------------------------------------------ entry */
 
+/* Everything that decides a sweep's rows, with the defaults applied. */
+static void sweep_text(char *buf, size_t size, const persp_accuracy_desc *d, const char **specs,
+                       size_t nspecs, const char *const *cases, size_t ncases, int ntri)
+{
+    size_t len = 0;
+#define PUT(...)                                                                                   \
+    do {                                                                                           \
+        int k_ = snprintf(buf + len, size - len, __VA_ARGS__);                                     \
+        if (k_ > 0) len = PERSP_MIN(size - 1, len + (size_t)k_);                                   \
+    } while (0)
+    buf[0] = '\0';
+    PUT("methods=");
+    for (size_t i = 0; i < nspecs; i++) PUT("%s%s", i ? "," : "", specs[i]);
+    PUT(" cases=");
+    for (size_t i = 0; i < ncases; i++) PUT("%s%s", i ? "," : "", cases[i]);
+    PUT(" seed=%llu triangles=%d size=%dx%d rel_floor=%.17g",
+        (unsigned long long)(d->seed ? d->seed : 1), ntri, d->width > 0 ? d->width : 1024,
+        d->height > 0 ? d->height : 768, d->rel_floor > 0.0 ? d->rel_floor : 0.01);
+#undef PUT
+}
+
 static persp_status run_case(acc_run *a, persp_accuracy_result *res, const char *c,
                              persp_tri *tris, float (*attr)[3][PERSP_A_COUNT])
 {
+    if (!strcmp(c, "random-triangles")) return case_random(a, res, tris, attr);
+    if (!row_wanted(a)) {
+        a->next_row++;
+        return PERSP_OK;
+    }
     if (!strcmp(c, "paper-quad")) return case_paper_line(a, res);
     if (!strcmp(c, "paper-quad-full")) return case_paper_full(a, res);
-    if (!strcmp(c, "random-triangles")) return case_random(a, res, tris, attr);
     return case_scene(a, res, c);
 }
 
@@ -391,6 +430,10 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         !(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor))
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "accuracy: triangles, size or relative floor out of range");
+    if (desc->shard_count < 0 || desc->shard_count > 1000000 ||
+        (desc->shard_count > 0 && (desc->shard_index < 0 || desc->shard_index >= desc->shard_count)))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: shard %d of %d", desc->shard_index,
+                           desc->shard_count);
     static const char *const default_cases[] = {"paper-quad", "random-triangles"};
     const char *const *cases = desc->case_count ? desc->cases : default_cases;
     size_t ncases = desc->case_count ? desc->case_count : 2;
@@ -441,10 +484,15 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         goto done;
     }
     res->rows = persp__calloc(ctx, res->cap ? res->cap : 1, sizeof *res->rows);
+    res->index = persp__calloc(ctx, res->cap ? res->cap : 1, sizeof *res->index);
+    res->total = res->cap;
+    res->shard_index = desc->shard_count > 0 ? desc->shard_index : 0;
+    res->shard_count = desc->shard_count > 0 ? desc->shard_count : 0;
     int ntri = desc->triangles > 0 ? desc->triangles : 40;
+    sweep_text(res->sweep, sizeof res->sweep, desc, specs, used, cases, ncases, ntri);
     tris = persp__calloc(ctx, (size_t)ntri, sizeof *tris);
     attr = persp__calloc(ctx, (size_t)ntri, sizeof *attr);
-    if (!res->rows || !tris || !attr) {
+    if (!res->rows || !res->index || !tris || !attr) {
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
         goto done;
     }

@@ -80,6 +80,13 @@ struct persp_accuracy_result {
     persp_context *ctx;
     persp_accuracy_row *rows;
     size_t count, cap;
+    /* Sharded runs: position of each row in the unsharded run, the rows it
+     * has in all, and a text naming the sweep so that shards of different
+     * sweeps are not merged. shard_count 0: a whole run. */
+    size_t *index;
+    size_t total;
+    int shard_index, shard_count;
+    char sweep[1024];
 };
 
 /* ----------------------------------------------------------------- cases */

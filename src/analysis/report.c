@@ -187,6 +187,18 @@ static int write_json(const persp_accuracy_result *res, FILE *f)
         json_array_append_new(rows, o);
     }
     json_object_set_new(root, "rows", rows);
+    if (res->shard_count > 0) {
+        /* Only in a shard's file: what persp_accuracy_merge needs to put the
+         * rows back in place and to refuse shards of another sweep. */
+        json_t *sh = json_object(), *idx = json_array();
+        json_object_set_new(sh, "index", json_integer(res->shard_index));
+        json_object_set_new(sh, "count", json_integer(res->shard_count));
+        json_object_set_new(sh, "rows", json_integer((json_int_t)res->total));
+        json_object_set_new(sh, "sweep", json_string(res->sweep));
+        for (size_t i = 0; i < res->count; i++) json_array_append_new(idx, json_integer((json_int_t)res->index[i]));
+        json_object_set_new(sh, "row_index", idx);
+        json_object_set_new(root, "shard", sh);
+    }
     int ok = json_dumpf(root, f, JSON_INDENT(2) | JSON_PRESERVE_ORDER) == 0;
     ok &= fputc('\n', f) != EOF;
     json_decref(root);
@@ -207,5 +219,197 @@ persp_status persp_accuracy_write(persp_context *ctx, const persp_accuracy_resul
     default: return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: unknown format");
     }
     if (!ok || fflush(f) != 0) return persp__fail(ctx, PERSP_ERR_IO, "accuracy: write failed");
+    return PERSP_OK;
+}
+
+/* ------------------------------------------------------------ reading back */
+
+static double rnum(json_t *o, const char *key)
+{
+    json_t *v = json_object_get(o, key);
+    return json_is_number(v) ? json_number_value(v) : NAN;
+}
+
+static int rint_u64(json_t *o, const char *key, uint64_t *out)
+{
+    json_t *v = json_object_get(o, key);
+    if (!json_is_integer(v) || json_integer_value(v) < 0) return 0;
+    *out = (uint64_t)json_integer_value(v);
+    return 1;
+}
+
+static persp_accuracy_result *result_alloc(persp_context *ctx, size_t n)
+{
+    persp_accuracy_result *res = persp__calloc(ctx, 1, sizeof *res);
+    if (!res) return NULL;
+    res->ctx = ctx;
+    res->cap = n;
+    res->rows = persp__calloc(ctx, n ? n : 1, sizeof *res->rows);
+    res->index = persp__calloc(ctx, n ? n : 1, sizeof *res->index);
+    if (!res->rows || !res->index) {
+        persp_accuracy_destroy(res);
+        return NULL;
+    }
+    return res;
+}
+
+static int read_row(json_t *o, double rel_floor, persp_accuracy_row *r)
+{
+    const char *method = json_string_value(json_object_get(o, "method"));
+    const char *cname = json_string_value(json_object_get(o, "case"));
+    if (!json_is_object(o) || !method || !cname || strlen(method) >= sizeof r->method ||
+        strlen(cname) >= sizeof r->case_name)
+        return 0;
+    memset(r, 0, sizeof *r);
+    snprintf(r->method, sizeof r->method, "%s", method);
+    snprintf(r->case_name, sizeof r->case_name, "%s", cname);
+    double h = rnum(o, "hbar");
+    r->hbar = h == h ? h : 0.0;
+    if (!rint_u64(o, "pixels", &r->pixels) || !rint_u64(o, "spans", &r->spans) ||
+        !rint_u64(o, "triangles", &r->triangles))
+        return 0;
+    r->max_u = rnum(o, "max_u"), r->max_v = rnum(o, "max_v");
+    r->mean_u = rnum(o, "mean_u"), r->mean_v = rnum(o, "mean_v");
+    r->p99_u = rnum(o, "p99_u"), r->p99_v = rnum(o, "p99_v");
+    r->texel_miss = rnum(o, "texel_miss");
+    r->relpt_u = rnum(o, "relpt_u"), r->relpt_v = rnum(o, "relpt_v");
+    r->relspan_u = rnum(o, "relspan_u"), r->relspan_v = rnum(o, "relspan_v");
+    r->rel_floor = rel_floor;
+    json_t *ops = json_object_get(o, "ops_per_pixel");
+    r->ops_measured = json_is_object(ops);
+    r->div_px = r->ops_measured ? rnum(ops, "div") : NAN;
+    r->mul_px = r->ops_measured ? rnum(ops, "mul") : NAN;
+    r->add_px = r->ops_measured ? rnum(ops, "add") : NAN;
+    r->cmp_px = r->ops_measured ? rnum(ops, "cmp") : NAN;
+    return 1;
+}
+
+persp_status persp_accuracy_read(persp_context *ctx, const char *path, persp_accuracy_result **out)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!path || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: nothing to read");
+    *out = NULL;
+    json_error_t err;
+    json_t *root = json_load_file(path, 0, &err);
+    if (!root) {
+        FILE *f = fopen(path, "rb");
+        if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open", path);
+        fclose(f);
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: %s", path, err.line, err.column, err.text);
+    }
+    persp_status st = PERSP_OK;
+    json_t *rows = json_object_get(root, "rows"), *sh = json_object_get(root, "shard");
+    double rel_floor = rnum(root, "rel_floor");
+    persp_accuracy_result *res = NULL;
+    if (!json_is_array(rows) || !(rel_floor == rel_floor)) {
+        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a persp accuracy JSON report", path);
+        goto done;
+    }
+    size_t n = json_array_size(rows);
+    res = result_alloc(ctx, n);
+    if (!res) {
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
+        goto done;
+    }
+    res->total = n;
+    for (size_t i = 0; i < n; i++) {
+        if (!read_row(json_array_get(rows, i), rel_floor, &res->rows[i])) {
+            st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: row %zu is malformed", path, i + 1);
+            goto done;
+        }
+        res->index[i] = i;
+    }
+    res->count = n;
+    if (sh) {
+        uint64_t k, c, total;
+        json_t *idx = json_object_get(sh, "row_index");
+        const char *sweep = json_string_value(json_object_get(sh, "sweep"));
+        if (!rint_u64(sh, "index", &k) || !rint_u64(sh, "count", &c) || !rint_u64(sh, "rows", &total) ||
+            c == 0 || c > 1000000 || k >= c || !sweep || !json_is_array(idx) ||
+            json_array_size(idx) != n) {
+            st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: malformed shard description", path);
+            goto done;
+        }
+        res->shard_index = (int)k;
+        res->shard_count = (int)c;
+        res->total = (size_t)total;
+        snprintf(res->sweep, sizeof res->sweep, "%s", sweep);
+        for (size_t i = 0; i < n; i++) {
+            json_t *v = json_array_get(idx, i);
+            if (!json_is_integer(v) || json_integer_value(v) < 0 ||
+                (uint64_t)json_integer_value(v) >= total ||
+                (uint64_t)json_integer_value(v) % c != k) {
+                st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: row index %zu is not this shard's", path,
+                                 i + 1);
+                goto done;
+            }
+            res->index[i] = (size_t)json_integer_value(v);
+        }
+    }
+done:
+    json_decref(root);
+    if (st != PERSP_OK) {
+        persp_accuracy_destroy(res);
+        return st;
+    }
+    *out = res;
+    return PERSP_OK;
+}
+
+persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_result *const *parts,
+                                  size_t count, persp_accuracy_result **out)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!parts || !count || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: no shards");
+    *out = NULL;
+    const persp_accuracy_result *p0 = parts[0];
+    if (!p0 || p0->shard_count <= 0)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: shard 1 is a whole run, not a shard");
+    size_t shards = (size_t)p0->shard_count, total = p0->total;
+    if (count != shards)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: %zu files for a sweep of %zu shards",
+                           count, shards);
+    for (size_t i = 0; i < count; i++) {
+        const persp_accuracy_result *p = parts[i];
+        if (!p || p->shard_count != p0->shard_count || p->total != total || strcmp(p->sweep, p0->sweep))
+            return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                               "merge: file %zu is not a shard of the same sweep as file 1", i + 1);
+        for (size_t j = 0; j < i; j++)
+            if (parts[j]->shard_index == p->shard_index)
+                return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: shard %d given twice",
+                                   p->shard_index + 1);
+    }
+    persp_accuracy_result *res = result_alloc(ctx, total);
+    unsigned char *seen = persp__calloc(ctx, total ? total : 1, 1);
+    if (!res || !seen) {
+        persp_accuracy_destroy(res);
+        persp__free(ctx, seen);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "merge: out of memory");
+    }
+    persp_status st = PERSP_OK;
+    for (size_t i = 0; i < count && st == PERSP_OK; i++)
+        for (size_t r = 0; r < parts[i]->count; r++) {
+            size_t at = parts[i]->index[r];
+            if (at >= total || seen[at]) {
+                st = persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: row %zu given twice or out of range",
+                                 at + 1);
+                break;
+            }
+            seen[at] = 1;
+            res->rows[at] = parts[i]->rows[r];
+        }
+    for (size_t r = 0; r < total && st == PERSP_OK; r++) {
+        if (!seen[r]) st = persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: row %zu is missing", r + 1);
+        res->index[r] = r;
+    }
+    persp__free(ctx, seen);
+    if (st != PERSP_OK) {
+        persp_accuracy_destroy(res);
+        return st;
+    }
+    res->count = res->total = total;
+    *out = res;
     return PERSP_OK;
 }

@@ -106,6 +106,34 @@ static const cli_spec opt_rel_floor = {
     .accepts = "0 < X <= 1",
     .help = "relative errors only where |s| (and a span's range)\n"
             ">= X, s normalised to [0,1] per texture (default 0.01)"};
+typedef struct shard_opt {
+    int index, count; /* 0-based index; count 0: not given */
+} shard_opt;
+
+static int parse_shard(const cli_command *cmd, const cli_option *opt, char *value)
+{
+    char *slash = strchr(value, '/');
+    long k, n;
+    if (!slash) return cli_bad_value(cmd, opt, value);
+    *slash = '\0';
+    int ok = cli_parse_int(value, 1, 1000000, &k) && cli_parse_int(slash + 1, 1, 1000000, &n) && k <= n;
+    *slash = '/';
+    if (!ok) return cli_bad_value(cmd, opt, value);
+    shard_opt *s = opt->dest;
+    s->index = (int)k - 1;
+    s->count = (int)n;
+    return CLI_OK;
+}
+
+static const cli_spec opt_shard = {
+    .name = "shard",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "K/N",
+    .parse = parse_shard,
+    .accepts = "K/N with 1 <= K <= N",
+    .help = "measure only slice K of N (rows dealt round-robin); with\n"
+            "--json, `persp merge` of all N slices gives the unsharded JSON"};
+
 /* Listed for the help only: --filter switches to cmd_accuracy_filter first. */
 static const cli_spec opt_filter_mode = {
     .name = "filter",
@@ -125,6 +153,7 @@ int cmd_accuracy(int argc, char **argv)
     cli_list method_list = {methods, 0, MAX_LIST}, case_list = {cases, 0, MAX_LIST};
     cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
+    shard_opt shard = {0, 0};
     persp_accuracy_desc desc;
     memset(&desc, 0, sizeof desc);
     cli_option opts[] = {
@@ -141,6 +170,7 @@ int cmd_accuracy(int argc, char **argv)
         CLI_OPT_HELP(cli_opt_heatmap, &desc.heatmap_dir,
                      "write one PNG per method and case with the per-pixel\n"
                      "error in texels on a logarithmic colour scale"),
+        CLI_OPT(opt_shard, &shard),
         CLI_OPT(opt_filter_mode, &filter_mode),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
@@ -153,6 +183,10 @@ int cmd_accuracy(int argc, char **argv)
         return CLI_OK;
     }
     if (rc != CLI_OK) return rc;
+    if (shard.count && format != PERSP_REPORT_JSON)
+        return cli_error(CLI_USAGE, "accuracy: --shard needs --json (slices are merged from JSON)");
+    desc.shard_index = shard.index;
+    desc.shard_count = shard.count;
     desc.width = size.width;
     desc.height = size.height;
     size_t nmethods = method_list.count, ncases = case_list.count;

@@ -15,6 +15,8 @@ static const struct {
     {"methods", cmd_methods, "list the texture-coordinate methods"},
     {"accuracy", cmd_accuracy, "measure methods against the exact reference"},
     {"bench", cmd_bench, "measure fill rate, optionally against Mesa llvmpipe"},
+    {"merge", cmd_merge, "combine the JSON slices of a sharded accuracy sweep"},
+    {"report", cmd_report, "the whole study as one web page"},
 };
 
 static void usage(FILE *out)

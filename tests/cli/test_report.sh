@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# persp report: the quick page is written with its plots, images and data,
+# loads in headless Chromium without script errors and renders to a
+# non-blank screenshot; --from builds the page from a merged sharded sweep.
+set -u
+persp="$1"
+. "$(dirname "$0")/lib.sh"
+
+expect 0 "usage: persp report" -- "$persp" report --help
+expect 2 "-o DIR is required" -- "$persp" report --quick
+expect 2 "unknown option" -- "$persp" report -o "$tmp/x" --bogus
+
+start=$(date +%s)
+"$persp" report --quick -o "$tmp/r" 2>"$tmp/log" || bad "report --quick failed: $(cat "$tmp/log")"
+echo "report --quick took $(($(date +%s) - start)) s"
+page="$tmp/r/index.html"
+[ -s "$page" ] && ok || bad "no index.html"
+grep -q "^report: method accuracy" "$tmp/log" && grep -q "^report: wrote" "$tmp/log" && ok ||
+    bad "progress lines missing on stderr: $(cat "$tmp/log")"
+# Inline plots: the error-by-depth panels and the shading figures.
+svgs=$(grep -o "<svg" "$page" | wc -l)
+[ "$svgs" -ge 3 ] && ok || bad "expected at least 3 inline SVGs, found $svgs"
+grep -q "<polyline" "$page" && ok || bad "plots have no lines"
+grep -q "filter quality against tilt" "$page" && ok || bad "no filter plot"
+for section in 'id=methods' 'id=claims' 'id=images' 'id=shading' 'id=filters' 'id=env' 'PSNR' \
+    'Reproduce:' 'class=holds' 'model name\|CPU'; do
+    grep -q "$section" "$page" && ok || bad "page lacks '$section'"
+done
+# No network: every src/href is a local file that exists and is not empty.
+refs=$(grep -oE '(src|href|value)="[^"#]+\.(png|json|svg)"' "$page" | sed -E 's/^[a-z]+="//; s/"$//' | sort -u)
+n=0
+for f in $refs; do
+    n=$((n + 1))
+    [ -s "$tmp/r/$f" ] || bad "referenced file $f missing or empty"
+done
+[ "$n" -ge 50 ] && ok || bad "expected the images of every method, found $n files referenced"
+grep -qE '(src|href)="(https?:)?//' "$page" && bad "page references the network" || ok
+for f in "$tmp"/r/img/corridor_exact.png "$tmp"/r/heat/corridor-*_affine.png; do
+    [ "$(head -c 8 "$f" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && ok || bad "$f is not a PNG"
+done
+python3 -c "import json,sys; d=json.load(open(sys.argv[1])); assert len(d['rows']) > 100" "$tmp/r/accuracy.json" &&
+    ok || bad "accuracy.json beside the page"
+
+# The page in a browser.
+browser=""
+for b in chromium chromium-browser google-chrome; do
+    command -v "$b" >/dev/null 2>&1 && browser="$b" && break
+done
+if [ -z "$browser" ]; then
+    echo "SKIP: no chromium (scripts/deps.sh installs it); the page was checked without a browser"
+else
+    flags=(--headless --no-sandbox --disable-gpu --user-data-dir="$tmp/profile" --enable-logging=stderr --v=0)
+    timeout 120 "$browser" "${flags[@]}" --dump-dom "file://$page" >"$tmp/dom" 2>"$tmp/console" ||
+        bad "chromium --dump-dom failed: $(tail -5 "$tmp/console")"
+    # The slider's script marks the slider once it has run without throwing.
+    grep -q 'data-slider="ready"' "$tmp/dom" && ok || bad "the slider script did not run"
+    grep -q "<svg" "$tmp/dom" && grep -q "<img" "$tmp/dom" && ok || bad "DOM lacks plots or images"
+    # The page logs nothing itself: any console line is an error or a warning.
+    grep -E ":CONSOLE[:(]|Uncaught" "$tmp/console" && bad "console messages (errors) while loading the page" || ok
+    timeout 120 "$browser" "${flags[@]}" --hide-scrollbars --screenshot="$tmp/shot.png" --window-size=1280,2000 \
+        "file://$page" >/dev/null 2>"$tmp/console" || bad "chromium --screenshot failed: $(tail -5 "$tmp/console")"
+    # Not blank: many distinct colours and a spread of brightness.
+    python3 - "$tmp/shot.png" <<'PY' && ok || bad "screenshot is blank or unreadable"
+import struct, sys, zlib
+data = open(sys.argv[1], "rb").read()
+assert data[:8] == b"\x89PNG\r\n\x1a\n"
+pos, idat, w = 8, b"", 0
+while pos < len(data):
+    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+    body = data[pos + 8:pos + 8 + n]
+    if kind == b"IHDR":
+        w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
+        bpp = {2: 3, 6: 4}[ctype]
+        assert depth == 8
+    elif kind == b"IDAT":
+        idat += body
+    pos += 12 + n
+raw = zlib.decompress(idat)
+stride = w * bpp
+prev = bytearray(stride)
+colours, lum = set(), []
+for y in range(h):
+    f = raw[y * (stride + 1)]
+    line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+    for i in range(stride):
+        a = line[i - bpp] if i >= bpp else 0
+        b = prev[i]
+        c = prev[i - bpp] if i >= bpp else 0
+        if f == 1: line[i] = (line[i] + a) & 255
+        elif f == 2: line[i] = (line[i] + b) & 255
+        elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
+        elif f == 4:
+            p = a + b - c
+            pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+            line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+    prev = line
+    if y % 8 == 0:
+        for x in range(0, w, 8):
+            px = bytes(line[x * bpp:x * bpp + 3])
+            colours.add(px)
+            lum.append(sum(px))
+mean = sum(lum) / len(lum)
+var = sum((v - mean) ** 2 for v in lum) / len(lum)
+print("screenshot: %dx%d, %d colours, brightness sd %.1f" % (w, h, len(colours), var ** 0.5))
+assert len(colours) > 50 and var ** 0.5 > 20
+PY
+fi
+
+# --from: the page of a merged sharded sweep, measured nothing itself.
+mkdir -p "$tmp/sweep"
+sweep=(accuracy --method exact,affine,quadratic,quadratic-shifted,quadratic-unnorm,incremental
+    --case paper-quad,random-triangles,corridor,floor --size 64x48 --triangles 2 --json)
+for k in 1 2; do "$persp" "${sweep[@]}" --shard $k/2 >"$tmp/sweep/s$k.json" || bad "shard $k"; done
+"$persp" merge -o "$tmp/sweep/accuracy.json" "$tmp"/sweep/s*.json || bad "merge"
+cp "$tmp/r/filter.json" "$tmp/sweep/filter.json"
+"$persp" report --from "$tmp/sweep" -o "$tmp/r2" 2>"$tmp/log2" || bad "report --from: $(cat "$tmp/log2")"
+grep -q "read from a merged sweep" "$tmp/r2/index.html" && ok || bad "--from page does not say where its data came from"
+grep -q "<td>quadratic-shifted<td>" "$tmp/r2/index.html" && ok || bad "--from page lacks the sweep's methods"
+[ -s "$tmp/r2/img/corridor_affine_crop.png" ] && ok || bad "--from page lacks images"
+grep -q "filter quality against tilt" "$tmp/r2/index.html" && [ -s "$tmp/r2/filter.json" ] && ok ||
+    bad "--from page lacks the filter results of filter.json"
+grep -q "^report: method accuracy" "$tmp/log2" && bad "--from measured the methods again" || ok
+expect 1 "accuracy.json" -- "$persp" report --from "$tmp/nowhere" -o "$tmp/r3"
+
+echo "test_report: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,88 @@
+/* persp report: the whole study as one web page (persp_report_html). */
+#include "options.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+static void report_usage(FILE *out, const cli_command *cmd)
+{
+    fprintf(out, "usage: persp report -o DIR [--quick] [--from DIR]\n\n"
+                 "Measures every texture-coordinate method, shading mode and filter and writes\n"
+                 "DIR/index.html: tables and SVG plots of the errors by depth ratio, the\n"
+                 "sources' claims with their verdicts, every method's images with zoomed\n"
+                 "crops and error heat maps, a before/after slider, filter PSNR/SSIM and the\n"
+                 "environment, with the command that reproduces each figure. The page needs\n"
+                 "no network; its images and data (accuracy.json, filter.json) lie beside it.\n\n"
+                 "options:\n");
+    cli_print_options(out, cmd);
+}
+
+static const cli_spec opt_quick = {
+    .name = "quick", .kind = CLI_KIND_FLAG, .help = "fewer triangles and smaller images (seconds)"};
+static const cli_spec opt_from = {.name = "from",
+                                  .kind = CLI_KIND_STRING,
+                                  .metavar = "DIR",
+                                  .help =
+                                      "read the method accuracy from DIR/accuracy.json (e.g.\n"
+                                      "`persp merge` of a sharded sweep) instead of measuring it"};
+
+/* The commit of the working directory's repository, if git knows one. */
+static void git_commit(char *buf, size_t size)
+{
+    buf[0] = '\0';
+    FILE *p = popen("git rev-parse --short=12 HEAD 2>/dev/null", "r");
+    if (!p) return;
+    if (!fgets(buf, (int)size, p)) buf[0] = '\0';
+    buf[strcspn(buf, "\n")] = '\0';
+    pclose(p);
+}
+
+int cmd_report(int argc, char **argv)
+{
+    const char *output = NULL, *from = NULL;
+    int quick = 0;
+    cli_option opts[] = {
+        CLI_OPT_HELP(cli_opt_output, &output, "folder for index.html and its files (created)"),
+        CLI_OPT(opt_quick, &quick),
+        CLI_OPT(opt_from, &from),
+        CLI_OPT_NO_DEST(cli_opt_help),
+    };
+    cli_command cmd = {
+        "report", "persp report --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0,
+        NULL};
+    int rc = cli_parse(&cmd, argc, argv);
+    if (rc == CLI_HELP) {
+        report_usage(stdout, &cmd);
+        return CLI_OK;
+    }
+    if (rc != CLI_OK) return rc;
+    if (!output || !strcmp(output, "-"))
+        return cli_error(CLI_USAGE, "report: -o DIR is required (the page has files beside it)");
+
+    char line[2048] = "persp";
+    for (int i = 0; i < argc; i++) {
+        size_t len = strlen(line);
+        snprintf(line + len, sizeof line - len, " %s", i == 0 ? "report" : argv[i]);
+    }
+    char commit[64];
+    git_commit(commit, sizeof commit);
+    persp_report_html_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.dir = output;
+    desc.quick = quick;
+    desc.from_dir = from;
+    desc.command = line;
+    desc.git_commit = commit[0] ? commit : NULL;
+    desc.log = stderr;
+    persp_context *ctx = NULL;
+    persp_status st = persp_context_create(NULL, &ctx);
+    if (st != PERSP_OK) return cli_status(NULL, st, "report: context");
+    double t0 = cli_now();
+    st = persp_report_html(ctx, &desc);
+    if (st != PERSP_OK)
+        rc = cli_status(ctx, st, "report");
+    else
+        fprintf(stderr, "report: done in %.1f s\n", cli_now() - t0);
+    persp_context_destroy(ctx);
+    return rc;
+}
