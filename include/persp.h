@@ -396,6 +396,11 @@ typedef struct persp_scene_info {
     int max_aniso;
 } persp_scene_info;
 PERSP_API void persp_scene_get_info(const persp_scene *scene, persp_scene_info *out);
+/* The scene's camera as persp_render uses it for a width x height
+ * framebuffer (the aspect ratio enters the projection): world -> eye and
+ * eye -> clip. Either output may be NULL. */
+PERSP_API void persp_scene_camera(const persp_scene *scene, int width, int height,
+                                  persp_mat4 *view, persp_mat4 *projection);
 
 typedef enum persp_pipeline {
     PERSP_PIPELINE_DEFAULT = 0, /* SCREEN */
@@ -422,6 +427,12 @@ typedef struct persp_render_desc {
     persp_toggle cull_backfaces; /* DEFAULT: the scene's */
     persp_toggle count_ops;  /* ON: the methods count their operations into
                                 persp_render_stats.ops (instrumented, slower render) */
+    /* Camera override (interactive viewers, camera paths): each non-NULL
+     * matrix replaces the scene camera's (world -> eye, eye -> clip); NULL
+     * keeps the scene's (see persp_scene_camera). Lights stay in world
+     * space, so they follow the new view. */
+    const persp_mat4 *view;
+    const persp_mat4 *projection;
 } persp_render_desc;
 
 typedef struct persp_render_stats {
