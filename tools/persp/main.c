@@ -15,6 +15,7 @@ static const struct {
     {"methods", cmd_methods, "list the texture-coordinate methods"},
     {"accuracy", cmd_accuracy, "measure methods against the exact reference"},
     {"bench", cmd_bench, "measure fill rate, optionally against Mesa llvmpipe"},
+    {"view", cmd_view, "interactive side-by-side viewer; --play renders camera paths"},
 };
 
 static void usage(FILE *out)

@@ -1,0 +1,35 @@
+/* The interactive window of `persp view` (tools/view/, built only with SDL2
+ * and Dear ImGui; PERSP_HAVE_VIEWER says whether it was). */
+#ifndef PERSP_VIEW_WINDOW_H
+#define PERSP_VIEW_WINDOW_H
+
+#include "view_core.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct view_window_args {
+    persp_context *ctx;
+    persp_scene *scene;
+    const char *scene_name;
+    view_settings left, right;
+    view_layout layout;
+    double divider;
+    int heat_max;
+    int width, height;       /* window size */
+    int threads;
+    int frames;              /* > 0: close after that many frames (smoke tests) */
+    const char *record_path; /* where a recorded flight is saved */
+    const view_path *play;   /* NULL: none loaded */
+    const char *shot_dir;    /* screenshots go here */
+    int quiet;
+} view_window_args;
+
+/* CLI exit code (0 ok, 1 failure). */
+int view_window_run(const view_window_args *args);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
