@@ -77,6 +77,12 @@ static const cli_spec opt_record = {
     .metavar = "FILE",
     .help = "where the window saves a recorded flight (default camera-path.json)"};
 
+static const cli_spec opt_window_shot = {
+    .name = "window-shot",
+    .kind = CLI_KIND_STRING,
+    .metavar = "FILE",
+    .help = "with --frames: save the window's last frame, panels included, as PNG"};
+
 static long cpu_count(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);
@@ -142,7 +148,7 @@ int view_window_run(const view_window_args *args)
 int cmd_view(int argc, char **argv)
 {
     const char *texture = NULL, *method = NULL, *compare = NULL, *output = NULL, *play = NULL,
-               *record = NULL;
+               *record = NULL, *window_shot = NULL;
     cli_filter filter = {NULL, PERSP_FILTER_DEFAULT, 0};
     cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
@@ -178,6 +184,7 @@ int cmd_view(int argc, char **argv)
         CLI_OPT_HELP(cli_opt_output, &output,
                      "folder for --play frames and screenshots (default out/frames)"),
         CLI_OPT(opt_record, &record),
+        CLI_OPT(opt_window_shot, &window_shot),
         CLI_OPT_HELP(cli_opt_quiet, &quiet, "print nothing on success"),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
@@ -259,7 +266,7 @@ int cmd_view(int argc, char **argv)
         view_window_args a = {ctx,     scene,    scene_name, left,   right,
                               layout,  divider,  heat_max,   width,  height,
                               threads, frames,   record ? record : "camera-path.json",
-                              NULL,    output,   quiet};
+                              NULL,    output,   window_shot, quiet};
         rc = view_window_run(&a);
     }
 done:

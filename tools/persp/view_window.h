@@ -23,6 +23,7 @@ typedef struct view_window_args {
     const char *record_path; /* where a recorded flight is saved */
     const view_path *play;   /* NULL: none loaded */
     const char *shot_dir;    /* screenshots go here */
+    const char *window_shot; /* with frames: the last frame, panels included, as PNG */
     int quiet;
 } view_window_args;
 
