@@ -4,7 +4,8 @@
 # g++ compiles the public headers as C++ (tests/package); clang (for the
 # libFuzzer harnesses) is installed with --optional.
 set -eu
-required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev"
+# libsdl2-dev, libimgui-dev and fonts-dejavu-core build the window of `persp view`.
+required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev libsdl2-dev libimgui-dev fonts-dejavu-core"
 optional="clang"
 want="$required"
 [ "${1:-}" = "--optional" ] && want="$required $optional"
