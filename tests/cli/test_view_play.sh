@@ -35,6 +35,14 @@ expect 0 "error max 0, mean 0.000" -- "$persp" view floor --play "$path" --frame
 n=$(ls "$tmp/e" | wc -l)
 if [ "$n" -eq 3 ]; then ok; else bad "expected 3 frames (one per key), got $n"; fi
 
+# A key at the scene's own camera (corridor: the origin looking down -z,
+# 60 degrees, near 0.1f, far 100) renders what `persp render` does.
+printf '{"keys": [{"t": 0, "eye": [0, 0, 0], "yaw": 0, "pitch": 0, "fovy": 60, "near": 0.10000000149011612, "far": 100}]}' >"$tmp/home.json"
+"$persp" view corridor --play "$tmp/home.json" --layout single --method affine --size 120x90 -q \
+    -o "$tmp/home" && ok || bad "play home.json"
+"$persp" render corridor --method affine --size 120x90 -q -o "$tmp/home.png" && ok || bad "render"
+if cmp -s "$tmp/home/frame_0000.png" "$tmp/home.png"; then ok; else bad "the scene's camera as a key differs from persp render"; fi
+
 # Bad input.
 printf '{"keys": []}' >"$tmp/empty.json"
 expect 1 "non-empty array" -- "$persp" view --play "$tmp/empty.json" -o "$tmp/x"

@@ -9,13 +9,12 @@
 
 static void view_usage(FILE *out, const cli_command *cmd)
 {
-    fprintf(out,
-            "usage: persp view [SCENE] [options]\n\n"
-            "An interactive window comparing two render configurations side by side\n"
-            "(SCENE: a built-in scene or a JSON scene file, default corridor). With\n"
-            "--play it renders a recorded camera path to PNG frames instead, without\n"
-            "a window. Controls: docs/VIEWER.md.\n\n"
-            "options:\n");
+    fprintf(out, "usage: persp view [SCENE] [options]\n\n"
+                 "An interactive window comparing two render configurations side by side\n"
+                 "(SCENE: a built-in scene or a JSON scene file, default corridor). With\n"
+                 "--play it renders a recorded camera path to PNG frames instead, without\n"
+                 "a window. Controls: docs/VIEWER.md.\n\n"
+                 "options:\n");
     cli_print_options(out, cmd);
 #ifndef PERSP_HAVE_VIEWER
     fprintf(out, "\nThis build has no window (SDL2 and Dear ImGui were not found);\n"
@@ -33,12 +32,11 @@ static int is_builtin(const char *name)
 static const char *const layout_names[] = {"single", "split", "diff", NULL};
 static const int layout_values[] = {VIEW_LAYOUT_SINGLE, VIEW_LAYOUT_SPLIT, VIEW_LAYOUT_DIFF};
 
-static const cli_spec opt_compare = {
-    .name = "compare",
-    .kind = CLI_KIND_CUSTOM,
-    .metavar = "M",
-    .parse = NULL, /* set from cli_opt_method below */
-    .help = "method of the right side (default exact)"};
+static const cli_spec opt_compare = {.name = "compare",
+                                     .kind = CLI_KIND_CUSTOM,
+                                     .metavar = "M",
+                                     .parse = NULL, /* set from cli_opt_method below */
+                                     .help = "method of the right side (default exact)"};
 static const cli_spec opt_layout = {.name = "layout",
                                     .kind = CLI_KIND_ENUM,
                                     .metavar = "single|split|diff",
@@ -189,8 +187,9 @@ int cmd_view(int argc, char **argv)
         CLI_OPT_NO_DEST(cli_opt_help),
     };
     const char *scene_arg[1] = {NULL};
-    cli_command cmd = {"view", "persp view --help", NULL, opts, sizeof opts / sizeof opts[0],
-                       scene_arg, 1, 0, "scene"};
+    cli_command cmd = {
+        "view", "persp view --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0,
+        "scene"};
     int rc = cli_parse(&cmd, argc, argv);
     if (rc == CLI_HELP) {
         view_usage(stdout, &cmd);
@@ -231,8 +230,10 @@ int cmd_view(int argc, char **argv)
         view_path_free(&path);
         return cli_status(NULL, st, "view");
     }
-    if (is_builtin(scene_name)) st = persp_scene_builtin(ctx, scene_name, &scene);
-    else st = persp_scene_load(ctx, scene_name, &scene);
+    if (is_builtin(scene_name))
+        st = persp_scene_builtin(ctx, scene_name, &scene);
+    else
+        st = persp_scene_load(ctx, scene_name, &scene);
     if (st != PERSP_OK) {
         rc = cli_status(ctx, st, scene_name);
         goto done;
@@ -263,10 +264,23 @@ int cmd_view(int argc, char **argv)
             printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s/\n", play, n, n == 1 ? "" : "s",
                    width, height, cli_now() - t0, output);
     } else {
-        view_window_args a = {ctx,     scene,    scene_name, left,   right,
-                              layout,  divider,  heat_max,   width,  height,
-                              threads, frames,   record ? record : "camera-path.json",
-                              NULL,    output,   window_shot, quiet};
+        view_window_args a = {ctx,
+                              scene,
+                              scene_name,
+                              left,
+                              right,
+                              layout,
+                              divider,
+                              heat_max,
+                              width,
+                              height,
+                              threads,
+                              frames,
+                              record ? record : "camera-path.json",
+                              NULL,
+                              output,
+                              window_shot,
+                              quiet};
         rc = view_window_run(&a);
     }
 done:

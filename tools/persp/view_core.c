@@ -44,7 +44,8 @@ void view_camera_from_scene(view_camera *cam, const persp_scene *scene, int widt
     if (!(cam->fovy > 1.0 && cam->fovy < 179.0)) cam->fovy = 60.0;
     if (!(cam->znear > 0.0)) cam->znear = 0.1;
     if (!(cam->zfar > cam->znear)) cam->zfar = cam->znear * 1000.0;
-    double d = sqrt(cam->eye[0] * cam->eye[0] + cam->eye[1] * cam->eye[1] + cam->eye[2] * cam->eye[2]);
+    double d =
+        sqrt(cam->eye[0] * cam->eye[0] + cam->eye[1] * cam->eye[1] + cam->eye[2] * cam->eye[2]);
     view_camera_set_orbit(cam, d > 1.0 ? d : 1.0);
     cam->scene_own = 1;
 }
@@ -90,9 +91,11 @@ void view_camera_turn(view_camera *cam, double dyaw, double dpitch, int orbit)
     double f[3];
     view_camera_forward(cam, f);
     if (orbit)
-        for (int i = 0; i < 3; i++) cam->eye[i] = cam->orbit_target[i] - f[i] * cam->orbit_dist;
+        for (int i = 0; i < 3; i++)
+            cam->eye[i] = cam->orbit_target[i] - f[i] * cam->orbit_dist;
     else
-        for (int i = 0; i < 3; i++) cam->orbit_target[i] = cam->eye[i] + f[i] * cam->orbit_dist;
+        for (int i = 0; i < 3; i++)
+            cam->orbit_target[i] = cam->eye[i] + f[i] * cam->orbit_dist;
     cam->scene_own = 0;
 }
 
@@ -101,7 +104,8 @@ void view_camera_set_orbit(view_camera *cam, double dist)
     double f[3];
     view_camera_forward(cam, f);
     cam->orbit_dist = dist;
-    for (int i = 0; i < 3; i++) cam->orbit_target[i] = cam->eye[i] + f[i] * dist;
+    for (int i = 0; i < 3; i++)
+        cam->orbit_target[i] = cam->eye[i] + f[i] * dist;
 }
 
 void view_camera_zoom(view_camera *cam, double factor)
@@ -110,7 +114,8 @@ void view_camera_zoom(view_camera *cam, double factor)
     view_camera_forward(cam, f);
     cam->orbit_dist *= factor;
     if (cam->orbit_dist < 1e-3) cam->orbit_dist = 1e-3;
-    for (int i = 0; i < 3; i++) cam->eye[i] = cam->orbit_target[i] - f[i] * cam->orbit_dist;
+    for (int i = 0; i < 3; i++)
+        cam->eye[i] = cam->orbit_target[i] - f[i] * cam->orbit_dist;
     cam->scene_own = 0;
 }
 
@@ -174,8 +179,8 @@ void view_heat_color(int d, int heat_max, uint8_t rgb[3])
 {
     /* black -> blue -> cyan -> green -> yellow -> red over 1..heat_max;
      * stops on a square-root scale so one-level differences still show. */
-    static const double stops[6][3] = {{0, 0, 80},   {0, 0, 255}, {0, 255, 255},
-                                       {0, 255, 0},  {255, 255, 0}, {255, 0, 0}};
+    static const double stops[6][3] = {{0, 0, 80},  {0, 0, 255},   {0, 255, 255},
+                                       {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
     if (d <= 0) {
         rgb[0] = rgb[1] = rgb[2] = 0;
         return;
@@ -200,9 +205,9 @@ static int pixel_diff(const uint8_t *a, const uint8_t *b)
     return m;
 }
 
-static persp_status render_side(persp_context *ctx, const persp_scene *scene, const view_camera *cam,
-                                const view_settings *s, view_frame *f, uint8_t *color,
-                                persp_render_stats *stats, double *ms)
+static persp_status render_side(persp_context *ctx, const persp_scene *scene,
+                                const view_camera *cam, const view_settings *s, view_frame *f,
+                                uint8_t *color, persp_render_stats *stats, double *ms)
 {
     persp_render_desc d;
     view_settings_desc(s, &d);
@@ -277,7 +282,8 @@ persp_status view_frame_render(persp_context *ctx, const persp_scene *scene, con
             uint8_t *o = f->out + i * 4;
             int d = pixel_diff(a, b);
             if (d == 0) {
-                for (int c = 0; c < 3; c++) o[c] = (uint8_t)(a[c] / 4);
+                for (int c = 0; c < 3; c++)
+                    o[c] = (uint8_t)(a[c] / 4);
             } else {
                 view_heat_color(d, heat_max, o);
             }
@@ -355,8 +361,8 @@ int view_path_load(const char *path, view_path *p, char *err, size_t err_size)
             json_t *e = json_array_get(eye, j);
             ok = json_is_number(e) && isfinite(c.eye[j] = json_number_value(e));
         }
-        if (ok && !(t >= last_t && c.fovy > 0.0 && c.fovy < 180.0 && c.znear > 0.0 &&
-                    c.zfar > c.znear)) {
+        if (ok &&
+            !(t >= last_t && c.fovy > 0.0 && c.fovy < 180.0 && c.znear > 0.0 && c.zfar > c.znear)) {
             snprintf(err, err_size,
                      "%s: key %zu: times must not decrease, fovy must be in (0, 180) and "
                      "0 < near < far",
@@ -416,13 +422,15 @@ void view_path_sample(const view_path *p, double t, view_camera *cam)
         a = b = &p->keys[p->count - 1];
     } else if (t > a->t) {
         size_t i = 1;
-        while (i < p->count && p->keys[i].t <= t) i++;
+        while (i < p->count && p->keys[i].t <= t)
+            i++;
         a = &p->keys[i - 1];
         b = &p->keys[i];
     }
     double w = b->t > a->t ? (t - a->t) / (b->t - a->t) : 0.0;
     memset(cam, 0, sizeof *cam);
-    for (int i = 0; i < 3; i++) cam->eye[i] = a->eye[i] + (b->eye[i] - a->eye[i]) * w;
+    for (int i = 0; i < 3; i++)
+        cam->eye[i] = a->eye[i] + (b->eye[i] - a->eye[i]) * w;
     cam->yaw = a->yaw + (b->yaw - a->yaw) * w;
     cam->pitch = a->pitch + (b->pitch - a->pitch) * w;
     cam->fovy = a->fovy + (b->fovy - a->fovy) * w;

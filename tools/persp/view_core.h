@@ -19,7 +19,7 @@ typedef struct view_camera {
     double yaw, pitch;
     double fovy, znear, zfar;
     double orbit_target[3], orbit_dist; /* orbit mode turns around this point */
-    int scene_own; /* 1: untouched, render with the scene's exact matrices */
+    int scene_own;                      /* 1: untouched, render with the scene's exact matrices */
 } view_camera;
 
 /* The scene's camera for a width x height image (its matrices decomposed;

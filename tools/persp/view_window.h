@@ -17,7 +17,7 @@ typedef struct view_window_args {
     view_layout layout;
     double divider;
     int heat_max;
-    int width, height;       /* window size */
+    int width, height; /* window size */
     int threads;
     int frames;              /* > 0: close after that many frames (smoke tests) */
     const char *record_path; /* where a recorded flight is saved */

@@ -14,7 +14,8 @@ bool imgui_sdl_draw_init(SDL_Renderer *renderer)
     io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
     /* ABGR8888 is R, G, B, A bytes in memory on little-endian machines,
      * the order ImGui's atlas uses. */
-    font_texture = SDL_CreateTexture(renderer, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC, w, h);
+    font_texture =
+        SDL_CreateTexture(renderer, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC, w, h);
     if (!font_texture) return false;
     SDL_UpdateTexture(font_texture, nullptr, pixels, 4 * w);
     SDL_SetTextureBlendMode(font_texture, SDL_BLENDMODE_BLEND);
@@ -40,7 +41,8 @@ void imgui_sdl_draw(SDL_Renderer *renderer, ImDrawData *data)
         for (int c = 0; c < list->CmdBuffer.Size; c++) {
             const ImDrawCmd *cmd = &list->CmdBuffer[c];
             if (cmd->UserCallback) {
-                if (cmd->UserCallback != ImDrawCallback_ResetRenderState) cmd->UserCallback(list, cmd);
+                if (cmd->UserCallback != ImDrawCallback_ResetRenderState)
+                    cmd->UserCallback(list, cmd);
                 continue;
             }
             float x0 = cmd->ClipRect.x - off.x, y0 = cmd->ClipRect.y - off.y;

@@ -22,7 +22,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 const char *const font_paths[] = {
     "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
@@ -67,6 +68,8 @@ struct state {
 
     double last_motion = -1.0; /* time of the last camera change */
     bool dragging_divider = false, turning = false;
+    int mouse_x = -1,
+        mouse_y = -1; /* from the events: SDL's own state is not kept for synthetic ones */
     double now = 0.0;
 
     bool recording = false;
@@ -85,7 +88,10 @@ double seconds()
     return (double)SDL_GetPerformanceCounter() / (double)SDL_GetPerformanceFrequency();
 }
 
-size_t method_count() { return persp_method_count(); }
+size_t method_count()
+{
+    return persp_method_count();
+}
 
 const char *method_name(size_t i)
 {
@@ -100,7 +106,8 @@ void side_from_spec(side_ui *ui, const char *spec)
     size_t len = colon ? (size_t)(colon - spec) : strlen(spec);
     ui->method_index = 0;
     for (size_t i = 0; i < method_count(); i++)
-        if (strlen(method_name(i)) == len && !strncmp(method_name(i), spec, len)) ui->method_index = (int)i;
+        if (strlen(method_name(i)) == len && !strncmp(method_name(i), spec, len))
+            ui->method_index = (int)i;
     snprintf(ui->params, sizeof ui->params, "%s", colon ? colon + 1 : "");
 }
 
@@ -108,8 +115,10 @@ void update_spec(side_ui *ui, view_settings *s)
 {
     char spec[64];
     const char *name = method_name((size_t)ui->method_index);
-    if (ui->params[0]) snprintf(spec, sizeof spec, "%s:%s", name, ui->params);
-    else snprintf(spec, sizeof spec, "%s", name);
+    if (ui->params[0])
+        snprintf(spec, sizeof spec, "%s:%s", name, ui->params);
+    else
+        snprintf(spec, sizeof spec, "%s", name);
     if (persp_method_check(spec) == PERSP_OK) {
         snprintf(s->method, sizeof s->method, "%s", spec);
         ui->error.clear();
@@ -120,7 +129,8 @@ void update_spec(side_ui *ui, view_settings *s)
     }
 }
 
-template <typename E> bool enum_combo(const char *label, E *value, int first, int last, const char *(*name)(int))
+template <typename E>
+bool enum_combo(const char *label, E *value, int first, int last, const char *(*name)(int))
 {
     int v = (int)*value;
     bool changed = false;
@@ -133,13 +143,34 @@ template <typename E> bool enum_combo(const char *label, E *value, int first, in
     return changed;
 }
 
-const char *filter_label(int v) { return persp_filter_name((persp_filter)v); }
-const char *wrap_label(int v) { return persp_wrap_name((persp_wrap)v); }
-const char *shading_label(int v) { return persp_shading_name((persp_shading)v); }
-const char *depth_label(int v) { return v == 0 ? "default" : v == 1 ? "z" : "1/w"; }
-const char *lod_label(int v) { return v == 0 ? "default" : v == 1 ? "pixel" : "polygon"; }
-const char *pipeline_label(int v) { return v == 0 ? "default" : v == 1 ? "screen" : "object"; }
-const char *layout_label(int v) { return v == 0 ? "single" : v == 1 ? "split" : "difference"; }
+const char *filter_label(int v)
+{
+    return persp_filter_name((persp_filter)v);
+}
+const char *wrap_label(int v)
+{
+    return persp_wrap_name((persp_wrap)v);
+}
+const char *shading_label(int v)
+{
+    return persp_shading_name((persp_shading)v);
+}
+const char *depth_label(int v)
+{
+    return v == 0 ? "default" : v == 1 ? "z" : "1/w";
+}
+const char *lod_label(int v)
+{
+    return v == 0 ? "default" : v == 1 ? "pixel" : "polygon";
+}
+const char *pipeline_label(int v)
+{
+    return v == 0 ? "default" : v == 1 ? "screen" : "object";
+}
+const char *layout_label(int v)
+{
+    return v == 0 ? "single" : v == 1 ? "split" : "difference";
+}
 
 void settings_panel(const char *id, side_ui *ui, view_settings *s, bool with_ops)
 {
@@ -202,7 +233,8 @@ void heat_legend(int heat_max)
     ImGui::Text("%d", (heat_max + 3) / 4); /* square-root scale: the middle is a quarter */
     ImGui::SameLine(w - 30.0f);
     ImGui::Text(">=%d", heat_max);
-    ImGui::TextDisabled("largest RGB difference per pixel, in levels;\nequal pixels show the left image dimmed");
+    ImGui::TextDisabled(
+        "largest RGB difference per pixel, in levels;\nequal pixels show the left image dimmed");
 }
 
 bool ensure_dir(const char *dir)
@@ -233,12 +265,14 @@ void window_shot(state &s, const char *path)
     int w, h;
     SDL_GetRendererOutputSize(s.renderer, &w, &h);
     std::vector<uint8_t> top_down((size_t)w * (size_t)h * 4), rows((size_t)w * (size_t)h * 4);
-    if (SDL_RenderReadPixels(s.renderer, nullptr, SDL_PIXELFORMAT_RGBA32, top_down.data(), w * 4) != 0) {
+    if (SDL_RenderReadPixels(s.renderer, nullptr, SDL_PIXELFORMAT_RGBA32, top_down.data(), w * 4) !=
+        0) {
         s.status = std::string("cannot read the window back: ") + SDL_GetError();
         return;
     }
     for (int y = 0; y < h; y++)
-        memcpy(&rows[(size_t)y * (size_t)w * 4], &top_down[(size_t)(h - 1 - y) * (size_t)w * 4], (size_t)w * 4);
+        memcpy(&rows[(size_t)y * (size_t)w * 4], &top_down[(size_t)(h - 1 - y) * (size_t)w * 4],
+               (size_t)w * 4);
     persp_image img = {w, h, (size_t)w * 4, rows.data()};
     persp_status st = persp_image_write_png(s.args->ctx, path, &img);
     s.status = st == PERSP_OK ? std::string("wrote ") + path
@@ -258,13 +292,27 @@ void toggle_recording(state &s)
     s.recording = false;
     char err[512];
     if (s.recorded.count && view_path_save(s.args->record_path, &s.recorded, err, sizeof err))
-        s.status = std::string("saved ") + std::to_string(s.recorded.count) + " keys to " + s.args->record_path;
+        s.status = std::string("saved ") + std::to_string(s.recorded.count) + " keys to " +
+                   s.args->record_path;
     else
         s.status = s.recorded.count ? err : "nothing recorded";
 }
 
 void start_playing(state &s, const view_path *p)
 {
+    if ((!p || !p->count) && access(s.args->record_path, R_OK) == 0) {
+        /* Nothing recorded in this session: the flight saved last time. */
+        char err[512];
+        view_path loaded;
+        if (view_path_load(s.args->record_path, &loaded, err, sizeof err)) {
+            view_path_free(&s.recorded);
+            s.recorded = loaded;
+            p = &s.recorded;
+        } else {
+            s.status = err;
+            return;
+        }
+    }
     if (!p || !p->count) {
         s.status = "no camera path to play (record one first)";
         return;
@@ -314,17 +362,19 @@ void render_if_needed(state &s, int w, int h)
         s.render_error = "out of memory";
         return;
     }
-    persp_status st = view_frame_render(s.args->ctx, s.args->scene, &s.cam, &s.left, &s.right, s.layout,
-                                        s.divider, s.heat_max, s.error_stats, &s.frame);
+    persp_status st = view_frame_render(s.args->ctx, s.args->scene, &s.cam, &s.left, &s.right,
+                                        s.layout, s.divider, s.heat_max, s.error_stats, &s.frame);
     if (st != PERSP_OK) {
-        s.render_error = std::string(persp_status_string(st)) + ": " + persp_context_error(s.args->ctx);
+        s.render_error =
+            std::string(persp_status_string(st)) + ": " + persp_context_error(s.args->ctx);
         s.have_frame = false;
         return;
     }
     s.render_error.clear();
     if (!s.texture || s.tex_w != w || s.tex_h != h) {
         if (s.texture) SDL_DestroyTexture(s.texture);
-        s.texture = SDL_CreateTexture(s.renderer, SDL_PIXELFORMAT_RGBA32, SDL_TEXTUREACCESS_STREAMING, w, h);
+        s.texture = SDL_CreateTexture(s.renderer, SDL_PIXELFORMAT_RGBA32,
+                                      SDL_TEXTUREACCESS_STREAMING, w, h);
         s.tex_w = w, s.tex_h = h;
     }
     void *pixels;
@@ -351,14 +401,16 @@ void hud(state &s, int out_w)
     ImGui::Text("%.0f fps   render %dx%d%s", s.fps, f.width, f.height,
                 f.width < out_w ? " (reduced while moving)" : "");
     double px = (double)f.width * f.height;
-    ImGui::Text("left %-22s %6.1f ms  %6.1f Mpixels/s", s.left.method[0] ? s.left.method : "(scene's)", f.ms[0],
+    ImGui::Text("left %-22s %6.1f ms  %6.1f Mpixels/s",
+                s.left.method[0] ? s.left.method : "(scene's)", f.ms[0],
                 f.ms[0] > 0 ? px / (f.ms[0] * 1e3) : 0.0);
     if (f.have_err)
         ImGui::Text("right %-21s %6.1f ms  %6.1f Mpixels/s", s.right.method, f.ms[1],
                     f.ms[1] > 0 ? px / (f.ms[1] * 1e3) : 0.0);
     const persp_render_stats &st = f.stats[0];
-    ImGui::Text("triangles %llu in, %llu drawn; %llu fragments", (unsigned long long)st.triangles_in,
-                (unsigned long long)st.triangles_drawn, (unsigned long long)st.fragments);
+    ImGui::Text("triangles %llu in, %llu drawn; %llu fragments",
+                (unsigned long long)st.triangles_in, (unsigned long long)st.triangles_drawn,
+                (unsigned long long)st.fragments);
     if (s.left.count_ops) {
         double fr = st.fragments ? (double)st.fragments : 1.0;
         ImGui::Text("left method per fragment: %.2f div  %.2f mul  %.2f add  %.2f cmp",
@@ -372,16 +424,20 @@ void hud(state &s, int out_w)
         if (f.err.max == 0)
             ImGui::Text("left vs right: identical");
         else
-            ImGui::Text("left vs right: max %d levels, mean %.3f, %.2f%% of pixels differ, PSNR %.2f dB",
-                        f.err.max, f.err.mean, f.err.share_diff * 100.0, f.err.psnr);
+            ImGui::Text(
+                "left vs right: max %d levels, mean %.3f, %.2f%% of pixels differ, PSNR %.2f dB",
+                f.err.max, f.err.mean, f.err.share_diff * 100.0, f.err.psnr);
     }
     double e[3];
-    for (int i = 0; i < 3; i++) e[i] = s.cam.eye[i] + 0.0; /* no "-0.00" */
+    for (int i = 0; i < 3; i++)
+        e[i] = s.cam.eye[i] + 0.0; /* no "-0.00" */
     ImGui::TextDisabled("%s camera  eye (%.2f, %.2f, %.2f)  yaw %.1f  pitch %.1f  fov %.1f",
-                        s.orbit ? "orbit" : "fly", e[0], e[1], e[2], s.cam.yaw, s.cam.pitch, s.cam.fovy);
+                        s.orbit ? "orbit" : "fly", e[0], e[1], e[2], s.cam.yaw, s.cam.pitch,
+                        s.cam.fovy);
     if (s.recording) ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "REC %zu keys", s.recorded.count);
     if (s.playing) ImGui::TextColored(ImVec4(0.4f, 1, 0.4f, 1), "playing camera path");
-    if (!s.render_error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", s.render_error.c_str());
+    if (!s.render_error.empty())
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", s.render_error.c_str());
     if (!s.status.empty()) ImGui::TextDisabled("%s", s.status.c_str());
     ImGui::End();
 }
@@ -405,13 +461,15 @@ void panel(state &s)
         float fov = (float)s.cam.fovy, zn = (float)s.cam.znear;
         if (ImGui::SliderFloat("field of view", &fov, 5.0f, 150.0f, "%.1f deg"))
             s.cam.fovy = fov, s.cam.scene_own = 0, camera_changed(s);
-        if (ImGui::SliderFloat("near plane", &zn, 0.001f, 10.0f, "%.3f", ImGuiSliderFlags_Logarithmic)) {
+        if (ImGui::SliderFloat("near plane", &zn, 0.001f, 10.0f, "%.3f",
+                               ImGuiSliderFlags_Logarithmic)) {
             s.cam.znear = zn;
             if (s.cam.zfar <= zn) s.cam.zfar = zn * 1000.0;
             s.cam.scene_own = 0, camera_changed(s);
         }
         float sp = (float)s.speed;
-        if (ImGui::SliderFloat("fly speed", &sp, 0.05f, 100.0f, "%.2f /s", ImGuiSliderFlags_Logarithmic))
+        if (ImGui::SliderFloat("fly speed", &sp, 0.05f, 100.0f, "%.2f /s",
+                               ImGuiSliderFlags_Logarithmic))
             s.speed = sp;
         ImGui::SliderFloat("scale while moving", &s.move_scale, 0.125f, 1.0f, "%.3f");
     }
@@ -421,7 +479,8 @@ void panel(state &s)
         if (s.layout == VIEW_LAYOUT_SPLIT && ImGui::SliderFloat("divider", &d, 0.0f, 1.0f, "%.2f"))
             s.divider = d;
         bool stats = s.error_stats;
-        if (ImGui::Checkbox("error statistics (renders the right side too)", &stats)) s.error_stats = stats;
+        if (ImGui::Checkbox("error statistics (renders the right side too)", &stats))
+            s.error_stats = stats;
         if (s.layout == VIEW_LAYOUT_DIFF) {
             ImGui::SliderInt("hottest at", &s.heat_max, 1, 255, "%d levels");
             heat_legend(s.heat_max);
@@ -429,7 +488,8 @@ void panel(state &s)
         ImGui::Checkbox("magnifier (M)", &s.magnifier);
         if (s.magnifier) ImGui::SliderInt("magnified pixels", &s.mag_cells, 5, 41);
     }
-    if (ImGui::CollapsingHeader("Left", ImGuiTreeNodeFlags_DefaultOpen)) settings_panel("left", &s.ui[0], &s.left, true);
+    if (ImGui::CollapsingHeader("Left", ImGuiTreeNodeFlags_DefaultOpen))
+        settings_panel("left", &s.ui[0], &s.left, true);
     if (ImGui::CollapsingHeader("Right (reference)", ImGuiTreeNodeFlags_DefaultOpen)) {
         ImGui::Checkbox("same settings as left except the method", &s.right_follows);
         if (s.right_follows) {
@@ -443,10 +503,13 @@ void panel(state &s)
             }
             persp_method_info info;
             persp_method_get((size_t)ui.method_index, &info);
-            if (info.params[0]) ImGui::InputTextWithHint("parameters", info.params, ui.params, sizeof ui.params);
-            else ui.params[0] = '\0';
+            if (info.params[0])
+                ImGui::InputTextWithHint("parameters", info.params, ui.params, sizeof ui.params);
+            else
+                ui.params[0] = '\0';
             update_spec(&ui, &s.right);
-            if (!ui.error.empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
+            if (!ui.error.empty())
+                ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
             ImGui::PopID();
         } else {
             settings_panel("right", &s.ui[1], &s.right, false);
@@ -455,9 +518,11 @@ void panel(state &s)
     if (ImGui::CollapsingHeader("Capture", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (ImGui::Button("screenshot (P)")) screenshot(s);
         ImGui::SameLine();
-        if (ImGui::Button(s.recording ? "stop recording (F5)" : "record flight (F5)")) toggle_recording(s);
+        if (ImGui::Button(s.recording ? "stop recording (F5)" : "record flight (F5)"))
+            toggle_recording(s);
         ImGui::SameLine();
-        if (ImGui::Button("play (F6)")) start_playing(s, s.recorded.count ? &s.recorded : s.args->play);
+        if (ImGui::Button("play (F6)"))
+            start_playing(s, s.recorded.count ? &s.recorded : s.args->play);
         ImGui::TextDisabled("screenshots: %s/\nflight: %s", s.args->shot_dir, s.args->record_path);
     }
     ImGui::End();
@@ -474,8 +539,8 @@ void panel(state &s)
 void magnifier(state &s, int out_w, int out_h)
 {
     if (!s.magnifier || !s.have_frame) return;
-    int mx, my;
-    SDL_GetMouseState(&mx, &my);
+    int mx = s.mouse_x, my = s.mouse_y;
+    if (mx < 0) return;
     int win_w, win_h;
     SDL_GetWindowSize(s.window, &win_w, &win_h);
     const view_frame &f = s.frame;
@@ -487,7 +552,8 @@ void magnifier(state &s, int out_w, int out_h)
     float x0 = (float)mx + 24.0f, y0 = (float)my + 24.0f;
     if (x0 + side > (float)out_w) x0 = (float)mx - 24.0f - side;
     if (y0 + side + 40.0f > (float)out_h) y0 = (float)my - 24.0f - side - 40.0f;
-    dl->AddRectFilled(ImVec2(x0 - 2, y0 - 2), ImVec2(x0 + side + 2, y0 + side + 40), IM_COL32(20, 20, 20, 230));
+    dl->AddRectFilled(ImVec2(x0 - 2, y0 - 2), ImVec2(x0 + side + 2, y0 + side + 40),
+                      IM_COL32(20, 20, 20, 230));
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             int px = cx - half + i, py = cy + half - j;
@@ -505,7 +571,8 @@ void magnifier(state &s, int out_w, int out_h)
         dl->AddLine(ImVec2(x0, y0 + t), ImVec2(x0 + side, y0 + t), IM_COL32(60, 60, 60, 255));
     }
     ImVec2 c(x0 + (float)(half * cell), y0 + (float)(half * cell));
-    dl->AddRect(c, ImVec2(c.x + (float)cell, c.y + (float)cell), IM_COL32(255, 255, 255, 255), 0, 0, 2.0f);
+    dl->AddRect(c, ImVec2(c.x + (float)cell, c.y + (float)cell), IM_COL32(255, 255, 255, 255), 0, 0,
+                2.0f);
     if (cx >= 0 && cy >= 0 && cx < f.width && cy < f.height) {
         size_t o = ((size_t)cy * (size_t)f.width + (size_t)cx) * 4;
         char line[160];
@@ -527,7 +594,8 @@ void overlay(state &s, int out_w, int out_h)
     dl->AddLine(ImVec2(x, 0), ImVec2(x, (float)out_h), IM_COL32(255, 255, 255, 200), 2.0f);
     char label[96];
     snprintf(label, sizeof label, "%s", s.left.method[0] ? s.left.method : "scene's method");
-    dl->AddText(ImVec2(x - 8 - ImGui::CalcTextSize(label).x, (float)out_h - 24), IM_COL32(255, 255, 255, 255), label);
+    dl->AddText(ImVec2(x - 8 - ImGui::CalcTextSize(label).x, (float)out_h - 24),
+                IM_COL32(255, 255, 255, 255), label);
     dl->AddText(ImVec2(x + 8, (float)out_h - 24), IM_COL32(255, 255, 255, 255), s.right.method);
 }
 
@@ -544,22 +612,43 @@ void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
     case SDL_KEYDOWN:
         if (io.WantCaptureKeyboard || e.key.repeat) break;
         switch (e.key.keysym.sym) {
-        case SDLK_ESCAPE: *quit = true; break;
-        case SDLK_F1: s.panel = !s.panel; break;
-        case SDLK_r: s.cam = s.home, camera_changed(s); break;
+        case SDLK_ESCAPE:
+            *quit = true;
+            break;
+        case SDLK_F1:
+            s.panel = !s.panel;
+            break;
+        case SDLK_r:
+            s.cam = s.home, camera_changed(s);
+            break;
         case SDLK_o:
             s.orbit = !s.orbit;
             if (s.orbit) view_camera_set_orbit(&s.cam, s.cam.orbit_dist);
             break;
-        case SDLK_TAB: s.layout = (view_layout)((s.layout + 1) % 3); break;
-        case SDLK_m: s.magnifier = !s.magnifier; break;
+        case SDLK_TAB:
+            s.layout = (view_layout)((s.layout + 1) % 3);
+            break;
+        case SDLK_m:
+            s.magnifier = !s.magnifier;
+            break;
         case SDLK_p:
-        case SDLK_F12: screenshot(s); break;
-        case SDLK_F5: toggle_recording(s); break;
-        case SDLK_F6: start_playing(s, s.recorded.count ? &s.recorded : s.args->play); break;
-        case SDLK_LEFTBRACKET: s.cam.fovy = fmax(5.0, s.cam.fovy - 5.0), s.cam.scene_own = 0, camera_changed(s); break;
-        case SDLK_RIGHTBRACKET: s.cam.fovy = fmin(150.0, s.cam.fovy + 5.0), s.cam.scene_own = 0, camera_changed(s); break;
-        default: break;
+        case SDLK_F12:
+            screenshot(s);
+            break;
+        case SDLK_F5:
+            toggle_recording(s);
+            break;
+        case SDLK_F6:
+            start_playing(s, s.recorded.count ? &s.recorded : s.args->play);
+            break;
+        case SDLK_LEFTBRACKET:
+            s.cam.fovy = fmax(5.0, s.cam.fovy - 5.0), s.cam.scene_own = 0, camera_changed(s);
+            break;
+        case SDLK_RIGHTBRACKET:
+            s.cam.fovy = fmin(150.0, s.cam.fovy + 5.0), s.cam.scene_own = 0, camera_changed(s);
+            break;
+        default:
+            break;
         }
         break;
     case SDL_MOUSEBUTTONDOWN:
@@ -579,6 +668,8 @@ void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
         s.turning = false;
         break;
     case SDL_MOUSEMOTION:
+        if (!s.turning || !SDL_GetRelativeMouseMode())
+            s.mouse_x = e.motion.x, s.mouse_y = e.motion.y;
         if (s.dragging_divider) {
             s.divider = fmin(1.0, fmax(0.0, (double)e.motion.x / (out_w > 0 ? out_w : 1)));
         } else if (s.turning) {
@@ -606,7 +697,8 @@ void fly(state &s, double dt)
     const Uint8 *k = SDL_GetKeyboardState(nullptr);
     double fwd = (k[SDL_SCANCODE_W] ? 1 : 0) - (k[SDL_SCANCODE_S] ? 1 : 0);
     double right = (k[SDL_SCANCODE_D] ? 1 : 0) - (k[SDL_SCANCODE_A] ? 1 : 0);
-    double up = (k[SDL_SCANCODE_E] || k[SDL_SCANCODE_SPACE] ? 1 : 0) - (k[SDL_SCANCODE_Q] || k[SDL_SCANCODE_C] ? 1 : 0);
+    double up = (k[SDL_SCANCODE_E] || k[SDL_SCANCODE_SPACE] ? 1 : 0) -
+                (k[SDL_SCANCODE_Q] || k[SDL_SCANCODE_C] ? 1 : 0);
     if (fwd == 0 && right == 0 && up == 0) return;
     double v = s.speed * dt * (k[SDL_SCANCODE_LSHIFT] || k[SDL_SCANCODE_RSHIFT] ? 4.0 : 1.0);
     s.playing = nullptr;
@@ -647,9 +739,11 @@ int run(state &s)
             double t = s.now - s.play_start + s.playing->keys[0].t;
             view_path_sample(s.playing, t, &s.cam);
             camera_changed(s);
-            if (t >= s.playing->keys[s.playing->count - 1].t) s.playing = nullptr, s.status = "played";
+            if (t >= s.playing->keys[s.playing->count - 1].t)
+                s.playing = nullptr, s.status = "played";
         }
-        if (s.recording && !view_path_add(&s.recorded, s.now - s.record_start, &s.cam)) toggle_recording(s);
+        if (s.recording && !view_path_add(&s.recorded, s.now - s.record_start, &s.cam))
+            toggle_recording(s);
         if (s.panel) panel(s);
         hud(s, out_w);
         int w, h;
@@ -670,7 +764,8 @@ int run(state &s)
         SDL_RenderPresent(s.renderer);
         if (last_frame) break;
         /* Nothing to draw: do not spin a core. */
-        if (!s.turning && !s.playing && s.now - s.last_motion > 0.5) SDL_WaitEventTimeout(nullptr, 30);
+        if (!s.turning && !s.playing && s.now - s.last_motion > 0.5)
+            SDL_WaitEventTimeout(nullptr, 30);
     }
     if (s.recording) toggle_recording(s);
     if (!a->quiet && !s.status.empty() && a->frames == 0) printf("%s\n", s.status.c_str());
@@ -688,8 +783,9 @@ extern "C" int view_window_run(const view_window_args *args)
     /* The dummy and offscreen drivers have no accelerated renderer; the
      * software one is what is left everywhere. */
     if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0) {
-        fprintf(stderr, "persp: view: cannot open a window: %s (SDL_VIDEODRIVER=%s); "
-                        "--play renders camera paths without one\n",
+        fprintf(stderr,
+                "persp: view: cannot open a window: %s (SDL_VIDEODRIVER=%s); "
+                "--play renders camera paths without one\n",
                 SDL_GetError(), getenv("SDL_VIDEODRIVER") ? getenv("SDL_VIDEODRIVER") : "unset");
         return 1;
     }
@@ -699,9 +795,12 @@ extern "C" int view_window_run(const view_window_args *args)
     char title[256];
     snprintf(title, sizeof title, "persp view - %s", args->scene_name);
     s.window = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, args->width,
-                                args->height, SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI);
-    if (s.window) s.renderer = SDL_CreateRenderer(s.window, -1, SDL_RENDERER_ACCELERATED | SDL_RENDERER_PRESENTVSYNC);
-    if (s.window && !s.renderer) s.renderer = SDL_CreateRenderer(s.window, -1, SDL_RENDERER_SOFTWARE);
+                                args->height, SDL_WINDOW_RESIZABLE);
+    if (s.window)
+        s.renderer =
+            SDL_CreateRenderer(s.window, -1, SDL_RENDERER_ACCELERATED | SDL_RENDERER_PRESENTVSYNC);
+    if (s.window && !s.renderer)
+        s.renderer = SDL_CreateRenderer(s.window, -1, SDL_RENDERER_SOFTWARE);
     if (!s.window || !s.renderer) {
         fprintf(stderr, "persp: view: cannot open a window: %s\n", SDL_GetError());
         if (s.window) SDL_DestroyWindow(s.window);
