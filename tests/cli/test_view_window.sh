@@ -24,5 +24,13 @@ fi
 w=$(od -An -tu1 -j16 -N8 "$tmp/win.png" | awk '{print $3*256+$4 "x" $7*256+$8}')
 [ "$w" = 400x300 ] && ok || bad "window shot is $w, expected 400x300"
 expect 1 "no-such-dir" -- "$persp" view floor --frames 1 --size 64x48 --window-shot "$tmp/no-such-dir/x.png" -q
+# Free-running (the render thread, no --frames): SIGTERM arrives as SDL's
+# quit event and the window closes cleanly.
+if command -v timeout >/dev/null; then
+    timeout --preserve-status -s TERM 2 "$persp" view corridor --size 160x120 --method affine -q \
+        >"$tmp/run.out" 2>&1
+    rc=$?
+    [ "$rc" -eq 0 ] && ok || bad "free-running window exited $rc: $(cat "$tmp/run.out")"
+fi
 echo "view window: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

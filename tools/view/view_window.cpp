@@ -38,8 +38,69 @@ struct side_ui {
     std::string error;
 };
 
+/* What one render is asked to produce. */
+struct job {
+    view_camera cam;
+    view_settings left, right;
+    view_layout layout;
+    double divider;
+    int heat_max, error_stats, w, h;
+    unsigned long serial;
+};
+
+/* Renders on its own thread (with the context's workers), so the window
+ * keeps answering while a slow configuration draws. Two frames: the worker
+ * draws into the one that is not `front`; the window copies `front` under
+ * the lock. */
+struct worker {
+    persp_context *ctx = nullptr;
+    const persp_scene *scene = nullptr;
+    SDL_Thread *thread = nullptr;
+    SDL_mutex *lock = nullptr;
+    SDL_cond *wake = nullptr, *done = nullptr;
+    bool quit = false, pending = false;
+    job next{};
+    view_frame frames[2]{};
+    int front = -1;
+    unsigned long done_serial = 0;
+    std::string error; /* of the last job */
+};
+
+int worker_main(void *arg)
+{
+    worker &w = *(worker *)arg;
+    SDL_LockMutex(w.lock);
+    for (;;) {
+        while (!w.pending && !w.quit)
+            SDL_CondWait(w.wake, w.lock);
+        if (w.quit) break;
+        job j = w.next;
+        w.pending = false;
+        int back = w.front == 0 ? 1 : 0;
+        SDL_UnlockMutex(w.lock);
+        view_frame &f = w.frames[back];
+        std::string err;
+        persp_status st = view_frame_resize(&f, j.w, j.h);
+        if (st == PERSP_OK)
+            st = view_frame_render(w.ctx, w.scene, &j.cam, &j.left, &j.right, j.layout, j.divider,
+                                   j.heat_max, j.error_stats, &f);
+        if (st != PERSP_OK)
+            err = std::string(persp_status_string(st)) + ": " + persp_context_error(w.ctx);
+        SDL_LockMutex(w.lock);
+        if (st == PERSP_OK) w.front = back;
+        w.error = err;
+        w.done_serial = j.serial;
+        SDL_CondBroadcast(w.done);
+    }
+    SDL_UnlockMutex(w.lock);
+    return 0;
+}
+
 struct state {
     const view_window_args *args;
+    persp_context *ui_ctx = nullptr; /* the window's own (PNG writes), the worker has args->ctx */
+    worker wk;
+    unsigned long serial = 0, shown_serial = 0;
     SDL_Window *window = nullptr;
     SDL_Renderer *renderer = nullptr;
     SDL_Texture *texture = nullptr;
@@ -254,9 +315,9 @@ void screenshot(state &s)
         snprintf(path, sizeof path, "%s/view_%04d.png", s.args->shot_dir, s.shots++);
     } while (access(path, F_OK) == 0 && s.shots < 10000);
     persp_image img = {s.frame.width, s.frame.height, (size_t)s.frame.width * 4, s.frame.out};
-    persp_status st = persp_image_write_png(s.args->ctx, path, &img);
+    persp_status st = persp_image_write_png(s.ui_ctx, path, &img);
     s.status = st == PERSP_OK ? std::string("wrote ") + path
-                              : std::string(path) + ": " + persp_context_error(s.args->ctx);
+                              : std::string(path) + ": " + persp_context_error(s.ui_ctx);
 }
 
 /* What the window shows, panels included (the renderer's read-back). */
@@ -274,9 +335,9 @@ void window_shot(state &s, const char *path)
         memcpy(&rows[(size_t)y * (size_t)w * 4], &top_down[(size_t)(h - 1 - y) * (size_t)w * 4],
                (size_t)w * 4);
     persp_image img = {w, h, (size_t)w * 4, rows.data()};
-    persp_status st = persp_image_write_png(s.args->ctx, path, &img);
+    persp_status st = persp_image_write_png(s.ui_ctx, path, &img);
     s.status = st == PERSP_OK ? std::string("wrote ") + path
-                              : std::string(path) + ": " + persp_context_error(s.args->ctx);
+                              : std::string(path) + ": " + persp_context_error(s.ui_ctx);
 }
 
 void toggle_recording(state &s)
@@ -344,7 +405,17 @@ void append_key(std::vector<unsigned char> &key, const void *p, size_t n)
     key.insert(key.end(), b, b + n);
 }
 
-void render_if_needed(state &s, int w, int h)
+bool rendering(state &s)
+{
+    SDL_LockMutex(s.wk.lock);
+    bool busy = s.wk.done_serial != s.serial;
+    SDL_UnlockMutex(s.wk.lock);
+    return busy;
+}
+
+/* Asks for a render when anything it depends on changed, and takes over a
+ * finished one. wait: block until the latest request is done. */
+void render_if_needed(state &s, int w, int h, bool wait)
 {
     std::vector<unsigned char> key;
     append_key(key, &s.cam, sizeof s.cam);
@@ -356,21 +427,41 @@ void render_if_needed(state &s, int w, int h)
     append_key(key, &s.error_stats, sizeof s.error_stats);
     append_key(key, &w, sizeof w);
     append_key(key, &h, sizeof h);
-    if (s.have_frame && key == s.last_key) return;
-    s.last_key = key;
-    if (view_frame_resize(&s.frame, w, h) != PERSP_OK) {
-        s.render_error = "out of memory";
-        return;
+    worker &wk = s.wk;
+    SDL_LockMutex(wk.lock);
+    if (key != s.last_key) {
+        s.last_key = key;
+        wk.next = job{s.cam,      s.left,        s.right, s.layout, s.divider,
+                      s.heat_max, s.error_stats, w,       h,        ++s.serial};
+        wk.pending = true;
+        SDL_CondSignal(wk.wake);
     }
-    persp_status st = view_frame_render(s.args->ctx, s.args->scene, &s.cam, &s.left, &s.right,
-                                        s.layout, s.divider, s.heat_max, s.error_stats, &s.frame);
-    if (st != PERSP_OK) {
-        s.render_error =
-            std::string(persp_status_string(st)) + ": " + persp_context_error(s.args->ctx);
-        s.have_frame = false;
-        return;
+    while (wait && wk.done_serial != s.serial)
+        SDL_CondWait(wk.done, wk.lock);
+    bool updated = false;
+    if (wk.done_serial != s.shown_serial) {
+        s.shown_serial = wk.done_serial;
+        s.render_error = wk.error;
+        if (wk.error.empty() && wk.front >= 0) {
+            const view_frame &src = wk.frames[wk.front];
+            if (view_frame_resize(&s.frame, src.width, src.height) == PERSP_OK) {
+                size_t n = (size_t)src.width * (size_t)src.height * 4;
+                memcpy(s.frame.left, src.left, n);
+                memcpy(s.frame.right, src.right, n);
+                memcpy(s.frame.out, src.out, n);
+                memcpy(s.frame.stats, src.stats, sizeof src.stats);
+                memcpy(s.frame.ms, src.ms, sizeof src.ms);
+                s.frame.err = src.err;
+                s.frame.have_err = src.have_err;
+                updated = true;
+            } else {
+                s.render_error = "out of memory";
+            }
+        }
     }
-    s.render_error.clear();
+    SDL_UnlockMutex(wk.lock);
+    if (!updated) return;
+    w = s.frame.width, h = s.frame.height;
     if (!s.texture || s.tex_w != w || s.tex_h != h) {
         if (s.texture) SDL_DestroyTexture(s.texture);
         s.texture = SDL_CreateTexture(s.renderer, SDL_PIXELFORMAT_RGBA32,
@@ -434,6 +525,7 @@ void hud(state &s, int out_w)
     ImGui::TextDisabled("%s camera  eye (%.2f, %.2f, %.2f)  yaw %.1f  pitch %.1f  fov %.1f",
                         s.orbit ? "orbit" : "fly", e[0], e[1], e[2], s.cam.yaw, s.cam.pitch,
                         s.cam.fovy);
+    if (rendering(s)) ImGui::TextColored(ImVec4(1, 0.8f, 0.3f, 1), "rendering...");
     if (s.recording) ImGui::TextColored(ImVec4(1, 0.3f, 0.3f, 1), "REC %zu keys", s.recorded.count);
     if (s.playing) ImGui::TextColored(ImVec4(0.4f, 1, 0.4f, 1), "playing camera path");
     if (!s.render_error.empty())
@@ -748,7 +840,7 @@ int run(state &s)
         hud(s, out_w);
         int w, h;
         render_size(s, out_w, out_h, &w, &h);
-        render_if_needed(s, w, h);
+        render_if_needed(s, w, h, a->frames > 0);
         overlay(s, out_w, out_h);
         magnifier(s, out_w, out_h);
         ImGui::Render();
@@ -764,7 +856,7 @@ int run(state &s)
         SDL_RenderPresent(s.renderer);
         if (last_frame) break;
         /* Nothing to draw: do not spin a core. */
-        if (!s.turning && !s.playing && s.now - s.last_motion > 0.5)
+        if (!s.turning && !s.playing && s.now - s.last_motion > 0.5 && !rendering(s))
             SDL_WaitEventTimeout(nullptr, 30);
     }
     if (s.recording) toggle_recording(s);
@@ -833,7 +925,28 @@ extern "C" int view_window_run(const view_window_args *args)
         side_from_spec(&s.ui[1], s.right.method);
         view_camera_from_scene(&s.home, args->scene, args->width, args->height);
         s.cam = s.home;
-        rc = run(s);
+        s.wk.ctx = args->ctx;
+        s.wk.scene = args->scene;
+        s.wk.lock = SDL_CreateMutex();
+        s.wk.wake = SDL_CreateCond();
+        s.wk.done = SDL_CreateCond();
+        if (persp_context_create(nullptr, &s.ui_ctx) != PERSP_OK || !s.wk.lock || !s.wk.wake ||
+            !s.wk.done || !(s.wk.thread = SDL_CreateThread(worker_main, "persp render", &s.wk))) {
+            fprintf(stderr, "persp: view: cannot start the render thread: %s\n", SDL_GetError());
+        } else {
+            rc = run(s);
+            SDL_LockMutex(s.wk.lock);
+            s.wk.quit = true;
+            SDL_CondSignal(s.wk.wake);
+            SDL_UnlockMutex(s.wk.lock);
+            SDL_WaitThread(s.wk.thread, nullptr);
+        }
+        for (view_frame &f : s.wk.frames)
+            view_frame_free(&f);
+        if (s.wk.done) SDL_DestroyCond(s.wk.done);
+        if (s.wk.wake) SDL_DestroyCond(s.wk.wake);
+        if (s.wk.lock) SDL_DestroyMutex(s.wk.lock);
+        persp_context_destroy(s.ui_ctx);
     }
     view_path_free(&s.recorded);
     view_frame_free(&s.frame);
