@@ -28,7 +28,7 @@ if cmp -s "$tmp/a/frame_0002.png" "$tmp/c/frame_0002.png"; then ok; else bad "th
 
 # The diff layout of a method against itself is the dimmed image only, and
 # the report names zero error.
-expect 0 "error max 0, mean 0.000" -- "$persp" view floor --play "$path" --frames 1 --size 64x48 \
+expect 0 "error max 0, mean 0.000" -- "$persp" view corridor --play "$path" --frames 1 --size 64x48 \
     --method exact --layout diff -o "$tmp/d"
 # Without --frames: one frame per key.
 "$persp" view cube --play "$path" --size 64x48 -q -o "$tmp/e" && ok || bad "play per key"
@@ -42,6 +42,13 @@ printf '{"keys": [{"t": 0, "eye": [0, 0, 0], "yaw": 0, "pitch": 0, "fovy": 60, "
     -o "$tmp/home" && ok || bad "play home.json"
 "$persp" render corridor --method affine --size 120x90 -q -o "$tmp/home.png" && ok || bad "render"
 if cmp -s "$tmp/home/frame_0000.png" "$tmp/home.png"; then ok; else bad "the scene's camera as a key differs from persp render"; fi
+
+# --mip-levels: the left side shows flat level colours (level 0 white).
+"$persp" view corridor --play "$path" --frames 1 --size 64x48 --layout single --mip-levels \
+    --filter nearest-mip-nearest -q -o "$tmp/mip" && ok || bad "play --mip-levels"
+"$persp" view corridor --play "$path" --frames 1 --size 64x48 --layout single \
+    --filter nearest-mip-nearest -q -o "$tmp/nomip" && ok || bad "play without --mip-levels"
+if cmp -s "$tmp/mip/frame_0000.png" "$tmp/nomip/frame_0000.png"; then bad "--mip-levels changed nothing"; else ok; fi
 
 # Bad input.
 printf '{"keys": []}' >"$tmp/empty.json"

@@ -81,6 +81,31 @@ static const cli_spec opt_window_shot = {
     .metavar = "FILE",
     .help = "with --frames: save the window's last frame, panels included, as PNG"};
 
+static const cli_spec opt_mip_levels = {
+    .name = "mip-levels",
+    .kind = CLI_KIND_FLAG,
+    .help = "left side: each mip level as a flat colour (which levels the filter reads)"};
+
+/* A built-in scene or a scene file, with --texture applied. */
+static int load_scene(persp_context *ctx, const char *name, const char *texture, persp_scene **out)
+{
+    persp_status st;
+    if (is_builtin(name))
+        st = persp_scene_builtin(ctx, name, out);
+    else
+        st = persp_scene_load(ctx, name, out);
+    if (st != PERSP_OK) return cli_status(ctx, st, name);
+    if (texture) {
+        persp_image tex;
+        if ((st = persp_image_load(ctx, texture, &tex)) != PERSP_OK)
+            return cli_status(ctx, st, texture);
+        st = persp_scene_set_texture(*out, &tex);
+        persp_image_free(ctx, &tex);
+        if (st != PERSP_OK) return cli_status(ctx, st, texture);
+    }
+    return CLI_OK;
+}
+
 static long cpu_count(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);
@@ -94,10 +119,10 @@ static int make_dir(const char *dir)
     return CLI_OK;
 }
 
-static int play_path(persp_context *ctx, const persp_scene *scene, const view_path *path,
-                     const view_settings *left, const view_settings *right, view_layout layout,
-                     double divider, int heat_max, int width, int height, long frames,
-                     const char *dir, int quiet)
+static int play_path(persp_context *ctx, const persp_scene *scene, const persp_scene *tinted,
+                     const view_path *path, const view_settings *left, const view_settings *right,
+                     view_layout layout, double divider, int heat_max, int width, int height,
+                     long frames, const char *dir, int quiet)
 {
     int rc = make_dir(dir);
     if (rc != CLI_OK) return rc;
@@ -110,7 +135,8 @@ static int play_path(persp_context *ctx, const persp_scene *scene, const view_pa
         double t = frames > 1 ? t0 + (t1 - t0) * (double)i / (double)(frames - 1) : t0;
         view_camera cam;
         view_path_sample(path, t, &cam);
-        st = view_frame_render(ctx, scene, &cam, left, right, layout, divider, heat_max, 1, &f);
+        st = view_frame_render(ctx, scene, tinted, &cam, left, right, layout, divider, heat_max, 1,
+                               &f);
         if (st != PERSP_OK) {
             rc = cli_status(ctx, st, "view");
             break;
@@ -150,7 +176,7 @@ int cmd_view(int argc, char **argv)
     cli_filter filter = {NULL, PERSP_FILTER_DEFAULT, 0};
     cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
-    int quiet = 0, threads = (int)cpu_count(), heat_max = 16, frames = 0;
+    int quiet = 0, threads = (int)cpu_count(), heat_max = 16, frames = 0, mip_levels = 0;
     persp_toggle count_ops = PERSP_TOGGLE_DEFAULT;
     double divider = 0.5;
     view_layout layout = VIEW_LAYOUT_SPLIT;
@@ -171,6 +197,7 @@ int cmd_view(int argc, char **argv)
         CLI_OPT(cli_opt_pipeline, &left.pipeline),
         CLI_OPT(cli_opt_texture, &texture),
         CLI_OPT(cli_opt_count_ops, &count_ops),
+        CLI_OPT(opt_mip_levels, &mip_levels),
         CLI_OPT(opt_layout, &layout),
         CLI_OPT(opt_divider, &divider),
         CLI_OPT(opt_heat_max, &heat_max),
@@ -203,6 +230,7 @@ int cmd_view(int argc, char **argv)
     left.shading = shading.shading;
     left.count_ops = count_ops == PERSP_TOGGLE_ON;
     view_settings right = left;
+    left.mip_levels = mip_levels;
     snprintf(right.method, sizeof right.method, "%s", compare ? compare : "exact");
     right.count_ops = 0;
     if (!output) output = "out/frames";
@@ -223,33 +251,18 @@ int cmd_view(int argc, char **argv)
     }
 
     persp_context *ctx = NULL;
-    persp_scene *scene = NULL;
+    persp_scene *scene = NULL, *tinted = NULL;
     persp_status st;
     persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
         view_path_free(&path);
         return cli_status(NULL, st, "view");
     }
-    if (is_builtin(scene_name))
-        st = persp_scene_builtin(ctx, scene_name, &scene);
-    else
-        st = persp_scene_load(ctx, scene_name, &scene);
-    if (st != PERSP_OK) {
-        rc = cli_status(ctx, st, scene_name);
-        goto done;
-    }
-    if (texture) {
-        persp_image tex;
-        if ((st = persp_image_load(ctx, texture, &tex)) != PERSP_OK) {
-            rc = cli_status(ctx, st, texture);
-            goto done;
-        }
-        st = persp_scene_set_texture(scene, &tex);
-        persp_image_free(ctx, &tex);
-        if (st != PERSP_OK) {
-            rc = cli_status(ctx, st, texture);
-            goto done;
-        }
+    if ((rc = load_scene(ctx, scene_name, texture, &scene)) != CLI_OK) goto done;
+    /* The window offers mip levels on either side at any time. */
+    if (mip_levels || !play) {
+        if ((rc = load_scene(ctx, scene_name, texture, &tinted)) != CLI_OK) goto done;
+        persp_scene_tint_mip_levels(tinted);
     }
     int width = size.width, height = size.height;
     if (!width) persp_scene_default_size(scene, &width, &height);
@@ -258,33 +271,26 @@ int cmd_view(int argc, char **argv)
     if (play) {
         long n = frames ? frames : (long)path.count;
         double t0 = cli_now();
-        rc = play_path(ctx, scene, &path, &left, &right, layout, divider, heat_max, width, height,
-                       n, output, quiet);
+        rc = play_path(ctx, scene, tinted, &path, &left, &right, layout, divider, heat_max, width,
+                       height, n, output, quiet);
         if (rc == CLI_OK && !quiet)
             printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s/\n", play, n, n == 1 ? "" : "s",
                    width, height, cli_now() - t0, output);
     } else {
-        view_window_args a = {ctx,
-                              scene,
-                              scene_name,
-                              left,
-                              right,
-                              layout,
-                              divider,
-                              heat_max,
-                              width,
-                              height,
-                              threads,
-                              frames,
-                              record ? record : "camera-path.json",
-                              NULL,
-                              output,
-                              window_shot,
-                              quiet};
+        view_window_args a = {ctx,         scene,
+                              tinted,      scene_name,
+                              left,        right,
+                              layout,      divider,
+                              heat_max,    width,
+                              height,      threads,
+                              frames,      record ? record : "camera-path.json",
+                              NULL,        output,
+                              window_shot, quiet};
         rc = view_window_run(&a);
     }
 done:
     view_path_free(&path);
+    persp_scene_destroy(tinted);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
     return rc;

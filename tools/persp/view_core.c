@@ -226,18 +226,21 @@ static persp_status render_side(persp_context *ctx, const persp_scene *scene,
     return st;
 }
 
-persp_status view_frame_render(persp_context *ctx, const persp_scene *scene, const view_camera *cam,
+persp_status view_frame_render(persp_context *ctx, const persp_scene *scene,
+                               const persp_scene *tinted, const view_camera *cam,
                                const view_settings *left, const view_settings *right,
                                view_layout layout, double divider, int heat_max, int want_error,
                                view_frame *f)
 {
-    persp_status st = render_side(ctx, scene, cam, left, f, f->left, &f->stats[0], &f->ms[0]);
+    persp_status st = render_side(ctx, left->mip_levels && tinted ? tinted : scene, cam, left, f,
+                                  f->left, &f->stats[0], &f->ms[0]);
     if (st != PERSP_OK) return st;
     int need_right = layout != VIEW_LAYOUT_SINGLE || want_error;
     memset(&f->stats[1], 0, sizeof f->stats[1]);
     f->ms[1] = 0.0;
     if (need_right) {
-        st = render_side(ctx, scene, cam, right, f, f->right, &f->stats[1], &f->ms[1]);
+        st = render_side(ctx, right->mip_levels && tinted ? tinted : scene, cam, right, f, f->right,
+                         &f->stats[1], &f->ms[1]);
         if (st != PERSP_OK) return st;
     }
     size_t n = (size_t)f->width * (size_t)f->height;

@@ -49,6 +49,7 @@ typedef struct view_settings {
     float lod_bias;
     persp_pipeline pipeline;
     int count_ops;
+    int mip_levels; /* render the scene whose mip levels are flat colours */
 } view_settings;
 
 void view_settings_desc(const view_settings *s, persp_render_desc *d);
@@ -80,10 +81,12 @@ typedef struct view_frame {
 
 persp_status view_frame_resize(view_frame *f, int width, int height);
 void view_frame_free(view_frame *f);
-/* Renders what layout needs (both sides unless SINGLE without error
- * statistics) and composes f->out. divider in 0..1 of the width; heat_max:
- * the difference (levels) shown as the hottest colour. */
-persp_status view_frame_render(persp_context *ctx, const persp_scene *scene, const view_camera *cam,
+/* tinted: the scene after persp_scene_tint_mip_levels, for the sides with
+ * mip_levels (NULL: they render the plain scene). Renders what layout needs (both sides unless
+ * SINGLE without error statistics) and composes f->out. divider in 0..1 of the width; heat_max: the
+ * difference (levels) shown as the hottest colour. */
+persp_status view_frame_render(persp_context *ctx, const persp_scene *scene,
+                               const persp_scene *tinted, const view_camera *cam,
                                const view_settings *left, const view_settings *right,
                                view_layout layout, double divider, int heat_max, int want_error,
                                view_frame *f);

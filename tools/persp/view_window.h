@@ -12,6 +12,7 @@ extern "C" {
 typedef struct view_window_args {
     persp_context *ctx;
     persp_scene *scene;
+    persp_scene *tinted; /* its mip levels as colours (persp_scene_tint_mip_levels) */
     const char *scene_name;
     view_settings left, right;
     view_layout layout;

@@ -54,7 +54,7 @@ struct job {
  * the lock. */
 struct worker {
     persp_context *ctx = nullptr;
-    const persp_scene *scene = nullptr;
+    const persp_scene *scene = nullptr, *tinted = nullptr;
     SDL_Thread *thread = nullptr;
     SDL_mutex *lock = nullptr;
     SDL_cond *wake = nullptr, *done = nullptr;
@@ -82,8 +82,8 @@ int worker_main(void *arg)
         std::string err;
         persp_status st = view_frame_resize(&f, j.w, j.h);
         if (st == PERSP_OK)
-            st = view_frame_render(w.ctx, w.scene, &j.cam, &j.left, &j.right, j.layout, j.divider,
-                                   j.heat_max, j.error_stats, &f);
+            st = view_frame_render(w.ctx, w.scene, w.tinted, &j.cam, &j.left, &j.right, j.layout,
+                                   j.divider, j.heat_max, j.error_stats, &f);
         if (st != PERSP_OK)
             err = std::string(persp_status_string(st)) + ": " + persp_context_error(w.ctx);
         SDL_LockMutex(w.lock);
@@ -233,6 +233,22 @@ const char *layout_label(int v)
     return v == 0 ? "single" : v == 1 ? "split" : "difference";
 }
 
+void mip_legend()
+{
+    ImDrawList *dl = ImGui::GetWindowDrawList();
+    for (int l = 0; l < 10; l++) {
+        uint8_t c[4];
+        persp_mip_level_color(l, c);
+        ImVec2 p = ImGui::GetCursorScreenPos();
+        dl->AddRectFilled(p, ImVec2(p.x + 22, p.y + 16), IM_COL32(c[0], c[1], c[2], 255));
+        char t[8];
+        snprintf(t, sizeof t, l == 9 ? "9+" : "%d", l);
+        dl->AddText(ImVec2(p.x + 5, p.y + 1), IM_COL32(0, 0, 0, 255), t);
+        ImGui::Dummy(ImVec2(24, 16));
+        if (l < 9) ImGui::SameLine(0, 2);
+    }
+}
+
 void settings_panel(const char *id, side_ui *ui, view_settings *s, bool with_ops)
 {
     ImGui::PushID(id);
@@ -267,6 +283,9 @@ void settings_panel(const char *id, side_ui *ui, view_settings *s, bool with_ops
     enum_combo("LOD", &s->lod, 0, PERSP_LOD_POLYGON, lod_label);
     ImGui::SliderFloat("LOD bias", &s->lod_bias, -4.0f, 4.0f, "%.2f");
     enum_combo("pipeline", &s->pipeline, 0, PERSP_PIPELINE_OBJECT, pipeline_label);
+    bool mip = s->mip_levels != 0;
+    if (ImGui::Checkbox("mip levels as colours", &mip)) s->mip_levels = mip;
+    if (mip) mip_legend();
     if (with_ops) {
         bool ops = s->count_ops != 0;
         if (ImGui::Checkbox("count operations (slower)", &ops)) s->count_ops = ops;
@@ -619,10 +638,13 @@ void panel(state &s)
     }
     ImGui::End();
     if (s.right_follows) {
+        /* The reference keeps its method and its real textures. */
         char m[sizeof s.right.method];
         memcpy(m, s.right.method, sizeof m);
+        int mip = s.right.mip_levels;
         s.right = s.left;
         memcpy(s.right.method, m, sizeof m);
+        s.right.mip_levels = mip;
         s.right.count_ops = 0;
     }
 }
@@ -678,17 +700,31 @@ void magnifier(state &s, int out_w, int out_h)
     }
 }
 
+void label(ImDrawList *dl, ImVec2 at, const char *text)
+{
+    ImVec2 size = ImGui::CalcTextSize(text);
+    dl->AddRectFilled(ImVec2(at.x - 3, at.y - 1), ImVec2(at.x + size.x + 3, at.y + size.y + 1),
+                      IM_COL32(0, 0, 0, 160));
+    dl->AddText(at, IM_COL32(255, 255, 255, 255), text);
+}
+
+void side_label(const view_settings &v, const char *fallback, char *buf, size_t size)
+{
+    snprintf(buf, size, "%s%s", v.method[0] ? v.method : fallback,
+             v.mip_levels ? " (mip levels)" : "");
+}
+
 void overlay(state &s, int out_w, int out_h)
 {
     if (s.layout != VIEW_LAYOUT_SPLIT) return;
     ImDrawList *dl = ImGui::GetForegroundDrawList();
     float x = (float)(s.divider * out_w);
     dl->AddLine(ImVec2(x, 0), ImVec2(x, (float)out_h), IM_COL32(255, 255, 255, 200), 2.0f);
-    char label[96];
-    snprintf(label, sizeof label, "%s", s.left.method[0] ? s.left.method : "scene's method");
-    dl->AddText(ImVec2(x - 8 - ImGui::CalcTextSize(label).x, (float)out_h - 24),
-                IM_COL32(255, 255, 255, 255), label);
-    dl->AddText(ImVec2(x + 8, (float)out_h - 24), IM_COL32(255, 255, 255, 255), s.right.method);
+    char l[96], r[96];
+    side_label(s.left, "scene's method", l, sizeof l);
+    side_label(s.right, "exact", r, sizeof r);
+    label(dl, ImVec2(x - 8 - ImGui::CalcTextSize(l).x, (float)out_h - 24), l);
+    label(dl, ImVec2(x + 8, (float)out_h - 24), r);
 }
 
 void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
@@ -927,6 +963,7 @@ extern "C" int view_window_run(const view_window_args *args)
         s.cam = s.home;
         s.wk.ctx = args->ctx;
         s.wk.scene = args->scene;
+        s.wk.tinted = args->tinted;
         s.wk.lock = SDL_CreateMutex();
         s.wk.wake = SDL_CreateCond();
         s.wk.done = SDL_CreateCond();
