@@ -30,6 +30,12 @@ if cmp -s "$tmp/a/frame_0002.png" "$tmp/c/frame_0002.png"; then ok; else bad "th
 # the report names zero error.
 expect 0 "error max 0, mean 0.000" -- "$persp" view corridor --play "$path" --frames 1 --size 64x48 \
     --method exact --layout diff -o "$tmp/d"
+# The texel layout: a method against itself agrees everywhere; an
+# approximation does not.
+expect 0 "texel error max 0.00, mean 0.000" -- "$persp" view corridor --play "$path" --frames 1 \
+    --size 64x48 --method exact --layout texel -o "$tmp/t1"
+expect 0 "texel error max [1-9]" -- "$persp" view corridor --play "$path" --frames 1 \
+    --size 64x48 --method affine --layout texel -o "$tmp/t2"
 # Without --frames: one frame per key.
 "$persp" view cube --play "$path" --size 64x48 -q -o "$tmp/e" && ok || bad "play per key"
 n=$(ls "$tmp/e" | wc -l)

@@ -29,8 +29,9 @@ static int is_builtin(const char *name)
     return 0;
 }
 
-static const char *const layout_names[] = {"single", "split", "diff", NULL};
-static const int layout_values[] = {VIEW_LAYOUT_SINGLE, VIEW_LAYOUT_SPLIT, VIEW_LAYOUT_DIFF};
+static const char *const layout_names[] = {"single", "split", "diff", "texel", NULL};
+static const int layout_values[] = {VIEW_LAYOUT_SINGLE, VIEW_LAYOUT_SPLIT, VIEW_LAYOUT_DIFF,
+                                    VIEW_LAYOUT_TEXEL};
 
 static const cli_spec opt_compare = {.name = "compare",
                                      .kind = CLI_KIND_CUSTOM,
@@ -39,11 +40,13 @@ static const cli_spec opt_compare = {.name = "compare",
                                      .help = "method of the right side (default exact)"};
 static const cli_spec opt_layout = {.name = "layout",
                                     .kind = CLI_KIND_ENUM,
-                                    .metavar = "single|split|diff",
+                                    .metavar = "single|split|diff|texel",
                                     .names = layout_names,
                                     .values = layout_values,
-                                    .help = "left only, left | right at the divider, or the\n"
-                                            "colour difference as a heat map (default split)"};
+                                    .help = "left only, left | right at the divider, the colour\n"
+                                            "difference as a heat map, or the texture-coordinate\n"
+                                            "difference in texels of a 1024x1024 texture\n"
+                                            "(default split)"};
 static const cli_spec opt_divider = {.name = "divider",
                                      .kind = CLI_KIND_REAL,
                                      .metavar = "F",
@@ -119,10 +122,10 @@ static int make_dir(const char *dir)
     return CLI_OK;
 }
 
-static int play_path(persp_context *ctx, const persp_scene *scene, const persp_scene *tinted,
-                     const view_path *path, const view_settings *left, const view_settings *right,
-                     view_layout layout, double divider, int heat_max, int width, int height,
-                     long frames, const char *dir, int quiet)
+static int play_path(persp_context *ctx, const view_scenes *scenes, const view_path *path,
+                     const view_settings *left, const view_settings *right, view_layout layout,
+                     double divider, int heat_max, int width, int height, long frames,
+                     const char *dir, int quiet)
 {
     int rc = make_dir(dir);
     if (rc != CLI_OK) return rc;
@@ -135,8 +138,7 @@ static int play_path(persp_context *ctx, const persp_scene *scene, const persp_s
         double t = frames > 1 ? t0 + (t1 - t0) * (double)i / (double)(frames - 1) : t0;
         view_camera cam;
         view_path_sample(path, t, &cam);
-        st = view_frame_render(ctx, scene, tinted, &cam, left, right, layout, divider, heat_max, 1,
-                               &f);
+        st = view_frame_render(ctx, scenes, &cam, left, right, layout, divider, heat_max, 1, &f);
         if (st != PERSP_OK) {
             rc = cli_status(ctx, st, "view");
             break;
@@ -148,7 +150,12 @@ static int play_path(persp_context *ctx, const persp_scene *scene, const persp_s
             rc = cli_status(ctx, st, "view");
             break;
         }
-        if (!quiet)
+        if (!quiet && layout == VIEW_LAYOUT_TEXEL)
+            printf("%s  t=%.3f  left %.1f ms, right %.1f ms  texel error max %.2f, mean %.3f "
+                   "where they differ, %.2f%% of pixels differ\n",
+                   name, t, f.ms[0], f.ms[1], f.err.texel_max, f.err.texel_mean,
+                   f.err.share_diff * 100.0);
+        else if (!quiet)
             printf("%s  t=%.3f  left %.1f ms, right %.1f ms  error max %d, mean %.3f, "
                    "%.2f%% of pixels differ, PSNR %.2f dB\n",
                    name, t, f.ms[0], f.ms[1], f.err.max, f.err.mean, f.err.share_diff * 100.0,
@@ -251,7 +258,8 @@ int cmd_view(int argc, char **argv)
     }
 
     persp_context *ctx = NULL;
-    persp_scene *scene = NULL, *tinted = NULL;
+    persp_scene *scene = NULL, *tinted = NULL, *coords = NULL;
+    persp_image coord_img = {0, 0, 0, NULL};
     persp_status st;
     persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
@@ -264,6 +272,15 @@ int cmd_view(int argc, char **argv)
         if ((rc = load_scene(ctx, scene_name, texture, &tinted)) != CLI_OK) goto done;
         persp_scene_tint_mip_levels(tinted);
     }
+    if (layout == VIEW_LAYOUT_TEXEL || !play) {
+        if ((rc = load_scene(ctx, scene_name, NULL, &coords)) != CLI_OK) goto done;
+        if ((st = view_coord_image(ctx, &coord_img)) != PERSP_OK ||
+            (st = persp_scene_set_texture(coords, &coord_img)) != PERSP_OK) {
+            rc = cli_status(ctx, st, "view: coordinate texture");
+            goto done;
+        }
+    }
+    view_scenes scenes = {scene, tinted, coords};
     int width = size.width, height = size.height;
     if (!width) persp_scene_default_size(scene, &width, &height);
     if (!width) width = 1024, height = 768;
@@ -271,25 +288,23 @@ int cmd_view(int argc, char **argv)
     if (play) {
         long n = frames ? frames : (long)path.count;
         double t0 = cli_now();
-        rc = play_path(ctx, scene, tinted, &path, &left, &right, layout, divider, heat_max, width,
-                       height, n, output, quiet);
+        rc = play_path(ctx, &scenes, &path, &left, &right, layout, divider, heat_max, width, height,
+                       n, output, quiet);
         if (rc == CLI_OK && !quiet)
             printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s/\n", play, n, n == 1 ? "" : "s",
                    width, height, cli_now() - t0, output);
     } else {
-        view_window_args a = {ctx,         scene,
-                              tinted,      scene_name,
-                              left,        right,
-                              layout,      divider,
-                              heat_max,    width,
-                              height,      threads,
-                              frames,      record ? record : "camera-path.json",
-                              NULL,        output,
-                              window_shot, quiet};
+        view_window_args a = {
+            ctx,   scene,  tinted,      coords,  scene_name,
+            left,  right,  layout,      divider, heat_max,
+            width, height, threads,     frames,  record ? record : "camera-path.json",
+            NULL,  output, window_shot, quiet};
         rc = view_window_run(&a);
     }
 done:
     view_path_free(&path);
+    persp_image_free(ctx, &coord_img);
+    persp_scene_destroy(coords);
     persp_scene_destroy(tinted);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);

@@ -175,7 +175,7 @@ void view_frame_free(view_frame *f)
     f->width = f->height = 0;
 }
 
-void view_heat_color(int d, int heat_max, uint8_t rgb[3])
+void view_heat_color(double d, double heat_max, uint8_t rgb[3])
 {
     /* black -> blue -> cyan -> green -> yellow -> red over 1..heat_max;
      * stops on a square-root scale so one-level differences still show. */
@@ -185,8 +185,8 @@ void view_heat_color(int d, int heat_max, uint8_t rgb[3])
         rgb[0] = rgb[1] = rgb[2] = 0;
         return;
     }
-    if (heat_max < 1) heat_max = 1;
-    double x = sqrt((double)(d > heat_max ? heat_max : d) / (double)heat_max) * 5.0;
+    if (!(heat_max > 0.0)) heat_max = 1.0;
+    double x = sqrt((d > heat_max ? heat_max : d) / heat_max) * 5.0;
     int i = (int)x;
     if (i >= 5) i = 4;
     double w = x - i;
@@ -226,12 +226,92 @@ static persp_status render_side(persp_context *ctx, const persp_scene *scene,
     return st;
 }
 
-persp_status view_frame_render(persp_context *ctx, const persp_scene *scene,
-                               const persp_scene *tinted, const view_camera *cam,
-                               const view_settings *left, const view_settings *right,
-                               view_layout layout, double divider, int heat_max, int want_error,
-                               view_frame *f)
+persp_status view_coord_image(persp_context *ctx, persp_image *out)
 {
+    persp_status st = persp_image_alloc(ctx, VIEW_COORD_SIZE, VIEW_COORD_SIZE, out);
+    if (st != PERSP_OK) return st;
+    for (int j = 0; j < VIEW_COORD_SIZE; j++) {
+        uint8_t *row = out->pixels + (size_t)j * out->stride;
+        for (int i = 0; i < VIEW_COORD_SIZE; i++) {
+            row[4 * i + 0] = (uint8_t)(i & 255);
+            row[4 * i + 1] = (uint8_t)(j & 255);
+            row[4 * i + 2] = (uint8_t)((i >> 8) | (j >> 8) << 4);
+            row[4 * i + 3] = 255;
+        }
+    }
+    return PERSP_OK;
+}
+
+static void coord_decode(const uint8_t *p, int *i, int *j)
+{
+    *i = p[0] | (p[2] & 15) << 8;
+    *j = p[1] | (p[2] >> 4) << 8;
+}
+
+/* Distance of two texel indices on a texture that wraps around. */
+static int wrapped(int a, int b)
+{
+    int d = abs(a - b) % VIEW_COORD_SIZE;
+    return d > VIEW_COORD_SIZE / 2 ? VIEW_COORD_SIZE - d : d;
+}
+
+static persp_status render_texel(persp_context *ctx, const view_scenes *scenes,
+                                 const view_camera *cam, const view_settings *left,
+                                 const view_settings *right, int heat_max, view_frame *f)
+{
+    if (!scenes->coords) return PERSP_ERR_UNAVAILABLE;
+    /* Each pixel must show the one texel its coordinates name. */
+    view_settings l = *left, r = *right;
+    l.filter = r.filter = PERSP_FILTER_NEAREST;
+    l.shading = r.shading = PERSP_SHADING_NONE;
+    l.mip_levels = r.mip_levels = 0;
+    persp_status st =
+        render_side(ctx, scenes->coords, cam, &l, f, f->left, &f->stats[0], &f->ms[0]);
+    if (st == PERSP_OK)
+        st = render_side(ctx, scenes->coords, cam, &r, f, f->right, &f->stats[1], &f->ms[1]);
+    if (st != PERSP_OK) return st;
+    size_t n = (size_t)f->width * (size_t)f->height;
+    uint64_t differ = 0;
+    double sum = 0.0, mx = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        const uint8_t *a = f->left + k * 4, *b = f->right + k * 4;
+        uint8_t *o = f->out + k * 4;
+        int ai, aj, bi, bj;
+        coord_decode(a, &ai, &aj);
+        coord_decode(b, &bi, &bj);
+        double di = wrapped(ai, bi), dj = wrapped(aj, bj);
+        double d = memcmp(a, b, 3) ? sqrt(di * di + dj * dj) : 0.0;
+        if (d > 0.0) {
+            differ++;
+            sum += d;
+            if (d > mx) mx = d;
+            view_heat_color(d, heat_max, o);
+        } else {
+            /* Where both agree: a dim checkerboard of 32-texel cells shows
+             * how the texture lies on the surfaces. */
+            uint8_t g = (uint8_t)(((ai >> 5) + (aj >> 5)) & 1 ? 48 : 24);
+            o[0] = o[1] = o[2] = g;
+        }
+        o[3] = 255;
+    }
+    memset(&f->err, 0, sizeof f->err);
+    f->err.share_diff = (double)differ / (double)n;
+    f->err.texel_max = mx;
+    f->err.texel_mean = differ ? sum / (double)differ : 0.0;
+    f->err.psnr = INFINITY;
+    f->have_err = 1;
+    return PERSP_OK;
+}
+
+persp_status view_frame_render(persp_context *ctx, const view_scenes *scenes,
+                               const view_camera *cam, const view_settings *left,
+                               const view_settings *right, view_layout layout, double divider,
+                               int heat_max, int want_error, view_frame *f)
+{
+    f->layout = layout;
+    if (layout == VIEW_LAYOUT_TEXEL)
+        return render_texel(ctx, scenes, cam, left, right, heat_max, f);
+    const persp_scene *scene = scenes->plain, *tinted = scenes->tinted;
     persp_status st = render_side(ctx, left->mip_levels && tinted ? tinted : scene, cam, left, f,
                                   f->left, &f->stats[0], &f->ms[0]);
     if (st != PERSP_OK) return st;

@@ -57,8 +57,23 @@ void view_settings_desc(const view_settings *s, persp_render_desc *d);
 typedef enum view_layout {
     VIEW_LAYOUT_SINGLE, /* the left settings only */
     VIEW_LAYOUT_SPLIT,  /* left | right of the divider */
-    VIEW_LAYOUT_DIFF    /* heat map of |left - right| per pixel */
+    VIEW_LAYOUT_DIFF,   /* heat map of |left - right| per pixel */
+    VIEW_LAYOUT_TEXEL   /* heat map of the texture-coordinate error, in texels of VIEW_COORD_SIZE */
 } view_layout;
+
+/* The texture that encodes its own texel index (VIEW_LAYOUT_TEXEL): texel
+ * (i, j) is R = i & 255, G = j & 255, B = (i >> 8) | (j >> 8) << 4. Drawn
+ * with nearest filtering and no shading, a pixel's colour says which texel
+ * (of a VIEW_COORD_SIZE² texture) its texture coordinates fell in. */
+#define VIEW_COORD_SIZE 1024
+persp_status view_coord_image(persp_context *ctx, persp_image *out);
+
+/* The scene in the forms the layouts need. */
+typedef struct view_scenes {
+    const persp_scene *plain;
+    const persp_scene *tinted; /* persp_scene_tint_mip_levels; NULL: none */
+    const persp_scene *coords; /* its textures replaced by view_coord_image; NULL: none */
+} view_scenes;
 
 /* The colour error of left against right over the whole image. */
 typedef struct view_error {
@@ -66,6 +81,9 @@ typedef struct view_error {
     double mean;       /* mean of the per-pixel largest channel difference */
     double share_diff; /* share of pixels that differ at all */
     double psnr;       /* dB over RGB; INFINITY when identical */
+    /* VIEW_LAYOUT_TEXEL: the distance of the two sides' texels (wrapping
+     * around the texture), in texels of VIEW_COORD_SIZE. */
+    double texel_max, texel_mean; /* mean over the pixels that differ */
 } view_error;
 
 /* Two framebuffers (left, right) and the composed image. */
@@ -77,21 +95,22 @@ typedef struct view_frame {
     double ms[2]; /* render time of each side */
     view_error err;
     int have_err;
+    view_layout layout; /* of the last render */
 } view_frame;
 
 persp_status view_frame_resize(view_frame *f, int width, int height);
 void view_frame_free(view_frame *f);
-/* tinted: the scene after persp_scene_tint_mip_levels, for the sides with
- * mip_levels (NULL: they render the plain scene). Renders what layout needs (both sides unless
- * SINGLE without error statistics) and composes f->out. divider in 0..1 of the width; heat_max: the
- * difference (levels) shown as the hottest colour. */
-persp_status view_frame_render(persp_context *ctx, const persp_scene *scene,
-                               const persp_scene *tinted, const view_camera *cam,
-                               const view_settings *left, const view_settings *right,
-                               view_layout layout, double divider, int heat_max, int want_error,
-                               view_frame *f);
-/* The heat-map colour of a difference d (levels) with d >= heat_max hottest. */
-void view_heat_color(int d, int heat_max, uint8_t rgb[3]);
+/* Renders what layout needs (both sides unless SINGLE without error
+ * statistics) and composes f->out: sides with mip_levels render
+ * scenes->tinted, VIEW_LAYOUT_TEXEL renders scenes->coords (else
+ * PERSP_ERR_UNAVAILABLE). divider in 0..1 of the width; heat_max: the
+ * difference (levels, or texels for TEXEL) shown as the hottest colour. */
+persp_status view_frame_render(persp_context *ctx, const view_scenes *scenes,
+                               const view_camera *cam, const view_settings *left,
+                               const view_settings *right, view_layout layout, double divider,
+                               int heat_max, int want_error, view_frame *f);
+/* The heat-map colour of a difference d with d >= heat_max hottest; 0 is black. */
+void view_heat_color(double d, double heat_max, uint8_t rgb[3]);
 
 /* A recorded flight: camera keys at times (seconds). */
 typedef struct view_key {

@@ -13,6 +13,7 @@ typedef struct view_window_args {
     persp_context *ctx;
     persp_scene *scene;
     persp_scene *tinted; /* its mip levels as colours (persp_scene_tint_mip_levels) */
+    persp_scene *coords; /* its textures replaced by view_coord_image */
     const char *scene_name;
     view_settings left, right;
     view_layout layout;

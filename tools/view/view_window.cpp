@@ -54,7 +54,7 @@ struct job {
  * the lock. */
 struct worker {
     persp_context *ctx = nullptr;
-    const persp_scene *scene = nullptr, *tinted = nullptr;
+    view_scenes scenes{};
     SDL_Thread *thread = nullptr;
     SDL_mutex *lock = nullptr;
     SDL_cond *wake = nullptr, *done = nullptr;
@@ -82,8 +82,8 @@ int worker_main(void *arg)
         std::string err;
         persp_status st = view_frame_resize(&f, j.w, j.h);
         if (st == PERSP_OK)
-            st = view_frame_render(w.ctx, w.scene, w.tinted, &j.cam, &j.left, &j.right, j.layout,
-                                   j.divider, j.heat_max, j.error_stats, &f);
+            st = view_frame_render(w.ctx, &w.scenes, &j.cam, &j.left, &j.right, j.layout, j.divider,
+                                   j.heat_max, j.error_stats, &f);
         if (st != PERSP_OK)
             err = std::string(persp_status_string(st)) + ": " + persp_context_error(w.ctx);
         SDL_LockMutex(w.lock);
@@ -230,7 +230,7 @@ const char *pipeline_label(int v)
 }
 const char *layout_label(int v)
 {
-    return v == 0 ? "single" : v == 1 ? "split" : "difference";
+    return v == 0 ? "single" : v == 1 ? "split" : v == 2 ? "colour difference" : "texel difference";
 }
 
 void mip_legend()
@@ -293,7 +293,7 @@ void settings_panel(const char *id, side_ui *ui, view_settings *s, bool with_ops
     ImGui::PopID();
 }
 
-void heat_legend(int heat_max)
+void heat_legend(int heat_max, bool texel)
 {
     ImDrawList *dl = ImGui::GetWindowDrawList();
     ImVec2 p = ImGui::GetCursorScreenPos();
@@ -302,7 +302,7 @@ void heat_legend(int heat_max)
     for (int i = 0; i < steps; i++) {
         double d = (double)heat_max * ((double)i + 0.5) / steps;
         uint8_t rgb[3];
-        view_heat_color(i == 0 ? 0 : (int)ceil(d), heat_max, rgb);
+        view_heat_color(i == 0 ? 0.0 : d, heat_max, rgb);
         dl->AddRectFilled(ImVec2(p.x + w * (float)i / steps, p.y),
                           ImVec2(p.x + w * (float)(i + 1) / steps, p.y + h),
                           IM_COL32(rgb[0], rgb[1], rgb[2], 255));
@@ -310,11 +310,17 @@ void heat_legend(int heat_max)
     ImGui::Dummy(ImVec2(w, h));
     ImGui::Text("0");
     ImGui::SameLine(w * 0.5f);
-    ImGui::Text("%d", (heat_max + 3) / 4); /* square-root scale: the middle is a quarter */
+    ImGui::Text("%g", heat_max / 4.0); /* square-root scale: the middle is a quarter */
     ImGui::SameLine(w - 30.0f);
     ImGui::Text(">=%d", heat_max);
-    ImGui::TextDisabled(
-        "largest RGB difference per pixel, in levels;\nequal pixels show the left image dimmed");
+    if (texel)
+        ImGui::TextDisabled("distance of the texels the two sides' texture\n"
+                            "coordinates fall in, in texels of a %dx%d texture\n"
+                            "(nearest filter, no shading); grey: equal",
+                            VIEW_COORD_SIZE, VIEW_COORD_SIZE);
+    else
+        ImGui::TextDisabled("largest RGB difference per pixel, in levels;\n"
+                            "equal pixels show the left image dimmed");
 }
 
 bool ensure_dir(const char *dir)
@@ -472,6 +478,7 @@ void render_if_needed(state &s, int w, int h, bool wait)
                 memcpy(s.frame.ms, src.ms, sizeof src.ms);
                 s.frame.err = src.err;
                 s.frame.have_err = src.have_err;
+                s.frame.layout = src.layout;
                 updated = true;
             } else {
                 s.render_error = "out of memory";
@@ -530,7 +537,12 @@ void hud(state &s, int out_w)
                     st.ops.spans ? (double)st.ops.pixels / (double)st.ops.spans : 0.0,
                     (unsigned long long)st.ops.spans, (unsigned long long)st.ops.triangles);
     }
-    if (f.have_err) {
+    if (f.have_err && f.layout == VIEW_LAYOUT_TEXEL) {
+        ImGui::Text("texel error (of %dx%d): max %.2f, mean %.3f where the sides differ, %.2f%% of "
+                    "pixels differ",
+                    VIEW_COORD_SIZE, VIEW_COORD_SIZE, f.err.texel_max, f.err.texel_mean,
+                    f.err.share_diff * 100.0);
+    } else if (f.have_err) {
         if (f.err.max == 0)
             ImGui::Text("left vs right: identical");
         else
@@ -585,16 +597,17 @@ void panel(state &s)
         ImGui::SliderFloat("scale while moving", &s.move_scale, 0.125f, 1.0f, "%.3f");
     }
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
-        enum_combo("layout (Tab)", &s.layout, 0, 2, layout_label);
+        enum_combo("layout (Tab)", &s.layout, 0, 3, layout_label);
         float d = (float)s.divider;
         if (s.layout == VIEW_LAYOUT_SPLIT && ImGui::SliderFloat("divider", &d, 0.0f, 1.0f, "%.2f"))
             s.divider = d;
         bool stats = s.error_stats;
         if (ImGui::Checkbox("error statistics (renders the right side too)", &stats))
             s.error_stats = stats;
-        if (s.layout == VIEW_LAYOUT_DIFF) {
-            ImGui::SliderInt("hottest at", &s.heat_max, 1, 255, "%d levels");
-            heat_legend(s.heat_max);
+        if (s.layout == VIEW_LAYOUT_DIFF || s.layout == VIEW_LAYOUT_TEXEL) {
+            bool texel = s.layout == VIEW_LAYOUT_TEXEL;
+            ImGui::SliderInt("hottest at", &s.heat_max, 1, 255, texel ? "%d texels" : "%d levels");
+            heat_legend(s.heat_max, texel);
         }
         ImGui::Checkbox("magnifier (M)", &s.magnifier);
         if (s.magnifier) ImGui::SliderInt("magnified pixels", &s.mag_cells, 5, 41);
@@ -754,7 +767,7 @@ void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
             if (s.orbit) view_camera_set_orbit(&s.cam, s.cam.orbit_dist);
             break;
         case SDLK_TAB:
-            s.layout = (view_layout)((s.layout + 1) % 3);
+            s.layout = (view_layout)((s.layout + 1) % 4);
             break;
         case SDLK_m:
             s.magnifier = !s.magnifier;
@@ -962,8 +975,7 @@ extern "C" int view_window_run(const view_window_args *args)
         view_camera_from_scene(&s.home, args->scene, args->width, args->height);
         s.cam = s.home;
         s.wk.ctx = args->ctx;
-        s.wk.scene = args->scene;
-        s.wk.tinted = args->tinted;
+        s.wk.scenes = view_scenes{args->scene, args->tinted, args->coords};
         s.wk.lock = SDL_CreateMutex();
         s.wk.wake = SDL_CreateCond();
         s.wk.done = SDL_CreateCond();
