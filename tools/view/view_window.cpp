@@ -570,6 +570,8 @@ void panel(state &s)
     ImGuiIO &io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 388, 8), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(380, io.DisplaySize.y - 16), ImGuiCond_FirstUseEver);
+    /* A small window keeps its image visible: the panel starts folded. */
+    ImGui::SetNextWindowCollapsed(io.DisplaySize.x < 900.0f, ImGuiCond_FirstUseEver);
     ImGui::Begin("persp view  (F1 hides)", &s.panel);
     if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
         int mode = s.orbit ? 1 : 0;
@@ -910,7 +912,9 @@ int run(state &s)
     }
     if (s.recording) toggle_recording(s);
     if (!a->quiet && !s.status.empty() && a->frames == 0) printf("%s\n", s.status.c_str());
-    if (!s.render_error.empty()) {
+    /* Interactively a failed configuration was shown in the HUD and could be
+     * changed; a fixed run of frames has nobody watching. */
+    if (!s.render_error.empty() && a->frames > 0) {
         fprintf(stderr, "persp: view: %s\n", s.render_error.c_str());
         rc = 1;
     }
@@ -921,8 +925,6 @@ int run(state &s)
 
 extern "C" int view_window_run(const view_window_args *args)
 {
-    /* The dummy and offscreen drivers have no accelerated renderer; the
-     * software one is what is left everywhere. */
     if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0) {
         fprintf(stderr,
                 "persp: view: cannot open a window: %s (SDL_VIDEODRIVER=%s); "
@@ -940,6 +942,8 @@ extern "C" int view_window_run(const view_window_args *args)
     if (s.window)
         s.renderer =
             SDL_CreateRenderer(s.window, -1, SDL_RENDERER_ACCELERATED | SDL_RENDERER_PRESENTVSYNC);
+    /* The dummy and offscreen drivers have no accelerated renderer; the
+     * software one is there everywhere. */
     if (s.window && !s.renderer)
         s.renderer = SDL_CreateRenderer(s.window, -1, SDL_RENDERER_SOFTWARE);
     if (!s.window || !s.renderer) {
