@@ -906,9 +906,16 @@ int run(state &s)
         }
         SDL_RenderPresent(s.renderer);
         if (last_frame) break;
-        /* Nothing to draw: do not spin a core. */
-        if (!s.turning && !s.playing && s.now - s.last_motion > 0.5 && !rendering(s))
+        /* Leave the cores to the render workers: sleep until an event when
+         * idle, briefly while a frame renders, and cap the loop otherwise
+         * (without vsync it would spin). */
+        bool idle = !s.turning && !s.playing && s.now - s.last_motion > 0.5;
+        if (rendering(s))
+            SDL_WaitEventTimeout(nullptr, 5);
+        else if (idle)
             SDL_WaitEventTimeout(nullptr, 30);
+        else if (seconds() - s.now < 0.004)
+            SDL_Delay(4);
     }
     if (s.recording) toggle_recording(s);
     if (!a->quiet && !s.status.empty() && a->frames == 0) printf("%s\n", s.status.c_str());
