@@ -397,6 +397,20 @@ typedef struct persp_scene_info {
     int max_aniso;
 } persp_scene_info;
 PERSP_API void persp_scene_get_info(const persp_scene *scene, persp_scene_info *out);
+/* Replaces the texels of every mip level of every texture of the scene by
+ * one flat colour per level (persp_mip_level_color), so that a render
+ * shows which levels the filters read and how they blend them. For viewers
+ * and debugging; load the scene again to get its textures back. */
+PERSP_API persp_status persp_scene_tint_mip_levels(persp_scene *scene);
+/* The colour of a level in persp_scene_tint_mip_levels: level 0 white, then
+ * red, orange, yellow-green, green, cyan, blue, violet, magenta; grey from
+ * level 9 on. */
+PERSP_API void persp_mip_level_color(int level, uint8_t rgba[4]);
+/* The scene's camera as persp_render uses it for a width x height
+ * framebuffer (the aspect ratio enters the projection): world -> eye and
+ * eye -> clip. Either output may be NULL. */
+PERSP_API void persp_scene_camera(const persp_scene *scene, int width, int height,
+                                  persp_mat4 *view, persp_mat4 *projection);
 
 typedef enum persp_pipeline {
     PERSP_PIPELINE_DEFAULT = 0, /* SCREEN */
@@ -423,6 +437,12 @@ typedef struct persp_render_desc {
     persp_toggle cull_backfaces; /* DEFAULT: the scene's */
     persp_toggle count_ops;  /* ON: the methods count their operations into
                                 persp_render_stats.ops (instrumented, slower render) */
+    /* Camera override (interactive viewers, camera paths): each non-NULL
+     * matrix replaces the scene camera's (world -> eye, eye -> clip); NULL
+     * keeps the scene's (see persp_scene_camera). Lights stay in world
+     * space, so they follow the new view. */
+    const persp_mat4 *view;
+    const persp_mat4 *projection;
 } persp_render_desc;
 
 typedef struct persp_render_stats {

@@ -6,7 +6,8 @@
 # sharded sweep of tests/cli/test_shard.sh; chromium (headless) loads the page
 # of `persp report` in tests/cli/test_report.sh.
 set -eu
-required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium"
+# libsdl2-dev, libimgui-dev and fonts-dejavu-core build the window of `persp view`.
+required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core"
 optional="clang"
 want="$required"
 [ "${1:-}" = "--optional" ] && want="$required $optional"

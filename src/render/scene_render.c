@@ -33,6 +33,22 @@ static void camera_matrices(const persp_scene *s, int w, int h, persp_mat4 *proj
     *view = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
 }
 
+void persp_scene_camera(const persp_scene *scene, int width, int height, persp_mat4 *view,
+                        persp_mat4 *projection)
+{
+    persp_mat4 p = persp_mat4_identity(), v = persp_mat4_identity();
+    if (scene) camera_matrices(scene, width > 0 ? width : 1, height > 0 ? height : 1, &p, &v);
+    if (view) *view = v;
+    if (projection) *projection = p;
+}
+
+static int mat4_finite(const persp_mat4 *m)
+{
+    for (int i = 0; i < 16; i++)
+        if (!isfinite(m->m[i])) return 0;
+    return 1;
+}
+
 static void eye_lights(const persp_scene *s, const persp_mat4 *view, persp_lighting *L)
 {
     memset(L, 0, sizeof *L);
@@ -70,6 +86,8 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
         (unsigned)dd.count_ops > PERSP_TOGGLE_OFF || dd.max_aniso < 0 || dd.max_aniso > 16 ||
         !isfinite(dd.lod_bias))
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a render setting is out of range");
+    if ((dd.view && !mat4_finite(dd.view)) || (dd.projection && !mat4_finite(dd.projection)))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a camera matrix is not finite");
     if (dd.lod_clamp == PERSP_TOGGLE_ON &&
         (!isfinite(dd.min_lod) || !isfinite(dd.max_lod) || dd.min_lod > dd.max_lod))
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: min_lod %g is above max_lod %g",
@@ -90,6 +108,8 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
 
     persp_mat4 proj, view;
     camera_matrices(scene, fb->width, fb->height, &proj, &view);
+    if (dd.view) view = *dd.view;
+    if (dd.projection) proj = *dd.projection;
     f->proj = proj;
     persp_draw_state ds;
     memset(&ds, 0, sizeof ds);

@@ -1,0 +1,312 @@
+#include "options.h"
+#include "view_window.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static void view_usage(FILE *out, const cli_command *cmd)
+{
+    fprintf(out, "usage: persp view [SCENE] [options]\n\n"
+                 "An interactive window comparing two render configurations side by side\n"
+                 "(SCENE: a built-in scene or a JSON scene file, default corridor). With\n"
+                 "--play it renders a recorded camera path to PNG frames instead, without\n"
+                 "a window. Controls: docs/VIEWER.md.\n\n"
+                 "options:\n");
+    cli_print_options(out, cmd);
+#ifndef PERSP_HAVE_VIEWER
+    fprintf(out, "\nThis build has no window (SDL2 and Dear ImGui were not found);\n"
+                 "--play works without them.\n");
+#endif
+}
+
+static int is_builtin(const char *name)
+{
+    for (size_t i = 0; i < persp_builtin_scene_count(); i++)
+        if (!strcmp(name, persp_builtin_scene_name(i))) return 1;
+    return 0;
+}
+
+static const char *const layout_names[] = {"single", "split", "diff", "texel", NULL};
+static const int layout_values[] = {VIEW_LAYOUT_SINGLE, VIEW_LAYOUT_SPLIT, VIEW_LAYOUT_DIFF,
+                                    VIEW_LAYOUT_TEXEL};
+
+static const cli_spec opt_compare = {.name = "compare",
+                                     .kind = CLI_KIND_CUSTOM,
+                                     .metavar = "M",
+                                     .parse = NULL, /* set from cli_opt_method below */
+                                     .help = "method of the right side (default exact)"};
+static const cli_spec opt_layout = {.name = "layout",
+                                    .kind = CLI_KIND_ENUM,
+                                    .metavar = "single|split|diff|texel",
+                                    .names = layout_names,
+                                    .values = layout_values,
+                                    .help = "left only, left | right at the divider, the colour\n"
+                                            "difference as a heat map, or the texture-coordinate\n"
+                                            "difference in texels of a 1024x1024 texture\n"
+                                            "(default split)"};
+static const cli_spec opt_divider = {.name = "divider",
+                                     .kind = CLI_KIND_REAL,
+                                     .metavar = "F",
+                                     .lo = 0,
+                                     .hi = 1,
+                                     .help = "where the split is, 0..1 of the width (default 0.5)"};
+static const cli_spec opt_heat_max = {
+    .name = "heat-max",
+    .kind = CLI_KIND_INT,
+    .metavar = "N",
+    .lo = 1,
+    .hi = 255,
+    .help = "difference in levels shown hottest in the heat map (default 16)"};
+static const cli_spec opt_play = {.name = "play",
+                                  .kind = CLI_KIND_STRING,
+                                  .metavar = "FILE",
+                                  .help = "render this camera path (JSON) to -o DIR, no window"};
+static const cli_spec opt_frames = {
+    .name = "frames",
+    .kind = CLI_KIND_INT,
+    .metavar = "N",
+    .lo = 1,
+    .hi = 1000000,
+    .help = "with --play: frames sampled evenly over the path (default: one per\n"
+            "key); in the window: close after N frames"};
+static const cli_spec opt_record = {
+    .name = "record",
+    .kind = CLI_KIND_STRING,
+    .metavar = "FILE",
+    .help = "where the window saves a recorded flight (default camera-path.json)"};
+
+static const cli_spec opt_window_shot = {
+    .name = "window-shot",
+    .kind = CLI_KIND_STRING,
+    .metavar = "FILE",
+    .help = "with --frames: save the window's last frame, panels included, as PNG"};
+
+static const cli_spec opt_mip_levels = {
+    .name = "mip-levels",
+    .kind = CLI_KIND_FLAG,
+    .help = "left side: each mip level as a flat colour (which levels the filter reads)"};
+
+/* A built-in scene or a scene file, with --texture applied. */
+static int load_scene(persp_context *ctx, const char *name, const char *texture, persp_scene **out)
+{
+    persp_status st;
+    if (is_builtin(name))
+        st = persp_scene_builtin(ctx, name, out);
+    else
+        st = persp_scene_load(ctx, name, out);
+    if (st != PERSP_OK) return cli_status(ctx, st, name);
+    if (texture) {
+        persp_image tex;
+        if ((st = persp_image_load(ctx, texture, &tex)) != PERSP_OK)
+            return cli_status(ctx, st, texture);
+        st = persp_scene_set_texture(*out, &tex);
+        persp_image_free(ctx, &tex);
+        if (st != PERSP_OK) return cli_status(ctx, st, texture);
+    }
+    return CLI_OK;
+}
+
+static long cpu_count(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1 : n > 256 ? 256 : n;
+}
+
+static int make_dir(const char *dir)
+{
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return cli_error(CLI_FAIL, "view: cannot create the folder '%s': %s", dir, strerror(errno));
+    return CLI_OK;
+}
+
+static int play_path(persp_context *ctx, const view_scenes *scenes, const view_path *path,
+                     const view_settings *left, const view_settings *right, view_layout layout,
+                     double divider, int heat_max, int width, int height, long frames,
+                     const char *dir, int quiet)
+{
+    int rc = make_dir(dir);
+    if (rc != CLI_OK) return rc;
+    view_frame f;
+    memset(&f, 0, sizeof f);
+    persp_status st = view_frame_resize(&f, width, height);
+    if (st != PERSP_OK) return cli_status(ctx, st, "view");
+    double t0 = path->keys[0].t, t1 = path->keys[path->count - 1].t;
+    for (long i = 0; i < frames && rc == CLI_OK; i++) {
+        double t = frames > 1 ? t0 + (t1 - t0) * (double)i / (double)(frames - 1) : t0;
+        view_camera cam;
+        view_path_sample(path, t, &cam);
+        st = view_frame_render(ctx, scenes, &cam, left, right, layout, divider, heat_max, 1, &f);
+        if (st != PERSP_OK) {
+            rc = cli_status(ctx, st, "view");
+            break;
+        }
+        char name[4096];
+        snprintf(name, sizeof name, "%s/frame_%04ld.png", dir, i);
+        persp_image img = {f.width, f.height, (size_t)f.width * 4, f.out};
+        if ((st = persp_image_write_png(ctx, name, &img)) != PERSP_OK) {
+            rc = cli_status(ctx, st, "view");
+            break;
+        }
+        if (!quiet && layout == VIEW_LAYOUT_TEXEL)
+            printf("%s  t=%.3f  left %.1f ms, right %.1f ms  texel error max %.2f, mean %.3f "
+                   "where they differ, %.2f%% of pixels differ\n",
+                   name, t, f.ms[0], f.ms[1], f.err.texel_max, f.err.texel_mean,
+                   f.err.share_diff * 100.0);
+        else if (!quiet)
+            printf("%s  t=%.3f  left %.1f ms, right %.1f ms  error max %d, mean %.3f, "
+                   "%.2f%% of pixels differ, PSNR %.2f dB\n",
+                   name, t, f.ms[0], f.ms[1], f.err.max, f.err.mean, f.err.share_diff * 100.0,
+                   f.err.psnr);
+    }
+    view_frame_free(&f);
+    return rc;
+}
+
+#ifndef PERSP_HAVE_VIEWER
+int view_window_run(const view_window_args *args)
+{
+    (void)args;
+    return cli_error(CLI_FAIL,
+                     "view: this persp was built without the window (it needs SDL2 and Dear "
+                     "ImGui: run scripts/deps.sh, or apt-get install libsdl2-dev libimgui-dev, "
+                     "then rebuild); --play renders camera paths without it");
+}
+#endif
+
+int cmd_view(int argc, char **argv)
+{
+    const char *texture = NULL, *method = NULL, *compare = NULL, *output = NULL, *play = NULL,
+               *record = NULL, *window_shot = NULL;
+    cli_filter filter = {NULL, PERSP_FILTER_DEFAULT, 0};
+    cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
+    cli_size size = {0, 0};
+    int quiet = 0, threads = (int)cpu_count(), heat_max = 16, frames = 0, mip_levels = 0;
+    persp_toggle count_ops = PERSP_TOGGLE_DEFAULT;
+    double divider = 0.5;
+    view_layout layout = VIEW_LAYOUT_SPLIT;
+    view_settings left;
+    memset(&left, 0, sizeof left);
+    cli_spec compare_spec = opt_compare;
+    compare_spec.parse = cli_opt_method.parse;
+    compare_spec.accepts = cli_opt_method.accepts;
+    cli_option opts[] = {
+        CLI_OPT_HELP(cli_opt_method, &method, "method of the left side (default: the scene's)"),
+        CLI_OPT(compare_spec, &compare),
+        CLI_OPT(cli_opt_filter, &filter),
+        CLI_OPT(cli_opt_wrap, &left.wrap),
+        CLI_OPT(cli_opt_shading, &shading),
+        CLI_OPT(cli_opt_depth, &left.depth),
+        CLI_OPT(cli_opt_lod, &left.lod),
+        CLI_OPT(cli_opt_lod_bias, &left.lod_bias),
+        CLI_OPT(cli_opt_pipeline, &left.pipeline),
+        CLI_OPT(cli_opt_texture, &texture),
+        CLI_OPT(cli_opt_count_ops, &count_ops),
+        CLI_OPT(opt_mip_levels, &mip_levels),
+        CLI_OPT(opt_layout, &layout),
+        CLI_OPT(opt_divider, &divider),
+        CLI_OPT(opt_heat_max, &heat_max),
+        CLI_OPT_HELP(cli_opt_size, &size,
+                     "window or frame size (default: the scene's, else 1024x768)"),
+        CLI_OPT_HELP(cli_opt_threads, &threads, "worker threads, 1..256 (default: all CPUs)"),
+        CLI_OPT(opt_play, &play),
+        CLI_OPT(opt_frames, &frames),
+        CLI_OPT_HELP(cli_opt_output, &output,
+                     "folder for --play frames and screenshots (default out/frames)"),
+        CLI_OPT(opt_record, &record),
+        CLI_OPT(opt_window_shot, &window_shot),
+        CLI_OPT_HELP(cli_opt_quiet, &quiet, "print nothing on success"),
+        CLI_OPT_NO_DEST(cli_opt_help),
+    };
+    const char *scene_arg[1] = {NULL};
+    cli_command cmd = {
+        "view", "persp view --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0,
+        "scene"};
+    int rc = cli_parse(&cmd, argc, argv);
+    if (rc == CLI_HELP) {
+        view_usage(stdout, &cmd);
+        return CLI_OK;
+    }
+    if (rc != CLI_OK) return rc;
+
+    if (method) snprintf(left.method, sizeof left.method, "%s", method);
+    left.filter = filter.filter;
+    left.max_aniso = filter.max_aniso;
+    left.shading = shading.shading;
+    left.count_ops = count_ops == PERSP_TOGGLE_ON;
+    view_settings right = left;
+    left.mip_levels = mip_levels;
+    snprintf(right.method, sizeof right.method, "%s", compare ? compare : "exact");
+    right.count_ops = 0;
+    if (!output) output = "out/frames";
+    if (strlen(left.method) != strlen(method ? method : "") ||
+        strlen(right.method) != strlen(compare ? compare : "exact"))
+        return cli_error(CLI_USAGE, "view: method spec too long");
+
+    const char *scene_name = scene_arg[0] ? scene_arg[0] : "corridor";
+    if (!is_builtin(scene_name) && access(scene_name, F_OK) != 0)
+        return cli_error(CLI_FAIL, "view: '%s' is neither a built-in scene nor a file: %s",
+                         scene_name, strerror(errno));
+    view_path path;
+    memset(&path, 0, sizeof path);
+    if (play) {
+        char err[512];
+        if (!view_path_load(play, &path, err, sizeof err))
+            return cli_error(CLI_FAIL, "view: %s", err);
+    }
+
+    persp_context *ctx = NULL;
+    persp_scene *scene = NULL, *tinted = NULL, *coords = NULL;
+    persp_image coord_img = {0, 0, 0, NULL};
+    persp_status st;
+    persp_context_desc cd = {NULL, threads};
+    if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
+        view_path_free(&path);
+        return cli_status(NULL, st, "view");
+    }
+    if ((rc = load_scene(ctx, scene_name, texture, &scene)) != CLI_OK) goto done;
+    /* The window offers mip levels on either side at any time. */
+    if (mip_levels || !play) {
+        if ((rc = load_scene(ctx, scene_name, texture, &tinted)) != CLI_OK) goto done;
+        persp_scene_tint_mip_levels(tinted);
+    }
+    if (layout == VIEW_LAYOUT_TEXEL || !play) {
+        if ((rc = load_scene(ctx, scene_name, NULL, &coords)) != CLI_OK) goto done;
+        if ((st = view_coord_image(ctx, &coord_img)) != PERSP_OK ||
+            (st = persp_scene_set_texture(coords, &coord_img)) != PERSP_OK) {
+            rc = cli_status(ctx, st, "view: coordinate texture");
+            goto done;
+        }
+    }
+    view_scenes scenes = {scene, tinted, coords};
+    int width = size.width, height = size.height;
+    if (!width) persp_scene_default_size(scene, &width, &height);
+    if (!width) width = 1024, height = 768;
+
+    if (play) {
+        long n = frames ? frames : (long)path.count;
+        double t0 = cli_now();
+        rc = play_path(ctx, &scenes, &path, &left, &right, layout, divider, heat_max, width, height,
+                       n, output, quiet);
+        if (rc == CLI_OK && !quiet)
+            printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s/\n", play, n, n == 1 ? "" : "s",
+                   width, height, cli_now() - t0, output);
+    } else {
+        view_window_args a = {
+            ctx,   scene,  tinted,      coords,  scene_name,
+            left,  right,  layout,      divider, heat_max,
+            width, height, threads,     frames,  record ? record : "camera-path.json",
+            NULL,  output, window_shot, quiet};
+        rc = view_window_run(&a);
+    }
+done:
+    view_path_free(&path);
+    persp_image_free(ctx, &coord_img);
+    persp_scene_destroy(coords);
+    persp_scene_destroy(tinted);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+    return rc;
+}

@@ -1,0 +1,525 @@
+#include "view_core.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define DEG (3.14159265358979323846 / 180.0)
+
+/* ------------------------------------------------------------- camera */
+
+void view_camera_forward(const view_camera *cam, double f[3])
+{
+    double cy = cos(cam->yaw * DEG), sy = sin(cam->yaw * DEG);
+    double cp = cos(cam->pitch * DEG), sp = sin(cam->pitch * DEG);
+    f[0] = sy * cp;
+    f[1] = sp;
+    f[2] = -cy * cp;
+}
+
+void view_camera_from_scene(view_camera *cam, const persp_scene *scene, int width, int height)
+{
+    persp_mat4 v, p;
+    persp_scene_camera(scene, width, height, &v, &p);
+    const float *m = v.m;
+    memset(cam, 0, sizeof *cam);
+    /* eye = -R^T t, forward = -(third row of R). */
+    for (int j = 0; j < 3; j++)
+        cam->eye[j] = -((double)m[j * 4 + 0] * m[12] + (double)m[j * 4 + 1] * m[13] +
+                        (double)m[j * 4 + 2] * m[14]);
+    double fx = -(double)m[2], fy = -(double)m[6], fz = -(double)m[10];
+    double len = sqrt(fx * fx + fy * fy + fz * fz);
+    if (len > 0) fx /= len, fy /= len, fz /= len;
+    cam->yaw = atan2(fx, -fz) / DEG;
+    cam->pitch = asin(fy < -1 ? -1 : fy > 1 ? 1 : fy) / DEG;
+    /* gluPerspective: P11 = cot(fovy/2), P22 = -(f+n)/(f-n), P32 = -2fn/(f-n). */
+    if (p.m[11] == -1.0f && p.m[5] > 0.0f && p.m[10] != 1.0f && p.m[10] != -1.0f) {
+        cam->fovy = 2.0 * atan(1.0 / p.m[5]) / DEG;
+        cam->znear = (double)p.m[14] / ((double)p.m[10] - 1.0);
+        cam->zfar = (double)p.m[14] / ((double)p.m[10] + 1.0);
+    }
+    if (!(cam->fovy > 1.0 && cam->fovy < 179.0)) cam->fovy = 60.0;
+    if (!(cam->znear > 0.0)) cam->znear = 0.1;
+    if (!(cam->zfar > cam->znear)) cam->zfar = cam->znear * 1000.0;
+    double d =
+        sqrt(cam->eye[0] * cam->eye[0] + cam->eye[1] * cam->eye[1] + cam->eye[2] * cam->eye[2]);
+    view_camera_set_orbit(cam, d > 1.0 ? d : 1.0);
+    cam->scene_own = 1;
+}
+
+void view_camera_matrices(const view_camera *cam, int width, int height, persp_mat4 *view,
+                          persp_mat4 *proj)
+{
+    double f[3];
+    view_camera_forward(cam, f);
+    persp_vec3 eye = {(float)cam->eye[0], (float)cam->eye[1], (float)cam->eye[2]};
+    persp_vec3 at = {(float)(cam->eye[0] + f[0]), (float)(cam->eye[1] + f[1]),
+                     (float)(cam->eye[2] + f[2])};
+    persp_vec3 up = {0.0f, 1.0f, 0.0f};
+    *view = persp_look_at(eye, at, up);
+    *proj = persp_perspective(cam->fovy, (double)width / (double)(height > 0 ? height : 1),
+                              cam->znear, cam->zfar);
+}
+
+void view_camera_move(view_camera *cam, double fwd, double right, double up)
+{
+    double f[3];
+    view_camera_forward(cam, f);
+    double r[3] = {cos(cam->yaw * DEG), 0.0, sin(cam->yaw * DEG)};
+    for (int i = 0; i < 3; i++) {
+        double d = f[i] * fwd + r[i] * right + (i == 1 ? up : 0.0);
+        cam->eye[i] += d;
+        cam->orbit_target[i] += d;
+    }
+    cam->scene_own = 0;
+}
+
+static void clamp_pitch(view_camera *cam)
+{
+    if (cam->pitch > 89.0) cam->pitch = 89.0;
+    if (cam->pitch < -89.0) cam->pitch = -89.0;
+}
+
+void view_camera_turn(view_camera *cam, double dyaw, double dpitch, int orbit)
+{
+    cam->yaw += dyaw;
+    cam->pitch += dpitch;
+    clamp_pitch(cam);
+    double f[3];
+    view_camera_forward(cam, f);
+    if (orbit)
+        for (int i = 0; i < 3; i++)
+            cam->eye[i] = cam->orbit_target[i] - f[i] * cam->orbit_dist;
+    else
+        for (int i = 0; i < 3; i++)
+            cam->orbit_target[i] = cam->eye[i] + f[i] * cam->orbit_dist;
+    cam->scene_own = 0;
+}
+
+void view_camera_set_orbit(view_camera *cam, double dist)
+{
+    double f[3];
+    view_camera_forward(cam, f);
+    cam->orbit_dist = dist;
+    for (int i = 0; i < 3; i++)
+        cam->orbit_target[i] = cam->eye[i] + f[i] * dist;
+}
+
+void view_camera_zoom(view_camera *cam, double factor)
+{
+    double f[3];
+    view_camera_forward(cam, f);
+    cam->orbit_dist *= factor;
+    if (cam->orbit_dist < 1e-3) cam->orbit_dist = 1e-3;
+    for (int i = 0; i < 3; i++)
+        cam->eye[i] = cam->orbit_target[i] - f[i] * cam->orbit_dist;
+    cam->scene_own = 0;
+}
+
+/* ----------------------------------------------------------- settings */
+
+void view_settings_desc(const view_settings *s, persp_render_desc *d)
+{
+    memset(d, 0, sizeof *d);
+    d->method = s->method[0] ? s->method : NULL;
+    d->filter = s->filter;
+    d->max_aniso = s->max_aniso;
+    d->wrap = s->wrap;
+    d->shading = s->shading;
+    d->depth_mode = s->depth;
+    d->lod_mode = s->lod;
+    d->lod_bias = s->lod_bias;
+    d->pipeline = s->pipeline;
+    d->count_ops = s->count_ops ? PERSP_TOGGLE_ON : PERSP_TOGGLE_DEFAULT;
+}
+
+/* -------------------------------------------------------------- frame */
+
+/* 64-byte-aligned rows render faster with several threads. */
+static void *alloc64(size_t n)
+{
+    return aligned_alloc(64, (n + 63) / 64 * 64);
+}
+
+persp_status view_frame_resize(view_frame *f, int width, int height)
+{
+    if (width < 1 || height < 1 || width > PERSP_IMAGE_MAX_SIDE || height > PERSP_IMAGE_MAX_SIDE)
+        return PERSP_ERR_INVALID_ARGUMENT;
+    if (f->width == width && f->height == height && f->out) return PERSP_OK;
+    view_frame_free(f);
+    size_t n = (size_t)width * (size_t)height;
+    f->left = alloc64(n * 4);
+    f->right = alloc64(n * 4);
+    f->out = alloc64(n * 4);
+    f->depth = alloc64(n * sizeof(float));
+    if (!f->left || !f->right || !f->out || !f->depth) {
+        view_frame_free(f);
+        return PERSP_ERR_OUT_OF_MEMORY;
+    }
+    f->width = width;
+    f->height = height;
+    return PERSP_OK;
+}
+
+void view_frame_free(view_frame *f)
+{
+    free(f->left);
+    free(f->right);
+    free(f->out);
+    free(f->depth);
+    f->left = f->right = f->out = NULL;
+    f->depth = NULL;
+    f->width = f->height = 0;
+}
+
+void view_heat_color(double d, double heat_max, uint8_t rgb[3])
+{
+    /* black -> blue -> cyan -> green -> yellow -> red over 1..heat_max;
+     * stops on a square-root scale so one-level differences still show. */
+    static const double stops[6][3] = {{0, 0, 80},  {0, 0, 255},   {0, 255, 255},
+                                       {0, 255, 0}, {255, 255, 0}, {255, 0, 0}};
+    if (d <= 0) {
+        rgb[0] = rgb[1] = rgb[2] = 0;
+        return;
+    }
+    if (!(heat_max > 0.0)) heat_max = 1.0;
+    double x = sqrt((d > heat_max ? heat_max : d) / heat_max) * 5.0;
+    int i = (int)x;
+    if (i >= 5) i = 4;
+    double w = x - i;
+    if (w > 1.0) w = 1.0;
+    for (int c = 0; c < 3; c++)
+        rgb[c] = (uint8_t)(stops[i][c] + (stops[i + 1][c] - stops[i][c]) * w + 0.5);
+}
+
+static int pixel_diff(const uint8_t *a, const uint8_t *b)
+{
+    int m = 0;
+    for (int c = 0; c < 3; c++) {
+        int d = abs((int)a[c] - (int)b[c]);
+        if (d > m) m = d;
+    }
+    return m;
+}
+
+static persp_status render_side(persp_context *ctx, const persp_scene *scene,
+                                const view_camera *cam, const view_settings *s, view_frame *f,
+                                uint8_t *color, persp_render_stats *stats, double *ms)
+{
+    persp_render_desc d;
+    view_settings_desc(s, &d);
+    persp_mat4 v, p;
+    if (!cam->scene_own) {
+        view_camera_matrices(cam, f->width, f->height, &v, &p);
+        d.view = &v;
+        d.projection = &p;
+    }
+    persp_framebuffer fb = {f->width, f->height, color, f->depth};
+    struct timespec t0, t1;
+    timespec_get(&t0, TIME_UTC);
+    persp_status st = persp_render(ctx, scene, &d, &fb, stats);
+    timespec_get(&t1, TIME_UTC);
+    *ms = (double)(t1.tv_sec - t0.tv_sec) * 1e3 + (double)(t1.tv_nsec - t0.tv_nsec) * 1e-6;
+    return st;
+}
+
+persp_status view_coord_image(persp_context *ctx, persp_image *out)
+{
+    persp_status st = persp_image_alloc(ctx, VIEW_COORD_SIZE, VIEW_COORD_SIZE, out);
+    if (st != PERSP_OK) return st;
+    for (int j = 0; j < VIEW_COORD_SIZE; j++) {
+        uint8_t *row = out->pixels + (size_t)j * out->stride;
+        for (int i = 0; i < VIEW_COORD_SIZE; i++) {
+            row[4 * i + 0] = (uint8_t)(i & 255);
+            row[4 * i + 1] = (uint8_t)(j & 255);
+            row[4 * i + 2] = (uint8_t)((i >> 8) | (j >> 8) << 4);
+            row[4 * i + 3] = 255;
+        }
+    }
+    return PERSP_OK;
+}
+
+static void coord_decode(const uint8_t *p, int *i, int *j)
+{
+    *i = p[0] | (p[2] & 15) << 8;
+    *j = p[1] | (p[2] >> 4) << 8;
+}
+
+/* Distance of two texel indices on a texture that wraps around. */
+static int wrapped(int a, int b)
+{
+    int d = abs(a - b) % VIEW_COORD_SIZE;
+    return d > VIEW_COORD_SIZE / 2 ? VIEW_COORD_SIZE - d : d;
+}
+
+static persp_status render_texel(persp_context *ctx, const view_scenes *scenes,
+                                 const view_camera *cam, const view_settings *left,
+                                 const view_settings *right, int heat_max, view_frame *f)
+{
+    if (!scenes->coords) return PERSP_ERR_UNAVAILABLE;
+    /* Each pixel must show the one texel its coordinates name. */
+    view_settings l = *left, r = *right;
+    l.filter = r.filter = PERSP_FILTER_NEAREST;
+    l.shading = r.shading = PERSP_SHADING_NONE;
+    l.mip_levels = r.mip_levels = 0;
+    persp_status st =
+        render_side(ctx, scenes->coords, cam, &l, f, f->left, &f->stats[0], &f->ms[0]);
+    if (st == PERSP_OK)
+        st = render_side(ctx, scenes->coords, cam, &r, f, f->right, &f->stats[1], &f->ms[1]);
+    if (st != PERSP_OK) return st;
+    size_t n = (size_t)f->width * (size_t)f->height;
+    uint64_t differ = 0;
+    double sum = 0.0, mx = 0.0;
+    for (size_t k = 0; k < n; k++) {
+        const uint8_t *a = f->left + k * 4, *b = f->right + k * 4;
+        uint8_t *o = f->out + k * 4;
+        int ai, aj, bi, bj;
+        coord_decode(a, &ai, &aj);
+        coord_decode(b, &bi, &bj);
+        double di = wrapped(ai, bi), dj = wrapped(aj, bj);
+        double d = memcmp(a, b, 3) ? sqrt(di * di + dj * dj) : 0.0;
+        if (d > 0.0) {
+            differ++;
+            sum += d;
+            if (d > mx) mx = d;
+            view_heat_color(d, heat_max, o);
+        } else {
+            /* Where both agree: a dim checkerboard of 32-texel cells shows
+             * how the texture lies on the surfaces. */
+            uint8_t g = (uint8_t)(((ai >> 5) + (aj >> 5)) & 1 ? 48 : 24);
+            o[0] = o[1] = o[2] = g;
+        }
+        o[3] = 255;
+    }
+    memset(&f->err, 0, sizeof f->err);
+    f->err.share_diff = (double)differ / (double)n;
+    f->err.texel_max = mx;
+    f->err.texel_mean = differ ? sum / (double)differ : 0.0;
+    f->err.psnr = INFINITY;
+    f->have_err = 1;
+    return PERSP_OK;
+}
+
+persp_status view_frame_render(persp_context *ctx, const view_scenes *scenes,
+                               const view_camera *cam, const view_settings *left,
+                               const view_settings *right, view_layout layout, double divider,
+                               int heat_max, int want_error, view_frame *f)
+{
+    f->layout = layout;
+    if (layout == VIEW_LAYOUT_TEXEL)
+        return render_texel(ctx, scenes, cam, left, right, heat_max, f);
+    const persp_scene *scene = scenes->plain, *tinted = scenes->tinted;
+    persp_status st = render_side(ctx, left->mip_levels && tinted ? tinted : scene, cam, left, f,
+                                  f->left, &f->stats[0], &f->ms[0]);
+    if (st != PERSP_OK) return st;
+    int need_right = layout != VIEW_LAYOUT_SINGLE || want_error;
+    memset(&f->stats[1], 0, sizeof f->stats[1]);
+    f->ms[1] = 0.0;
+    if (need_right) {
+        st = render_side(ctx, right->mip_levels && tinted ? tinted : scene, cam, right, f, f->right,
+                         &f->stats[1], &f->ms[1]);
+        if (st != PERSP_OK) return st;
+    }
+    size_t n = (size_t)f->width * (size_t)f->height;
+    f->have_err = need_right;
+    if (need_right) {
+        uint64_t sum = 0, differ = 0;
+        double sq = 0.0;
+        int mx = 0;
+        for (size_t i = 0; i < n; i++) {
+            const uint8_t *a = f->left + i * 4, *b = f->right + i * 4;
+            int d = pixel_diff(a, b);
+            sum += (uint64_t)d;
+            differ += d != 0;
+            if (d > mx) mx = d;
+            for (int c = 0; c < 3; c++) {
+                double e = (double)a[c] - (double)b[c];
+                sq += e * e;
+            }
+        }
+        f->err.max = mx;
+        f->err.mean = (double)sum / (double)n;
+        f->err.share_diff = (double)differ / (double)n;
+        double mse = sq / (3.0 * (double)n);
+        f->err.psnr = mse > 0.0 ? 10.0 * log10(255.0 * 255.0 / mse) : INFINITY;
+    }
+    if (layout == VIEW_LAYOUT_SINGLE) {
+        memcpy(f->out, f->left, n * 4);
+    } else if (layout == VIEW_LAYOUT_SPLIT) {
+        int split = (int)lround(divider * f->width);
+        if (split < 0) split = 0;
+        if (split > f->width) split = f->width;
+        for (int y = 0; y < f->height; y++) {
+            size_t row = (size_t)y * (size_t)f->width * 4;
+            memcpy(f->out + row, f->left + row, (size_t)split * 4);
+            memcpy(f->out + row + (size_t)split * 4, f->right + row + (size_t)split * 4,
+                   (size_t)(f->width - split) * 4);
+        }
+    } else {
+        /* Equal pixels show the left image dimmed, for orientation. */
+        for (size_t i = 0; i < n; i++) {
+            const uint8_t *a = f->left + i * 4, *b = f->right + i * 4;
+            uint8_t *o = f->out + i * 4;
+            int d = pixel_diff(a, b);
+            if (d == 0) {
+                for (int c = 0; c < 3; c++)
+                    o[c] = (uint8_t)(a[c] / 4);
+            } else {
+                view_heat_color(d, heat_max, o);
+            }
+            o[3] = 255;
+        }
+    }
+    return PERSP_OK;
+}
+
+/* --------------------------------------------------------- camera paths */
+
+int view_path_add(view_path *p, double t, const view_camera *cam)
+{
+    if (p->count == p->cap) {
+        size_t cap = p->cap ? p->cap * 2 : 64;
+        view_key *k = realloc(p->keys, cap * sizeof *k);
+        if (!k) return 0;
+        p->keys = k;
+        p->cap = cap;
+    }
+    view_key *k = &p->keys[p->count++];
+    k->t = t;
+    memcpy(k->eye, cam->eye, sizeof k->eye);
+    k->yaw = cam->yaw;
+    k->pitch = cam->pitch;
+    k->fovy = cam->fovy;
+    k->znear = cam->znear;
+    k->zfar = cam->zfar;
+    return 1;
+}
+
+void view_path_free(view_path *p)
+{
+    free(p->keys);
+    memset(p, 0, sizeof *p);
+}
+
+static int get_number(json_t *o, const char *key, double *out, int required)
+{
+    json_t *v = json_object_get(o, key);
+    if (!v) return !required;
+    if (!json_is_number(v)) return 0;
+    *out = json_number_value(v);
+    return isfinite(*out);
+}
+
+int view_path_load(const char *path, view_path *p, char *err, size_t err_size)
+{
+    memset(p, 0, sizeof *p);
+    json_error_t je;
+    json_t *root = json_load_file(path, 0, &je);
+    if (!root) {
+        snprintf(err, err_size, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        return 0;
+    }
+    json_t *keys = json_object_get(root, "keys");
+    if (!json_is_array(keys) || json_array_size(keys) == 0) {
+        snprintf(err, err_size, "%s: expected an object with a non-empty array \"keys\"", path);
+        json_decref(root);
+        return 0;
+    }
+    double last_t = -INFINITY;
+    for (size_t i = 0; i < json_array_size(keys); i++) {
+        json_t *k = json_array_get(keys, i);
+        view_camera c;
+        memset(&c, 0, sizeof c);
+        double t = 0.0;
+        c.fovy = 60.0, c.znear = 0.1, c.zfar = 100.0;
+        json_t *eye = json_object_get(k, "eye");
+        int ok = json_is_object(k) && get_number(k, "t", &t, 1) && json_is_array(eye) &&
+                 json_array_size(eye) == 3 && get_number(k, "yaw", &c.yaw, 1) &&
+                 get_number(k, "pitch", &c.pitch, 1) && get_number(k, "fovy", &c.fovy, 0) &&
+                 get_number(k, "near", &c.znear, 0) && get_number(k, "far", &c.zfar, 0);
+        for (size_t j = 0; ok && j < 3; j++) {
+            json_t *e = json_array_get(eye, j);
+            ok = json_is_number(e) && isfinite(c.eye[j] = json_number_value(e));
+        }
+        if (ok &&
+            !(t >= last_t && c.fovy > 0.0 && c.fovy < 180.0 && c.znear > 0.0 && c.zfar > c.znear)) {
+            snprintf(err, err_size,
+                     "%s: key %zu: times must not decrease, fovy must be in (0, 180) and "
+                     "0 < near < far",
+                     path, i);
+            json_decref(root);
+            view_path_free(p);
+            return 0;
+        }
+        if (!ok) {
+            snprintf(err, err_size,
+                     "%s: key %zu: expected {\"t\": S, \"eye\": [X, Y, Z], \"yaw\": DEG, "
+                     "\"pitch\": DEG} and optional \"fovy\", \"near\", \"far\"",
+                     path, i);
+            json_decref(root);
+            view_path_free(p);
+            return 0;
+        }
+        last_t = t;
+        if (!view_path_add(p, t, &c)) {
+            snprintf(err, err_size, "%s: out of memory", path);
+            json_decref(root);
+            view_path_free(p);
+            return 0;
+        }
+    }
+    json_decref(root);
+    return 1;
+}
+
+int view_path_save(const char *path, const view_path *p, char *err, size_t err_size)
+{
+    json_t *root = json_object(), *keys = json_array();
+    json_object_set_new(root, "version", json_integer(1));
+    for (size_t i = 0; i < p->count; i++) {
+        const view_key *k = &p->keys[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "t", json_real(k->t));
+        json_object_set_new(o, "eye", json_pack("[fff]", k->eye[0], k->eye[1], k->eye[2]));
+        json_object_set_new(o, "yaw", json_real(k->yaw));
+        json_object_set_new(o, "pitch", json_real(k->pitch));
+        json_object_set_new(o, "fovy", json_real(k->fovy));
+        json_object_set_new(o, "near", json_real(k->znear));
+        json_object_set_new(o, "far", json_real(k->zfar));
+        json_array_append_new(keys, o);
+    }
+    json_object_set_new(root, "keys", keys);
+    int ok = json_dump_file(root, path, JSON_INDENT(1) | JSON_REAL_PRECISION(9)) == 0;
+    json_decref(root);
+    if (!ok) snprintf(err, err_size, "%s: cannot write the camera path", path);
+    return ok;
+}
+
+void view_path_sample(const view_path *p, double t, view_camera *cam)
+{
+    const view_key *a = &p->keys[0], *b = a;
+    if (t >= p->keys[p->count - 1].t) {
+        a = b = &p->keys[p->count - 1];
+    } else if (t > a->t) {
+        size_t i = 1;
+        while (i < p->count && p->keys[i].t <= t)
+            i++;
+        a = &p->keys[i - 1];
+        b = &p->keys[i];
+    }
+    double w = b->t > a->t ? (t - a->t) / (b->t - a->t) : 0.0;
+    memset(cam, 0, sizeof *cam);
+    for (int i = 0; i < 3; i++)
+        cam->eye[i] = a->eye[i] + (b->eye[i] - a->eye[i]) * w;
+    cam->yaw = a->yaw + (b->yaw - a->yaw) * w;
+    cam->pitch = a->pitch + (b->pitch - a->pitch) * w;
+    cam->fovy = a->fovy + (b->fovy - a->fovy) * w;
+    cam->znear = a->znear + (b->znear - a->znear) * w;
+    cam->zfar = a->zfar + (b->zfar - a->zfar) * w;
+    clamp_pitch(cam);
+    view_camera_set_orbit(cam, 1.0);
+    cam->scene_own = 0;
+}
