@@ -1,7 +1,10 @@
 /*
  * `persp bench`: fill rate of persp_render on a scene (docs/WORKLOADS.md), per
  * texture-coordinate method, optionally against Mesa llvmpipe / softpipe
- * rendering the same `corridor` frame through OSMesa (bench/peer_osmesa.c).
+ * rendering the same scene through OSMesa (bench/peer_osmesa.c): the same
+ * meshes, textures, camera, lights and materials, with the GL state of the
+ * shading mode. The two images are compared over the pixels either covers,
+ * so that the ratio is known to be between equal work.
  *
  * Fill rate = width·height·frames / seconds. One untimed warm-up frame, one
  * timed calibration frame that sets the frame count when --frames is not
@@ -11,8 +14,8 @@
  * Mesa reads GALLIUM_DRIVER and LP_NUM_THREADS once per process, so the peer
  * runs in a child: this same executable started with the hidden option
  * --peer-child, its environment set for the driver and thread count asked
- * for. The child reports its timings and, when asked, its image through a
- * pipe; its memory stays out of persp's peak resident size.
+ * for. The child loads the scene itself, reports its timings and its image
+ * through a pipe; its memory stays out of persp's peak resident size.
  */
 #include "options.h"
 
@@ -47,7 +50,7 @@ typedef struct method_result {
 
 typedef struct peer_result {
     int ok;
-    char renderer[128], version[128];
+    char renderer[128], version[128], pipeline[160];
     double aniso;
     run_stats stats;
     double maxrss_mib;
@@ -57,12 +60,16 @@ typedef struct peer_result {
 
 typedef struct image_diff {
     int max_abs[4];
-    double pct_gt1, pct_gt2, pct_gt8;
-    double psnr; /* INFINITY when identical */
+    double pct_gt1, pct_gt2, pct_gt8; /* of the covered pixels */
+    double psnr;                      /* over the covered pixels; INFINITY when identical */
+    double covered_pct;               /* pixels either renderer drew, of all */
 } image_diff;
 
 typedef struct bench_opts {
     const char *scene, *method, *filter_name, *peer, *peer_image;
+    int filter_given, shading_given;
+    persp_shading shading; /* DEFAULT: the scene's */
+    const char *shading_name;
     persp_filter filter;
     int max_aniso;
     int threads, peer_threads, width, height, reps, json;
@@ -154,6 +161,7 @@ static void measure_method(persp_bench *b, const bench_opts *o, method_result *r
     desc.method = r->spec;
     desc.filter = o->filter;
     desc.max_aniso = o->max_aniso;
+    desc.shading = o->shading;
     r->ok = 0;
     persp_status st = render_frames(b, &desc, 1); /* warm-up */
     double t0 = cli_now();
@@ -192,17 +200,31 @@ extern char **environ;
  * "key value" lines, then the raw image after "pixels W H" if --dump. */
 static int peer_child(const bench_opts *o, int dump)
 {
-    char err[256] = "";
-    bench_peer_desc pd = {o->width, o->height, o->filter, o->max_aniso};
+    char err[512] = "";
+    persp_context *ctx = NULL;
+    persp_scene *scene = NULL;
+    persp_status st = persp_context_create(NULL, &ctx);
+    if (st == PERSP_OK)
+        st = is_builtin(o->scene) ? persp_scene_builtin(ctx, o->scene, &scene)
+                                  : persp_scene_load(ctx, o->scene, &scene);
+    if (st != PERSP_OK) {
+        int rc = cli_status(ctx, st, o->scene);
+        persp_context_destroy(ctx);
+        return rc;
+    }
+    bench_peer_desc pd = {o->width, o->height, scene, o->shading, o->filter, o->max_aniso};
     bench_peer *p = bench_peer_create(&pd, err, sizeof err);
+    /* The GL objects hold copies: the scene is not needed while drawing. */
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
     if (!p) return cli_error(CLI_FAIL, "%s", err);
     bench_peer_render(p, 1); /* warm-up */
     double t0 = cli_now();
     bench_peer_render(p, 1);
     double t1 = cli_now();
     int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
-    printf("renderer %s\nversion %s\naniso %g\nframes %d\nseconds", bench_peer_renderer(p),
-           bench_peer_version(p), (double)bench_peer_aniso(p), frames);
+    printf("renderer %s\nversion %s\npipeline %s\naniso %g\nframes %d\nseconds", bench_peer_renderer(p),
+           bench_peer_version(p), bench_peer_pipeline(p), (double)bench_peer_aniso(p), frames);
     for (int rep = 0; rep < o->reps; rep++) {
         double a = cli_now();
         bench_peer_render(p, frames);
@@ -246,9 +268,11 @@ static int run_peer(const bench_opts *o, int dump, peer_result *r)
     snprintf(seconds, sizeof seconds, "%.6f", o->run_seconds);
     snprintf(driver, sizeof driver, "GALLIUM_DRIVER=%s", o->peer);
     snprintf(threads, sizeof threads, "LP_NUM_THREADS=%d", o->peer_threads);
-    char *argv[16] = {"persp", "bench", "--peer-child", (char *)o->peer, "--size", size,
-                      "--filter", (char *)o->filter_name, "--reps", reps, "--time", seconds};
-    int argc = 12;
+    char *argv[24] = {"persp", "bench", (char *)o->scene, "--peer-child", (char *)o->peer, "--size", size,
+                      "--reps", reps, "--time", seconds};
+    int argc = 11;
+    if (o->filter_given) argv[argc++] = "--filter", argv[argc++] = (char *)o->filter_name;
+    if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
     if (dump) argv[argc++] = "--dump";
     argv[argc] = NULL;
@@ -319,6 +343,7 @@ static int run_peer(const bench_opts *o, int dump, peer_result *r)
         const char *an = peer_field(buf, text_len, "aniso");
         copy_line(r->renderer, sizeof r->renderer, peer_field(buf, text_len, "renderer"));
         copy_line(r->version, sizeof r->version, peer_field(buf, text_len, "version"));
+        copy_line(r->pipeline, sizeof r->pipeline, peer_field(buf, text_len, "pipeline"));
         r->stats.frames = f ? atoi(f) : 0;
         r->stats.reps = 0;
         r->aniso = an ? atof(an) : 0.0;
@@ -354,14 +379,21 @@ static int run_peer(const bench_opts *o, int dump, peer_result *r)
     return rc;
 }
 
-/* Per-channel and per-pixel differences of two RGBA8 images of equal size. */
-static image_diff compare_images(const uint8_t *a, const uint8_t *b, size_t pixels)
+/* Per-channel and per-pixel differences of two RGBA8 images of equal size,
+ * over the pixels either renderer covered: those persp's depth buffer shows
+ * drawn (depth below the cleared 1) and those where the peer's differs from
+ * the clear colour. Background both leave alone would only dilute the
+ * error. */
+static image_diff compare_images(const uint8_t *a, const uint8_t *b, const float *depth,
+                                 const uint8_t clear[4], size_t pixels)
 {
     image_diff d;
     memset(&d, 0, sizeof d);
-    size_t gt1 = 0, gt2 = 0, gt8 = 0;
+    size_t gt1 = 0, gt2 = 0, gt8 = 0, covered = 0;
     double sq = 0.0;
     for (size_t i = 0; i < pixels; i++) {
+        if (!(depth[i] < 1.0f) && !memcmp(b + 4 * i, clear, 3)) continue;
+        covered++;
         int worst = 0;
         for (int c = 0; c < 4; c++) {
             int x = abs((int)a[4 * i + (size_t)c] - (int)b[4 * i + (size_t)c]);
@@ -371,7 +403,8 @@ static image_diff compare_images(const uint8_t *a, const uint8_t *b, size_t pixe
         }
         gt1 += worst > 1, gt2 += worst > 2, gt8 += worst > 8;
     }
-    double n = pixels ? (double)pixels : 1.0;
+    d.covered_pct = pixels ? 100.0 * (double)covered / (double)pixels : 0.0;
+    double n = covered ? (double)covered : 1.0;
     d.pct_gt1 = 100.0 * (double)gt1 / n;
     d.pct_gt2 = 100.0 * (double)gt2 / n;
     d.pct_gt8 = 100.0 * (double)gt8 / n;
@@ -441,6 +474,8 @@ static void print_json(FILE *out, const bench_report *r)
     json_string(out, o->scene);
     fprintf(out, ", \"width\": %d, \"height\": %d, \"filter\": ", o->width, o->height);
     json_string(out, o->filter_name);
+    fprintf(out, ", \"shading\": ");
+    json_string(out, o->shading_name);
     fprintf(out, ", \"threads\": %d, \"peak_rss_mib\": ", o->threads);
     json_number(out, r->rss_mib);
     fprintf(out, ", \"rss_at_start_mib\": ");
@@ -477,6 +512,8 @@ static void print_json(FILE *out, const bench_report *r)
         json_string(out, p->renderer);
         fprintf(out, ", \"version\": ");
         json_string(out, p->version);
+        fprintf(out, ", \"pipeline\": ");
+        json_string(out, p->pipeline);
         fprintf(out, ", \"lp_num_threads\": %d, \"aniso\": ", o->peer_threads);
         json_number(out, p->aniso);
         fprintf(out, ", \"peak_rss_mib\": ");
@@ -488,8 +525,13 @@ static void print_json(FILE *out, const bench_report *r)
     if (r->diff) {
         const image_diff *d = r->diff;
         fprintf(out, ",\n \"peer_image\": {\"file\": ");
-        json_string(out, o->peer_image);
-        fprintf(out, ", \"compared_with\": \"exact\", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
+        if (o->peer_image)
+            json_string(out, o->peer_image);
+        else
+            fprintf(out, "null");
+        fprintf(out, ", \"compared_with\": \"exact\", \"covered_pct\": ");
+        json_number(out, d->covered_pct);
+        fprintf(out, ", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
                 d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
         json_number(out, d->pct_gt1);
         fprintf(out, ", \"pct_gt2\": ");
@@ -509,6 +551,7 @@ static void print_text(FILE *out, const bench_report *r)
     const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
     fprintf(out, "bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
             o->filter_name, o->threads, o->reps);
+    fprintf(out, "shading %s\n", o->shading_name);
     fprintf(out, "%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
             "vs_exact");
     if (peer_col) fprintf(out, " %9s", "vs_peer");
@@ -537,7 +580,7 @@ static void print_text(FILE *out, const bench_report *r)
         fprintf(out, "peer renderer: %s, OpenGL %s, LP_NUM_THREADS=%d", p->renderer, p->version,
                 o->peer_threads);
         if (p->aniso > 0.0) fprintf(out, ", anisotropy %g", p->aniso);
-        fprintf(out, "\n");
+        fprintf(out, "\npeer pipeline: %s\n", p->pipeline);
     }
     fprintf(out, "peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
             r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
@@ -546,10 +589,11 @@ static void print_text(FILE *out, const bench_report *r)
     if (r->diff) {
         const image_diff *d = r->diff;
         fprintf(out,
-                "peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
-                "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
-                o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
-                d->pct_gt1, d->pct_gt2, d->pct_gt8);
+                "peer image%s%s vs persp exact over the %.1f%% covered pixels: max |diff| R %d G %d "
+                "B %d A %d; pixels differing by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
+                o->peer_image ? " " : "", o->peer_image ? o->peer_image : "", d->covered_pct,
+                d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3], d->pct_gt1, d->pct_gt2,
+                d->pct_gt8);
         if (isfinite(d->psnr))
             fprintf(out, "%.2f dB\n", d->psnr);
         else
@@ -607,8 +651,9 @@ static const cli_spec opt_peer = {
     .kind = CLI_KIND_STRING,
     .metavar = "D",
     .names = peer_names,
-    .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
-            "corridor, in a child process, and report persp's ratio to it"};
+    .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa drawing\n"
+            "the same scene, in a child process; report persp's ratio to it\n"
+            "and the PSNR of its image against persp's exact one"};
 static const cli_spec opt_peer_threads = {.name = "peer-threads",
                                           .kind = CLI_KIND_INT,
                                           .metavar = "N",
@@ -620,8 +665,7 @@ static const cli_spec opt_peer_image = {
     .name = "peer-image",
     .kind = CLI_KIND_STRING,
     .metavar = "FILE",
-    .help = "write the peer's frame as PNG and print its difference to\n"
-            "persp's exact image with the same filter"};
+    .help = "also write the peer's frame as PNG"};
 /* The peer's own process (run_peer): the driver it renders with, and whether
  * it sends its image back. Not for people. */
 static const cli_spec opt_peer_child = {
@@ -669,6 +713,7 @@ int cmd_bench(int argc, char **argv)
     o.reps = 5;
     o.run_seconds = 0.5;
     cli_filter filter = {"bilinear", PERSP_FILTER_BILINEAR, 16};
+    cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
     const char *output = NULL;
@@ -676,7 +721,8 @@ int cmd_bench(int argc, char **argv)
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
         CLI_OPT_HELP(cli_opt_filter, &filter,
-                     "texture filter for every texture (default bilinear)"),
+                     "texture filter for every texture (default: the scene's)"),
+        CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
         CLI_OPT(opt_frames, &o.frames),
         CLI_OPT(opt_reps, &o.reps),
@@ -702,9 +748,13 @@ int cmd_bench(int argc, char **argv)
     }
     if (rc != CLI_OK) return rc;
     int child_mode = cli_given(&cmd, &opt_peer_child) > 0;
+    o.filter_given = cli_given(&cmd, &cli_opt_filter) > 0;
     o.filter_name = filter.name;
-    o.filter = filter.filter;
-    o.max_aniso = filter.max_aniso;
+    o.filter = o.filter_given ? filter.filter : PERSP_FILTER_DEFAULT;
+    o.max_aniso = o.filter_given ? filter.max_aniso : 0;
+    o.shading_given = cli_given(&cmd, &cli_opt_shading) > 0;
+    o.shading = shading.shading;
+    o.shading_name = shading.name;
     o.width = size.width;
     o.height = size.height;
     o.json = format == PERSP_REPORT_JSON;
@@ -712,8 +762,6 @@ int cmd_bench(int argc, char **argv)
     if (o.peer_threads < 0) o.peer_threads = o.threads;
     if (o.peer_image && !o.peer)
         return cli_error(CLI_USAGE, "bench: --peer-image needs --peer llvmpipe|softpipe");
-    if (o.peer && strcmp(o.scene, "corridor") != 0)
-        return cli_error(CLI_USAGE, "bench: the peer renders only the corridor scene, not '%s'", o.scene);
 #ifndef PERSP_HAVE_OSMESA
     if (o.peer || child_mode)
         return cli_error(CLI_FAIL, "bench: --peer is unavailable: persp was not built with OSMesa "
@@ -760,6 +808,16 @@ int cmd_bench(int argc, char **argv)
         goto done;
     }
     if (!o.width) persp_scene_default_size(b.scene, &o.width, &o.height);
+    {
+        /* What the scene renders with unless overridden, for the report. */
+        persp_scene_info info;
+        persp_scene_get_info(b.scene, &info);
+        if (!o.filter_given)
+            o.filter_name = info.filter_count == 0   ? "none"
+                            : info.filter_count == 1 ? persp_filter_name(info.filter)
+                                                     : "scene";
+        if (!o.shading_given) o.shading_name = persp_shading_name(info.shading);
+    }
     if (!o.width) o.width = 1024, o.height = 768;
     size_t pixels = (size_t)o.width * (size_t)o.height;
     if (pixels > PERSP_IMAGE_MAX_PIXELS) {
@@ -787,21 +845,17 @@ int cmd_bench(int argc, char **argv)
             failures++;
             continue;
         }
-        if (!strcmp(results[i].spec, "exact")) {
-            exact = &results[i];
-            if (o.peer_image && !exact_image && (exact_image = malloc(pixels * 4)))
-                memcpy(exact_image, b.fb.color, pixels * 4);
-        }
+        if (!strcmp(results[i].spec, "exact")) exact = &results[i];
     }
-    if (o.peer_image && !exact_image) {
-        /* The reference image is exact's even when exact was not timed. */
-        method_result r;
-        memset(&r, 0, sizeof r);
+    if (o.peer) {
+        /* The reference image and its coverage: exact, with the filter and
+         * shading the peer draws. */
         persp_render_desc desc;
         memset(&desc, 0, sizeof desc);
         desc.method = "exact";
         desc.filter = o.filter;
         desc.max_aniso = o.max_aniso;
+        desc.shading = o.shading;
         if ((st = persp_render(b.ctx, b.scene, &desc, &b.fb, NULL)) != PERSP_OK) {
             cli_status(b.ctx, st, "bench: exact reference image");
             failures++;
@@ -814,13 +868,15 @@ int cmd_bench(int argc, char **argv)
 #ifdef PERSP_HAVE_OSMESA
     /* A failing peer still leaves persp's results to print. */
     if (o.peer) {
-        rc = run_peer(&o, o.peer_image != NULL, &peer);
-        if (rc == CLI_OK && o.peer_image && peer.pixels) {
+        rc = run_peer(&o, 1, &peer);
+        if (rc == CLI_OK && peer.pixels) {
             persp_image img = {o.width, o.height, (size_t)o.width * 4, peer.pixels};
-            if ((st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK) {
+            if (o.peer_image && (st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK)
                 rc = cli_status(b.ctx, st, o.peer_image);
-            } else if (exact_image) {
-                diff = compare_images(exact_image, peer.pixels, pixels);
+            if (exact_image) {
+                persp_scene_info info;
+                persp_scene_get_info(b.scene, &info);
+                diff = compare_images(exact_image, peer.pixels, b.fb.depth, info.clear, pixels);
                 have_diff = 1;
             }
         }
