@@ -154,41 +154,55 @@ static persp_status render_frames(persp_bench *b, const persp_render_desc *desc,
     return PERSP_OK;
 }
 
-static void measure_method(persp_bench *b, const bench_opts *o, method_result *r)
+static void render_error(persp_bench *b, persp_status st, method_result *r)
+{
+    const char *detail = persp_context_error(b->ctx);
+    snprintf(r->error, sizeof r->error, "%s%s(%s)", detail ? detail : "",
+             detail && detail[0] ? " " : "", persp_status_string(st));
+    r->ok = 0;
+}
+
+static void method_desc(const bench_opts *o, const method_result *r, persp_render_desc *desc)
+{
+    memset(desc, 0, sizeof *desc);
+    desc->method = r->spec;
+    desc->filter = o->filter;
+    desc->max_aniso = o->max_aniso;
+    desc->shading = o->shading;
+}
+
+/* One untimed warm-up frame and one timed frame that sets the frame count
+ * of each run when --frames is not given. */
+static void prepare_method(persp_bench *b, const bench_opts *o, method_result *r)
 {
     persp_render_desc desc;
-    memset(&desc, 0, sizeof desc);
-    desc.method = r->spec;
-    desc.filter = o->filter;
-    desc.max_aniso = o->max_aniso;
-    desc.shading = o->shading;
+    method_desc(o, r, &desc);
     r->ok = 0;
-    persp_status st = render_frames(b, &desc, 1); /* warm-up */
+    persp_status st = render_frames(b, &desc, 1);
     double t0 = cli_now();
     if (st == PERSP_OK) st = render_frames(b, &desc, 1);
     double t1 = cli_now();
     if (st != PERSP_OK) {
-        const char *detail = persp_context_error(b->ctx);
-        snprintf(r->error, sizeof r->error, "%s%s(%s)", detail ? detail : "",
-                 detail && detail[0] ? " " : "", persp_status_string(st));
+        render_error(b, st, r);
         return;
     }
-    int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
-    r->stats.frames = frames;
-    r->stats.reps = o->reps;
-    for (int rep = 0; rep < o->reps; rep++) {
-        double a = cli_now();
-        st = render_frames(b, &desc, frames);
-        double z = cli_now();
-        if (st != PERSP_OK) {
-            snprintf(r->error, sizeof r->error, "%s (%s)", persp_context_error(b->ctx),
-                     persp_status_string(st));
-            return;
-        }
-        r->stats.mpix[rep] = mpix(b->fb.width, b->fb.height, frames, z - a);
-    }
-    finish_stats(&r->stats);
+    r->stats.frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
+    r->stats.reps = 0;
     r->ok = 1;
+}
+
+static void run_method(persp_bench *b, const bench_opts *o, method_result *r)
+{
+    persp_render_desc desc;
+    method_desc(o, r, &desc);
+    double a = cli_now();
+    persp_status st = render_frames(b, &desc, r->stats.frames);
+    double z = cli_now();
+    if (st != PERSP_OK) {
+        render_error(b, st, r);
+        return;
+    }
+    r->stats.mpix[r->stats.reps++] = mpix(b->fb.width, b->fb.height, r->stats.frames, z - a);
 }
 
 /* ----------------------------------------------------------------- peer side */
@@ -196,9 +210,13 @@ static void measure_method(persp_bench *b, const bench_opts *o, method_result *r
 #ifdef PERSP_HAVE_OSMESA
 extern char **environ;
 
-/* The child: renders with the driver its environment names and prints
- * "key value" lines, then the raw image after "pixels W H" if --dump. */
-static int peer_child(const bench_opts *o, int dump)
+/* The child: loads the scene, builds the GL objects, draws a warm-up and a
+ * calibration frame and prints "key value" lines ending with "frames N".
+ * Then it obeys its standard input, one command a line, so that the parent
+ * can interleave its runs with persp's on a shared machine: "run" draws one
+ * run and prints "seconds S"; "end" prints "maxrss_mib M", then
+ * "pixels W H" and the raw last frame, and exits. */
+static int peer_child(const bench_opts *o)
 {
     char err[512] = "";
     persp_context *ctx = NULL;
@@ -223,58 +241,80 @@ static int peer_child(const bench_opts *o, int dump)
     bench_peer_render(p, 1);
     double t1 = cli_now();
     int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
-    printf("renderer %s\nversion %s\npipeline %s\naniso %g\nframes %d\nseconds", bench_peer_renderer(p),
+    printf("renderer %s\nversion %s\npipeline %s\naniso %g\nframes %d\n", bench_peer_renderer(p),
            bench_peer_version(p), bench_peer_pipeline(p), (double)bench_peer_aniso(p), frames);
-    for (int rep = 0; rep < o->reps; rep++) {
-        double a = cli_now();
-        bench_peer_render(p, frames);
-        printf(" %.9f", cli_now() - a);
-    }
-    printf("\nmaxrss_mib %.3f\n", peak_rss_mib(RUSAGE_SELF));
-    if (dump) {
-        printf("pixels %d %d\n", o->width, o->height);
-        fwrite(bench_peer_pixels(p), 4, (size_t)o->width * (size_t)o->height, stdout);
-    }
     fflush(stdout);
+    char line[64];
+    while (fgets(line, sizeof line, stdin)) {
+        if (!strncmp(line, "run", 3)) {
+            double a = cli_now();
+            bench_peer_render(p, frames);
+            printf("seconds %.9f\n", cli_now() - a);
+            fflush(stdout);
+        } else if (!strncmp(line, "end", 3)) {
+            printf("maxrss_mib %.3f\npixels %d %d\n", peak_rss_mib(RUSAGE_SELF), o->width, o->height);
+            fwrite(bench_peer_pixels(p), 4, (size_t)o->width * (size_t)o->height, stdout);
+            fflush(stdout);
+            break;
+        }
+    }
     bench_peer_destroy(p);
     return CLI_OK;
 }
 
-/* Finds "key " at a line start within text[0..len) and returns what follows. */
-static const char *peer_field(const char *text, size_t len, const char *key)
+/* The running child, seen from the parent. */
+typedef struct peer_proc {
+    pid_t pid;
+    FILE *to, *from;
+} peer_proc;
+
+/* Reads one "key value" line from the child into value; 0 on EOF or
+ * another key. */
+static int peer_read(peer_proc *pp, const char *key, char *value, size_t size)
 {
+    char line[512];
+    if (!fgets(line, sizeof line, pp->from)) return 0;
     size_t k = strlen(key);
-    for (size_t i = 0; i + k < len; i++) {
-        if ((i == 0 || text[i - 1] == '\n') && !strncmp(text + i, key, k) && text[i + k] == ' ')
-            return text + i + k + 1;
-    }
-    return NULL;
-}
-
-static void copy_line(char *dst, size_t size, const char *src)
-{
-    size_t n = src ? strcspn(src, "\n") : 0;
+    if (strncmp(line, key, k) != 0 || line[k] != ' ') return 0;
+    size_t n = strcspn(line + k + 1, "\n");
     if (n >= size) n = size - 1;
-    if (n) memcpy(dst, src, n);
-    dst[n] = '\0';
+    memcpy(value, line + k + 1, n);
+    value[n] = '\0';
+    return 1;
 }
 
-static int run_peer(const bench_opts *o, int dump, peer_result *r)
+/* Ends the child and reports how it ended when it failed. */
+static int peer_reap(peer_proc *pp, const bench_opts *o, int rc)
 {
-    char size[40], threads[32], frames[32], reps[16], seconds[32], driver[64];
+    if (pp->to) fclose(pp->to);
+    if (pp->from) fclose(pp->from);
+    pp->to = pp->from = NULL;
+    if (pp->pid <= 0) return rc;
+    int status = 0;
+    waitpid(pp->pid, &status, 0);
+    pp->pid = 0;
+    if (rc == CLI_OK && (!WIFEXITED(status) || WEXITSTATUS(status) != 0))
+        rc = cli_error(CLI_FAIL, "bench: the %s peer failed (%s %d)", o->peer,
+                       WIFEXITED(status) ? "exit status" : "signal",
+                       WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+    return rc;
+}
+
+static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
+{
+    memset(pp, 0, sizeof *pp);
+    char size[40], threads[32], frames[32], seconds[32], driver[64];
     snprintf(size, sizeof size, "%dx%d", o->width, o->height);
     snprintf(frames, sizeof frames, "%ld", o->frames);
-    snprintf(reps, sizeof reps, "%d", o->reps);
     snprintf(seconds, sizeof seconds, "%.6f", o->run_seconds);
     snprintf(driver, sizeof driver, "GALLIUM_DRIVER=%s", o->peer);
     snprintf(threads, sizeof threads, "LP_NUM_THREADS=%d", o->peer_threads);
     char *argv[24] = {"persp", "bench", (char *)o->scene, "--peer-child", (char *)o->peer, "--size", size,
-                      "--reps", reps, "--time", seconds};
-    int argc = 11;
+                      "--time", seconds};
+    int argc = 9;
     if (o->filter_given) argv[argc++] = "--filter", argv[argc++] = (char *)o->filter_name;
     if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
-    if (dump) argv[argc++] = "--dump";
     argv[argc] = NULL;
 
     size_t nenv = 0;
@@ -289,93 +329,99 @@ static int run_peer(const bench_opts *o, int dump, peer_result *r)
     envp[e++] = threads;
     envp[e] = NULL;
 
-    int fds[2];
-    if (pipe(fds) != 0) {
+    int down[2], up[2];
+    if (pipe(down) != 0) {
+        free(envp);
+        return cli_error(CLI_FAIL, "bench: cannot create a pipe for the peer");
+    }
+    if (pipe(up) != 0) {
+        close(down[0]), close(down[1]);
         free(envp);
         return cli_error(CLI_FAIL, "bench: cannot create a pipe for the peer");
     }
     fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {
-        close(fds[0]), close(fds[1]);
+        close(down[0]), close(down[1]), close(up[0]), close(up[1]);
         free(envp);
         return cli_error(CLI_FAIL, "bench: cannot start the peer process");
     }
     if (pid == 0) {
-        dup2(fds[1], STDOUT_FILENO);
-        close(fds[0]);
-        close(fds[1]);
+        dup2(down[0], STDIN_FILENO);
+        dup2(up[1], STDOUT_FILENO);
+        close(down[0]), close(down[1]), close(up[0]), close(up[1]);
         execve("/proc/self/exe", argv, envp);
         _exit(127);
     }
     free(envp);
-    close(fds[1]);
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    int oom = !buf;
-    for (;;) {
-        if (!oom && len == cap) {
-            char *bigger = realloc(buf, cap * 2);
-            if (!bigger) oom = 1;
-            else buf = bigger, cap *= 2;
-        }
-        char sink[4096];
-        ssize_t n = oom ? read(fds[0], sink, sizeof sink) : read(fds[0], buf + len, cap - len);
-        if (n <= 0) break;
-        if (!oom) len += (size_t)n;
+    close(down[0]);
+    close(up[1]);
+    pp->pid = pid;
+    pp->to = fdopen(down[1], "w");
+    pp->from = fdopen(up[0], "r");
+    if (!pp->to || !pp->from) {
+        if (!pp->to) close(down[1]);
+        if (!pp->from) close(up[0]);
+        return peer_reap(pp, o, cli_error(CLI_FAIL, "bench: cannot talk to the peer process"));
     }
-    close(fds[0]);
-    int status = 0;
-    waitpid(pid, &status, 0);
+    char v[256];
+    if (!peer_read(pp, "renderer", r->renderer, sizeof r->renderer) ||
+        !peer_read(pp, "version", r->version, sizeof r->version) ||
+        !peer_read(pp, "pipeline", r->pipeline, sizeof r->pipeline) || !peer_read(pp, "aniso", v, sizeof v) ||
+        (r->aniso = atof(v), !peer_read(pp, "frames", v, sizeof v)) || (r->stats.frames = atoi(v)) < 1) {
+        int rc = peer_reap(pp, o, CLI_OK);
+        return rc != CLI_OK ? rc : cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+    }
+    r->stats.reps = 0;
+    return CLI_OK;
+}
+
+static int peer_run(peer_proc *pp, const bench_opts *o, peer_result *r)
+{
+    char v[64];
+    fputs("run\n", pp->to);
+    fflush(pp->to);
+    if (!peer_read(pp, "seconds", v, sizeof v)) {
+        int rc = peer_reap(pp, o, CLI_OK);
+        return rc != CLI_OK ? rc : cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+    }
+    r->stats.mpix[r->stats.reps++] = mpix(o->width, o->height, r->stats.frames, atof(v));
+    return CLI_OK;
+}
+
+static int peer_end(peer_proc *pp, const bench_opts *o, peer_result *r)
+{
+    char v[64];
+    fputs("end\n", pp->to);
+    fflush(pp->to);
     int rc = CLI_OK;
-    if (oom) {
-        rc = cli_error(CLI_FAIL, "bench: out of memory reading the peer's output");
-    } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        rc = cli_error(CLI_FAIL, "bench: the %s peer failed (%s %d)", o->peer,
-                       WIFEXITED(status) ? "exit status" : "signal",
-                       WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+    int w = 0, h = 0;
+    if (!peer_read(pp, "maxrss_mib", v, sizeof v)) {
+        rc = cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
     } else {
-        const char *pix = peer_field(buf, len, "pixels");
-        size_t text_len = pix ? (size_t)(pix - buf) : len;
-        const char *f = peer_field(buf, text_len, "frames");
-        const char *s = peer_field(buf, text_len, "seconds");
-        const char *m = peer_field(buf, text_len, "maxrss_mib");
-        const char *an = peer_field(buf, text_len, "aniso");
-        copy_line(r->renderer, sizeof r->renderer, peer_field(buf, text_len, "renderer"));
-        copy_line(r->version, sizeof r->version, peer_field(buf, text_len, "version"));
-        copy_line(r->pipeline, sizeof r->pipeline, peer_field(buf, text_len, "pipeline"));
-        r->stats.frames = f ? atoi(f) : 0;
-        r->stats.reps = 0;
-        r->aniso = an ? atof(an) : 0.0;
-        r->maxrss_mib = m ? atof(m) : 0.0;
-        char *end = (char *)s;
-        while (s && r->stats.reps < o->reps) {
-            double sec = strtod(s, &end);
-            if (end == s) break;
-            r->stats.mpix[r->stats.reps++] = mpix(o->width, o->height, r->stats.frames, sec);
-            s = end;
-        }
-        if (r->stats.frames < 1 || r->stats.reps != o->reps) {
-            rc = cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+        r->maxrss_mib = atof(v);
+        if (!peer_read(pp, "pixels", v, sizeof v) || sscanf(v, "%d %d", &w, &h) != 2 || w != o->width ||
+            h != o->height) {
+            rc = cli_error(CLI_FAIL, "bench: the %s peer sent no image", o->peer);
         } else {
-            finish_stats(&r->stats);
-            r->ok = 1;
-        }
-        if (rc == CLI_OK && dump) {
-            size_t need = (size_t)o->width * (size_t)o->height * 4;
-            const char *nl = pix ? memchr(pix, '\n', len - (size_t)(pix - buf)) : NULL;
-            if (!nl || (size_t)(buf + len - (nl + 1)) != need) {
-                rc = cli_error(CLI_FAIL, "bench: the %s peer sent no complete image", o->peer);
-            } else if (!(r->pixels = malloc(need))) {
+            size_t need = (size_t)w * (size_t)h * 4;
+            if (!(r->pixels = malloc(need))) {
                 rc = cli_error(CLI_FAIL, "bench: out of memory for the peer image");
+            } else if (fread(r->pixels, 1, need, pp->from) != need) {
+                rc = cli_error(CLI_FAIL, "bench: the %s peer sent no complete image", o->peer);
+                free(r->pixels);
+                r->pixels = NULL;
             } else {
-                memcpy(r->pixels, nl + 1, need);
-                r->width = o->width;
-                r->height = o->height;
+                r->width = w;
+                r->height = h;
             }
         }
     }
-    free(buf);
+    rc = peer_reap(pp, o, rc);
+    if (rc == CLI_OK) {
+        finish_stats(&r->stats);
+        r->ok = 1;
+    }
     return rc;
 }
 
@@ -772,7 +818,8 @@ int cmd_bench(int argc, char **argv)
                          o.filter_name);
     if (child_mode) {
         if (!o.width) o.width = 1024, o.height = 768;
-        return peer_child(&o, dump);
+        (void)dump;
+        return peer_child(&o);
     }
 #endif
 
@@ -839,12 +886,29 @@ int cmd_bench(int argc, char **argv)
 
     const method_result *exact = NULL;
     int failures = 0;
+    for (size_t i = 0; i < count; i++) prepare_method(&b, &o, &results[i]);
+#ifdef PERSP_HAVE_OSMESA
+    /* The peer's runs alternate with persp's, so that both see the same
+     * load on a shared machine. A failing peer still leaves persp's
+     * results to print. */
+    peer_proc pp;
+    memset(&pp, 0, sizeof pp);
+    int peer_live = 0;
+    if (o.peer) peer_live = (rc = peer_start(&o, &pp, &peer)) == CLI_OK;
+#endif
+    for (int rep = 0; rep < o.reps; rep++) {
+        for (size_t i = 0; i < count; i++)
+            if (results[i].ok) run_method(&b, &o, &results[i]);
+#ifdef PERSP_HAVE_OSMESA
+        if (peer_live) peer_live = (rc = peer_run(&pp, &o, &peer)) == CLI_OK;
+#endif
+    }
     for (size_t i = 0; i < count; i++) {
-        measure_method(&b, &o, &results[i]);
         if (!results[i].ok) {
             failures++;
             continue;
         }
+        finish_stats(&results[i].stats);
         if (!strcmp(results[i].spec, "exact")) exact = &results[i];
     }
     if (o.peer) {
@@ -866,9 +930,8 @@ int cmd_bench(int argc, char **argv)
     double rss = peak_rss_mib(RUSAGE_SELF);
 
 #ifdef PERSP_HAVE_OSMESA
-    /* A failing peer still leaves persp's results to print. */
-    if (o.peer) {
-        rc = run_peer(&o, 1, &peer);
+    if (peer_live) {
+        rc = peer_end(&pp, &o, &peer);
         if (rc == CLI_OK && peer.pixels) {
             persp_image img = {o.width, o.height, (size_t)o.width * 4, peer.pixels};
             if (o.peer_image && (st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK)
