@@ -712,11 +712,10 @@ static const cli_spec opt_peer_image = {
     .kind = CLI_KIND_STRING,
     .metavar = "FILE",
     .help = "also write the peer's frame as PNG"};
-/* The peer's own process (run_peer): the driver it renders with, and whether
- * it sends its image back. Not for people. */
+/* The peer's own process (peer_start): the driver it renders with. Not for
+ * people. */
 static const cli_spec opt_peer_child = {
     .name = "peer-child", .kind = CLI_KIND_STRING, .metavar = "D"};
-static const cli_spec opt_dump = {.name = "dump", .kind = CLI_KIND_FLAG};
 
 /* The methods to measure: one spec, or every registry entry for "all". */
 static int collect_methods(const char *method, method_result *out, size_t *count)
@@ -763,7 +762,6 @@ int cmd_bench(int argc, char **argv)
     cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
     const char *output = NULL;
-    int dump = 0;
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
         CLI_OPT_HELP(cli_opt_filter, &filter,
@@ -782,7 +780,6 @@ int cmd_bench(int argc, char **argv)
                      "write the results to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
         CLI_OPT(opt_peer_child, &o.peer),
-        CLI_OPT(opt_dump, &dump),
     };
     cli_command cmd = {
         "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o.scene, 1, 0,
@@ -818,7 +815,6 @@ int cmd_bench(int argc, char **argv)
                          o.filter_name);
     if (child_mode) {
         if (!o.width) o.width = 1024, o.height = 768;
-        (void)dump;
         return peer_child(&o);
     }
 #endif
