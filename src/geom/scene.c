@@ -215,7 +215,7 @@ const persp_texture *persp_scene_get_texture(const persp_scene *s, int index)
     return s && index >= 0 && (size_t)index < s->texture_count ? s->textures[index] : NULL;
 }
 
-/* The same matrices as persp_render's (src/raster/scene_render.c). */
+/* The same matrices as persp_render uses. */
 persp_status persp_scene_get_camera(const persp_scene *s, int width, int height, persp_mat4 *proj,
                                     persp_mat4 *view)
 {
