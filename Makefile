@@ -2,7 +2,8 @@
 #   make demo            install missing packages, build, render corridor to out/corridor.png
 #   make test            install missing packages, build, run the whole suite (CTest)
 #   make test SANITIZE=1 the same under ASan + UBSan (separate build folder)
-#   make bench           benchmarks (not part of the test suite)
+#   make bench           the workload table of docs/PERFORMANCE.md against llvmpipe
+#                        (scripts/bench.sh; not part of the test suite)
 #   make fuzz            libFuzzer harnesses with clang (not part of the test suite)
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep the build's output to its progress lines.
@@ -34,7 +35,7 @@ test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 bench: build
-	@$(BUILD)/persp bench corridor --method all
+	@bash scripts/bench.sh $(BUILD)/persp out/bench
 
 fuzz:
 	@bash scripts/deps.sh --optional

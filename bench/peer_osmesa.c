@@ -1,18 +1,25 @@
 /*
- * The `corridor` workload of docs/WORKLOADS.md rendered by Mesa through OSMesa,
- * with nothing but legacy OpenGL 1.x state so that llvmpipe and softpipe run
- * their ordinary fixed-function paths: glFrustum projection, identity
- * model-view, one 256×256 RGBA8 texture with GL_REPEAT and GL_REPLACE, depth
- * test GL_LESS against a cleared far plane, and the five quads split into the
- * triangles (c0, c1, c2), (c0, c2, c3) drawn from client vertex arrays.
+ * A persp scene rendered by Mesa through OSMesa, as an OpenGL programmer
+ * would draw it for speed: one vertex buffer, index buffer and vertex array
+ * object per scene object, drawn with glDrawElements; one texture object per
+ * scene texture holding every mip level persp built (so both sample the same
+ * texels), with the filter and wrap in sampler objects; uniforms set per
+ * object; a constant light-count loop in the fragment shader.
+ *
+ * Conventions where GL and persp differ are decided in docs/PERFORMANCE.md
+ * ("The OpenGL peer"); the comments below cite the GL 2.1 sections that
+ * define the fixed-function behaviour matched.
  *
  * Mesa 22.3's OSMesa offers OSMesaCreateContextAttribs (compatibility
- * profile, GL 4.5 on llvmpipe, 3.3 on softpipe) and
+ * profile, GL 4.5 on llvmpipe, 3.3 on softpipe), which has both the
+ * fixed-function pipeline and GLSL 1.30, sampler objects (GL 3.3) and
  * GL_EXT_texture_filter_anisotropic on both drivers.
  */
+#define GL_GLEXT_PROTOTYPES 1
 #include "peer.h"
 
 #include <GL/gl.h>
+#include <GL/glext.h>
 #include <GL/osmesa.h>
 
 #include <math.h>
@@ -38,62 +45,47 @@ const char *__lsan_default_options(void);
 const char *__lsan_default_options(void) { return "print_suppressions=0"; }
 #endif
 
-#define TEX_SIZE 256
-#define TEX_LEVELS 9 /* 256 .. 1 */
+/* Interleaved vertex: position, normal, texture coordinate, colour. */
+#define VERTEX_FLOATS 12
+#define MAX_PROGRAMS 8
+
+typedef enum peer_path { PATH_UNLIT, PATH_FIXED, PATH_GLSL } peer_path;
+
+/* Uniform locations of one program, looked up once. */
+typedef struct peer_program {
+    GLuint name;
+    GLint mvp, mv, nm, ambient, diffuse, specular, shininess;
+} peer_program;
+
+typedef struct peer_object {
+    GLuint vao, vbo, ibo;
+    GLsizei count;
+    int indexed;
+    float mv[16], mvp[16], nm[9];
+    persp_scene_material mat;
+    GLuint texture, sampler; /* 0: untextured */
+    int program;             /* index into programs (PATH_GLSL) */
+} peer_object;
 
 struct bench_peer {
     OSMesaContext gl;
     int width, height;
     uint8_t *color;
-    GLuint texture;
+    peer_path path;
+    int flat, noperspective;
+    const char *pipeline;
     float aniso;
+    float clear[4];
+    float ambient[3];
+    int light_count;
+    float light_pos[8][4], light_color[8][3], light_atten[8][3]; /* eye space */
+    GLuint *textures;
+    size_t texture_count;
+    peer_object *objects;
+    size_t object_count;
+    peer_program programs[MAX_PROGRAMS];
     char renderer[128], version[128];
-    /* 5 quads × 4 corners, interleaved (x, y, z, s, t); 5 × 2 triangles. */
-    float vertices[20 * 5];
-    GLuint indices[30];
 };
-
-/* docs/WORKLOADS.md corridor geometry, L = 64: per quad four corners (u, v | x, y, z). */
-static const float corridor_quads[5][4][5] = {
-    {{0, 0, -1, -1, 0}, {2, 0, 1, -1, 0}, {2, 64, 1, -1, -64}, {0, 64, -1, -1, -64}},
-    {{0, 0, -1, 1, 0}, {0, 64, -1, 1, -64}, {2, 64, 1, 1, -64}, {2, 0, 1, 1, 0}},
-    {{0, 0, -1, -1, 0}, {0, 64, -1, -1, -64}, {2, 64, -1, 1, -64}, {2, 0, -1, 1, 0}},
-    {{0, 0, 1, -1, 0}, {2, 0, 1, 1, 0}, {2, 64, 1, 1, -64}, {0, 64, 1, -1, -64}},
-    {{0, 0, -1, -1, -64}, {2, 0, 1, -1, -64}, {2, 2, 1, 1, -64}, {0, 2, -1, 1, -64}},
-};
-
-/* docs/WORKLOADS.md checker: texel (x, y), y = 0 the first row given to GL. */
-static void checker_texel(int x, int y, uint8_t out[4])
-{
-    static const uint8_t a[4] = {230, 200, 40, 255}, b[4] = {30, 60, 160, 255},
-                         white[4] = {255, 255, 255, 255};
-    const uint8_t *c = (((x / 32) ^ (y / 32)) & 1) ? a : b;
-    if (x % 32 == 0 || y % 32 == 0) c = white;
-    memcpy(out, c, 4);
-}
-
-/* The next mip level by a 2×2 box filter, rounded to nearest: the reduction
- * the GL spec suggests for glGenerateMipmap (GL 4.5 §8.14.4) done in integer
- * arithmetic so it does not depend on how the driver builds its chain. */
-static void box_reduce(const uint8_t *src, int src_size, uint8_t *dst)
-{
-    int n = src_size / 2;
-    for (int y = 0; y < n; y++)
-        for (int x = 0; x < n; x++)
-            for (int c = 0; c < 4; c++) {
-                const uint8_t *p = src + ((size_t)(2 * y) * (size_t)src_size + (size_t)(2 * x)) * 4 + c;
-                size_t row = (size_t)src_size * 4;
-                unsigned sum = (unsigned)p[0] + p[4] + p[row] + p[row + 4];
-                dst[((size_t)y * (size_t)n + (size_t)x) * 4 + (size_t)c] = (uint8_t)((sum + 2) / 4);
-            }
-}
-
-static int filter_uses_mips(persp_filter f)
-{
-    return f == PERSP_FILTER_NEAREST_MIP_NEAREST || f == PERSP_FILTER_BILINEAR_MIP_NEAREST ||
-           f == PERSP_FILTER_NEAREST_MIP_LINEAR || f == PERSP_FILTER_TRILINEAR ||
-           f == PERSP_FILTER_ANISO;
-}
 
 /* persp filter -> GL min / mag filter (GL 4.5 §8.14, Table 8.19). */
 static int gl_filters(persp_filter f, GLint *min_filter, GLint *mag_filter)
@@ -121,77 +113,330 @@ static int gl_filters(persp_filter f, GLint *min_filter, GLint *mag_filter)
 int bench_peer_supports(persp_filter filter)
 {
     GLint min_filter, mag_filter;
-    return gl_filters(filter, &min_filter, &mag_filter);
+    return filter == PERSP_FILTER_DEFAULT || gl_filters(filter, &min_filter, &mag_filter);
 }
 
-static int upload_texture(bench_peer *p, persp_filter filter, char *err, size_t err_size)
+static GLint gl_wrap(persp_wrap w)
 {
-    uint8_t *level = malloc((size_t)TEX_SIZE * TEX_SIZE * 4);
-    uint8_t *next = malloc((size_t)(TEX_SIZE / 2) * (TEX_SIZE / 2) * 4 + 4);
-    if (!level || !next) {
-        free(level), free(next);
-        snprintf(err, err_size, "peer: out of memory for the texture");
-        return 0;
+    switch (w) {
+    case PERSP_WRAP_CLAMP_TO_EDGE: return GL_CLAMP_TO_EDGE;
+    case PERSP_WRAP_MIRRORED_REPEAT: return GL_MIRRORED_REPEAT;
+    case PERSP_WRAP_CLAMP_TO_BORDER: return GL_CLAMP_TO_BORDER;
+    default: return GL_REPEAT;
     }
-    for (int y = 0; y < TEX_SIZE; y++)
-        for (int x = 0; x < TEX_SIZE; x++)
-            checker_texel(x, y, level + ((size_t)y * TEX_SIZE + (size_t)x) * 4);
-    glGenTextures(1, &p->texture);
-    glBindTexture(GL_TEXTURE_2D, p->texture);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    int levels = filter_uses_mips(filter) ? TEX_LEVELS : 1;
-    int size = TEX_SIZE;
+}
+
+/* Every level persp built, as the texture's mip chain (GL 2.1 §3.8.8: a
+ * complete texture needs levels down to 1×1, which persp's chain has). */
+static int upload_texture(const persp_texture *t, GLuint *name, char *err, size_t err_size)
+{
+    glGenTextures(1, name);
+    glBindTexture(GL_TEXTURE_2D, *name);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    int levels = persp_texture_levels(t);
     for (int l = 0; l < levels; l++) {
-        glTexImage2D(GL_TEXTURE_2D, l, GL_RGBA8, size, size, 0, GL_RGBA, GL_UNSIGNED_BYTE, level);
-        if (l + 1 < levels) {
-            box_reduce(level, size, next);
-            size /= 2;
-            memcpy(level, next, (size_t)size * (size_t)size * 4);
+        persp_image_view v;
+        if (persp_texture_level(t, l, &v) != PERSP_OK || v.stride % 4) {
+            snprintf(err, err_size, "peer: unreadable texture level %d", l);
+            return 0;
         }
+        glPixelStorei(GL_UNPACK_ROW_LENGTH, (GLint)(v.stride / 4));
+        glTexImage2D(GL_TEXTURE_2D, l, GL_RGBA8, v.width, v.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+                     v.pixels);
     }
-    free(level);
-    free(next);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_BASE_LEVEL, 0);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, levels - 1);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_REPEAT);
-    GLint min_filter = GL_NEAREST, mag_filter = GL_NEAREST;
-    gl_filters(filter, &min_filter, &mag_filter);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, min_filter);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, mag_filter);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
-    glEnable(GL_TEXTURE_2D);
     return 1;
 }
 
-static int set_aniso(bench_peer *p, int max_aniso, char *err, size_t err_size)
+static int make_sampler(bench_peer *p, const bench_peer_desc *d, const persp_sampler_desc *s,
+                        GLuint *name, char *err, size_t err_size)
 {
-    const char *ext = (const char *)glGetString(GL_EXTENSIONS);
-    if (!ext || !strstr(ext, "GL_EXT_texture_filter_anisotropic")) {
-        snprintf(err, err_size, "peer: %s does not offer GL_EXT_texture_filter_anisotropic",
-                 p->renderer);
+    persp_filter f = d->filter != PERSP_FILTER_DEFAULT ? d->filter : s->filter;
+    if (f == PERSP_FILTER_DEFAULT) f = PERSP_FILTER_BILINEAR;
+    GLint min_filter, mag_filter;
+    if (!gl_filters(f, &min_filter, &mag_filter)) {
+        snprintf(err, err_size, "peer: filter '%s' has no OpenGL counterpart", persp_filter_name(f));
         return 0;
     }
-    GLfloat limit = 1.0f;
-    glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &limit);
-    float want = (float)(max_aniso > 0 ? max_aniso : 16);
-    p->aniso = want < limit ? want : limit;
-    glTexParameterf(GL_TEXTURE_2D, GL_TEXTURE_MAX_ANISOTROPY_EXT, p->aniso);
+    glGenSamplers(1, name);
+    glSamplerParameteri(*name, GL_TEXTURE_MIN_FILTER, min_filter);
+    glSamplerParameteri(*name, GL_TEXTURE_MAG_FILTER, mag_filter);
+    glSamplerParameteri(*name, GL_TEXTURE_WRAP_S, gl_wrap(s->wrap_s));
+    glSamplerParameteri(*name, GL_TEXTURE_WRAP_T, gl_wrap(s->wrap_t));
+    float border[4];
+    for (int c = 0; c < 4; c++) border[c] = (float)s->border[c] / 255.0f;
+    glSamplerParameterfv(*name, GL_TEXTURE_BORDER_COLOR, border);
+    if (s->lod_bias != 0.0f) glSamplerParameterf(*name, GL_TEXTURE_LOD_BIAS, s->lod_bias);
+    if (s->lod_clamp == PERSP_TOGGLE_ON) {
+        glSamplerParameterf(*name, GL_TEXTURE_MIN_LOD, s->min_lod);
+        glSamplerParameterf(*name, GL_TEXTURE_MAX_LOD, s->max_lod);
+    }
+    if (f == PERSP_FILTER_ANISO) {
+        const char *ext = (const char *)glGetString(GL_EXTENSIONS);
+        if (!ext || !strstr(ext, "GL_EXT_texture_filter_anisotropic")) {
+            snprintf(err, err_size, "peer: %s does not offer GL_EXT_texture_filter_anisotropic",
+                     p->renderer);
+            return 0;
+        }
+        GLfloat limit = 1.0f;
+        glGetFloatv(GL_MAX_TEXTURE_MAX_ANISOTROPY_EXT, &limit);
+        int taps = d->max_aniso > 0 ? d->max_aniso : s->max_aniso > 0 ? s->max_aniso : 16;
+        float want = (float)taps;
+        p->aniso = want < limit ? want : limit;
+        glSamplerParameterf(*name, GL_TEXTURE_MAX_ANISOTROPY_EXT, p->aniso);
+    }
+    return 1;
+}
+
+/* ------------------------------------------------------------------ GLSL */
+
+static const char *vertex_src =
+    "#version 130\n"
+    "in vec3 a_pos;\n"
+    "in vec3 a_normal;\n"
+    "in vec2 a_uv;\n"
+    "uniform mat4 u_mvp, u_mv;\n"
+    "uniform mat3 u_nm;\n"
+    "out vec3 v_eye;\n"
+    "NORMAL_QUALIFIER out vec3 v_normal;\n"
+    "out vec2 v_uv;\n"
+    "void main() {\n"
+    "    vec4 p = vec4(a_pos, 1.0);\n"
+    "    v_eye = (u_mv * p).xyz;\n"
+    "    v_normal = u_nm * a_normal;\n"
+    "    v_uv = a_uv;\n"
+    "    gl_Position = u_mvp * p;\n"
+    "}\n";
+
+/* Blinn–Phong with a local viewer, lights in eye space; w = 0 marks a
+ * directional light (its attenuation uniform is then (1, 0, 0)). The same
+ * terms as persp's src/shade/shade.c: the texel multiplies ambient +
+ * diffuse, the specular term is added after it (times the texel with a
+ * specular texture). */
+static const char *fragment_src =
+    "#version 130\n"
+    "NORMAL_QUALIFIER in vec3 v_normal;\n"
+    "in vec3 v_eye;\n"
+    "in vec2 v_uv;\n"
+    "uniform vec3 u_ambient, u_diffuse, u_specular;\n"
+    "uniform float u_shininess;\n"
+    "#if NUM_LIGHTS > 0\n"
+    "uniform vec4 u_light_pos[NUM_LIGHTS];\n"
+    "uniform vec3 u_light_color[NUM_LIGHTS];\n"
+    "uniform vec3 u_light_atten[NUM_LIGHTS];\n"
+    "#endif\n"
+    "#if TEXTURED\n"
+    "uniform sampler2D u_tex;\n"
+    "#endif\n"
+    "void main() {\n"
+    "#if TEXTURED && !MODULATE\n"
+    "    gl_FragColor = texture(u_tex, v_uv);\n"
+    "#else\n"
+    "    vec3 n = normalize(v_normal);\n"
+    "    if (!gl_FrontFacing) n = -n;\n"
+    "    vec3 v = normalize(-v_eye);\n"
+    "    vec3 d = u_ambient, s = vec3(0.0);\n"
+    "#if NUM_LIGHTS > 0\n"
+    "    for (int i = 0; i < NUM_LIGHTS; i++) {\n"
+    "        vec3 l = u_light_pos[i].xyz - v_eye * u_light_pos[i].w;\n"
+    "        float dist = length(l);\n"
+    "        l /= dist;\n"
+    "        vec3 k = u_light_atten[i];\n"
+    "        float att = 1.0 / (k.x + (k.y + k.z * dist) * dist);\n"
+    "        float ndl = dot(n, l);\n"
+    "        if (ndl > 0.0) {\n"
+    "            float ndh = max(dot(n, normalize(l + v)), 0.0);\n"
+    "            d += (att * ndl) * u_light_color[i] * u_diffuse;\n"
+    "            s += (att * pow(ndh, u_shininess)) * u_light_color[i] * u_specular;\n"
+    "        }\n"
+    "    }\n"
+    "#endif\n"
+    "#if TEXTURED\n"
+    "    vec4 t = texture(u_tex, v_uv);\n"
+    "#if SPECULAR_TEXTURE\n"
+    "    gl_FragColor = vec4((d + s) * t.rgb, t.a);\n"
+    "#else\n"
+    "    gl_FragColor = vec4(d * t.rgb + s, t.a);\n"
+    "#endif\n"
+    "#else\n"
+    "    gl_FragColor = vec4(d + s, 1.0);\n"
+    "#endif\n"
+    "#endif\n"
+    "}\n";
+
+static GLuint compile(GLenum type, const char *defines, const char *src, char *err, size_t err_size)
+{
+    GLuint sh = glCreateShader(type);
+    /* #version must come first: the defines follow it. */
+    const char *nl = strchr(src, '\n') + 1;
+    char version[32];
+    snprintf(version, sizeof version, "%.*s", (int)(nl - src), src);
+    const char *parts[3] = {version, defines, nl};
+    glShaderSource(sh, 3, parts, NULL);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[512] = "";
+        glGetShaderInfoLog(sh, sizeof log, NULL, log);
+        snprintf(err, err_size, "peer: shader does not compile: %s", log);
+        glDeleteShader(sh);
+        return 0;
+    }
+    return sh;
+}
+
+/* The program for one material kind (textured, modulate, specular
+ * texture), built on first use. */
+static int get_program(bench_peer *p, const persp_scene_material *m, char *err, size_t err_size)
+{
+    int textured = m->texture >= 0, modulate = m->env == PERSP_SCENE_TEXENV_MODULATE;
+    int spec_tex = textured && modulate && m->specular_texture;
+    int key = textured | (modulate << 1) | (spec_tex << 2);
+    if (p->programs[key].name) return key;
+    char defines[256];
+    snprintf(defines, sizeof defines,
+             "#define NUM_LIGHTS %d\n#define TEXTURED %d\n#define MODULATE %d\n"
+             "#define SPECULAR_TEXTURE %d\n#define NORMAL_QUALIFIER %s\n",
+             p->light_count, textured, modulate, spec_tex, p->noperspective ? "noperspective" : "smooth");
+    GLuint vs = compile(GL_VERTEX_SHADER, defines, vertex_src, err, err_size);
+    if (!vs) return -1;
+    GLuint fs = compile(GL_FRAGMENT_SHADER, defines, fragment_src, err, err_size);
+    if (!fs) {
+        glDeleteShader(vs);
+        return -1;
+    }
+    GLuint prog = glCreateProgram();
+    glAttachShader(prog, vs);
+    glAttachShader(prog, fs);
+    glBindAttribLocation(prog, 0, "a_pos");
+    glBindAttribLocation(prog, 1, "a_normal");
+    glBindAttribLocation(prog, 2, "a_uv");
+    glLinkProgram(prog);
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    GLint ok = 0;
+    glGetProgramiv(prog, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[512] = "";
+        glGetProgramInfoLog(prog, sizeof log, NULL, log);
+        snprintf(err, err_size, "peer: shader program does not link: %s", log);
+        glDeleteProgram(prog);
+        return -1;
+    }
+    glUseProgram(prog);
+    if (p->light_count > 0) {
+        glUniform4fv(glGetUniformLocation(prog, "u_light_pos"), p->light_count, &p->light_pos[0][0]);
+        glUniform3fv(glGetUniformLocation(prog, "u_light_color"), p->light_count, &p->light_color[0][0]);
+        glUniform3fv(glGetUniformLocation(prog, "u_light_atten"), p->light_count, &p->light_atten[0][0]);
+    }
+    if (textured) glUniform1i(glGetUniformLocation(prog, "u_tex"), 0);
+    peer_program *pp = &p->programs[key];
+    pp->name = prog;
+    pp->mvp = glGetUniformLocation(prog, "u_mvp");
+    pp->mv = glGetUniformLocation(prog, "u_mv");
+    pp->nm = glGetUniformLocation(prog, "u_nm");
+    pp->ambient = glGetUniformLocation(prog, "u_ambient");
+    pp->diffuse = glGetUniformLocation(prog, "u_diffuse");
+    pp->specular = glGetUniformLocation(prog, "u_specular");
+    pp->shininess = glGetUniformLocation(prog, "u_shininess");
+    return key;
+}
+
+/* --------------------------------------------------------------- objects */
+
+/* Vertices as drawn: the mesh's own, or for flat shading one copy per
+ * triangle corner carrying the face normal, so that GL_FLAT lights each
+ * triangle with its plane's normal as persp does (GL 2.1 §2.14.7: a flat
+ * primitive takes the provoking vertex's colour). */
+static int build_buffers(bench_peer *p, const persp_scene_object *so, peer_object *o, int colour_array,
+                         char *err, size_t err_size)
+{
+    size_t nv = p->flat ? so->index_count : so->vertex_count;
+    float *buf = malloc((nv ? nv : 1) * VERTEX_FLOATS * sizeof(float));
+    if (!buf) {
+        snprintf(err, err_size, "peer: out of memory for %zu vertices", nv);
+        return 0;
+    }
+    for (size_t i = 0; i < nv; i++) {
+        const persp_vertex *v = &so->vertices[p->flat ? so->indices[i] : i];
+        float *out = buf + i * VERTEX_FLOATS;
+        memcpy(out, v->pos, 3 * sizeof(float));
+        memcpy(out + 3, v->normal, 3 * sizeof(float));
+        memcpy(out + 6, v->uv, 2 * sizeof(float));
+        /* Unlit, untextured: persp shows the vertex colour times the
+         * material's diffuse colour. */
+        for (int c = 0; c < 3; c++) out[8 + c] = v->color[c] * so->material.diffuse[c];
+        out[11] = v->color[3];
+    }
+    if (p->flat) {
+        for (size_t t = 0; t + 2 < nv; t += 3) {
+            float *a = buf + t * VERTEX_FLOATS, *b = a + VERTEX_FLOATS, *c = b + VERTEX_FLOATS;
+            float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+            float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                          e1[0] * e2[1] - e1[1] * e2[0]};
+            for (int k = 0; k < 3; k++) memcpy(a + 3 + k * VERTEX_FLOATS, n, sizeof n);
+        }
+    }
+    glGenVertexArrays(1, &o->vao);
+    glBindVertexArray(o->vao);
+    glGenBuffers(1, &o->vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, o->vbo);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(nv * VERTEX_FLOATS * sizeof(float)), buf, GL_STATIC_DRAW);
+    free(buf);
+    const GLsizei stride = VERTEX_FLOATS * sizeof(float);
+    if (p->path == PATH_GLSL) {
+        glEnableVertexAttribArray(0);
+        glEnableVertexAttribArray(1);
+        glEnableVertexAttribArray(2);
+        glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, (const void *)0);
+        glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, (const void *)(3 * sizeof(float)));
+        glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, (const void *)(6 * sizeof(float)));
+    } else {
+        glEnableClientState(GL_VERTEX_ARRAY);
+        glVertexPointer(3, GL_FLOAT, stride, (const void *)0);
+        glEnableClientState(GL_NORMAL_ARRAY);
+        glNormalPointer(GL_FLOAT, stride, (const void *)(3 * sizeof(float)));
+        glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+        glTexCoordPointer(2, GL_FLOAT, stride, (const void *)(6 * sizeof(float)));
+        if (colour_array) {
+            glEnableClientState(GL_COLOR_ARRAY);
+            glColorPointer(4, GL_FLOAT, stride, (const void *)(8 * sizeof(float)));
+        }
+    }
+    o->indexed = !p->flat;
+    if (p->flat) {
+        o->count = (GLsizei)nv;
+    } else {
+        glGenBuffers(1, &o->ibo);
+        glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, o->ibo);
+        glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)(so->index_count * sizeof(uint32_t)),
+                     so->indices, GL_STATIC_DRAW);
+        o->count = (GLsizei)so->index_count;
+    }
+    glBindVertexArray(0);
     return 1;
 }
 
 bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err_size)
 {
-    GLint min_filter, mag_filter;
-    if (!desc || desc->width < 1 || desc->height < 1) {
-        snprintf(err, err_size, "peer: bad image size");
+    if (!desc || desc->width < 1 || desc->height < 1 || !desc->scene) {
+        snprintf(err, err_size, "peer: bad image size or no scene");
         return NULL;
     }
-    if (!gl_filters(desc->filter, &min_filter, &mag_filter)) {
+    if (!bench_peer_supports(desc->filter)) {
         snprintf(err, err_size, "peer: filter '%s' has no OpenGL counterpart",
                  persp_filter_name(desc->filter));
         return NULL;
     }
+    const persp_scene *scene = desc->scene;
+    persp_scene_info info;
+    persp_scene_get_info(scene, &info);
+    persp_shading shading = desc->shading != PERSP_SHADING_DEFAULT ? desc->shading : info.shading;
+
     bench_peer *p = calloc(1, sizeof *p);
     if (!p) {
         snprintf(err, err_size, "peer: out of memory");
@@ -199,11 +444,37 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     }
     p->width = desc->width;
     p->height = desc->height;
+    switch (shading) {
+    case PERSP_SHADING_NONE: p->path = PATH_UNLIT; break;
+    case PERSP_SHADING_FLAT:
+    case PERSP_SHADING_GOURAUD:
+    case PERSP_SHADING_GOURAUD_PC: p->path = PATH_FIXED; break;
+    default: p->path = PATH_GLSL; break;
+    }
+    p->flat = shading == PERSP_SHADING_FLAT;
+    /* Screen-linear normal schemes: the normal interpolated without
+     * perspective division (GLSL 1.30 §4.3.9, noperspective). */
+    p->noperspective = shading == PERSP_SHADING_PHONG || shading == PERSP_SHADING_PHONG_SLERP_SCREEN;
+    switch (shading) {
+    case PERSP_SHADING_NONE: p->pipeline = "no lighting, GL_REPLACE (untextured: vertex colour)"; break;
+    case PERSP_SHADING_FLAT:
+        p->pipeline = "fixed-function lighting, GL_FLAT face normals, GL_MODULATE, "
+                      "GL_SEPARATE_SPECULAR_COLOR";
+        break;
+    case PERSP_SHADING_GOURAUD:
+    case PERSP_SHADING_GOURAUD_PC:
+        p->pipeline = "fixed-function lighting, GL_SMOOTH, GL_MODULATE, GL_SINGLE_COLOR";
+        break;
+    default:
+        p->pipeline = p->noperspective ? "GLSL Blinn-Phong per fragment, noperspective normals"
+                                       : "GLSL Blinn-Phong per fragment";
+        break;
+    }
+
     /* 24-bit depth: what a default GL visual gives; persp keeps float depth. */
     const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
     p->gl = OSMesaCreateContextAttribs(attribs, NULL);
-    if (!p->gl) p->gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);
     if (!p->gl) {
         snprintf(err, err_size, "peer: OSMesa could not create a context (GALLIUM_DRIVER=%s)",
                  getenv("GALLIUM_DRIVER") ? getenv("GALLIUM_DRIVER") : "");
@@ -226,45 +497,133 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     s = (const char *)glGetString(GL_VERSION);
     snprintf(p->version, sizeof p->version, "%s", s ? s : "?");
 
-    if (!upload_texture(p, desc->filter, err, err_size) ||
-        (desc->filter == PERSP_FILTER_ANISO && !set_aniso(p, desc->max_aniso, err, err_size))) {
-        bench_peer_destroy(p);
-        return NULL;
+    persp_mat4 proj, view;
+    persp_scene_get_camera(scene, p->width, p->height, &proj, &view);
+    for (int c = 0; c < 4; c++) p->clear[c] = (float)info.clear[c] / 255.0f;
+    memcpy(p->ambient, info.ambient, sizeof p->ambient);
+
+    /* Lights in eye space, as persp_render places them (directions
+     * normalised; GL 2.1 §2.14.1 uses unit vectors too). */
+    size_t nl = persp_scene_light_count(scene);
+    if (nl > 8) nl = 8;
+    p->light_count = (int)nl;
+    for (size_t i = 0; i < nl; i++) {
+        persp_scene_light l;
+        persp_scene_get_light(scene, i, &l);
+        persp_vec4 e = persp_mat4_apply(view, (persp_vec4){l.position[0], l.position[1], l.position[2],
+                                                           l.directional ? 0.0f : 1.0f});
+        float w = l.directional ? 0.0f : 1.0f;
+        if (l.directional) {
+            float len = sqrtf(e.x * e.x + e.y * e.y + e.z * e.z);
+            if (len > 0.0f) e.x /= len, e.y /= len, e.z /= len;
+        }
+        p->light_pos[i][0] = e.x, p->light_pos[i][1] = e.y, p->light_pos[i][2] = e.z;
+        p->light_pos[i][3] = w;
+        memcpy(p->light_color[i], l.color, sizeof l.color);
+        if (l.directional) {
+            p->light_atten[i][0] = 1.0f, p->light_atten[i][1] = 0.0f, p->light_atten[i][2] = 0.0f;
+        } else {
+            memcpy(p->light_atten[i], l.attenuation, sizeof l.attenuation);
+        }
     }
 
     glViewport(0, 0, p->width, p->height);
-    glMatrixMode(GL_PROJECTION);
-    glLoadIdentity();
-    /* docs/WORKLOADS.md: glFrustum(-t·a, t·a, -t, t, 0.1, 100), t = 0.1·tan 30°. */
-    double t = 0.1 * tan(30.0 * 3.14159265358979323846 / 180.0);
-    double a = (double)p->width / (double)p->height;
-    glFrustum(-t * a, t * a, -t, t, 0.1, 100.0);
-    glMatrixMode(GL_MODELVIEW);
-    glLoadIdentity();
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glClearDepth(1.0);
-    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
-    glDisable(GL_CULL_FACE);
+    glClearColor(p->clear[0], p->clear[1], p->clear[2], p->clear[3]);
+    if (info.cull_backfaces) {
+        glEnable(GL_CULL_FACE);
+        glCullFace(GL_BACK);
+        glFrontFace(GL_CCW);
+    } else {
+        glDisable(GL_CULL_FACE);
+    }
     glDisable(GL_DITHER);
     glDisable(GL_BLEND);
-    glDisable(GL_LIGHTING);
 
-    for (int q = 0; q < 5; q++) {
-        for (int c = 0; c < 4; c++) {
-            float *v = p->vertices + (q * 4 + c) * 5;
-            const float *src = corridor_quads[q][c];
-            v[0] = src[2], v[1] = src[3], v[2] = src[4], v[3] = src[0], v[4] = src[1];
+    if (p->path == PATH_FIXED) {
+        /* Lights are stored in eye space by the modelview matrix current
+         * when glLightfv sets their position (GL 2.1 §2.14.2). */
+        glMatrixMode(GL_MODELVIEW);
+        glLoadMatrixf(view.m);
+        glEnable(GL_LIGHTING);
+        glEnable(GL_NORMALIZE);
+        glShadeModel(p->flat ? GL_FLAT : GL_SMOOTH);
+        const float amb[4] = {p->ambient[0], p->ambient[1], p->ambient[2], 1.0f};
+        glLightModelfv(GL_LIGHT_MODEL_AMBIENT, amb);
+        /* persp lights with the view vector of each point (a local viewer)
+         * and both faces of a polygon (GL 2.1 §2.14.1, Table 2.10). */
+        glLightModeli(GL_LIGHT_MODEL_LOCAL_VIEWER, GL_TRUE);
+        glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
+        for (int i = 0; i < p->light_count; i++) {
+            const float zero[4] = {0, 0, 0, 1};
+            persp_scene_light l;
+            persp_scene_get_light(scene, (size_t)i, &l);
+            float pos[4] = {l.position[0], l.position[1], l.position[2], l.directional ? 0.0f : 1.0f};
+            float col[4] = {l.color[0], l.color[1], l.color[2], 1.0f};
+            GLenum L = GL_LIGHT0 + (GLenum)i;
+            glEnable(L);
+            glLightfv(L, GL_POSITION, pos);
+            glLightfv(L, GL_AMBIENT, zero);
+            glLightfv(L, GL_DIFFUSE, col);
+            glLightfv(L, GL_SPECULAR, col);
+            glLightf(L, GL_CONSTANT_ATTENUATION, p->light_atten[i][0]);
+            glLightf(L, GL_LINEAR_ATTENUATION, p->light_atten[i][1]);
+            glLightf(L, GL_QUADRATIC_ATTENUATION, p->light_atten[i][2]);
         }
-        GLuint base = (GLuint)(q * 4);
-        GLuint *ix = p->indices + q * 6;
-        ix[0] = base, ix[1] = base + 1, ix[2] = base + 2;
-        ix[3] = base, ix[4] = base + 2, ix[5] = base + 3;
     }
-    glEnableClientState(GL_VERTEX_ARRAY);
-    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glVertexPointer(3, GL_FLOAT, 5 * (GLsizei)sizeof(float), p->vertices);
-    glTexCoordPointer(2, GL_FLOAT, 5 * (GLsizei)sizeof(float), p->vertices + 3);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj.m);
+    glMatrixMode(GL_MODELVIEW);
+
+    size_t nobj = persp_scene_object_count(scene);
+    p->objects = calloc(nobj ? nobj : 1, sizeof *p->objects);
+    p->texture_count = 0;
+    for (size_t i = 0; i < nobj; i++) {
+        persp_scene_object so;
+        persp_scene_get_object(scene, i, &so);
+        if (so.material.texture >= 0 && (size_t)so.material.texture + 1 > p->texture_count)
+            p->texture_count = (size_t)so.material.texture + 1;
+    }
+    p->textures = calloc(p->texture_count ? p->texture_count : 1, sizeof *p->textures);
+    if (!p->objects || !p->textures) {
+        snprintf(err, err_size, "peer: out of memory");
+        bench_peer_destroy(p);
+        return NULL;
+    }
+    for (size_t i = 0; i < nobj; i++) {
+        persp_scene_object so;
+        persp_scene_get_object(scene, i, &so);
+        peer_object *o = &p->objects[p->object_count++];
+        o->mat = so.material;
+        persp_mat4 mv = persp_mat4_mul(view, so.model), mvp = persp_mat4_mul(proj, mv);
+        memcpy(o->mv, mv.m, sizeof o->mv);
+        memcpy(o->mvp, mvp.m, sizeof o->mvp);
+        if (!persp_mat4_normal_matrix(mv, o->nm)) memset(o->nm, 0, sizeof o->nm);
+        int textured = so.material.texture >= 0;
+        if (textured) {
+            GLuint *t = &p->textures[so.material.texture];
+            if (!*t && !upload_texture(persp_scene_get_texture(scene, so.material.texture), t, err, err_size)) {
+                bench_peer_destroy(p);
+                return NULL;
+            }
+            o->texture = *t;
+            if (!make_sampler(p, desc, &so.material.sampler, &o->sampler, err, err_size)) {
+                bench_peer_destroy(p);
+                return NULL;
+            }
+        }
+        if (!build_buffers(p, &so, o, p->path == PATH_UNLIT && !textured, err, err_size)) {
+            bench_peer_destroy(p);
+            return NULL;
+        }
+        if (p->path == PATH_GLSL && (o->program = get_program(p, &so.material, err, err_size)) < 0) {
+            bench_peer_destroy(p);
+            return NULL;
+        }
+    }
+    glUseProgram(0);
 
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
@@ -275,11 +634,79 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     return p;
 }
 
+static void draw_fixed(bench_peer *p, const peer_object *o)
+{
+    const persp_scene_material *m = &o->mat;
+    int textured = o->texture != 0, modulate = m->env == PERSP_SCENE_TEXENV_MODULATE;
+    glLoadMatrixf(o->mv);
+    if (p->path == PATH_FIXED) {
+        float a[4] = {m->ambient[0], m->ambient[1], m->ambient[2], 1.0f};
+        float d[4] = {m->diffuse[0], m->diffuse[1], m->diffuse[2], 1.0f};
+        /* persp leaves out the specular term at shininess 0, where GL's
+         * (N·H)^0 would be 1; GL limits the exponent to 128 (§2.14.1). */
+        float sc = m->shininess > 0.0f ? 1.0f : 0.0f;
+        float s[4] = {sc * m->specular[0], sc * m->specular[1], sc * m->specular[2], 1.0f};
+        glMaterialfv(GL_FRONT_AND_BACK, GL_AMBIENT, a);
+        glMaterialfv(GL_FRONT_AND_BACK, GL_DIFFUSE, d);
+        glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, s);
+        glMaterialf(GL_FRONT_AND_BACK, GL_SHININESS, m->shininess < 128.0f ? m->shininess : 128.0f);
+        /* Flat: persp modulates ambient + diffuse and adds the specular
+         * term after texturing, the colour sum of GL 2.1 §3.10; Gouraud
+         * lights each vertex with all three terms and modulates the sum,
+         * GL's single colour. A specular texture modulates both. */
+        int separate = p->flat && textured && modulate && !m->specular_texture;
+        glLightModeli(GL_LIGHT_MODEL_COLOR_CONTROL, separate ? GL_SEPARATE_SPECULAR_COLOR : GL_SINGLE_COLOR);
+    }
+    if (textured) {
+        glEnable(GL_TEXTURE_2D);
+        glBindTexture(GL_TEXTURE_2D, o->texture);
+        glBindSampler(0, o->sampler);
+        glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE,
+                  p->path == PATH_FIXED && modulate ? GL_MODULATE : GL_REPLACE);
+    } else {
+        glDisable(GL_TEXTURE_2D);
+    }
+}
+
+static void draw_glsl(bench_peer *p, const peer_object *o)
+{
+    const peer_program *pp = &p->programs[o->program];
+    const persp_scene_material *m = &o->mat;
+    glUseProgram(pp->name);
+    glUniformMatrix4fv(pp->mvp, 1, GL_FALSE, o->mvp);
+    glUniformMatrix4fv(pp->mv, 1, GL_FALSE, o->mv);
+    glUniformMatrix3fv(pp->nm, 1, GL_FALSE, o->nm);
+    float a[3];
+    for (int c = 0; c < 3; c++) a[c] = p->ambient[c] * m->ambient[c];
+    float sc = m->shininess > 0.0f ? 1.0f : 0.0f;
+    float s[3] = {sc * m->specular[0], sc * m->specular[1], sc * m->specular[2]};
+    glUniform3fv(pp->ambient, 1, a);
+    glUniform3fv(pp->diffuse, 1, m->diffuse);
+    glUniform3fv(pp->specular, 1, s);
+    glUniform1f(pp->shininess, m->shininess);
+    if (o->texture) {
+        glBindTexture(GL_TEXTURE_2D, o->texture);
+        glBindSampler(0, o->sampler);
+    }
+}
+
 void bench_peer_render(bench_peer *p, int frames)
 {
     for (int f = 0; f < frames; f++) {
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-        glDrawElements(GL_TRIANGLES, 30, GL_UNSIGNED_INT, p->indices);
+        for (size_t i = 0; i < p->object_count; i++) {
+            const peer_object *o = &p->objects[i];
+            if (p->path == PATH_GLSL)
+                draw_glsl(p, o);
+            else
+                draw_fixed(p, o);
+            glBindVertexArray(o->vao);
+            if (o->indexed)
+                glDrawElements(GL_TRIANGLES, o->count, GL_UNSIGNED_INT, (const void *)0);
+            else
+                glDrawArrays(GL_TRIANGLES, 0, o->count);
+        }
+        glBindVertexArray(0);
         /* Each frame complete before the next, as persp_render's are. */
         glFinish();
     }
@@ -289,16 +716,29 @@ const uint8_t *bench_peer_pixels(const bench_peer *p) { return p->color; }
 const char *bench_peer_renderer(const bench_peer *p) { return p->renderer; }
 const char *bench_peer_version(const bench_peer *p) { return p->version; }
 float bench_peer_aniso(const bench_peer *p) { return p->aniso; }
+const char *bench_peer_pipeline(const bench_peer *p) { return p->pipeline; }
 
 void bench_peer_destroy(bench_peer *p)
 {
     if (!p) return;
     if (p->gl) {
-        if (p->texture) glDeleteTextures(1, &p->texture);
+        for (size_t i = 0; i < p->object_count; i++) {
+            peer_object *o = &p->objects[i];
+            if (o->vao) glDeleteVertexArrays(1, &o->vao);
+            if (o->vbo) glDeleteBuffers(1, &o->vbo);
+            if (o->ibo) glDeleteBuffers(1, &o->ibo);
+            if (o->sampler) glDeleteSamplers(1, &o->sampler);
+        }
+        for (size_t i = 0; i < p->texture_count; i++)
+            if (p->textures && p->textures[i]) glDeleteTextures(1, &p->textures[i]);
+        for (int i = 0; i < MAX_PROGRAMS; i++)
+            if (p->programs[i].name) glDeleteProgram(p->programs[i].name);
         /* Unbinding first lets OSMesa release the framebuffer it made for us. */
         OSMesaMakeCurrent(NULL, NULL, GL_UNSIGNED_BYTE, 0, 0);
         OSMesaDestroyContext(p->gl);
     }
+    free(p->objects);
+    free(p->textures);
     free(p->color);
     free(p);
 }

@@ -395,6 +395,9 @@ typedef struct persp_scene_info {
     int filter_count;
     persp_filter filter;
     int max_aniso;
+    int cull_backfaces; /* 1: back faces (clockwise in the window) are culled */
+    uint8_t clear[4];   /* the colour the image is cleared to, RGBA */
+    float ambient[3];   /* global ambient light (GL_LIGHT_MODEL_AMBIENT) */
 } persp_scene_info;
 PERSP_API void persp_scene_get_info(const persp_scene *scene, persp_scene_info *out);
 /* Replaces the texels of every mip level of every texture of the scene by
@@ -487,6 +490,65 @@ typedef struct persp_draw_desc {
 PERSP_API persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_draw_desc *desc,
                         const persp_vertex *vertices, size_t vertex_count, const uint32_t *indices,
                         size_t index_count);
+
+/* ---------------------------------------------------------- scene contents */
+
+/* Read-only views of a scene's contents, for drawing the same scene with
+ * another renderer (the OpenGL peer of `persp bench`). Pointers stay valid
+ * as long as the scene and while nothing modifies it. */
+
+/* How a material combines the texel with lighting. */
+typedef enum persp_scene_texenv {
+    PERSP_SCENE_TEXENV_REPLACE = 0, /* the texel (GL_REPLACE) */
+    PERSP_SCENE_TEXENV_MODULATE     /* lit colour × texel, see persp_scene_material */
+} persp_scene_texenv;
+
+/* Blinn–Phong material. With MODULATE the texel multiplies ambient +
+ * diffuse and the specular term is added after it, unless specular_texture
+ * is set, when it multiplies the specular term too; Gouraud modes light
+ * vertices with all three terms and modulate the sum. */
+typedef struct persp_scene_material {
+    float ambient[3], diffuse[3], specular[3];
+    float shininess;           /* 0: no specular term */
+    int texture;               /* index for persp_scene_get_texture, -1: untextured */
+    int specular_texture;      /* 1: the texel modulates the specular term too */
+    persp_scene_texenv env;
+    persp_sampler_desc sampler; /* filter DEFAULT: bilinear */
+} persp_scene_material;
+
+/* One drawn object: an indexed triangle mesh (counter-clockwise = front)
+ * in object space, placed by model. */
+typedef struct persp_scene_object {
+    const persp_vertex *vertices;
+    size_t vertex_count;
+    const uint32_t *indices;   /* 3 per triangle */
+    size_t index_count;
+    persp_mat4 model;
+    persp_scene_material material;
+} persp_scene_object;
+
+/* Lights in world space. */
+typedef struct persp_scene_light {
+    int directional;      /* 1: position is the direction towards the light */
+    float position[3];
+    float color[3];       /* diffuse and specular intensity */
+    float attenuation[3]; /* constant, linear, quadratic (point lights) */
+} persp_scene_light;
+
+PERSP_API size_t persp_scene_object_count(const persp_scene *scene);
+/* PERSP_ERR_NOT_FOUND past the end. */
+PERSP_API persp_status persp_scene_get_object(const persp_scene *scene, size_t index,
+                                              persp_scene_object *out);
+PERSP_API size_t persp_scene_light_count(const persp_scene *scene);
+PERSP_API persp_status persp_scene_get_light(const persp_scene *scene, size_t index,
+                                             persp_scene_light *out);
+/* The texture a material's index names (NULL past the end); its levels are
+ * read with persp_texture_level. */
+PERSP_API const persp_texture *persp_scene_get_texture(const persp_scene *scene, int index);
+/* The projection and view matrices persp_render uses for a width×height
+ * image. */
+PERSP_API persp_status persp_scene_get_camera(const persp_scene *scene, int width, int height,
+                                              persp_mat4 *projection, persp_mat4 *view);
 
 #ifdef __cplusplus
 }

@@ -1,19 +1,31 @@
 #!/usr/bin/env bash
-# The table of docs/PERFORMANCE.md: every method × filter × thread count on
-# `corridor`, each row with Mesa llvmpipe measured in the same `persp bench`
-# run. Prints a Markdown table; the raw JSON of each run is kept in OUTDIR.
+# The workload table of docs/PERFORMANCE.md: the benchmark tori (2k, 20k,
+# 200k, 2M triangles) and the 200k-triangle soup, each unlit (none),
+# gouraud-pc and phong-pc, plus corridor with nearest, bilinear and
+# trilinear; every row at 1 thread and at all threads, with Mesa's peer
+# drawing the same scene in the same `persp bench` run (runs interleaved,
+# medians) and the PSNR of its image against persp's over the covered
+# pixels. Prints a Markdown table; the raw JSON of each run is kept in
+# OUTDIR.
 #
-#   scripts/bench.sh [PERSP] [OUTDIR]      (defaults: build/persp, out/bench)
-#   SIZE=1024x768 FILTERS="nearest bilinear trilinear" THREADS="1 2" PEER=llvmpipe
-#   REPS=5 TIME=0.5 scripts/bench.sh
+#   scripts/bench.sh [--quick] [PERSP] [OUTDIR]   (defaults: build/persp, out/bench)
+#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 scripts/bench.sh
+#
+# --quick: 128x96, one frame per run, one run, one thread: every workload
+# once, to check that the table is produced (tests/cli/test_bench_script.sh).
 set -eu
+quick=0
+if [ "${1:-}" = "--quick" ]; then quick=1; shift; fi
 persp="${1:-build/persp}"
 outdir="${2:-out/bench}"
-size="${SIZE:-1024x768}"
-filters="${FILTERS:-nearest bilinear trilinear}"
-threads="${THREADS:-1 2}"
+root="$(cd "$(dirname "$0")/.." && pwd)"
+all_threads=$(nproc 2>/dev/null || echo 2)
+if [ "$quick" = 1 ]; then
+    size="${SIZE:-128x96}" threads="${THREADS:-1}" reps="${REPS:-1}" frames=(--frames 1)
+else
+    size="${SIZE:-1024x768}" threads="${THREADS:-1 $all_threads}" reps="${REPS:-5}" frames=()
+fi
 peer="${PEER:-llvmpipe}"
-reps="${REPS:-5}"
 run_time="${TIME:-0.5}"
 mkdir -p "$outdir"
 
@@ -23,39 +35,53 @@ if "$persp" bench --help | grep -q "not built with OSMesa"; then
     peer_args=()
 fi
 
+# scene|--shading or --filter value|row label
+rows=()
+for w in torus-2k torus-20k torus-200k torus-2m soup-200k; do
+    for s in none gouraud-pc phong-pc; do rows+=("$root/scenes/bench/$w.json|--shading $s|$w"); done
+done
+for f in nearest bilinear trilinear; do rows+=("corridor|--filter $f|corridor"); done
+
 files=()
-for f in $filters; do
+for row in "${rows[@]}"; do
+    IFS='|' read -r scene setting label <<<"$row"
     for t in $threads; do
-        out="$outdir/corridor-$size-${f//:/}-t$t.json"
-        "$persp" bench corridor --size "$size" --method all --filter "$f" --threads "$t" \
-            --reps "$reps" --time "$run_time" "${peer_args[@]}" --json >"$out"
+        out="$outdir/$label-${setting##* }-$size-t$t.json"
+        # shellcheck disable=SC2086  # $setting is an option and its value
+        "$persp" bench "$scene" --size "$size" $setting --threads "$t" --reps "$reps" \
+            --time "$run_time" "${frames[@]}" "${peer_args[@]}" --json >"$out"
         files+=("$out")
     done
 done
 
-python3 - "${files[@]}" <<'EOF'
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
+commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+dirty=$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null | head -1)
+python3 - "$cpu" "$commit${dirty:+ (modified)}" "$size" "$reps" "${files[@]}" <<'EOF'
 import json, sys
-runs = [json.load(open(p)) for p in sys.argv[1:]]
-print("| filter | threads | method | Mpix/s median | min – max | vs exact | vs peer |")
-print("|---|---:|---|---:|---:|---:|---:|")
-for j in runs:
-    for r in j["results"]:
-        if "error" in r:
-            print(f"| {j['filter']} | {j['threads']} | {r['method']} | error: {r['error']} | | | |")
-            continue
-        vp = f"{r['vs_peer']:.2f}" if "vs_peer" in r else "–"
-        ve = f"{r['vs_exact']:.2f}" if "vs_exact" in r else "–"
-        print(f"| {j['filter']} | {j['threads']} | {r['method']} | {r['mpix_median']:.1f} | "
-              f"{r['mpix_min']:.1f} – {r['mpix_max']:.1f} | {ve} | {vp} |")
-    if "peer" in j:
-        p = j["peer"]
-        print(f"| {j['filter']} | {j['threads']} | **{p['driver']}** (LP_NUM_THREADS={p['lp_num_threads']}) | "
-              f"{p['mpix_median']:.1f} | {p['mpix_min']:.1f} – {p['mpix_max']:.1f} | | 1.00 |")
+cpu, commit, size, reps = sys.argv[1:5]
+runs = [json.load(open(p)) for p in sys.argv[5:]]
+def fmt(x):
+    return f"{x:.1f}" if x >= 10 else f"{x:.2f}" if x >= 0.1 else f"{x:.3f}"
+peer = next((j["peer"] for j in runs if "peer" in j), None)
+print(f"CPU: {cpu}, {len({j['threads'] for j in runs})} thread count(s); persp commit {commit}; "
+      f"{size}, method exact, medians of {reps} run(s) interleaved with the peer's"
+      + (f"; peer {peer['renderer']}, {peer['version']}" if peer else ""))
 print()
+print("| workload | shading / filter | threads | persp Mpix/s | llvmpipe Mpix/s | ratio | PSNR dB | covered |")
+print("|---|---|---:|---:|---:|---:|---:|---:|")
 for j in runs:
-    line = f"- {j['filter']}, {j['threads']} thread(s): persp peak RSS {j['peak_rss_mib']:.1f} MiB " \
-           f"({j['peak_rss_mib'] - j['rss_at_start_mib']:.1f} MiB above start)"
-    if "peer" in j:
-        line += f"; peer {j['peer']['renderer']} peak RSS {j['peer']['peak_rss_mib']:.1f} MiB"
-    print(line)
+    name = j["scene"].rsplit("/", 1)[-1].removesuffix(".json")
+    what = j["filter"] if name == "corridor" else j["shading"]
+    r = j["results"][0]
+    if "error" in r:
+        print(f"| {name} | {what} | {j['threads']} | error: {r['error']} | | | | |")
+        continue
+    p = j.get("peer")
+    d = j.get("peer_image")
+    pm = fmt(p['mpix_median']) if p else "–"
+    ratio = f"**{r['mpix_median'] / p['mpix_median']:.2f}**" if p else "–"
+    psnr = "–" if not d else ("inf" if d["psnr_db"] is None else f"{d['psnr_db']:.1f}")
+    cov = f"{d['covered_pct']:.0f} %" if d else "–"
+    print(f"| {name} | {what} | {j['threads']} | {fmt(r['mpix_median'])} | {pm} | {ratio} | {psnr} | {cov} |")
 EOF

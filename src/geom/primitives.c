@@ -207,3 +207,57 @@ persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int
     grid(out, 0, rings, slices, 0);
     return PERSP_OK;
 }
+
+/* SplitMix64 (Steele, Lea, Flood 2014): a fixed generator, so a soup's
+ * triangles depend only on its seed, on every platform and build. */
+static uint64_t splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [0, 1) with 53 bits. */
+static double uniform01(uint64_t *state) { return (double)(splitmix64(state) >> 11) * 0x1.0p-53; }
+
+persp_status persp__mesh_soup(persp_context *ctx, int count, uint64_t seed, float size_min, float size_max,
+                              persp_mesh *out)
+{
+    if (count < 1 || (size_t)count > PERSP_SCENE_MAX_VERTICES / 3)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "soup: count must be 1..%u (got %d)",
+                           PERSP_SCENE_MAX_VERTICES / 3, count);
+    if (!(size_min > 0.0f) || !(size_max >= size_min) || !isfinite(size_max))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                           "soup: sizes must satisfy 0 < min <= max (got %g, %g)", (double)size_min,
+                           (double)size_max);
+    size_t n = (size_t)count;
+    persp_status st = mesh_alloc(ctx, 3 * n, 3 * n, out);
+    if (st != PERSP_OK) return st;
+    uint64_t rng = seed;
+    for (size_t t = 0; t < n; t++) {
+        /* An equilateral triangle of side s facing +z, turned by a random
+         * angle about z, then tilted by up to 45° about a random axis in
+         * its plane (so lighting varies), centred uniformly in [-1, 1]^3. */
+        double s = (double)size_min + ((double)size_max - (double)size_min) * uniform01(&rng);
+        double spin = TWO_PI * uniform01(&rng);
+        double axis = TWO_PI * uniform01(&rng), tilt = (PI / 4.0) * uniform01(&rng);
+        double c[3] = {2.0 * uniform01(&rng) - 1.0, 2.0 * uniform01(&rng) - 1.0, 2.0 * uniform01(&rng) - 1.0};
+        /* Rotation by `tilt` about the unit axis a = (cos axis, sin axis, 0) (Rodrigues). */
+        double ax = cos(axis), ay = sin(axis), ct = cos(tilt), st_ = sin(tilt);
+        double r = s / sqrt(3.0); /* circumradius */
+        double nrm[3] = {ay * st_, -ax * st_, ct}; /* R·(0, 0, 1) */
+        for (int k = 0; k < 3; k++) {
+            double a = spin + (double)k * TWO_PI / 3.0; /* counter-clockwise seen from +z */
+            double p[3] = {r * cos(a), r * sin(a), 0.0};
+            double d = ax * p[0] + ay * p[1];
+            double q[3] = {p[0] * ct + ax * d * (1.0 - ct), p[1] * ct + ay * d * (1.0 - ct),
+                           (ax * p[1] - ay * p[0]) * st_};
+            double x = c[0] + q[0], y = c[1] + q[1], z = c[2] + q[2];
+            set_vertex(&out->vertices[3 * t + (size_t)k], x, y, z, nrm[0], nrm[1], nrm[2],
+                       0.5 + 0.5 * x, 0.5 + 0.5 * y);
+        }
+        tri(out, 3 * t, 3 * t + 1, 3 * t + 2);
+    }
+    return PERSP_OK;
+}

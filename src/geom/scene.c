@@ -144,6 +144,9 @@ void persp_scene_get_info(const persp_scene *s, persp_scene_info *out)
     out->lights = s->light_count;
     out->method = s->method[0] ? s->method : "exact";
     out->shading = s->shading == PERSP_SHADING_DEFAULT ? PERSP_SHADING_NONE : s->shading;
+    out->cull_backfaces = s->cull_backfaces != 0;
+    memcpy(out->clear, s->clear, sizeof out->clear);
+    memcpy(out->ambient, s->ambient, sizeof out->ambient);
     for (size_t i = 0; i < s->object_count; i++) {
         const persp_material *m = &s->materials[s->objects[i].material];
         if (m->texture < 0) continue;
@@ -156,6 +159,69 @@ void persp_scene_get_info(const persp_scene *s, persp_scene_info *out)
             out->filter_count = 2;
         }
     }
+}
+
+size_t persp_scene_object_count(const persp_scene *s) { return s ? s->object_count : 0; }
+
+persp_status persp_scene_get_object(const persp_scene *s, size_t index, persp_scene_object *out)
+{
+    if (!s || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    if (index >= s->object_count) return PERSP_ERR_NOT_FOUND;
+    const persp_object *o = &s->objects[index];
+    const persp_mesh *mesh = &s->meshes[o->mesh];
+    const persp_material *m = &s->materials[o->material];
+    out->vertices = mesh->vertices;
+    out->vertex_count = mesh->vertex_count;
+    out->indices = mesh->indices;
+    out->index_count = mesh->index_count;
+    out->model = o->model;
+    persp_scene_material *om = &out->material;
+    memcpy(om->ambient, m->ambient, sizeof om->ambient);
+    memcpy(om->diffuse, m->diffuse, sizeof om->diffuse);
+    memcpy(om->specular, m->specular, sizeof om->specular);
+    om->shininess = m->shininess;
+    om->texture = m->texture >= 0 && (size_t)m->texture < s->texture_count ? m->texture : -1;
+    om->specular_texture = m->specular_texture >= 0;
+    om->env = m->env == PERSP_TEXENV_MODULATE ? PERSP_SCENE_TEXENV_MODULATE : PERSP_SCENE_TEXENV_REPLACE;
+    om->sampler = m->sampler;
+    return PERSP_OK;
+}
+
+size_t persp_scene_light_count(const persp_scene *s) { return s ? s->light_count : 0; }
+
+persp_status persp_scene_get_light(const persp_scene *s, size_t index, persp_scene_light *out)
+{
+    if (!s || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    if (index >= s->light_count) return PERSP_ERR_NOT_FOUND;
+    const persp_light *l = &s->lights[index];
+    out->directional = l->type == PERSP_LIGHT_DIRECTIONAL;
+    memcpy(out->position, l->position, sizeof out->position);
+    memcpy(out->color, l->color, sizeof out->color);
+    memcpy(out->attenuation, l->attenuation, sizeof out->attenuation);
+    return PERSP_OK;
+}
+
+const persp_texture *persp_scene_get_texture(const persp_scene *s, int index)
+{
+    return s && index >= 0 && (size_t)index < s->texture_count ? s->textures[index] : NULL;
+}
+
+/* The same matrices as persp_render uses. */
+persp_status persp_scene_get_camera(const persp_scene *s, int width, int height, persp_mat4 *proj,
+                                    persp_mat4 *view)
+{
+    if (!s || !proj || !view || width < 1 || height < 1) return PERSP_ERR_INVALID_ARGUMENT;
+    if (s->camera.use_matrix) {
+        *proj = s->camera.projection;
+        *view = s->camera.view;
+        return PERSP_OK;
+    }
+    *proj = persp_perspective(s->camera.fovy_deg, (double)width / (double)height, s->camera.znear,
+                              s->camera.zfar);
+    *view = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
+    return PERSP_OK;
 }
 
 void persp__mesh_compute_normals(persp_mesh *m)

@@ -115,6 +115,11 @@ persp_status persp__mesh_sphere(persp_context *ctx, int slices, int stacks, pers
 persp_status persp__mesh_cylinder(persp_context *ctx, int slices, persp_mesh *out);
 persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int slices,
                                int rings, persp_mesh *out);
+/* count unconnected triangles of sides in [size_min, size_max], each facing
+ * +z within 45°, centred uniformly in [-1, 1]^3; the same seed gives the
+ * same triangles (a fill-rate workload with overdraw). */
+persp_status persp__mesh_soup(persp_context *ctx, int count, uint64_t seed, float size_min, float size_max,
+                              persp_mesh *out);
 
 /* Texture-coordinate generation (src/geom/texgen.c), per vertex, [CS300-TexMap]
  * "texture mapping entities" / lecture: object-linear (planar), cylindrical,

@@ -781,16 +781,21 @@ static persp_status make_primitive(jctx *j, const char *prim, json_t *obj, persp
     const char *allowed_sphere[] = {"primitive", "slices", "stacks", NULL};
     const char *allowed_cyl[] = {"primitive", "slices", NULL};
     const char *allowed_torus[] = {"primitive", "slices", "rings", "major", "minor", NULL};
+    const char *allowed_soup[] = {"primitive", "count", "seed", "size", NULL};
+    int count = 1000, seed = 1;
+    float size[2] = {0.02f, 0.05f};
     const char *const *allowed;
     if (!strcmp(prim, "plane")) allowed = allowed_plane;
     else if (!strcmp(prim, "cube")) allowed = allowed_cube;
     else if (!strcmp(prim, "sphere")) allowed = allowed_sphere;
     else if (!strcmp(prim, "cylinder")) allowed = allowed_cyl;
     else if (!strcmp(prim, "torus")) allowed = allowed_torus;
+    else if (!strcmp(prim, "soup")) allowed = allowed_soup;
     else {
         if (obj) push_key(j, "primitive");
         persp_status st = jfail(j, 0, PERSP_ERR_FORMAT,
-                                "unknown primitive '%s' (plane, cube, sphere, cylinder, torus)", prim);
+                                "unknown primitive '%s' (plane, cube, sphere, cylinder, torus, soup)",
+                                prim);
         if (obj) pop(j);
         return st;
     }
@@ -802,23 +807,36 @@ static persp_status make_primitive(jctx *j, const char *prim, json_t *obj, persp
             (st = field_int(j, obj, "stacks", 2, 1024, &stacks)) != PERSP_OK ||
             (st = field_int(j, obj, "rings", 3, 1024, &rings)) != PERSP_OK ||
             (st = field_float(j, obj, "major", 1e-6, LARGE, &major)) != PERSP_OK ||
-            (st = field_float(j, obj, "minor", 1e-6, LARGE, &minor)) != PERSP_OK)
+            (st = field_float(j, obj, "minor", 1e-6, LARGE, &minor)) != PERSP_OK ||
+            (st = field_int(j, obj, "count", 1, (int)(PERSP_SCENE_MAX_VERTICES / 3), &count)) != PERSP_OK ||
+            (st = field_int(j, obj, "seed", 0, 2147483647, &seed)) != PERSP_OK ||
+            (st = field_vec(j, obj, "size", 2, 1e-6, LARGE, size)) != PERSP_OK)
             return st;
+        if (size[1] < size[0]) {
+            push_key(j, "size");
+            st = jfail(j, 0, PERSP_ERR_FORMAT, "size [min, max] needs min <= max (got [%g, %g])",
+                       (double)size[0], (double)size[1]);
+            pop(j);
+            return st;
+        }
     }
     size_t nv;
-    switch (prim[1]) {
+    const char kind = strcmp(prim, "soup") ? prim[1] : 'S';
+    switch (kind) {
     case 'l': nv = (size_t)(subdiv + 1) * (size_t)(subdiv + 1); break;
     case 'u': nv = 24; break;
     case 'p': nv = (size_t)(slices + 1) * (size_t)(stacks + 1); break;
     case 'y': nv = 4 * (size_t)(slices + 1) + 2; break;
+    case 'S': nv = 3 * (size_t)count; break;
     default: nv = (size_t)(slices + 1) * (size_t)(rings + 1); break;
     }
     if ((st = count_vertices(j, nv)) != PERSP_OK) return st;
-    switch (prim[1]) {
+    switch (kind) {
     case 'l': st = persp__mesh_plane(j->ctx, subdiv, mesh); break;
     case 'u': st = persp__mesh_cube(j->ctx, mesh); break;
     case 'p': st = persp__mesh_sphere(j->ctx, slices, stacks, mesh); break;
     case 'y': st = persp__mesh_cylinder(j->ctx, slices, mesh); break;
+    case 'S': st = persp__mesh_soup(j->ctx, count, (uint64_t)seed, size[0], size[1], mesh); break;
     default: st = persp__mesh_torus(j->ctx, major, minor, slices, rings, mesh); break;
     }
     return st == PERSP_OK ? PERSP_OK : jwrap(j, st);
@@ -827,7 +845,7 @@ static persp_status make_primitive(jctx *j, const char *prim, json_t *obj, persp
 static int is_primitive(const char *s)
 {
     return !strcmp(s, "plane") || !strcmp(s, "cube") || !strcmp(s, "sphere") || !strcmp(s, "cylinder") ||
-           !strcmp(s, "torus");
+           !strcmp(s, "torus") || !strcmp(s, "soup");
 }
 
 static persp_status parse_object(jctx *j, json_t *o)

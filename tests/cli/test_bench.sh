@@ -3,9 +3,12 @@
 # JSON, `--method all` covers the registry with exact as the unit of the
 # ratios, bad options exit 2 naming the problem, and --peer either measures
 # Mesa through OSMesa (and matches persp's image) or, in a build without
-# OSMesa, fails clearly. No assertion depends on timings.
+# OSMesa, fails clearly. The peer draws JSON scenes with every shading mode's
+# GL state, and its image matches persp's over the covered pixels. No
+# assertion depends on timings.
 set -u
 persp="$1"
+src="${PERSP_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}"
 . "$(dirname "$0")/lib.sh"
 
 # check_json FILE PYTHON-EXPR: the file is valid JSON and the expression
@@ -64,6 +67,7 @@ expect 2 "bad --size '0x10'" -- "$persp" bench --size 0x10
 expect 2 "unknown filter 'blurry'" -- "$persp" bench --filter blurry
 expect 2 "unknown method 'nosuch'" -- "$persp" bench --method nosuch
 expect 2 "bad --peer 'mesa'" -- "$persp" bench --peer mesa
+expect 2 "unknown shading 'glossy'" -- "$persp" bench --shading glossy
 expect 2 "needs --peer" -- "$persp" bench --peer-image "$tmp/p.png"
 expect 2 "needs a value" -- "$persp" bench --frames
 expect 2 "more than one scene" -- "$persp" bench corridor cube
@@ -74,7 +78,41 @@ if "$persp" bench --help | grep -q "not built with OSMesa"; then
     expect 1 "not built with OSMesa" -- "$persp" bench "${tiny[@]}" --peer llvmpipe
     expect 1 "not built with OSMesa" -- "$persp" bench "${tiny[@]}" --peer softpipe --json
 else
-    expect 2 "only the corridor scene" -- "$persp" bench floor --peer llvmpipe
+    # A lit JSON scene, per shading mode: the peer draws the same torus
+    # (meshes, mip chain, camera, lights, materials), so the images agree
+    # closely over the pixels either covers. Gouraud is looser: GL clamps
+    # the lit vertex colour before modulating (docs/PERFORMANCE.md).
+    for case in none:40 phong-pc:40 phong:40 gouraud-pc:30; do
+        sh=${case%%:*} min=${case##*:}
+        if "$persp" bench "$src/scenes/bench/torus-2k.json" "${tiny[@]}" --size 96x72 --shading "$sh" \
+            --peer llvmpipe --json >"$tmp/lit-$sh.json" 2>"$tmp/err"; then
+            check_json "$tmp/lit-$sh.json" "j['shading'] == '$sh' and j['results'][0]['vs_peer'] > 0 \
+                and j['peer']['mpix_median'] > 0 and j['peer_image']['covered_pct'] > 30 \
+                and j['peer_image']['psnr_db'] is not None and j['peer_image']['psnr_db'] > $min"
+        else bad "bench torus-2k --shading $sh --peer llvmpipe exited non-zero: $(cat "$tmp/err")"; fi
+    done
+    # The comparison sees a real difference: flat shading lights a triangle
+    # at its centroid in persp and at its provoking vertex in GL, which on
+    # one large floor quad near a point light differs across the image.
+    cat >"$tmp/flat.json" <<'EOS'
+{"camera": {"position": [0, 1, 3], "target": [0, 0, 0]},
+ "render": {"size": [96, 72], "shading": "flat"},
+ "lights": [{"type": "point", "position": [0.9, 0.3, 0.9], "attenuation": [0, 0, 1]}],
+ "objects": [{"mesh": "plane", "transform": {"scale": [3, 1, 3]}}]}
+EOS
+    if "$persp" bench "$tmp/flat.json" --frames 1 --reps 1 --peer llvmpipe --json >"$tmp/flat-out.json" 2>"$tmp/err"; then
+        check_json "$tmp/flat-out.json" "j['peer_image']['covered_pct'] > 30 and j['peer_image']['psnr_db'] < 25"
+    else bad "bench flat floor --peer llvmpipe exited non-zero: $(cat "$tmp/err")"; fi
+    # Text form: the shading, the peer's GL pipeline and the PSNR line.
+    out=$("$persp" bench "$src/scenes/bench/torus-2k.json" "${tiny[@]}" --size 64x48 --shading gouraud-pc \
+          --peer llvmpipe 2>&1); rc=$?
+    if [ "$rc" -ne 0 ]; then bad "bench torus-2k --peer llvmpipe exited $rc: $out"
+    else
+        grep -qE "^shading gouraud-pc$" <<<"$out" && ok || bad "no shading line: $out"
+        grep -qE "^peer pipeline: fixed-function lighting, GL_SMOOTH, GL_MODULATE" <<<"$out" && ok \
+            || bad "no peer pipeline line: $out"
+        grep -qE "covered pixels: .*PSNR [0-9.]+ dB$" <<<"$out" && ok || bad "no PSNR line: $out"
+    fi
     # The peer's frame is written and compared with persp's: with nearest
     # sampling both pick the same texel except on the one-pixel lines where
     # two walls meet at equal depth (which wall wins is a depth tie) and

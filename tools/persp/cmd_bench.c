@@ -1,7 +1,10 @@
 /*
  * `persp bench`: fill rate of persp_render on a scene (docs/WORKLOADS.md), per
  * texture-coordinate method, optionally against Mesa llvmpipe / softpipe
- * rendering the same `corridor` frame through OSMesa (bench/peer_osmesa.c).
+ * rendering the same scene through OSMesa (bench/peer_osmesa.c): the same
+ * meshes, textures, camera, lights and materials, with the GL state of the
+ * shading mode. The two images are compared over the pixels either covers,
+ * so that the ratio is known to be between equal work.
  *
  * Fill rate = width·height·frames / seconds. One untimed warm-up frame, one
  * timed calibration frame that sets the frame count when --frames is not
@@ -11,8 +14,8 @@
  * Mesa reads GALLIUM_DRIVER and LP_NUM_THREADS once per process, so the peer
  * runs in a child: this same executable started with the hidden option
  * --peer-child, its environment set for the driver and thread count asked
- * for. The child reports its timings and, when asked, its image through a
- * pipe; its memory stays out of persp's peak resident size.
+ * for. The child loads the scene itself, reports its timings and its image
+ * through a pipe; its memory stays out of persp's peak resident size.
  */
 #include "options.h"
 
@@ -47,7 +50,7 @@ typedef struct method_result {
 
 typedef struct peer_result {
     int ok;
-    char renderer[128], version[128];
+    char renderer[128], version[128], pipeline[160];
     double aniso;
     run_stats stats;
     double maxrss_mib;
@@ -57,12 +60,16 @@ typedef struct peer_result {
 
 typedef struct image_diff {
     int max_abs[4];
-    double pct_gt1, pct_gt2, pct_gt8;
-    double psnr; /* INFINITY when identical */
+    double pct_gt1, pct_gt2, pct_gt8; /* of the covered pixels */
+    double psnr;                      /* over the covered pixels; INFINITY when identical */
+    double covered_pct;               /* pixels either renderer drew, of all */
 } image_diff;
 
 typedef struct bench_opts {
     const char *scene, *method, *filter_name, *peer, *peer_image;
+    int filter_given, shading_given;
+    persp_shading shading; /* DEFAULT: the scene's */
+    const char *shading_name;
     persp_filter filter;
     int max_aniso;
     int threads, peer_threads, width, height, reps, json;
@@ -147,40 +154,55 @@ static persp_status render_frames(persp_bench *b, const persp_render_desc *desc,
     return PERSP_OK;
 }
 
-static void measure_method(persp_bench *b, const bench_opts *o, method_result *r)
+static void render_error(persp_bench *b, persp_status st, method_result *r)
+{
+    const char *detail = persp_context_error(b->ctx);
+    snprintf(r->error, sizeof r->error, "%s%s(%s)", detail ? detail : "",
+             detail && detail[0] ? " " : "", persp_status_string(st));
+    r->ok = 0;
+}
+
+static void method_desc(const bench_opts *o, const method_result *r, persp_render_desc *desc)
+{
+    memset(desc, 0, sizeof *desc);
+    desc->method = r->spec;
+    desc->filter = o->filter;
+    desc->max_aniso = o->max_aniso;
+    desc->shading = o->shading;
+}
+
+/* One untimed warm-up frame and one timed frame that sets the frame count
+ * of each run when --frames is not given. */
+static void prepare_method(persp_bench *b, const bench_opts *o, method_result *r)
 {
     persp_render_desc desc;
-    memset(&desc, 0, sizeof desc);
-    desc.method = r->spec;
-    desc.filter = o->filter;
-    desc.max_aniso = o->max_aniso;
+    method_desc(o, r, &desc);
     r->ok = 0;
-    persp_status st = render_frames(b, &desc, 1); /* warm-up */
+    persp_status st = render_frames(b, &desc, 1);
     double t0 = cli_now();
     if (st == PERSP_OK) st = render_frames(b, &desc, 1);
     double t1 = cli_now();
     if (st != PERSP_OK) {
-        const char *detail = persp_context_error(b->ctx);
-        snprintf(r->error, sizeof r->error, "%s%s(%s)", detail ? detail : "",
-                 detail && detail[0] ? " " : "", persp_status_string(st));
+        render_error(b, st, r);
         return;
     }
-    int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
-    r->stats.frames = frames;
-    r->stats.reps = o->reps;
-    for (int rep = 0; rep < o->reps; rep++) {
-        double a = cli_now();
-        st = render_frames(b, &desc, frames);
-        double z = cli_now();
-        if (st != PERSP_OK) {
-            snprintf(r->error, sizeof r->error, "%s (%s)", persp_context_error(b->ctx),
-                     persp_status_string(st));
-            return;
-        }
-        r->stats.mpix[rep] = mpix(b->fb.width, b->fb.height, frames, z - a);
-    }
-    finish_stats(&r->stats);
+    r->stats.frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
+    r->stats.reps = 0;
     r->ok = 1;
+}
+
+static void run_method(persp_bench *b, const bench_opts *o, method_result *r)
+{
+    persp_render_desc desc;
+    method_desc(o, r, &desc);
+    double a = cli_now();
+    persp_status st = render_frames(b, &desc, r->stats.frames);
+    double z = cli_now();
+    if (st != PERSP_OK) {
+        render_error(b, st, r);
+        return;
+    }
+    r->stats.mpix[r->stats.reps++] = mpix(b->fb.width, b->fb.height, r->stats.frames, z - a);
 }
 
 /* ----------------------------------------------------------------- peer side */
@@ -188,69 +210,111 @@ static void measure_method(persp_bench *b, const bench_opts *o, method_result *r
 #ifdef PERSP_HAVE_OSMESA
 extern char **environ;
 
-/* The child: renders with the driver its environment names and prints
- * "key value" lines, then the raw image after "pixels W H" if --dump. */
-static int peer_child(const bench_opts *o, int dump)
+/* The child: loads the scene, builds the GL objects, draws a warm-up and a
+ * calibration frame and prints "key value" lines ending with "frames N".
+ * Then it obeys its standard input, one command a line, so that the parent
+ * can interleave its runs with persp's on a shared machine: "run" draws one
+ * run and prints "seconds S"; "end" prints "maxrss_mib M", then
+ * "pixels W H" and the raw last frame, and exits. */
+static int peer_child(const bench_opts *o)
 {
-    char err[256] = "";
-    bench_peer_desc pd = {o->width, o->height, o->filter, o->max_aniso};
+    char err[512] = "";
+    persp_context *ctx = NULL;
+    persp_scene *scene = NULL;
+    persp_status st = persp_context_create(NULL, &ctx);
+    if (st == PERSP_OK)
+        st = is_builtin(o->scene) ? persp_scene_builtin(ctx, o->scene, &scene)
+                                  : persp_scene_load(ctx, o->scene, &scene);
+    if (st != PERSP_OK) {
+        int rc = cli_status(ctx, st, o->scene);
+        persp_context_destroy(ctx);
+        return rc;
+    }
+    bench_peer_desc pd = {o->width, o->height, scene, o->shading, o->filter, o->max_aniso};
     bench_peer *p = bench_peer_create(&pd, err, sizeof err);
+    /* The GL objects hold copies: the scene is not needed while drawing. */
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
     if (!p) return cli_error(CLI_FAIL, "%s", err);
     bench_peer_render(p, 1); /* warm-up */
     double t0 = cli_now();
     bench_peer_render(p, 1);
     double t1 = cli_now();
     int frames = o->frames ? (int)o->frames : calibrate_frames(t1 - t0, o->run_seconds);
-    printf("renderer %s\nversion %s\naniso %g\nframes %d\nseconds", bench_peer_renderer(p),
-           bench_peer_version(p), (double)bench_peer_aniso(p), frames);
-    for (int rep = 0; rep < o->reps; rep++) {
-        double a = cli_now();
-        bench_peer_render(p, frames);
-        printf(" %.9f", cli_now() - a);
-    }
-    printf("\nmaxrss_mib %.3f\n", peak_rss_mib(RUSAGE_SELF));
-    if (dump) {
-        printf("pixels %d %d\n", o->width, o->height);
-        fwrite(bench_peer_pixels(p), 4, (size_t)o->width * (size_t)o->height, stdout);
-    }
+    printf("renderer %s\nversion %s\npipeline %s\naniso %g\nframes %d\n", bench_peer_renderer(p),
+           bench_peer_version(p), bench_peer_pipeline(p), (double)bench_peer_aniso(p), frames);
     fflush(stdout);
+    char line[64];
+    while (fgets(line, sizeof line, stdin)) {
+        if (!strncmp(line, "run", 3)) {
+            double a = cli_now();
+            bench_peer_render(p, frames);
+            printf("seconds %.9f\n", cli_now() - a);
+            fflush(stdout);
+        } else if (!strncmp(line, "end", 3)) {
+            printf("maxrss_mib %.3f\npixels %d %d\n", peak_rss_mib(RUSAGE_SELF), o->width, o->height);
+            fwrite(bench_peer_pixels(p), 4, (size_t)o->width * (size_t)o->height, stdout);
+            fflush(stdout);
+            break;
+        }
+    }
     bench_peer_destroy(p);
     return CLI_OK;
 }
 
-/* Finds "key " at a line start within text[0..len) and returns what follows. */
-static const char *peer_field(const char *text, size_t len, const char *key)
+/* The running child, seen from the parent. */
+typedef struct peer_proc {
+    pid_t pid;
+    FILE *to, *from;
+} peer_proc;
+
+/* Reads one "key value" line from the child into value; 0 on EOF or
+ * another key. */
+static int peer_read(peer_proc *pp, const char *key, char *value, size_t size)
 {
+    char line[512];
+    if (!fgets(line, sizeof line, pp->from)) return 0;
     size_t k = strlen(key);
-    for (size_t i = 0; i + k < len; i++) {
-        if ((i == 0 || text[i - 1] == '\n') && !strncmp(text + i, key, k) && text[i + k] == ' ')
-            return text + i + k + 1;
-    }
-    return NULL;
-}
-
-static void copy_line(char *dst, size_t size, const char *src)
-{
-    size_t n = src ? strcspn(src, "\n") : 0;
+    if (strncmp(line, key, k) != 0 || line[k] != ' ') return 0;
+    size_t n = strcspn(line + k + 1, "\n");
     if (n >= size) n = size - 1;
-    if (n) memcpy(dst, src, n);
-    dst[n] = '\0';
+    memcpy(value, line + k + 1, n);
+    value[n] = '\0';
+    return 1;
 }
 
-static int run_peer(const bench_opts *o, int dump, peer_result *r)
+/* Ends the child and reports how it ended when it failed. */
+static int peer_reap(peer_proc *pp, const bench_opts *o, int rc)
 {
-    char size[40], threads[32], frames[32], reps[16], seconds[32], driver[64];
+    if (pp->to) fclose(pp->to);
+    if (pp->from) fclose(pp->from);
+    pp->to = pp->from = NULL;
+    if (pp->pid <= 0) return rc;
+    int status = 0;
+    waitpid(pp->pid, &status, 0);
+    pp->pid = 0;
+    if (rc == CLI_OK && (!WIFEXITED(status) || WEXITSTATUS(status) != 0))
+        rc = cli_error(CLI_FAIL, "bench: the %s peer failed (%s %d)", o->peer,
+                       WIFEXITED(status) ? "exit status" : "signal",
+                       WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+    return rc;
+}
+
+static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
+{
+    memset(pp, 0, sizeof *pp);
+    char size[40], threads[32], frames[32], seconds[32], driver[64];
     snprintf(size, sizeof size, "%dx%d", o->width, o->height);
     snprintf(frames, sizeof frames, "%ld", o->frames);
-    snprintf(reps, sizeof reps, "%d", o->reps);
     snprintf(seconds, sizeof seconds, "%.6f", o->run_seconds);
     snprintf(driver, sizeof driver, "GALLIUM_DRIVER=%s", o->peer);
     snprintf(threads, sizeof threads, "LP_NUM_THREADS=%d", o->peer_threads);
-    char *argv[16] = {"persp", "bench", "--peer-child", (char *)o->peer, "--size", size,
-                      "--filter", (char *)o->filter_name, "--reps", reps, "--time", seconds};
-    int argc = 12;
+    char *argv[24] = {"persp", "bench", (char *)o->scene, "--peer-child", (char *)o->peer, "--size", size,
+                      "--time", seconds};
+    int argc = 9;
+    if (o->filter_given) argv[argc++] = "--filter", argv[argc++] = (char *)o->filter_name;
+    if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
-    if (dump) argv[argc++] = "--dump";
     argv[argc] = NULL;
 
     size_t nenv = 0;
@@ -265,103 +329,117 @@ static int run_peer(const bench_opts *o, int dump, peer_result *r)
     envp[e++] = threads;
     envp[e] = NULL;
 
-    int fds[2];
-    if (pipe(fds) != 0) {
+    int down[2], up[2];
+    if (pipe(down) != 0) {
+        free(envp);
+        return cli_error(CLI_FAIL, "bench: cannot create a pipe for the peer");
+    }
+    if (pipe(up) != 0) {
+        close(down[0]), close(down[1]);
         free(envp);
         return cli_error(CLI_FAIL, "bench: cannot create a pipe for the peer");
     }
     fflush(NULL);
     pid_t pid = fork();
     if (pid < 0) {
-        close(fds[0]), close(fds[1]);
+        close(down[0]), close(down[1]), close(up[0]), close(up[1]);
         free(envp);
         return cli_error(CLI_FAIL, "bench: cannot start the peer process");
     }
     if (pid == 0) {
-        dup2(fds[1], STDOUT_FILENO);
-        close(fds[0]);
-        close(fds[1]);
+        dup2(down[0], STDIN_FILENO);
+        dup2(up[1], STDOUT_FILENO);
+        close(down[0]), close(down[1]), close(up[0]), close(up[1]);
         execve("/proc/self/exe", argv, envp);
         _exit(127);
     }
     free(envp);
-    close(fds[1]);
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    int oom = !buf;
-    for (;;) {
-        if (!oom && len == cap) {
-            char *bigger = realloc(buf, cap * 2);
-            if (!bigger) oom = 1;
-            else buf = bigger, cap *= 2;
-        }
-        char sink[4096];
-        ssize_t n = oom ? read(fds[0], sink, sizeof sink) : read(fds[0], buf + len, cap - len);
-        if (n <= 0) break;
-        if (!oom) len += (size_t)n;
+    close(down[0]);
+    close(up[1]);
+    pp->pid = pid;
+    pp->to = fdopen(down[1], "w");
+    pp->from = fdopen(up[0], "r");
+    if (!pp->to || !pp->from) {
+        if (!pp->to) close(down[1]);
+        if (!pp->from) close(up[0]);
+        return peer_reap(pp, o, cli_error(CLI_FAIL, "bench: cannot talk to the peer process"));
     }
-    close(fds[0]);
-    int status = 0;
-    waitpid(pid, &status, 0);
+    char v[256];
+    if (!peer_read(pp, "renderer", r->renderer, sizeof r->renderer) ||
+        !peer_read(pp, "version", r->version, sizeof r->version) ||
+        !peer_read(pp, "pipeline", r->pipeline, sizeof r->pipeline) || !peer_read(pp, "aniso", v, sizeof v) ||
+        (r->aniso = atof(v), !peer_read(pp, "frames", v, sizeof v)) || (r->stats.frames = atoi(v)) < 1) {
+        int rc = peer_reap(pp, o, CLI_OK);
+        return rc != CLI_OK ? rc : cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+    }
+    r->stats.reps = 0;
+    return CLI_OK;
+}
+
+static int peer_run(peer_proc *pp, const bench_opts *o, peer_result *r)
+{
+    char v[64];
+    fputs("run\n", pp->to);
+    fflush(pp->to);
+    if (!peer_read(pp, "seconds", v, sizeof v)) {
+        int rc = peer_reap(pp, o, CLI_OK);
+        return rc != CLI_OK ? rc : cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+    }
+    r->stats.mpix[r->stats.reps++] = mpix(o->width, o->height, r->stats.frames, atof(v));
+    return CLI_OK;
+}
+
+static int peer_end(peer_proc *pp, const bench_opts *o, peer_result *r)
+{
+    char v[64];
+    fputs("end\n", pp->to);
+    fflush(pp->to);
     int rc = CLI_OK;
-    if (oom) {
-        rc = cli_error(CLI_FAIL, "bench: out of memory reading the peer's output");
-    } else if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        rc = cli_error(CLI_FAIL, "bench: the %s peer failed (%s %d)", o->peer,
-                       WIFEXITED(status) ? "exit status" : "signal",
-                       WIFEXITED(status) ? WEXITSTATUS(status) : WTERMSIG(status));
+    int w = 0, h = 0;
+    if (!peer_read(pp, "maxrss_mib", v, sizeof v)) {
+        rc = cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
     } else {
-        const char *pix = peer_field(buf, len, "pixels");
-        size_t text_len = pix ? (size_t)(pix - buf) : len;
-        const char *f = peer_field(buf, text_len, "frames");
-        const char *s = peer_field(buf, text_len, "seconds");
-        const char *m = peer_field(buf, text_len, "maxrss_mib");
-        const char *an = peer_field(buf, text_len, "aniso");
-        copy_line(r->renderer, sizeof r->renderer, peer_field(buf, text_len, "renderer"));
-        copy_line(r->version, sizeof r->version, peer_field(buf, text_len, "version"));
-        r->stats.frames = f ? atoi(f) : 0;
-        r->stats.reps = 0;
-        r->aniso = an ? atof(an) : 0.0;
-        r->maxrss_mib = m ? atof(m) : 0.0;
-        char *end = (char *)s;
-        while (s && r->stats.reps < o->reps) {
-            double sec = strtod(s, &end);
-            if (end == s) break;
-            r->stats.mpix[r->stats.reps++] = mpix(o->width, o->height, r->stats.frames, sec);
-            s = end;
-        }
-        if (r->stats.frames < 1 || r->stats.reps != o->reps) {
-            rc = cli_error(CLI_FAIL, "bench: unreadable output from the %s peer", o->peer);
+        r->maxrss_mib = atof(v);
+        if (!peer_read(pp, "pixels", v, sizeof v) || sscanf(v, "%d %d", &w, &h) != 2 || w != o->width ||
+            h != o->height) {
+            rc = cli_error(CLI_FAIL, "bench: the %s peer sent no image", o->peer);
         } else {
-            finish_stats(&r->stats);
-            r->ok = 1;
-        }
-        if (rc == CLI_OK && dump) {
-            size_t need = (size_t)o->width * (size_t)o->height * 4;
-            const char *nl = pix ? memchr(pix, '\n', len - (size_t)(pix - buf)) : NULL;
-            if (!nl || (size_t)(buf + len - (nl + 1)) != need) {
-                rc = cli_error(CLI_FAIL, "bench: the %s peer sent no complete image", o->peer);
-            } else if (!(r->pixels = malloc(need))) {
+            size_t need = (size_t)w * (size_t)h * 4;
+            if (!(r->pixels = malloc(need))) {
                 rc = cli_error(CLI_FAIL, "bench: out of memory for the peer image");
+            } else if (fread(r->pixels, 1, need, pp->from) != need) {
+                rc = cli_error(CLI_FAIL, "bench: the %s peer sent no complete image", o->peer);
+                free(r->pixels);
+                r->pixels = NULL;
             } else {
-                memcpy(r->pixels, nl + 1, need);
-                r->width = o->width;
-                r->height = o->height;
+                r->width = w;
+                r->height = h;
             }
         }
     }
-    free(buf);
+    rc = peer_reap(pp, o, rc);
+    if (rc == CLI_OK) {
+        finish_stats(&r->stats);
+        r->ok = 1;
+    }
     return rc;
 }
 
-/* Per-channel and per-pixel differences of two RGBA8 images of equal size. */
-static image_diff compare_images(const uint8_t *a, const uint8_t *b, size_t pixels)
+/* Per-channel and per-pixel differences of two RGBA8 images of equal size,
+ * over the pixels either renderer covered: those persp's depth buffer shows
+ * drawn (depth below the cleared 1) and those where the peer's differs from
+ * the clear colour. Background both leave alone would only dilute the
+ * error. */
+static image_diff compare_images(const uint8_t *a, const uint8_t *b, const float *depth,
+                                 const uint8_t clear[4], size_t pixels)
 {
     image_diff d;
     memset(&d, 0, sizeof d);
-    size_t gt1 = 0, gt2 = 0, gt8 = 0;
+    size_t gt1 = 0, gt2 = 0, gt8 = 0, covered = 0;
     double sq = 0.0;
     for (size_t i = 0; i < pixels; i++) {
+        if (!(depth[i] < 1.0f) && !memcmp(b + 4 * i, clear, 3)) continue;
+        covered++;
         int worst = 0;
         for (int c = 0; c < 4; c++) {
             int x = abs((int)a[4 * i + (size_t)c] - (int)b[4 * i + (size_t)c]);
@@ -371,7 +449,8 @@ static image_diff compare_images(const uint8_t *a, const uint8_t *b, size_t pixe
         }
         gt1 += worst > 1, gt2 += worst > 2, gt8 += worst > 8;
     }
-    double n = pixels ? (double)pixels : 1.0;
+    d.covered_pct = pixels ? 100.0 * (double)covered / (double)pixels : 0.0;
+    double n = covered ? (double)covered : 1.0;
     d.pct_gt1 = 100.0 * (double)gt1 / n;
     d.pct_gt2 = 100.0 * (double)gt2 / n;
     d.pct_gt8 = 100.0 * (double)gt8 / n;
@@ -441,6 +520,8 @@ static void print_json(FILE *out, const bench_report *r)
     json_string(out, o->scene);
     fprintf(out, ", \"width\": %d, \"height\": %d, \"filter\": ", o->width, o->height);
     json_string(out, o->filter_name);
+    fprintf(out, ", \"shading\": ");
+    json_string(out, o->shading_name);
     fprintf(out, ", \"threads\": %d, \"peak_rss_mib\": ", o->threads);
     json_number(out, r->rss_mib);
     fprintf(out, ", \"rss_at_start_mib\": ");
@@ -477,6 +558,8 @@ static void print_json(FILE *out, const bench_report *r)
         json_string(out, p->renderer);
         fprintf(out, ", \"version\": ");
         json_string(out, p->version);
+        fprintf(out, ", \"pipeline\": ");
+        json_string(out, p->pipeline);
         fprintf(out, ", \"lp_num_threads\": %d, \"aniso\": ", o->peer_threads);
         json_number(out, p->aniso);
         fprintf(out, ", \"peak_rss_mib\": ");
@@ -488,8 +571,13 @@ static void print_json(FILE *out, const bench_report *r)
     if (r->diff) {
         const image_diff *d = r->diff;
         fprintf(out, ",\n \"peer_image\": {\"file\": ");
-        json_string(out, o->peer_image);
-        fprintf(out, ", \"compared_with\": \"exact\", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
+        if (o->peer_image)
+            json_string(out, o->peer_image);
+        else
+            fprintf(out, "null");
+        fprintf(out, ", \"compared_with\": \"exact\", \"covered_pct\": ");
+        json_number(out, d->covered_pct);
+        fprintf(out, ", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
                 d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
         json_number(out, d->pct_gt1);
         fprintf(out, ", \"pct_gt2\": ");
@@ -509,6 +597,7 @@ static void print_text(FILE *out, const bench_report *r)
     const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
     fprintf(out, "bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
             o->filter_name, o->threads, o->reps);
+    fprintf(out, "shading %s\n", o->shading_name);
     fprintf(out, "%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
             "vs_exact");
     if (peer_col) fprintf(out, " %9s", "vs_peer");
@@ -537,7 +626,7 @@ static void print_text(FILE *out, const bench_report *r)
         fprintf(out, "peer renderer: %s, OpenGL %s, LP_NUM_THREADS=%d", p->renderer, p->version,
                 o->peer_threads);
         if (p->aniso > 0.0) fprintf(out, ", anisotropy %g", p->aniso);
-        fprintf(out, "\n");
+        fprintf(out, "\npeer pipeline: %s\n", p->pipeline);
     }
     fprintf(out, "peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
             r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
@@ -546,10 +635,11 @@ static void print_text(FILE *out, const bench_report *r)
     if (r->diff) {
         const image_diff *d = r->diff;
         fprintf(out,
-                "peer image %s vs persp exact: max |diff| R %d G %d B %d A %d; pixels differing "
-                "by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
-                o->peer_image, d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3],
-                d->pct_gt1, d->pct_gt2, d->pct_gt8);
+                "peer image%s%s vs persp exact over the %.1f%% covered pixels: max |diff| R %d G %d "
+                "B %d A %d; pixels differing by >1: %.3f%%, >2: %.3f%%, >8: %.3f%%; PSNR ",
+                o->peer_image ? " " : "", o->peer_image ? o->peer_image : "", d->covered_pct,
+                d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3], d->pct_gt1, d->pct_gt2,
+                d->pct_gt8);
         if (isfinite(d->psnr))
             fprintf(out, "%.2f dB\n", d->psnr);
         else
@@ -607,8 +697,9 @@ static const cli_spec opt_peer = {
     .kind = CLI_KIND_STRING,
     .metavar = "D",
     .names = peer_names,
-    .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa on\n"
-            "corridor, in a child process, and report persp's ratio to it"};
+    .help = "also measure Mesa D = llvmpipe | softpipe through OSMesa drawing\n"
+            "the same scene, in a child process; report persp's ratio to it\n"
+            "and the PSNR of its image against persp's exact one"};
 static const cli_spec opt_peer_threads = {.name = "peer-threads",
                                           .kind = CLI_KIND_INT,
                                           .metavar = "N",
@@ -620,13 +711,11 @@ static const cli_spec opt_peer_image = {
     .name = "peer-image",
     .kind = CLI_KIND_STRING,
     .metavar = "FILE",
-    .help = "write the peer's frame as PNG and print its difference to\n"
-            "persp's exact image with the same filter"};
-/* The peer's own process (run_peer): the driver it renders with, and whether
- * it sends its image back. Not for people. */
+    .help = "also write the peer's frame as PNG"};
+/* The peer's own process (peer_start): the driver it renders with. Not for
+ * people. */
 static const cli_spec opt_peer_child = {
     .name = "peer-child", .kind = CLI_KIND_STRING, .metavar = "D"};
-static const cli_spec opt_dump = {.name = "dump", .kind = CLI_KIND_FLAG};
 
 /* The methods to measure: one spec, or every registry entry for "all". */
 static int collect_methods(const char *method, method_result *out, size_t *count)
@@ -669,14 +758,15 @@ int cmd_bench(int argc, char **argv)
     o.reps = 5;
     o.run_seconds = 0.5;
     cli_filter filter = {"bilinear", PERSP_FILTER_BILINEAR, 16};
+    cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
     const char *output = NULL;
-    int dump = 0;
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
         CLI_OPT_HELP(cli_opt_filter, &filter,
-                     "texture filter for every texture (default bilinear)"),
+                     "texture filter for every texture (default: the scene's)"),
+        CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
         CLI_OPT(opt_frames, &o.frames),
         CLI_OPT(opt_reps, &o.reps),
@@ -690,7 +780,6 @@ int cmd_bench(int argc, char **argv)
                      "write the results to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
         CLI_OPT(opt_peer_child, &o.peer),
-        CLI_OPT(opt_dump, &dump),
     };
     cli_command cmd = {
         "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o.scene, 1, 0,
@@ -702,9 +791,13 @@ int cmd_bench(int argc, char **argv)
     }
     if (rc != CLI_OK) return rc;
     int child_mode = cli_given(&cmd, &opt_peer_child) > 0;
+    o.filter_given = cli_given(&cmd, &cli_opt_filter) > 0;
     o.filter_name = filter.name;
-    o.filter = filter.filter;
-    o.max_aniso = filter.max_aniso;
+    o.filter = o.filter_given ? filter.filter : PERSP_FILTER_DEFAULT;
+    o.max_aniso = o.filter_given ? filter.max_aniso : 0;
+    o.shading_given = cli_given(&cmd, &cli_opt_shading) > 0;
+    o.shading = shading.shading;
+    o.shading_name = shading.name;
     o.width = size.width;
     o.height = size.height;
     o.json = format == PERSP_REPORT_JSON;
@@ -712,8 +805,6 @@ int cmd_bench(int argc, char **argv)
     if (o.peer_threads < 0) o.peer_threads = o.threads;
     if (o.peer_image && !o.peer)
         return cli_error(CLI_USAGE, "bench: --peer-image needs --peer llvmpipe|softpipe");
-    if (o.peer && strcmp(o.scene, "corridor") != 0)
-        return cli_error(CLI_USAGE, "bench: the peer renders only the corridor scene, not '%s'", o.scene);
 #ifndef PERSP_HAVE_OSMESA
     if (o.peer || child_mode)
         return cli_error(CLI_FAIL, "bench: --peer is unavailable: persp was not built with OSMesa "
@@ -724,7 +815,7 @@ int cmd_bench(int argc, char **argv)
                          o.filter_name);
     if (child_mode) {
         if (!o.width) o.width = 1024, o.height = 768;
-        return peer_child(&o, dump);
+        return peer_child(&o);
     }
 #endif
 
@@ -760,6 +851,16 @@ int cmd_bench(int argc, char **argv)
         goto done;
     }
     if (!o.width) persp_scene_default_size(b.scene, &o.width, &o.height);
+    {
+        /* What the scene renders with unless overridden, for the report. */
+        persp_scene_info info;
+        persp_scene_get_info(b.scene, &info);
+        if (!o.filter_given)
+            o.filter_name = info.filter_count == 0   ? "none"
+                            : info.filter_count == 1 ? persp_filter_name(info.filter)
+                                                     : "scene";
+        if (!o.shading_given) o.shading_name = persp_shading_name(info.shading);
+    }
     if (!o.width) o.width = 1024, o.height = 768;
     size_t pixels = (size_t)o.width * (size_t)o.height;
     if (pixels > PERSP_IMAGE_MAX_PIXELS) {
@@ -781,27 +882,40 @@ int cmd_bench(int argc, char **argv)
 
     const method_result *exact = NULL;
     int failures = 0;
+    for (size_t i = 0; i < count; i++) prepare_method(&b, &o, &results[i]);
+#ifdef PERSP_HAVE_OSMESA
+    /* The peer's runs alternate with persp's, so that both see the same
+     * load on a shared machine. A failing peer still leaves persp's
+     * results to print. */
+    peer_proc pp;
+    memset(&pp, 0, sizeof pp);
+    int peer_live = 0;
+    if (o.peer) peer_live = (rc = peer_start(&o, &pp, &peer)) == CLI_OK;
+#endif
+    for (int rep = 0; rep < o.reps; rep++) {
+        for (size_t i = 0; i < count; i++)
+            if (results[i].ok) run_method(&b, &o, &results[i]);
+#ifdef PERSP_HAVE_OSMESA
+        if (peer_live) peer_live = (rc = peer_run(&pp, &o, &peer)) == CLI_OK;
+#endif
+    }
     for (size_t i = 0; i < count; i++) {
-        measure_method(&b, &o, &results[i]);
         if (!results[i].ok) {
             failures++;
             continue;
         }
-        if (!strcmp(results[i].spec, "exact")) {
-            exact = &results[i];
-            if (o.peer_image && !exact_image && (exact_image = malloc(pixels * 4)))
-                memcpy(exact_image, b.fb.color, pixels * 4);
-        }
+        finish_stats(&results[i].stats);
+        if (!strcmp(results[i].spec, "exact")) exact = &results[i];
     }
-    if (o.peer_image && !exact_image) {
-        /* The reference image is exact's even when exact was not timed. */
-        method_result r;
-        memset(&r, 0, sizeof r);
+    if (o.peer) {
+        /* The reference image and its coverage: exact, with the filter and
+         * shading the peer draws. */
         persp_render_desc desc;
         memset(&desc, 0, sizeof desc);
         desc.method = "exact";
         desc.filter = o.filter;
         desc.max_aniso = o.max_aniso;
+        desc.shading = o.shading;
         if ((st = persp_render(b.ctx, b.scene, &desc, &b.fb, NULL)) != PERSP_OK) {
             cli_status(b.ctx, st, "bench: exact reference image");
             failures++;
@@ -812,15 +926,16 @@ int cmd_bench(int argc, char **argv)
     double rss = peak_rss_mib(RUSAGE_SELF);
 
 #ifdef PERSP_HAVE_OSMESA
-    /* A failing peer still leaves persp's results to print. */
-    if (o.peer) {
-        rc = run_peer(&o, o.peer_image != NULL, &peer);
-        if (rc == CLI_OK && o.peer_image && peer.pixels) {
+    if (peer_live) {
+        rc = peer_end(&pp, &o, &peer);
+        if (rc == CLI_OK && peer.pixels) {
             persp_image img = {o.width, o.height, (size_t)o.width * 4, peer.pixels};
-            if ((st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK) {
+            if (o.peer_image && (st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK)
                 rc = cli_status(b.ctx, st, o.peer_image);
-            } else if (exact_image) {
-                diff = compare_images(exact_image, peer.pixels, pixels);
+            if (exact_image) {
+                persp_scene_info info;
+                persp_scene_get_info(b.scene, &info);
+                diff = compare_images(exact_image, peer.pixels, b.fb.depth, info.clear, pixels);
                 have_diff = 1;
             }
         }
