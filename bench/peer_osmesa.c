@@ -498,7 +498,7 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     snprintf(p->version, sizeof p->version, "%s", s ? s : "?");
 
     persp_mat4 proj, view;
-    persp_scene_get_camera(scene, p->width, p->height, &proj, &view);
+    persp_scene_get_camera(scene, p->width, p->height, &view, &proj);
     for (int c = 0; c < 4; c++) p->clear[c] = (float)info.clear[c] / 255.0f;
     memcpy(p->ambient, info.ambient, sizeof p->ambient);
 

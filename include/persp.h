@@ -409,11 +409,6 @@ PERSP_API persp_status persp_scene_tint_mip_levels(persp_scene *scene);
  * red, orange, yellow-green, green, cyan, blue, violet, magenta; grey from
  * level 9 on. */
 PERSP_API void persp_mip_level_color(int level, uint8_t rgba[4]);
-/* The scene's camera as persp_render uses it for a width x height
- * framebuffer (the aspect ratio enters the projection): world -> eye and
- * eye -> clip. Either output may be NULL. */
-PERSP_API void persp_scene_camera(const persp_scene *scene, int width, int height,
-                                  persp_mat4 *view, persp_mat4 *projection);
 
 typedef enum persp_pipeline {
     PERSP_PIPELINE_DEFAULT = 0, /* SCREEN */
@@ -442,7 +437,7 @@ typedef struct persp_render_desc {
                                 persp_render_stats.ops (instrumented, slower render) */
     /* Camera override (interactive viewers, camera paths): each non-NULL
      * matrix replaces the scene camera's (world -> eye, eye -> clip); NULL
-     * keeps the scene's (see persp_scene_camera). Lights stay in world
+     * keeps the scene's (see persp_scene_get_camera). Lights stay in world
      * space, so they follow the new view. */
     const persp_mat4 *view;
     const persp_mat4 *projection;
@@ -545,10 +540,11 @@ PERSP_API persp_status persp_scene_get_light(const persp_scene *scene, size_t in
 /* The texture a material's index names (NULL past the end); its levels are
  * read with persp_texture_level. */
 PERSP_API const persp_texture *persp_scene_get_texture(const persp_scene *scene, int index);
-/* The projection and view matrices persp_render uses for a width×height
- * image. */
+/* The scene's camera as persp_render uses it for a width×height image (the
+ * aspect ratio enters the projection): world -> eye (view) and eye -> clip
+ * (projection). Either output may be NULL. */
 PERSP_API persp_status persp_scene_get_camera(const persp_scene *scene, int width, int height,
-                                              persp_mat4 *projection, persp_mat4 *view);
+                                              persp_mat4 *view, persp_mat4 *projection);
 
 #ifdef __cplusplus
 }

@@ -208,19 +208,22 @@ const persp_texture *persp_scene_get_texture(const persp_scene *s, int index)
     return s && index >= 0 && (size_t)index < s->texture_count ? s->textures[index] : NULL;
 }
 
-/* The same matrices as persp_render uses. */
-persp_status persp_scene_get_camera(const persp_scene *s, int width, int height, persp_mat4 *proj,
-                                    persp_mat4 *view)
+/* The one definition of the camera persp_render uses. */
+persp_status persp_scene_get_camera(const persp_scene *s, int width, int height, persp_mat4 *view,
+                                    persp_mat4 *projection)
 {
-    if (!s || !proj || !view || width < 1 || height < 1) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!s || width < 1 || height < 1) return PERSP_ERR_INVALID_ARGUMENT;
+    persp_mat4 p, v;
     if (s->camera.use_matrix) {
-        *proj = s->camera.projection;
-        *view = s->camera.view;
-        return PERSP_OK;
-    }
-    *proj = persp_perspective(s->camera.fovy_deg, (double)width / (double)height, s->camera.znear,
+        p = s->camera.projection;
+        v = s->camera.view;
+    } else {
+        p = persp_perspective(s->camera.fovy_deg, (double)width / (double)height, s->camera.znear,
                               s->camera.zfar);
-    *view = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
+        v = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
+    }
+    if (view) *view = v;
+    if (projection) *projection = p;
     return PERSP_OK;
 }
 

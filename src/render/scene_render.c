@@ -22,26 +22,6 @@ void persp_framebuffer_clear(persp_framebuffer *fb, const uint8_t rgba[4], persp
     for (size_t i = 0; i < n; i++) fb->depth[i] = d;
 }
 
-static void camera_matrices(const persp_scene *s, int w, int h, persp_mat4 *proj, persp_mat4 *view)
-{
-    if (s->camera.use_matrix) {
-        *proj = s->camera.projection;
-        *view = s->camera.view;
-        return;
-    }
-    *proj = persp_perspective(s->camera.fovy_deg, (double)w / (double)h, s->camera.znear, s->camera.zfar);
-    *view = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
-}
-
-void persp_scene_camera(const persp_scene *scene, int width, int height, persp_mat4 *view,
-                        persp_mat4 *projection)
-{
-    persp_mat4 p = persp_mat4_identity(), v = persp_mat4_identity();
-    if (scene) camera_matrices(scene, width > 0 ? width : 1, height > 0 ? height : 1, &p, &v);
-    if (view) *view = v;
-    if (projection) *projection = p;
-}
-
 static int mat4_finite(const persp_mat4 *m)
 {
     for (int i = 0; i < 16; i++)
@@ -107,7 +87,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     persp__frame_clear(f, scene->clear);
 
     persp_mat4 proj, view;
-    camera_matrices(scene, fb->width, fb->height, &proj, &view);
+    persp_scene_get_camera(scene, fb->width, fb->height, &view, &proj);
     if (dd.view) view = *dd.view;
     if (dd.projection) proj = *dd.projection;
     f->proj = proj;

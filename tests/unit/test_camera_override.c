@@ -1,4 +1,4 @@
-/* persp_render_desc.view / .projection and persp_scene_camera: the scene's
+/* persp_render_desc.view / .projection and persp_scene_get_camera: the scene's
  * own matrices passed back in give the scene's image; other matrices give
  * another image; non-finite ones are refused. */
 #include "support.h"
@@ -52,7 +52,7 @@ static void test_scene_camera_round_trip(void **state)
         frame f;
         frame_open(&f, scenes[i], 160, 100);
         persp_mat4 view, proj;
-        persp_scene_camera(f.scene, f.fb.width, f.fb.height, &view, &proj);
+        persp_scene_get_camera(f.scene, f.fb.width, f.fb.height, &view, &proj);
         uint8_t *plain = render_copy(&f, NULL);
         persp_render_desc d;
         memset(&d, 0, sizeof d);
@@ -81,7 +81,7 @@ static void test_projection_only(void **state)
     frame f;
     frame_open(&f, "cube", 120, 90);
     persp_mat4 proj;
-    persp_scene_camera(f.scene, f.fb.width, f.fb.height, NULL, &proj);
+    persp_scene_get_camera(f.scene, f.fb.width, f.fb.height, NULL, &proj);
     /* fovy = 2 atan(1 / P[1][1]) for a gluPerspective matrix (cube: 45°). */
     double fovy = 2.0 * atan(1.0 / proj.m[5]) * 180.0 / 3.14159265358979323846;
     assert_true(fabs(fovy - 45.0) < 1e-3);
@@ -112,10 +112,10 @@ static void test_bad_matrices(void **state)
     bad.m[5] = INFINITY;
     d.projection = &bad;
     assert_int_equal(persp_render(f.ctx, f.scene, &d, &f.fb, NULL), PERSP_ERR_INVALID_ARGUMENT);
-    /* NULL scene: identity matrices, no crash. */
+    /* NULL scene or empty size: refused, no crash. */
     persp_mat4 v, p;
-    persp_scene_camera(NULL, 10, 10, &v, &p);
-    assert_true(v.m[0] == 1.0f && p.m[15] == 1.0f);
+    assert_int_equal(persp_scene_get_camera(NULL, 10, 10, &v, &p), PERSP_ERR_INVALID_ARGUMENT);
+    assert_int_equal(persp_scene_get_camera(f.scene, 0, 10, &v, &p), PERSP_ERR_INVALID_ARGUMENT);
     frame_close(&f);
 }
 

@@ -76,11 +76,11 @@ static void test_scene_views(void **state)
     assert_null(persp_scene_get_texture(s, 0));
 
     persp_mat4 proj, view;
-    assert_int_equal(persp_scene_get_camera(s, 64, 32, &proj, &view), PERSP_OK);
+    assert_int_equal(persp_scene_get_camera(s, 64, 32, &view, &proj), PERSP_OK);
     persp_mat4 want = persp_perspective(45.0, 2.0, 0.5, 50.0);
     for (int i = 0; i < 16; i++) assert_true(proj.m[i] == want.m[i]);
     assert_true(view.m[14] == -5.0f);
-    assert_int_equal(persp_scene_get_camera(s, 0, 32, &proj, &view), PERSP_ERR_INVALID_ARGUMENT);
+    assert_int_equal(persp_scene_get_camera(s, 0, 32, &view, &proj), PERSP_ERR_INVALID_ARGUMENT);
     persp_scene_destroy(s);
 
     /* A built-in scene's texture and its mip levels. */
@@ -91,7 +91,7 @@ static void test_scene_views(void **state)
     persp_image_view v;
     assert_int_equal(persp_texture_level(t, persp_texture_levels(t) - 1, &v), PERSP_OK);
     assert_int_equal(v.width, 1);
-    assert_int_equal(persp_scene_get_camera(s, 1024, 768, &proj, &view), PERSP_OK);
+    assert_int_equal(persp_scene_get_camera(s, 1024, 768, &view, &proj), PERSP_OK);
     persp_scene_destroy(s);
     persp_context_destroy(ctx);
 }

@@ -34,7 +34,7 @@ static void test_camera_from_scene(void **state)
         view_camera_from_scene(&c, s, 640, 480);
         assert_int_equal(c.scene_own, 1);
         persp_mat4 v0, p0, v1, p1;
-        persp_scene_camera(s, 640, 480, &v0, &p0);
+        persp_scene_get_camera(s, 640, 480, &v0, &p0);
         view_camera_matrices(&c, 640, 480, &v1, &p1);
         assert_true(mat_diff(v0, v1) < 1e-5);
         assert_true(mat_diff(p0, p1) < 1e-5);

@@ -23,7 +23,7 @@ void view_camera_forward(const view_camera *cam, double f[3])
 void view_camera_from_scene(view_camera *cam, const persp_scene *scene, int width, int height)
 {
     persp_mat4 v, p;
-    persp_scene_camera(scene, width, height, &v, &p);
+    persp_scene_get_camera(scene, width, height, &v, &p);
     const float *m = v.m;
     memset(cam, 0, sizeof *cam);
     /* eye = -R^T t, forward = -(third row of R). */
