@@ -117,6 +117,12 @@ PERSP_API void persp_context_destroy(persp_context *ctx);
 /* Detail of the last failure on this context ("file:line:col: problem"), or
  * "". Owned by the context, valid until its next call. */
 PERSP_API const char *persp_context_error(const persp_context *ctx);
+/* Warnings: problems persp worked around (a model's missing material or
+ * texture file, for instance), one line each without a trailing newline.
+ * persp never prints; without a handler warnings are dropped. Called on the
+ * thread that called into persp; fn NULL removes the handler. */
+typedef void (*persp_warning_fn)(void *user, const char *message);
+PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn, void *user);
 
 /* -------------------------------------------------------------------- math */
 

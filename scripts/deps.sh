@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian packages persp needs to build and test, only those missing.
-# libosmesa6-dev brings the Mesa peer (llvmpipe) that the tests compare images with;
+# libassimp-dev imports models (OBJ, glTF, PLY, STL, FBX, ...); libosmesa6-dev brings the Mesa peer (llvmpipe) that the tests compare images with;
 # g++ compiles the public headers as C++ (tests/package); clang (for the
 # libFuzzer harnesses) is installed with --optional.
 set -eu
-required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev"
+required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev libassimp-dev"
 optional="clang"
 want="$required"
 [ "${1:-}" = "--optional" ] && want="$required $optional"

@@ -21,6 +21,8 @@ struct persp_context {
      * module, never needs to know their type. */
     void *render;
     void (*render_free)(persp_context *ctx);
+    persp_warning_fn warn;
+    void *warn_user;
 };
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
@@ -30,6 +32,13 @@ static inline int persp__size_mul(size_t a, size_t b, size_t *out)
     *out = a * b;
     return 1;
 }
+
+/* Passes a one-line warning to the context's handler, if any. */
+void persp__warn(persp_context *ctx, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 /* Sets the context's detail message and returns status (NULL ctx: only returns). */
 persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)

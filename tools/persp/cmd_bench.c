@@ -753,6 +753,7 @@ int cmd_bench(int argc, char **argv)
         free(results);
         return cli_status(NULL, st, "bench");
     }
+    persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
     if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
     else st = persp_scene_load(b.ctx, o.scene, &b.scene);
     if (st != PERSP_OK) {

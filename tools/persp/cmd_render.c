@@ -140,6 +140,7 @@ int cmd_render(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
+    persp_context_set_warning_handler(ctx, cli_warning, NULL);
     persp_scene *scene = NULL;
     persp_framebuffer fb = {0, 0, NULL, NULL};
     persp_image img = {0, 0, 0, NULL}, depth_img = {0, 0, 0, NULL};
