@@ -67,6 +67,10 @@ persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t nee
  * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS) with name in the detail. */
 persp_status persp__image_check_size(persp_context *ctx, const char *name, long long w, long long h);
 
+/* Sets every alpha to 255: persp draws opaque surfaces, so a scene's
+ * textures carry no coverage into the image. */
+void persp__image_set_opaque(persp_image *img);
+
 /* Clears the context's error detail (called at the start of a public call). */
 void persp__clear_error(persp_context *ctx);
 

@@ -300,7 +300,8 @@ static persp_status convert_mesh(importer *im, unsigned index, int *out)
         if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v->uv[0] = tc[i].x, v->uv[1] = tc[i].y;
         if (col) {
             const float c[4] = {col[i].r, col[i].g, col[i].b, col[i].a};
-            for (int k = 0; k < 4; k++) v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
+            for (int k = 0; k < 3; k++) v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
+            v->color[3] = 1.0f; /* opaque surfaces: no coverage into the image */
         } else {
             v->color[0] = v->color[1] = v->color[2] = v->color[3] = 1.0f;
         }
@@ -349,6 +350,7 @@ static persp_status embedded_texture(importer *im, unsigned index, int *out)
             }
     }
     persp_texture *tex = NULL;
+    persp__image_set_opaque(&img);
     if (st == PERSP_OK) st = persp_texture_create(im->ctx, &img, &tex);
     persp_image_free(im->ctx, &img);
     if (st == PERSP_OK) st = persp__scene_add_texture(im->scene, tex, out);

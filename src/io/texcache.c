@@ -17,6 +17,7 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
     memset(&img, 0, sizeof img);
     persp_status st = persp_image_load(ctx, path, &img);
     if (st != PERSP_OK) return st;
+    persp__image_set_opaque(&img);
     persp_texture *tex = NULL;
     st = persp_texture_create(ctx, &img, &tex);
     persp_image_free(ctx, &img);
