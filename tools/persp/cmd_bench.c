@@ -74,7 +74,9 @@ static void bench_usage(FILE *out, const cli_command *cmd)
 {
     fprintf(out, "usage: persp bench [SCENE] [options]\n\n"
                  "Measures fill rate (Mpixels/s = width*height*frames/seconds) of persp_render.\n"
-                 "SCENE is a built-in scene or a JSON scene file (default: corridor).\n\n"
+                 "SCENE is a built-in scene or a JSON scene file (default: corridor),\n"
+                 "or a model file (OBJ, glTF/GLB, PLY, STL, FBX, COLLADA, 3DS, ...) shown with a\n"
+                 "default camera and lights (docs/SCENES.md).\n\n"
                  "options:\n");
     cli_print_options(out, cmd);
 #ifndef PERSP_HAVE_OSMESA

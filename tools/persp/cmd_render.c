@@ -9,7 +9,9 @@
 static void render_usage(FILE *out, const cli_command *cmd)
 {
     fprintf(out, "usage: persp render [SCENE] [options]\n\n"
-                 "SCENE is a built-in scene name or a JSON scene file (default: corridor).\n\n"
+                 "SCENE is a built-in scene name or a JSON scene file (default: corridor),\n"
+                 "or a model file (OBJ, glTF/GLB, PLY, STL, FBX, COLLADA, 3DS, ...) shown with a\n"
+                 "default camera and lights (docs/SCENES.md).\n\n"
                  "options:\n");
     cli_print_options(out, cmd);
     fprintf(out, "\nbuilt-in scenes:\n");
