@@ -379,7 +379,12 @@ PERSP_API const char *persp_builtin_scene_summary(size_t index);
 /* A scene owns its meshes, materials and textures; release it with
  * persp_scene_destroy before its context. */
 PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name, persp_scene **out);
-/* Loads a JSON scene file; paths inside resolve relative to it. */
+/* Loads a JSON scene file (paths inside resolve relative to it), or a model
+ * file in any format Assimp reads (OBJ, glTF/GLB, PLY, STL, FBX, ...) shown
+ * with a default camera and lights (docs/SCENES.md). Problems worked around
+ * (a model's missing texture or material file) go to the warning handler.
+ * Model imports from several threads take turns (Assimp's C API reports
+ * errors through one process-wide message). */
 PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
 PERSP_API void persp_scene_destroy(persp_scene *scene);
 /* Replaces the texture of every textured object (e.g. --texture FILE); the

@@ -285,6 +285,39 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
     unload(&l);
 }
 
+/* Binary glTF with the image in the binary chunk, COLLADA with a node
+ * transform, binary STL. */
+static void test_more_formats(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file;
+        int textured;
+        float z; /* translation of the instance */
+    } cases[] = {{"tests/data/models/embedded.glb", 1, 0.0f},
+                 {"tests/data/models/triangle.dae", 0, -1.0f},
+                 {"tests/data/models/triangle_binary.stl", 0, 0.0f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char path[1024];
+        test_source_path(path, sizeof path, cases[i].file);
+        loaded l;
+        load_path(&l, path);
+        if (l.st != PERSP_OK) fail_msg("%s: %s", cases[i].file, persp_context_error(l.ctx));
+        assert_int_equal(l.warn.count, 0);
+        const persp_mesh *m = mesh_of(&l, 0);
+        assert_int_equal(m->index_count, 3);
+        assert_int_equal(material_of(&l, 0)->texture >= 0, cases[i].textured);
+        if (cases[i].textured) {
+            persp_image_view v;
+            assert_int_equal(persp_texture_level(l.scene->textures[material_of(&l, 0)->texture], 0, &v), PERSP_OK);
+            assert_true(v.width == 2 && v.pixels[v.stride] == 255); /* top-left red */
+        }
+        if (fabsf(l.model.parts[0].transform.m[14] - cases[i].z) > 1e-6f)
+            fail_msg("%s: z translation %g", cases[i].file, (double)l.model.parts[0].transform.m[14]);
+        unload(&l);
+    }
+}
+
 static void test_ply_vertex_colours(void **state)
 {
     (void)state;
@@ -400,6 +433,7 @@ int main(void)
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
         cmocka_unit_test(test_obj_missing_files_warn),
         cmocka_unit_test(test_gltf_embedded_texture_and_nodes),
+        cmocka_unit_test(test_more_formats),
         cmocka_unit_test(test_ply_vertex_colours),
         cmocka_unit_test(test_stl_ascii),
         cmocka_unit_test(test_errors_name_the_file),
