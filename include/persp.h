@@ -122,7 +122,8 @@ PERSP_API const char *persp_context_error(const persp_context *ctx);
  * persp never prints; without a handler warnings are dropped. Called on the
  * thread that called into persp; fn NULL removes the handler. */
 typedef void (*persp_warning_fn)(void *user, const char *message);
-PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn, void *user);
+PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn,
+                                                 void *user);
 
 /* -------------------------------------------------------------------- math */
 

@@ -182,7 +182,10 @@ static void cmyk_to_rgba(uint8_t *px, size_t n, int inverted)
     }
 }
 
-static unsigned rd16(const unsigned char *p, int le) { return le ? p[0] | p[1] << 8 : p[0] << 8 | p[1]; }
+static unsigned rd16(const unsigned char *p, int le)
+{
+    return le ? p[0] | p[1] << 8 : p[0] << 8 | p[1];
+}
 
 static uint32_t rd32(const unsigned char *p, int le)
 {
@@ -195,7 +198,9 @@ static uint32_t rd32(const unsigned char *p, int le)
 static int exif_orientation(const struct jpeg_decompress_struct *cinfo)
 {
     for (jpeg_saved_marker_ptr m = cinfo->marker_list; m; m = m->next) {
-        if (m->marker != JPEG_APP0 + 1 || m->data_length < 14 || memcmp(m->data, "Exif\0\0", 6) != 0) continue;
+        if (m->marker != JPEG_APP0 + 1 || m->data_length < 14 ||
+            memcmp(m->data, "Exif\0\0", 6) != 0)
+            continue;
         const unsigned char *t = m->data + 6;
         size_t n = m->data_length - 6;
         int le = t[0] == 'I' && t[1] == 'I';
@@ -233,15 +238,30 @@ static persp_status apply_orientation(persp_context *ctx, int orient, persp_imag
         for (int x = 0; x < OW; x++) {
             int sx, sy; /* stored pixel, top-first rows */
             switch (orient) {
-            case 2: sx = W - 1 - x, sy = y; break;
-            case 3: sx = W - 1 - x, sy = H - 1 - y; break;
-            case 4: sx = x, sy = H - 1 - y; break;
-            case 5: sx = y, sy = x; break;
-            case 6: sx = y, sy = H - 1 - x; break;
-            case 7: sx = W - 1 - y, sy = H - 1 - x; break;
-            default: sx = W - 1 - y, sy = x; break; /* 8 */
+            case 2:
+                sx = W - 1 - x, sy = y;
+                break;
+            case 3:
+                sx = W - 1 - x, sy = H - 1 - y;
+                break;
+            case 4:
+                sx = x, sy = H - 1 - y;
+                break;
+            case 5:
+                sx = y, sy = x;
+                break;
+            case 6:
+                sx = y, sy = H - 1 - x;
+                break;
+            case 7:
+                sx = W - 1 - y, sy = H - 1 - x;
+                break;
+            default:
+                sx = W - 1 - y, sy = x;
+                break; /* 8 */
             }
-            const uint32_t *src = (const uint32_t *)(const void *)(img->pixels + (size_t)(H - 1 - sy) * img->stride);
+            const uint32_t *src =
+                (const uint32_t *)(const void *)(img->pixels + (size_t)(H - 1 - sy) * img->stride);
             dst[x] = src[sx];
         }
     }
@@ -269,7 +289,8 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
     if (st != PERSP_OK) return st;
     /* libjpeg-turbo's extended colour spaces convert grey and YCbCr input
      * straight to RGBA with an opaque alpha. */
-    const int cmyk = job->cinfo.jpeg_color_space == JCS_CMYK || job->cinfo.jpeg_color_space == JCS_YCCK;
+    const int cmyk =
+        job->cinfo.jpeg_color_space == JCS_CMYK || job->cinfo.jpeg_color_space == JCS_YCCK;
     job->cinfo.out_color_space = cmyk ? JCS_CMYK : JCS_EXT_RGBA;
     jpeg_start_decompress(&job->cinfo);
     if (job->cinfo.output_components != 4)

@@ -54,7 +54,10 @@ static int has_ext(const char *name, const char *ext)
 
 /* Text formats whose readers stumble on a UTF-8 byte-order mark or on
  * classic Mac line endings (CR only). */
-static int is_line_text(const char *name) { return has_ext(name, "obj") || has_ext(name, "mtl"); }
+static int is_line_text(const char *name)
+{
+    return has_ext(name, "obj") || has_ext(name, "mtl");
+}
 
 /* Drops a byte-order mark and turns lone CRs into LFs, in place; returns the
  * new size. */
@@ -108,15 +111,25 @@ static size_t file_write(struct aiFile *f, const char *buf, size_t size, size_t 
     return 0;
 }
 
-static size_t file_tell(struct aiFile *f) { return ((model_file *)(void *)f->UserData)->pos; }
-static size_t file_size(struct aiFile *f) { return ((model_file *)(void *)f->UserData)->size; }
-static void file_flush(struct aiFile *f) { (void)f; }
+static size_t file_tell(struct aiFile *f)
+{
+    return ((model_file *)(void *)f->UserData)->pos;
+}
+static size_t file_size(struct aiFile *f)
+{
+    return ((model_file *)(void *)f->UserData)->size;
+}
+static void file_flush(struct aiFile *f)
+{
+    (void)f;
+}
 
 static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
 {
     model_file *mf = (model_file *)(void *)f->UserData;
     size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? mf->pos : mf->size;
-    if (origin != aiOrigin_SET && origin != aiOrigin_CUR && origin != aiOrigin_END) return aiReturn_FAILURE;
+    if (origin != aiOrigin_SET && origin != aiOrigin_CUR && origin != aiOrigin_END)
+        return aiReturn_FAILURE;
     if (offset > mf->size - base) return aiReturn_FAILURE;
     mf->pos = base + offset;
     return aiReturn_SUCCESS;
@@ -126,9 +139,11 @@ static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin or
 static void clean_rel(const char *in, char *out, size_t size)
 {
     size_t n = 0;
-    for (; *in && n + 1 < size; in++) out[n++] = *in == '\\' ? '/' : *in;
+    for (; *in && n + 1 < size; in++)
+        out[n++] = *in == '\\' ? '/' : *in;
     out[n] = '\0';
-    while (out[0] == '.' && out[1] == '/') memmove(out, out + 2, strlen(out + 2) + 1);
+    while (out[0] == '.' && out[1] == '/')
+        memmove(out, out + 2, strlen(out + 2) + 1);
 }
 
 /* Assimp's OBJ reader, when a material library is missing, tries the
@@ -182,7 +197,8 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
                 return NULL;
             }
         }
-        if (is_line_text(rel) || has_ext(rel, "gltf")) size = normalise_text(owned, size, is_line_text(rel));
+        if (is_line_text(rel) || has_ext(rel, "gltf"))
+            size = normalise_text(owned, size, is_line_text(rel));
         data = owned;
     }
     struct aiFile *f = persp__calloc(io->ctx, 1, sizeof *f);
@@ -234,16 +250,21 @@ typedef struct importer {
 
 static persp_mat4 to_mat4(const struct aiMatrix4x4 *a)
 {
-    const float rows[4][4] = {
-        {a->a1, a->a2, a->a3, a->a4}, {a->b1, a->b2, a->b3, a->b4},
-        {a->c1, a->c2, a->c3, a->c4}, {a->d1, a->d2, a->d3, a->d4}};
+    const float rows[4][4] = {{a->a1, a->a2, a->a3, a->a4},
+                              {a->b1, a->b2, a->b3, a->b4},
+                              {a->c1, a->c2, a->c3, a->c4},
+                              {a->d1, a->d2, a->d3, a->d4}};
     persp_mat4 m;
     for (int r = 0; r < 4; r++)
-        for (int c = 0; c < 4; c++) m.m[c * 4 + r] = rows[r][c];
+        for (int c = 0; c < 4; c++)
+            m.m[c * 4 + r] = rows[r][c];
     return m;
 }
 
-static int finite3(float x, float y, float z) { return isfinite(x) && isfinite(y) && isfinite(z); }
+static int finite3(float x, float y, float z)
+{
+    return isfinite(x) && isfinite(y) && isfinite(z);
+}
 
 /* The UV channel the material's diffuse texture reads, or 0. */
 static unsigned material_uv(const struct aiMaterial *mat)
@@ -252,7 +273,8 @@ static unsigned material_uv(const struct aiMaterial *mat)
     unsigned uv = 0;
     enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
     for (int t = 0; t < 2; t++)
-        if (aiGetMaterialTexture(mat, types[t], 0, &path, NULL, &uv, NULL, NULL, NULL, NULL) == aiReturn_SUCCESS)
+        if (aiGetMaterialTexture(mat, types[t], 0, &path, NULL, &uv, NULL, NULL, NULL, NULL) ==
+            aiReturn_SUCCESS)
             return uv < AI_MAX_NUMBER_OF_TEXTURECOORDS ? uv : 0;
     return 0;
 }
@@ -269,8 +291,9 @@ static persp_status convert_mesh(importer *im, unsigned index, int *out)
     }
     if (am->mNumVertices > PERSP_SCENE_MAX_VERTICES || tris > PERSP_SCENE_MAX_INDICES / 3 ||
         am->mNumVertices > im->max_vertices - im->vertices)
-        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %zu vertices or %u triangle corners",
-                           im->display, im->max_vertices, PERSP_SCENE_MAX_INDICES);
+        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: more than %zu vertices or %u triangle corners", im->display,
+                           im->max_vertices, PERSP_SCENE_MAX_INDICES);
     im->vertices += am->mNumVertices;
     persp_mesh mesh;
     memset(&mesh, 0, sizeof mesh);
@@ -282,25 +305,31 @@ static persp_status convert_mesh(importer *im, unsigned index, int *out)
         persp__mesh_free(im->ctx, &mesh);
         return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
     }
-    unsigned uv = am->mMaterialIndex < im->ai->mNumMaterials ? material_uv(im->ai->mMaterials[am->mMaterialIndex]) : 0;
-    const struct aiVector3D *tc = am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
+    unsigned uv = am->mMaterialIndex < im->ai->mNumMaterials
+                      ? material_uv(im->ai->mMaterials[am->mMaterialIndex])
+                      : 0;
+    const struct aiVector3D *tc =
+        am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
     const struct aiColor4D *col = am->mColors[0];
     for (unsigned i = 0; i < am->mNumVertices; i++) {
         persp_vertex *v = &mesh.vertices[i];
         const struct aiVector3D *p = &am->mVertices[i];
         if (!finite3(p->x, p->y, p->z)) {
             persp__mesh_free(im->ctx, &mesh);
-            return persp__fail(im->ctx, PERSP_ERR_FORMAT, "%s: mesh %u has a vertex position that is not finite",
-                               im->display, index);
+            return persp__fail(im->ctx, PERSP_ERR_FORMAT,
+                               "%s: mesh %u has a vertex position that is not finite", im->display,
+                               index);
         }
         v->pos[0] = p->x, v->pos[1] = p->y, v->pos[2] = p->z;
         if (am->mNormals && finite3(am->mNormals[i].x, am->mNormals[i].y, am->mNormals[i].z)) {
-            v->normal[0] = am->mNormals[i].x, v->normal[1] = am->mNormals[i].y, v->normal[2] = am->mNormals[i].z;
+            v->normal[0] = am->mNormals[i].x, v->normal[1] = am->mNormals[i].y,
+            v->normal[2] = am->mNormals[i].z;
         }
         if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v->uv[0] = tc[i].x, v->uv[1] = tc[i].y;
         if (col) {
             const float c[4] = {col[i].r, col[i].g, col[i].b, col[i].a};
-            for (int k = 0; k < 3; k++) v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
+            for (int k = 0; k < 3; k++)
+                v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
             v->color[3] = 1.0f; /* opaque surfaces: no coverage into the image */
         } else {
             v->color[0] = v->color[1] = v->color[2] = v->color[3] = 1.0f;
@@ -313,8 +342,9 @@ static persp_status convert_mesh(importer *im, unsigned index, int *out)
         for (int c = 0; c < 3; c++) {
             if (face->mIndices[c] >= am->mNumVertices) {
                 persp__mesh_free(im->ctx, &mesh);
-                return persp__fail(im->ctx, PERSP_ERR_FORMAT, "%s: mesh %u has a vertex index out of range",
-                                   im->display, index);
+                return persp__fail(im->ctx, PERSP_ERR_FORMAT,
+                                   "%s: mesh %u has a vertex index out of range", im->display,
+                                   index);
             }
             mesh.indices[k++] = face->mIndices[c];
         }
@@ -338,8 +368,7 @@ static persp_status embedded_texture(importer *im, unsigned index, int *out)
     } else {
         st = persp__image_check_size(im->ctx, name, t->mWidth, t->mHeight);
         if (st == PERSP_OK) st = persp_image_alloc(im->ctx, (int)t->mWidth, (int)t->mHeight, &img);
-        if (st == PERSP_OK)
-            /* Texel rows run top to bottom; persp's row 0 is the bottom. */
+        if (st == PERSP_OK) /* Texel rows run top to bottom; persp's row 0 is the bottom. */
             for (unsigned y = 0; y < t->mHeight; y++) {
                 const struct aiTexel *src = &t->pcData[(size_t)(t->mHeight - 1 - y) * t->mWidth];
                 uint8_t *dst = img.pixels + (size_t)y * img.stride;
@@ -372,15 +401,17 @@ static int material_texture(importer *im, const char *material, const char *file
             if (texs[i]->mFilename.length && !strcmp(texs[i]->mFilename.data, file)) emb = (long)i;
     }
     if (emb == -2) {
-        persp__warn(im->ctx, "%s: material '%s' names embedded texture '%s', which the file lacks; drawing it untextured",
+        persp__warn(im->ctx,
+                    "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
+                    "it untextured",
                     im->display, material, file);
         return -1;
     }
     if (emb >= 0) {
         int *slot = &im->embedded_index[emb];
         if (*slot == -1 && embedded_texture(im, (unsigned)emb, slot) != PERSP_OK) {
-            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display, material,
-                        persp_context_error(im->ctx));
+            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display,
+                        material, persp_context_error(im->ctx));
             *slot = -2;
         }
         return *slot >= 0 ? *slot : -1;
@@ -401,7 +432,8 @@ static int material_texture(importer *im, const char *material, const char *file
         const char *base = persp__path_base(rel);
         if (base == rel || !persp__path_join(im->base_dir, base, path, sizeof path) ||
             persp__texcache_load(im->scene, im->cache, path, &index) != PERSP_OK) {
-            persp__warn(im->ctx, "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
+            persp__warn(im->ctx,
+                        "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
                         im->display, material, rel, why[0] ? why : "bad path");
             return -1;
         }
@@ -412,10 +444,14 @@ static int material_texture(importer *im, const char *material, const char *file
 static persp_wrap wrap_of(enum aiTextureMapMode m)
 {
     switch (m) {
-    case aiTextureMapMode_Clamp: return PERSP_WRAP_CLAMP_TO_EDGE;
-    case aiTextureMapMode_Mirror: return PERSP_WRAP_MIRRORED_REPEAT;
-    case aiTextureMapMode_Decal: return PERSP_WRAP_CLAMP_TO_BORDER;
-    default: return PERSP_WRAP_REPEAT;
+    case aiTextureMapMode_Clamp:
+        return PERSP_WRAP_CLAMP_TO_EDGE;
+    case aiTextureMapMode_Mirror:
+        return PERSP_WRAP_MIRRORED_REPEAT;
+    case aiTextureMapMode_Decal:
+        return PERSP_WRAP_CLAMP_TO_BORDER;
+    default:
+        return PERSP_WRAP_REPEAT;
     }
 }
 
@@ -424,23 +460,26 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
     const struct aiMaterial *am = im->ai->mMaterials[index];
     persp_material m = persp__material_default();
     struct aiString name;
-    if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) != aiReturn_SUCCESS) name.length = 0, name.data[0] = '\0';
+    if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
+        name.length = 0, name.data[0] = '\0';
     /* Assimp's stand-in for geometry without a material: persp's default. */
     if (strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0) {
         struct aiColor4D c;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS && finite3(c.r, c.g, c.b))
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS &&
+            finite3(c.r, c.g, c.b))
             m.diffuse[0] = c.r, m.diffuse[1] = c.g, m.diffuse[2] = c.b;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS && finite3(c.r, c.g, c.b))
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS &&
+            finite3(c.r, c.g, c.b))
             m.specular[0] = c.r, m.specular[1] = c.g, m.specular[2] = c.b;
         /* Black ambient is what most exporters write when they mean none;
          * persp's default keeps unlit sides from going black. */
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == aiReturn_SUCCESS && finite3(c.r, c.g, c.b) &&
-            (c.r > 0 || c.g > 0 || c.b > 0))
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == aiReturn_SUCCESS &&
+            finite3(c.r, c.g, c.b) && (c.r > 0 || c.g > 0 || c.b > 0))
             m.ambient[0] = c.r, m.ambient[1] = c.g, m.ambient[2] = c.b;
         float shin = 0;
         unsigned one = 1;
-        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) == aiReturn_SUCCESS && isfinite(shin) &&
-            shin > 0)
+        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) == aiReturn_SUCCESS &&
+            isfinite(shin) && shin > 0)
             m.shininess = fminf(shin, 1000.0f);
         for (int k = 0; k < 3; k++) {
             m.diffuse[k] = fminf(fmaxf(m.diffuse[k], 0.0f), 1000.0f);
@@ -451,7 +490,8 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
         enum aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
         enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
         for (int t = 0; t < 2; t++) {
-            if (aiGetMaterialTexture(am, types[t], 0, &file, NULL, NULL, NULL, NULL, modes, NULL) != aiReturn_SUCCESS)
+            if (aiGetMaterialTexture(am, types[t], 0, &file, NULL, NULL, NULL, NULL, modes, NULL) !=
+                aiReturn_SUCCESS)
                 continue;
             if (file.length == 0) break;
             m.texture = material_texture(im, name.data, file.data);
@@ -470,9 +510,10 @@ static persp_status add_part(importer *im, int mesh, int material, const persp_m
 {
     persp_model *o = im->out;
     if (o->part_count >= PERSP_SCENE_MAX_OBJECTS)
-        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %d mesh instances", im->display,
-                           PERSP_SCENE_MAX_OBJECTS);
-    if (persp__grow(im->ctx, (void **)&o->parts, &im->part_cap, o->part_count + 1, sizeof *o->parts) != PERSP_OK)
+        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %d mesh instances",
+                           im->display, PERSP_SCENE_MAX_OBJECTS);
+    if (persp__grow(im->ctx, (void **)&o->parts, &im->part_cap, o->part_count + 1,
+                    sizeof *o->parts) != PERSP_OK)
         return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
     persp_model_part *p = &o->parts[o->part_count++];
     p->mesh = mesh;
@@ -497,14 +538,16 @@ static persp_status add_part(importer *im, int mesh, int material, const persp_m
 static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 parent, int depth)
 {
     if (depth > PERSP_MODEL_MAX_DEPTH)
-        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: node hierarchy deeper than %d", im->display,
-                           PERSP_MODEL_MAX_DEPTH);
+        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: node hierarchy deeper than %d",
+                           im->display, PERSP_MODEL_MAX_DEPTH);
     persp_mat4 xf = persp_mat4_mul(parent, to_mat4(&node->mTransformation));
     persp_status st;
     for (unsigned i = 0; i < node->mNumMeshes; i++) {
         unsigned mi = node->mMeshes[i];
         if (mi >= im->ai->mNumMeshes) continue;
-        if (im->mesh_index[mi] == -1 && (st = convert_mesh(im, mi, &im->mesh_index[mi])) != PERSP_OK) return st;
+        if (im->mesh_index[mi] == -1 &&
+            (st = convert_mesh(im, mi, &im->mesh_index[mi])) != PERSP_OK)
+            return st;
         if (im->mesh_index[mi] < 0) continue;
         unsigned mat = im->ai->mMeshes[mi]->mMaterialIndex;
         int material;
@@ -528,7 +571,8 @@ static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
 {
     *slots = persp__calloc(ctx, n ? n : 1, sizeof **slots);
     if (!*slots) return PERSP_ERR_OUT_OF_MEMORY;
-    for (unsigned i = 0; i < n; i++) (*slots)[i] = -1;
+    for (unsigned i = 0; i < n; i++)
+        (*slots)[i] = -1;
     return PERSP_OK;
 }
 
@@ -541,9 +585,9 @@ void persp__model_free(persp_context *ctx, persp_model *model)
     memset(model, 0, sizeof *model);
 }
 
-persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size, const char *name,
-                                      const char *base_dir, persp_texcache *cache, size_t max_vertices,
-                                      persp_model *out)
+persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
+                                      const char *name, const char *base_dir, persp_texcache *cache,
+                                      size_t max_vertices, persp_model *out)
 {
     if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp_context *ctx = scene->ctx;
@@ -576,9 +620,11 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
     }
     aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, MODEL_CREASE_DEG);
-    aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_GenSmoothNormals |
-                           aiProcess_SortByPType | aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
+    aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE,
+                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_GenSmoothNormals | aiProcess_SortByPType |
+                           aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
     char why[256] = "";
     pthread_mutex_lock(&import_lock);
     const struct aiScene *ai = aiImportFileExWithProperties(main_name, flags, &fio, props);
@@ -602,7 +648,8 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     im.cache = cache;
     im.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
     im.out = out;
-    for (int k = 0; k < 3; k++) out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
+    for (int k = 0; k < 3; k++)
+        out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
     persp_status st = PERSP_OK;
     if (fill_slots(ctx, &im.mesh_index, ai->mNumMeshes) != PERSP_OK ||
         fill_slots(ctx, &im.material_index, ai->mNumMaterials) != PERSP_OK ||
@@ -612,7 +659,8 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     if (st == PERSP_OK && out->part_count == 0)
         st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", display);
     if (st == PERSP_OK && !(out->bbox_min[0] <= out->bbox_max[0]))
-        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model's transformed vertices are not finite", display);
+        st = persp__fail(ctx, PERSP_ERR_FORMAT,
+                         "%s: the model's transformed vertices are not finite", display);
     persp__free(ctx, im.mesh_index);
     persp__free(ctx, im.material_index);
     persp__free(ctx, im.embedded_index);
@@ -632,7 +680,8 @@ persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_
     if (st != PERSP_OK) return st;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
-    st = persp__model_load_memory(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices, out);
+    st = persp__model_load_memory(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices,
+                                  out);
     persp__free(scene->ctx, data);
     return st;
 }
@@ -645,9 +694,11 @@ int persp__model_is_model(const char *path, const char *data, size_t size)
     if (dot && (!slash || dot > slash) && dot[1] && aiIsExtensionSupported(dot)) return 1;
     if (!data) return 0;
     size_t i = 0;
-    if (size >= 3 && (unsigned char)data[0] == 0xef && (unsigned char)data[1] == 0xbb && (unsigned char)data[2] == 0xbf)
+    if (size >= 3 && (unsigned char)data[0] == 0xef && (unsigned char)data[1] == 0xbb &&
+        (unsigned char)data[2] == 0xbf)
         i = 3;
-    while (i < size && isspace((unsigned char)data[i])) i++;
+    while (i < size && isspace((unsigned char)data[i]))
+        i++;
     return i < size && data[i] != '{';
 }
 
@@ -660,8 +711,8 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
     return (persp_vec3){cosf(e) * sinf(a), sinf(e), cosf(e) * cosf(a)};
 }
 
-persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size, const char *name,
-                                     const char *base_dir, persp_scene **out)
+persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
+                                     const char *name, const char *base_dir, persp_scene **out)
 {
     *out = NULL;
     persp_scene *s = NULL;
@@ -708,7 +759,8 @@ persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_
     s->camera.zfar = 1.5f * (dist + r);
     /* Three-point rig, directions relative to the camera's 35 degrees:
      * key above and to the left, fill low on the right, rim from behind. */
-    static const float rig[3][3] = {{50.0f, 35.0f - 45.0f, 0.85f}, {10.0f, 35.0f + 60.0f, 0.35f},
+    static const float rig[3][3] = {{50.0f, 35.0f - 45.0f, 0.85f},
+                                    {10.0f, 35.0f + 60.0f, 0.35f},
                                     {40.0f, 35.0f + 180.0f, 0.45f}};
     for (int i = 0; i < 3; i++) {
         persp_light *l = &s->lights[i];
@@ -720,7 +772,8 @@ persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_
         l->attenuation[0] = 1.0f;
     }
     s->light_count = 3;
-    for (int k = 0; k < 3; k++) s->ambient[k] = 0.15f;
+    for (int k = 0; k < 3; k++)
+        s->ambient[k] = 0.15f;
     s->shading = PERSP_SHADING_PHONG;
     s->clear[0] = s->clear[1] = s->clear[2] = 40;
     s->clear[3] = 255;

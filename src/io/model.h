@@ -21,7 +21,8 @@ typedef struct persp_texcache {
 } persp_texcache;
 
 /* Loads an image file as a scene texture (or finds it in the cache). */
-persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, const char *path, int *index);
+persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, const char *path,
+                                  int *index);
 void persp__texcache_free(persp_context *ctx, persp_texcache *cache);
 
 /* Deepest node hierarchy walked. */
@@ -46,9 +47,9 @@ typedef struct persp_model {
  * the files the model refers to (material libraries, textures, buffers);
  * NULL: none are opened. max_vertices bounds the vertices added (0:
  * PERSP_SCENE_MAX_VERTICES). Free *out with persp__model_free. */
-persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size, const char *name,
-                                      const char *base_dir, persp_texcache *cache, size_t max_vertices,
-                                      persp_model *out);
+persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
+                                      const char *name, const char *base_dir, persp_texcache *cache,
+                                      size_t max_vertices, persp_model *out);
 persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_texcache *cache,
                                     size_t max_vertices, persp_model *out);
 void persp__model_free(persp_context *ctx, persp_model *model);
@@ -60,14 +61,15 @@ int persp__model_is_model(const char *path, const char *data, size_t size);
 
 /* A scene showing a model: the default camera and light rig
  * (docs/SCENES.md, "Models without a scene file"). */
-persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size, const char *name,
-                                     const char *base_dir, persp_scene **out);
+persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
+                                     const char *name, const char *base_dir, persp_scene **out);
 
 /* JSON scene from memory. name appears in errors; base_dir resolves the
  * files the scene names; NULL: any file reference is refused. max_vertices
  * bounds the vertices of all meshes together (0: PERSP_SCENE_MAX_VERTICES),
  * so that a short file cannot ask for gigabytes of primitives. */
-persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size_t size, const char *name,
-                                      const char *base_dir, size_t max_vertices, persp_scene **out);
+persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size_t size,
+                                      const char *name, const char *base_dir, size_t max_vertices,
+                                      persp_scene **out);
 
 #endif

@@ -890,7 +890,8 @@ static persp_status parse_object(jctx *j, json_t *o)
             st = jfail(j, 0, PERSP_ERR_FORMAT, "expected exactly one of 'file' and 'primitive'");
         }
     } else {
-        st = jfail(j, 0, PERSP_ERR_FORMAT, "expected a primitive name, a model file name or an object");
+        st = jfail(j, 0, PERSP_ERR_FORMAT,
+                   "expected a primitive name, a model file name or an object");
     }
     if (st != PERSP_OK) {
         pop(j);
@@ -918,7 +919,8 @@ static persp_status parse_object(jctx *j, json_t *o)
     if (st != PERSP_OK) return st;
     persp_model res;
     size_t before = j->scene->mesh_count;
-    if ((st = persp__model_load_file(j->scene, path, &j->cache, j->max_vertices - j->vertices, &res)) != PERSP_OK)
+    if ((st = persp__model_load_file(j->scene, path, &j->cache, j->max_vertices - j->vertices,
+                                     &res)) != PERSP_OK)
         return st;
     for (size_t i = before; i < j->scene->mesh_count && st == PERSP_OK; i++) {
         push_key(j, "mesh");

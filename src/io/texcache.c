@@ -4,7 +4,8 @@
 
 #include <string.h>
 
-persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, const char *path, int *index)
+persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, const char *path,
+                                  int *index)
 {
     persp_context *ctx = scene->ctx;
     if (cache)
@@ -40,7 +41,8 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
 void persp__texcache_free(persp_context *ctx, persp_texcache *cache)
 {
     if (!cache) return;
-    for (size_t i = 0; i < cache->count; i++) persp__free(ctx, cache->entries[i].path);
+    for (size_t i = 0; i < cache->count; i++)
+        persp__free(ctx, cache->entries[i].path);
     persp__free(ctx, cache->entries);
     memset(cache, 0, sizeof *cache);
 }

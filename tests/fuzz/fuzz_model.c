@@ -11,7 +11,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static const char *const names[] = {"fuzz.obj", "fuzz.gltf", "fuzz.glb", "fuzz.ply", "fuzz.stl", "fuzz.off"};
+    static const char *const names[] = {"fuzz.obj", "fuzz.gltf", "fuzz.glb",
+                                        "fuzz.ply", "fuzz.stl",  "fuzz.off"};
     if (size < 1) return 0;
     const char *name = names[data[0] % (sizeof names / sizeof names[0])];
     persp_context *ctx = NULL;
@@ -19,8 +20,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     persp_scene *scene = NULL;
     if (persp__scene_new(ctx, &scene) == PERSP_OK) {
         persp_model model;
-        if (persp__model_load_memory(scene, data + 1, size - 1, name, NULL, NULL, (size_t)1 << 18, &model) ==
-            PERSP_OK)
+        if (persp__model_load_memory(scene, data + 1, size - 1, name, NULL, NULL, (size_t)1 << 18,
+                                     &model) == PERSP_OK)
             persp__model_free(ctx, &model);
         persp_scene_destroy(scene);
     }

@@ -41,7 +41,9 @@ static void test_png16_matches_8bit(void **state)
         for (int x = 0; x < a.width; x++)
             for (int c = 0; c < 4; c++) {
                 int d = px(&a, x, y)[c] - px(&b, x, y)[c];
-                if (d < -1 || d > 1) fail_msg("(%d, %d) channel %d: 8-bit %d, 16-bit %d", x, y, c, px(&a, x, y)[c], px(&b, x, y)[c]);
+                if (d < -1 || d > 1)
+                    fail_msg("(%d, %d) channel %d: 8-bit %d, 16-bit %d", x, y, c, px(&a, x, y)[c],
+                             px(&b, x, y)[c]);
                 /* gAMA 1.0 says linear light: encoded to sRGB, mid-tones rise */
                 if (c < 3 && px(&lin, x, y)[c] > px(&a, x, y)[c] + 8) brighter++;
             }
@@ -56,8 +58,9 @@ static void test_png16_matches_8bit(void **state)
  * NULL) is written as an APP1 segment. Returns a malloc'd buffer. */
 typedef void (*fill_fn)(int x, int y, JSAMPLE *out);
 
-static unsigned char *encode_jpeg(int w, int h, J_COLOR_SPACE space, int comps, int adobe, fill_fn fill,
-                                  const unsigned char *app1, unsigned app1_len, unsigned long *size)
+static unsigned char *encode_jpeg(int w, int h, J_COLOR_SPACE space, int comps, int adobe,
+                                  fill_fn fill, const unsigned char *app1, unsigned app1_len,
+                                  unsigned long *size)
 {
     struct jpeg_compress_struct c;
     struct jpeg_error_mgr err;
@@ -76,13 +79,15 @@ static unsigned char *encode_jpeg(int w, int h, J_COLOR_SPACE space, int comps, 
         jpeg_set_colorspace(&c, JCS_CMYK);
         c.write_Adobe_marker = adobe ? TRUE : FALSE;
     }
-    for (int i = 0; i < c.num_components; i++) c.comp_info[i].h_samp_factor = c.comp_info[i].v_samp_factor = 1;
+    for (int i = 0; i < c.num_components; i++)
+        c.comp_info[i].h_samp_factor = c.comp_info[i].v_samp_factor = 1;
     jpeg_start_compress(&c, TRUE);
     if (app1) jpeg_write_marker(&c, JPEG_APP0 + 1, app1, app1_len);
     JSAMPLE *row = malloc((size_t)w * (size_t)comps);
     assert_non_null(row);
     while (c.next_scanline < c.image_height) {
-        for (int x = 0; x < w; x++) fill(x, (int)c.next_scanline, row + x * comps);
+        for (int x = 0; x < w; x++)
+            fill(x, (int)c.next_scanline, row + x * comps);
         JSAMPROW rp = row;
         jpeg_write_scanlines(&c, &rp, 1);
     }
@@ -102,10 +107,14 @@ static void fill_cmyk_ink(int x, int y, JSAMPLE *o)
 static void fill_cmyk_adobe(int x, int y, JSAMPLE *o)
 {
     fill_cmyk_ink(x, y, o);
-    for (int i = 0; i < 4; i++) o[i] = (JSAMPLE)(255 - o[i]);
+    for (int i = 0; i < 4; i++)
+        o[i] = (JSAMPLE)(255 - o[i]);
 }
 
-static int near(int a, int b) { return abs(a - b) <= 6; }
+static int near(int a, int b)
+{
+    return abs(a - b) <= 6;
+}
 
 static void test_cmyk_jpeg(void **state)
 {
@@ -113,7 +122,8 @@ static void test_cmyk_jpeg(void **state)
     persp_context *ctx = test_context();
     for (int adobe = 0; adobe < 2; adobe++) {
         unsigned long size;
-        unsigned char *jpg = encode_jpeg(16, 8, JCS_CMYK, 4, adobe, adobe ? fill_cmyk_adobe : fill_cmyk_ink, NULL, 0, &size);
+        unsigned char *jpg = encode_jpeg(16, 8, JCS_CMYK, 4, adobe,
+                                         adobe ? fill_cmyk_adobe : fill_cmyk_ink, NULL, 0, &size);
         persp_image img;
         persp_status st = persp_image_load_memory(ctx, jpg, size, "cmyk.jpg", &img);
         if (st != PERSP_OK) fail_msg("adobe %d: %s", adobe, persp_context_error(ctx));
@@ -140,15 +150,16 @@ static void test_exif_orientation(void **state)
     (void)state;
     persp_context *ctx = test_context();
     /* Exif header, big-endian TIFF, IFD0 with one entry: Orientation. */
-    unsigned char exif[] = {'E', 'x', 'i', 'f', 0, 0, 'M', 'M', 0, 42, 0, 0, 0, 8, 0, 1,
-                            0x01, 0x12, 0, 3, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0};
+    unsigned char exif[] = {'E',  'x',  'i', 'f', 0, 0, 'M', 'M', 0, 42, 0, 0, 0, 8, 0, 1,
+                            0x01, 0x12, 0,   3,   0, 0, 0,   1,   0, 0,  0, 0, 0, 0, 0, 0};
     /* orientation -> (width, height), colour of the displayed top-left and
      * bottom-right pixels ('r' red, 'b' blue) */
     static const struct {
         int o, w, h;
         char tl, br;
-    } cases[] = {{1, 16, 8, 'r', 'b'}, {2, 16, 8, 'b', 'r'}, {3, 16, 8, 'b', 'r'}, {4, 16, 8, 'r', 'b'},
-                 {5, 8, 16, 'r', 'b'}, {6, 8, 16, 'r', 'b'}, {7, 8, 16, 'b', 'r'}, {8, 8, 16, 'b', 'r'}};
+    } cases[] = {{1, 16, 8, 'r', 'b'}, {2, 16, 8, 'b', 'r'}, {3, 16, 8, 'b', 'r'},
+                 {4, 16, 8, 'r', 'b'}, {5, 8, 16, 'r', 'b'}, {6, 8, 16, 'r', 'b'},
+                 {7, 8, 16, 'b', 'r'}, {8, 8, 16, 'b', 'r'}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         exif[24] = 0, exif[25] = (unsigned char)cases[i].o;
         unsigned long size;
@@ -194,7 +205,8 @@ static void test_render_output_opaque(void **state)
         fprintf(f,
                 "{\"materials\": {\"m\": {\"texture\": \"%s\", \"env\": \"%s\"}},\n"
                 " \"objects\": [{\"mesh\": \"plane\", \"material\": \"m\",\n"
-                "               \"transform\": {\"rotate\": [90, 1, 0, 0], \"translate\": [0, 0, -1]}}]}\n",
+                "               \"transform\": {\"rotate\": [90, 1, 0, 0], \"translate\": [0, 0, "
+                "-1]}}]}\n",
                 path, envs[e]);
         fclose(f);
         persp_scene *s = NULL;
@@ -207,7 +219,8 @@ static void test_render_output_opaque(void **state)
         assert_int_equal(persp_render(ctx, s, NULL, &fb, &stats), PERSP_OK);
         assert_true(stats.pixels_written > 0);
         for (int i = 0; i < 16 * 16; i++)
-            if (color[4 * i + 3] != 255) fail_msg("%s: pixel %d has alpha %d", envs[e], i, color[4 * i + 3]);
+            if (color[4 * i + 3] != 255)
+                fail_msg("%s: pixel %d has alpha %d", envs[e], i, color[4 * i + 3]);
         persp_scene_destroy(s);
     }
     remove(scene_path);

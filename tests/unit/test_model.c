@@ -93,7 +93,10 @@ static void write_file(const char *name, const void *data, size_t size)
     fclose(f);
 }
 
-static void write_text(const char *name, const char *text) { write_file(name, text, strlen(text)); }
+static void write_text(const char *name, const char *text)
+{
+    write_file(name, text, strlen(text));
+}
 
 static void write_png(persp_context *ctx, const char *name, int w, int h)
 {
@@ -110,7 +113,10 @@ static void write_png(persp_context *ctx, const char *name, int w, int h)
     persp_image_free(ctx, &img);
 }
 
-static void tmp_path(char *out, size_t size, const char *name) { snprintf(out, size, "%s/%s", tmpdir, name); }
+static void tmp_path(char *out, size_t size, const char *name)
+{
+    snprintf(out, size, "%s/%s", tmpdir, name);
+}
 
 static void remove_tmp(void)
 {
@@ -163,13 +169,16 @@ static void test_obj_smooth_normals_when_missing(void **state)
     /* Two faces of a shallow roof (20 degrees apart) share an edge: below
      * the crease angle, so the shared corners get one averaged normal. */
     loaded l;
-    load_text(&l, "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 2 0.36\nv 1 2 0.36\nf 1 2 3 4\nf 4 3 6 5\n", "roof.obj");
+    load_text(&l,
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 2 0.36\nv 1 2 0.36\nf 1 2 3 4\nf 4 3 6 5\n",
+              "roof.obj");
     const persp_mesh *m = mesh_of(&l, 0);
     assert_int_equal(m->index_count, 12);
     int shared = 0;
     for (size_t i = 0; i < m->vertex_count; i++) {
         const persp_vertex *v = &m->vertices[i];
-        float len = sqrtf(v->normal[0] * v->normal[0] + v->normal[1] * v->normal[1] + v->normal[2] * v->normal[2]);
+        float len = sqrtf(v->normal[0] * v->normal[0] + v->normal[1] * v->normal[1] +
+                          v->normal[2] * v->normal[2]);
         assert_true(fabsf(len - 1.0f) < 1e-3f);
         if (v->pos[1] == 1.0f) {
             shared++;
@@ -194,8 +203,9 @@ static void test_obj_mtl_texture_and_quirks(void **state)
      * with spaces and a statement persp ignores (Km). */
     write_text("lib.mtl", "\xef\xbb\xbfnewmtl red stone\rKd 1 0 0\rKs 0.5 0.5 0.5\rNs 20\rKm 1\r"
                           "map_Kd .\\tex\\t.png\r");
-    write_text("m.obj", "\xef\xbb\xbfmtllib lib.mtl\rv 0 0 0\rv 1 0 0\rv 0 1 0\rvt 0 0\rvt 1 0\rvt 0 1\r"
-                        "usemtl red stone\rf 1/1 2/2 3/3\r");
+    write_text("m.obj",
+               "\xef\xbb\xbfmtllib lib.mtl\rv 0 0 0\rv 1 0 0\rv 0 1 0\rvt 0 0\rvt 1 0\rvt 0 1\r"
+               "usemtl red stone\rf 1/1 2/2 3/3\r");
     char path[256];
     tmp_path(path, sizeof path, "m.obj");
     loaded l;
@@ -277,7 +287,8 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
     const persp_mat4 *t = &l.model.parts[0].transform;
     persp_vec4 p = persp_mat4_apply(*t, (persp_vec4){0, 1, 0, 1});
     assert_true(fabsf(p.x - 2.0f) < 1e-6f && fabsf(p.y - 2.0f) < 1e-6f);
-    assert_true(fabsf(l.model.bbox_min[0] - 2.0f) < 1e-6f && fabsf(l.model.bbox_max[1] - 2.0f) < 1e-6f);
+    assert_true(fabsf(l.model.bbox_min[0] - 2.0f) < 1e-6f &&
+                fabsf(l.model.bbox_max[1] - 2.0f) < 1e-6f);
     /* glTF's v runs down the image; persp's up: the vertex at uv (0, 1) in
      * the file samples the image's bottom-left */
     for (size_t i = 0; i < m->vertex_count; i++)
@@ -309,11 +320,14 @@ static void test_more_formats(void **state)
         assert_int_equal(material_of(&l, 0)->texture >= 0, cases[i].textured);
         if (cases[i].textured) {
             persp_image_view v;
-            assert_int_equal(persp_texture_level(l.scene->textures[material_of(&l, 0)->texture], 0, &v), PERSP_OK);
+            assert_int_equal(
+                persp_texture_level(l.scene->textures[material_of(&l, 0)->texture], 0, &v),
+                PERSP_OK);
             assert_true(v.width == 2 && v.pixels[v.stride] == 255); /* top-left red */
         }
         if (fabsf(l.model.parts[0].transform.m[14] - cases[i].z) > 1e-6f)
-            fail_msg("%s: z translation %g", cases[i].file, (double)l.model.parts[0].transform.m[14]);
+            fail_msg("%s: z translation %g", cases[i].file,
+                     (double)l.model.parts[0].transform.m[14]);
         unload(&l);
     }
 }
@@ -323,7 +337,8 @@ static void test_ply_vertex_colours(void **state)
     (void)state;
     loaded l;
     load_text(&l,
-              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+              "y\nproperty float z\n"
               "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n"
               "property list uchar int vertex_indices\nend_header\n"
               "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n",
@@ -352,7 +367,8 @@ static void test_stl_ascii(void **state)
               "s.stl");
     const persp_mesh *m = mesh_of(&l, 0);
     assert_int_equal(m->index_count, 6);
-    for (size_t i = 0; i < m->vertex_count; i++) assert_true(fabsf(m->vertices[i].normal[2] - 1.0f) < 1e-5f);
+    for (size_t i = 0; i < m->vertex_count; i++)
+        assert_true(fabsf(m->vertices[i].normal[2] - 1.0f) < 1e-5f);
     unload(&l);
 }
 
@@ -378,7 +394,8 @@ static void test_errors_name_the_file(void **state)
     /* vertex budget: checked before persp allocates the mesh */
     begin(&l);
     const char *quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
-    l.st = persp__model_load_memory(l.scene, quad, strlen(quad), "big.obj", NULL, NULL, 3, &l.model);
+    l.st =
+        persp__model_load_memory(l.scene, quad, strlen(quad), "big.obj", NULL, NULL, 3, &l.model);
     assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
     unload(&l);
 }
@@ -387,8 +404,10 @@ static void test_scene_from_bare_model_and_json_override(void **state)
 {
     (void)state;
     make_tmp();
-    write_text("box.obj", "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
-                          "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n");
+    write_text(
+        "box.obj",
+        "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+        "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n");
     write_text("s.json", "{\"materials\": {\"m\": {\"diffuse\": [0, 0, 1]}},\n"
                          " \"objects\": [{\"mesh\": {\"file\": \"box.obj\"}, \"material\": \"m\",\n"
                          "               \"transform\": {\"translate\": [0, 0, -6]}}]}\n");
