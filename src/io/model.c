@@ -634,6 +634,8 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     persp__free(ctx, buf);
     if (!ai) {
         why[strcspn(why, "\r\n")] = '\0';
+        for (char *c = why; *c; c++)
+            if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: cannot import the model: %s", display,
                            why[0] ? why : "unknown format or malformed file");
     }

@@ -163,6 +163,40 @@ static void test_obj_quad_from_memory(void **state)
     unload(&l);
 }
 
+/* What the hand-written OBJ reader did: relative (negative) indices,
+ * vertex colours after the position, polygons of more than 4 corners,
+ * v/vt, v//vn and v/vt/vn corners. */
+static void test_obj_indices_colours_polygons(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0.5 1.5 0 1 1 0\nv 0 1 0 0 1 1\n"
+              "vt 0 0\nvt 1 0\nvn 0 0 1\n"
+              "f -5/-2/-1 -4/-1/-1 -3//-1 -2 -1\n",
+              "pent.obj");
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 9);
+    int coloured = 0;
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        const persp_vertex *v = &m->vertices[i];
+        if (v->pos[0] == 0.0f && v->pos[1] == 0.0f)
+            coloured += v->color[0] == 1.0f && v->color[1] == 0.0f && v->color[2] == 0.0f;
+        if (v->pos[0] == 1.0f && v->pos[1] == 1.0f)
+            coloured += v->color[0] == 0.0f && v->color[1] == 0.0f && v->color[2] == 1.0f;
+        assert_true(v->color[3] == 1.0f);
+    }
+    assert_int_equal(coloured, 2);
+    float area = 0;
+    for (size_t t = 0; t < m->index_count; t += 3) {
+        const float *a = m->vertices[m->indices[t]].pos, *b = m->vertices[m->indices[t + 1]].pos,
+                    *c = m->vertices[m->indices[t + 2]].pos;
+        area += 0.5f * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    assert_true(fabsf(area - 1.25f) < 1e-5f); /* the pentagon, all front-facing */
+    unload(&l);
+}
+
 static void test_obj_smooth_normals_when_missing(void **state)
 {
     (void)state;
@@ -448,6 +482,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_quad_from_memory),
+        cmocka_unit_test(test_obj_indices_colours_polygons),
         cmocka_unit_test(test_obj_smooth_normals_when_missing),
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
         cmocka_unit_test(test_obj_missing_files_warn),
