@@ -330,8 +330,8 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
     unload(&l);
 }
 
-/* Binary glTF with the image in the binary chunk, COLLADA with a node
- * transform, binary STL. */
+/* Binary glTF with the image in the binary chunk, COLLADA and ASCII FBX
+ * with a node transform (FBX also with a material), binary STL. */
 static void test_more_formats(void **state)
 {
     (void)state;
@@ -341,6 +341,7 @@ static void test_more_formats(void **state)
         float z; /* translation of the instance */
     } cases[] = {{"tests/data/models/embedded.glb", 1, 0.0f},
                  {"tests/data/models/triangle.dae", 0, -1.0f},
+                 {"tests/data/models/triangle.fbx", 0, -1.0f},
                  {"tests/data/models/triangle_binary.stl", 0, 0.0f}};
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char path[1024];
@@ -358,6 +359,10 @@ static void test_more_formats(void **state)
                 persp_texture_level(l.scene->textures[material_of(&l, 0)->texture], 0, &v),
                 PERSP_OK);
             assert_true(v.width == 2 && v.pixels[v.stride] == 255); /* top-left red */
+        }
+        if (strstr(cases[i].file, ".fbx")) {
+            const float *d = material_of(&l, 0)->diffuse;
+            assert_true(d[0] == 1.0f && d[1] == 0.0f && d[2] == 0.0f);
         }
         if (fabsf(l.model.parts[0].transform.m[14] - cases[i].z) > 1e-6f)
             fail_msg("%s: z translation %g", cases[i].file,
