@@ -75,6 +75,81 @@ static size_t normalise_text(char *buf, size_t size, int lines)
     return size;
 }
 
+/* --------------------------------------------------- declared counts */
+
+/* Readers of formats whose header declares element counts (PLY, OFF) size
+ * their arrays by the header before reading the data, so a few bytes could
+ * ask for gigabytes. Every element takes at least one byte of the file, and
+ * vertices are held to persp's own limit, before Assimp sees the file. */
+static persp_status check_count(persp_context *ctx, const char *display, const char *what,
+                                unsigned long long n, size_t room, unsigned long long limit)
+{
+    if (n > room || n > limit)
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: the header declares %llu %s, more than %s holds", display, n, what,
+                           n > limit ? "persp" : "the file");
+    return PERSP_OK;
+}
+
+static const char *next_line(const char *p, const char *end)
+{
+    while (p < end && *p != '\n')
+        p++;
+    return p < end ? p + 1 : end;
+}
+
+static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
+                                          size_t size)
+{
+    const char *end = buf + size, *p = buf;
+    if (size >= 4 && !memcmp(buf, "ply", 3) && (buf[3] == '\n' || buf[3] == '\r')) {
+        /* element lines until end_header; counts checked against what follows */
+        const char *elements[64];
+        int n = 0;
+        for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
+            if (!strncmp(p, "end_header", 10)) break;
+            if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
+        }
+        size_t room = (size_t)(end - next_line(p, end));
+        for (int i = 0; i < n; i++) {
+            const char *q = elements[i] + 8;
+            while (q < end && *q == ' ')
+                q++;
+            int vertex = !strncmp(q, "vertex ", 7);
+            while (q < end && *q != ' ' && *q != '\n')
+                q++;
+            unsigned long long count = strtoull(q, NULL, 10);
+            persp_status st =
+                check_count(ctx, display, vertex ? "vertices" : "elements", count, room,
+                            vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
+            if (st != PERSP_OK) return st;
+        }
+        return PERSP_OK;
+    }
+    /* OFF, COFF, NOFF, STOFF, ...: the counts follow the keyword, after
+     * comment lines */
+    while (p < end && isalpha((unsigned char)*p))
+        p++;
+    if (p - buf < 3 || p - buf > 8 || strncmp(p - 3, "OFF", 3) != 0) return PERSP_OK;
+    unsigned long long counts[2] = {0, 0};
+    for (int k = 0; k < 2 && p < end;) {
+        while (p < end && isspace((unsigned char)*p))
+            p++;
+        if (p < end && *p == '#') {
+            p = next_line(p, end);
+            continue;
+        }
+        if (p >= end || !isdigit((unsigned char)*p)) break;
+        counts[k++] = strtoull(p, (char **)&p, 10);
+    }
+    size_t room = (size_t)(end - p);
+    persp_status st =
+        check_count(ctx, display, "vertices", counts[0], room, PERSP_SCENE_MAX_VERTICES);
+    if (st == PERSP_OK)
+        st = check_count(ctx, display, "faces", counts[1], room, (unsigned long long)-1);
+    return st;
+}
+
 /* ------------------------------------------------------------ file access */
 
 typedef struct model_io {
@@ -604,6 +679,11 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     if (is_line_text(main_name) || has_ext(main_name, "gltf"))
         size = normalise_text(buf, size, is_line_text(main_name));
 
+    persp_status cst = check_declared_counts(ctx, display, buf, size);
+    if (cst != PERSP_OK) {
+        persp__free(ctx, buf);
+        return cst;
+    }
     model_io io;
     memset(&io, 0, sizeof io);
     io.ctx = ctx;

@@ -430,6 +430,21 @@ static void test_errors_name_the_file(void **state)
     assert_int_not_equal(l.st, PERSP_OK);
     assert_non_null(strstr(persp_context_error(l.ctx), "range.obj"));
     unload(&l);
+    /* header counts beyond the file or persp's limits: refused before
+     * the reader sizes its arrays by them */
+    load_text(
+        &l,
+        "ply\nformat ascii 1.0\nelement vertex 999999999\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n0 0 0\n",
+        "big.ply");
+    assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
+    assert_non_null(
+        strstr(persp_context_error(l.ctx), "big.ply: the header declares 999999999 vertices"));
+    unload(&l);
+    load_text(&l, "OFF\n# comment\n3 5000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "big.off");
+    assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
+    assert_non_null(strstr(persp_context_error(l.ctx), "5000 faces, more than the file holds"));
+    unload(&l);
     /* vertex budget: checked before persp allocates the mesh */
     begin(&l);
     const char *quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
