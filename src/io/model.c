@@ -747,7 +747,11 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     persp__free(ctx, im.material_index);
     persp__free(ctx, im.embedded_index);
     aiReleaseImport(ai);
-    if (st != PERSP_OK) persp__model_free(ctx, out);
+    /* Files worked around left their failures in the detail: warnings. */
+    if (st == PERSP_OK)
+        persp__clear_error(ctx);
+    else
+        persp__model_free(ctx, out);
     return st;
 }
 

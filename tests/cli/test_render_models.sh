@@ -54,7 +54,7 @@ printf 'v 0 0 0\nv 1 0 0\nl 1 2\n' >"$m/lines.obj"
 reject "^persp: .*lines.obj: " "$m/lines.obj"
 # (not a malformed STL: Assimp 5.2 leaks in that error path, which fails
 # sanitised builds)
-printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n' >"$m/bad.ply"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n2\n3\n' >"$m/bad.ply"
 reject "^persp: .*bad.ply: cannot import the model: " "$m/bad.ply"
 printf 'glTF\002\000\000\000\377\377\000\000 not a binary glTF' >"$m/noise.glb"
 reject "^persp: .*noise.glb: cannot import the model: " "$m/noise.glb"
