@@ -184,7 +184,7 @@ static void cmyk_to_rgba(uint8_t *px, size_t n, int inverted)
 
 static unsigned rd16(const unsigned char *p, int le)
 {
-    return le ? p[0] | p[1] << 8 : p[0] << 8 | p[1];
+    return le ? (unsigned)p[0] | (unsigned)p[1] << 8 : (unsigned)p[0] << 8 | (unsigned)p[1];
 }
 
 static uint32_t rd32(const unsigned char *p, int le)

@@ -52,6 +52,11 @@ static int has_ext(const char *name, const char *ext)
     return 1;
 }
 
+static int finite3(float x, float y, float z)
+{
+    return isfinite(x) && isfinite(y) && isfinite(z);
+}
+
 /* Text formats whose readers stumble on a UTF-8 byte-order mark or on
  * classic Mac line endings (CR only). */
 static int is_line_text(const char *name)
@@ -334,11 +339,6 @@ static persp_mat4 to_mat4(const struct aiMatrix4x4 *a)
         for (int c = 0; c < 4; c++)
             m.m[c * 4 + r] = rows[r][c];
     return m;
-}
-
-static int finite3(float x, float y, float z)
-{
-    return isfinite(x) && isfinite(y) && isfinite(z);
 }
 
 /* The UV channel the material's diffuse texture reads, or 0. */
@@ -653,6 +653,34 @@ static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
 
 /* ----------------------------------------------------------------- import */
 
+/* What the post-processing steps need and do not check themselves: the
+ * primitive types recomputed from the faces (some readers, PLY's among
+ * them, get them wrong on malformed input, and Debian's Assimp aborts on
+ * the internal check that catches it), finite positions, and something to
+ * triangulate. Returns NULL or what is wrong. */
+static const char *prepare_scene(const struct aiScene *ai)
+{
+    int any = 0;
+    for (unsigned i = 0; i < ai->mNumMeshes; i++) {
+        struct aiMesh *m = ai->mMeshes[i]; /* the scene is this import's own */
+        unsigned types = 0;
+        for (unsigned f = 0; f < m->mNumFaces; f++) {
+            unsigned n = m->mFaces[f].mNumIndices;
+            types |= n == 0   ? 0u /* an empty face: nothing to draw */
+                     : n == 1 ? aiPrimitiveType_POINT
+                     : n == 2 ? aiPrimitiveType_LINE
+                     : n == 3 ? aiPrimitiveType_TRIANGLE
+                              : aiPrimitiveType_POLYGON;
+        }
+        m->mPrimitiveTypes = types;
+        any |= (types & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) != 0;
+        for (unsigned v = 0; v < m->mNumVertices; v++)
+            if (!finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
+                return "a vertex position is not finite";
+    }
+    return any ? NULL : "the model has no triangles to draw";
+}
+
 void persp__model_free(persp_context *ctx, persp_model *model)
 {
     if (!model) return;
@@ -702,16 +730,27 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, MODEL_CREASE_DEG);
     aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE,
                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_GenSmoothNormals | aiProcess_SortByPType |
-                           aiProcess_ValidateDataStructure | aiProcess_FindInvalidData;
+    /* Read and validated first, then prepared (prepare_scene) for the
+     * post-processing steps. A scene they would fail on is refused before
+     * them: Assimp 5.2 crashes releasing a scene whose post-processing
+     * failed. */
+    const unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_GenSmoothNormals | aiProcess_SortByPType;
     char why[256] = "";
+    const char *wrong = NULL;
     pthread_mutex_lock(&import_lock);
-    const struct aiScene *ai = aiImportFileExWithProperties(main_name, flags, &fio, props);
-    if (!ai) snprintf(why, sizeof why, "%s", aiGetErrorString());
+    const struct aiScene *ai =
+        aiImportFileExWithProperties(main_name, aiProcess_ValidateDataStructure, &fio, props);
+    if (ai && (wrong = prepare_scene(ai)) != NULL) {
+        aiReleaseImport(ai);
+        ai = NULL;
+    }
+    if (ai) ai = aiApplyPostProcessing(ai, steps);
+    if (!ai && !wrong) snprintf(why, sizeof why, "%s", aiGetErrorString());
     pthread_mutex_unlock(&import_lock);
     aiReleasePropertyStore(props);
     persp__free(ctx, buf);
+    if (wrong) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, wrong);
     if (!ai) {
         why[strcspn(why, "\r\n")] = '\0';
         for (char *c = why; *c; c++)
