@@ -111,10 +111,29 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
         /* element lines until end_header; counts checked against what follows */
         const char *elements[64];
         int n = 0;
+        /* Assimp's PLY reader loops without end on some malformed headers:
+         * only the header's own keywords, up to end_header, get to it. */
+        static const char *const keys[] = {"format", "comment", "obj_info", "element", "property"};
+        size_t line = 1;
         for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
+            line++;
             if (!strncmp(p, "end_header", 10)) break;
+            int known = 0;
+            for (size_t k = 0; k < sizeof keys / sizeof keys[0] && !known; k++) {
+                size_t kl = strlen(keys[k]);
+                known = (size_t)(end - p) > kl && !strncmp(p, keys[k], kl) &&
+                        (p[kl] == ' ' || p[kl] == '\t' || p[kl] == '\n' || p[kl] == '\r');
+            }
+            if (!known)
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s:%zu: expected a PLY header keyword (format, comment, "
+                                   "obj_info, element, property, end_header)",
+                                   display, line);
             if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
         }
+        if (p >= end)
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the PLY header has no end_header line",
+                               display);
         size_t room = (size_t)(end - next_line(p, end));
         for (int i = 0; i < n; i++) {
             const char *q = elements[i] + 8;
