@@ -129,11 +129,21 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                                    "%s:%zu: expected a PLY header keyword (format, comment, "
                                    "obj_info, element, property, end_header)",
                                    display, line);
+            const char *bad = NULL;
+            if (!strncmp(p, "format", 6) && strncmp(p, "format ascii 1.0", 16) != 0 &&
+                strncmp(p, "format binary_little_endian 1.0", 31) != 0 &&
+                strncmp(p, "format binary_big_endian 1.0", 28) != 0)
+                bad = "expected format ascii, binary_little_endian or binary_big_endian 1.0";
+            if (!strncmp(p, "property", 8) && n == 0) bad = "a property before any element";
+            if (bad) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%zu: %s", display, line, bad);
             if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
         }
-        if (p >= end)
-            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the PLY header has no end_header line",
-                               display);
+        const char *after = p + 10;
+        if (p >= end || n == 0 ||
+            !(after < end &&
+              (*after == '\n' || (*after == '\r' && after + 1 < end && after[1] == '\n'))))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: the PLY header has no element or no end_header line", display);
         size_t room = (size_t)(end - next_line(p, end));
         for (int i = 0; i < n; i++) {
             const char *q = elements[i] + 8;
