@@ -107,7 +107,11 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                                           size_t size)
 {
     const char *end = buf + size, *p = buf;
-    if (size >= 4 && !memcmp(buf, "ply", 3) && (buf[3] == '\n' || buf[3] == '\r')) {
+    if (has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
+        if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
+              (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s:1: expected 'ply' alone on the first line", display);
         /* element lines until end_header; counts checked against what follows */
         const char *elements[64];
         int n = 0;
