@@ -23,9 +23,9 @@
  *   images from persp_image_alloc/_load) are the caller's to release with the
  *   matching *_destroy / *_free, which accept NULL; views (persp_image_view) point into an
  *   object and live as long as it. Memory persp returns comes from the
- *   context's allocator; libjpeg and jansson allocate their transient
- *   working memory with malloc (their APIs offer no per-call allocator),
- *   libpng's goes through the context's allocator.
+ *   context's allocator; libjpeg, jansson and Assimp (models) allocate
+ *   their transient working memory with malloc / new (their APIs offer no
+ *   per-call allocator), libpng's goes through the context's allocator.
  * - Threads: a persp_context is used by one thread at a time (it holds the
  *   last error, the worker pool and the per-frame buffers); to render from
  *   several threads at once, give each its own context. Textures and scenes
