@@ -35,8 +35,10 @@
  *   meanwhile (persp_scene_set_texture modifies). Functions without a
  *   context argument are safe to call from any thread. A context's own
  *   worker threads (persp_context_desc.threads) parallelise one render; the
- *   image is bit-identical for any thread count. There is no global mutable
- *   state.
+ *   image is bit-identical for any thread count. persp keeps no global
+ *   mutable state of its own; the one process-wide object is the mutex that
+ *   makes model imports take turns, because the model importer's C API
+ *   reports errors through one process-wide message (persp_scene_load).
  */
 #ifndef PERSP_H
 #define PERSP_H
@@ -118,6 +120,13 @@ PERSP_API void persp_context_destroy(persp_context *ctx);
 /* Detail of the last failure on this context ("file:line:col: problem"), or
  * "". Owned by the context, valid until its next call. */
 PERSP_API const char *persp_context_error(const persp_context *ctx);
+/* Warnings: problems persp worked around (a model's missing material or
+ * texture file, for instance), one line each without a trailing newline.
+ * persp never prints; without a handler warnings are dropped. Called on the
+ * thread that called into persp; fn NULL removes the handler. */
+typedef void (*persp_warning_fn)(void *user, const char *message);
+PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn,
+                                                 void *user);
 
 /* -------------------------------------------------------------------- math */
 
@@ -374,7 +383,12 @@ PERSP_API const char *persp_builtin_scene_summary(size_t index);
 /* A scene owns its meshes, materials and textures; release it with
  * persp_scene_destroy before its context. */
 PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name, persp_scene **out);
-/* Loads a JSON scene file; paths inside resolve relative to it. */
+/* Loads a JSON scene file (paths inside resolve relative to it), or a model
+ * file in any format Assimp reads (OBJ, glTF/GLB, PLY, STL, FBX, ...) shown
+ * with a default camera and lights (docs/SCENES.md). Problems worked around
+ * (a model's missing texture or material file) go to the warning handler.
+ * Model imports from several threads take turns (Assimp's C API reports
+ * errors through one process-wide message). */
 PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
 PERSP_API void persp_scene_destroy(persp_scene *scene);
 /* Replaces the texture of every textured object (e.g. --texture FILE); the

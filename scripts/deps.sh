@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages persp needs to build and test, only those missing.
-# libosmesa6-dev brings the Mesa peer (llvmpipe) that the tests compare images with;
+# libassimp-dev imports models (OBJ, glTF, PLY, STL, FBX, ...); libosmesa6-dev brings the Mesa peer (llvmpipe) that the tests compare images with;
 # g++ compiles the public headers as C++ (tests/package); clang (for the
 # libFuzzer harnesses) is installed with --optional. GNU parallel runs the
 # sharded sweep of tests/cli/test_shard.sh; chromium (headless) loads the page
 # of `persp report` in tests/cli/test_report.sh.
 set -eu
 # libsdl2-dev, libimgui-dev and fonts-dejavu-core build the window of `persp view`.
-required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core"
+required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core libassimp-dev"
 optional="clang"
 want="$required"
 [ "${1:-}" = "--optional" ] && want="$required $optional"

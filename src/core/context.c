@@ -76,6 +76,27 @@ void persp__clear_error(persp_context *ctx)
     if (ctx) ctx->error[0] = '\0';
 }
 
+void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn, void *user)
+{
+    if (!ctx) return;
+    ctx->warn = fn;
+    ctx->warn_user = fn ? user : NULL;
+}
+
+void persp__warn(persp_context *ctx, const char *fmt, ...)
+{
+    if (!ctx || !ctx->warn || !fmt) return;
+    char line[PERSP_ERRMSG_BYTES];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(line, sizeof line, fmt, ap);
+    va_end(ap);
+    /* One line: a file name or a decoder's message may carry a newline. */
+    for (char *c = line; *c; c++)
+        if (*c == '\n' || *c == '\r') *c = ' ';
+    ctx->warn(ctx->warn_user, line);
+}
+
 persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)
 {
     if (ctx && fmt) {

@@ -63,3 +63,12 @@ void persp_image_free(persp_context *ctx, persp_image *img)
     memset(img, 0, sizeof *img);
 }
 
+void persp__image_set_opaque(persp_image *img)
+{
+    if (!img || !img->pixels) return;
+    for (int y = 0; y < img->height; y++) {
+        uint8_t *row = img->pixels + (size_t)y * img->stride;
+        for (int x = 0; x < img->width; x++)
+            row[4 * x + 3] = 255;
+    }
+}

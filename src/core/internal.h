@@ -24,6 +24,8 @@ struct persp_context {
     /* Set-up triangles the renderer holds before drawing a batch; 0: its
      * default. Changed only by tests, to compare batch sizes. */
     size_t frame_batch;
+    persp_warning_fn warn;
+    void *warn_user;
 };
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
@@ -33,6 +35,13 @@ static inline int persp__size_mul(size_t a, size_t b, size_t *out)
     *out = a * b;
     return 1;
 }
+
+/* Passes a one-line warning to the context's handler, if any. */
+void persp__warn(persp_context *ctx, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
 
 /* Sets the context's detail message and returns status (NULL ctx: only returns). */
 persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)
@@ -60,6 +69,10 @@ persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t nee
 /* Fails ctx (PERSP_ERR_FORMAT for an empty size, PERSP_ERR_TOO_LARGE above
  * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS) with name in the detail. */
 persp_status persp__image_check_size(persp_context *ctx, const char *name, long long w, long long h);
+
+/* Sets every alpha to 255: persp draws opaque surfaces, so a scene's
+ * textures carry no coverage into the image. */
+void persp__image_set_opaque(persp_image *img);
 
 /* Clears the context's error detail (called at the start of a public call). */
 void persp__clear_error(persp_context *ctx);

@@ -116,9 +116,19 @@ void persp_scene_destroy(persp_scene *s)
 
 persp_status persp_scene_set_texture(persp_scene *s, const persp_image *img)
 {
-    if (!s || !img) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!s || !img || !img->pixels || img->width <= 0 || img->height <= 0)
+        return PERSP_ERR_INVALID_ARGUMENT;
+    /* A copy made opaque: the scene's surfaces are (persp__image_set_opaque). */
+    persp_image copy;
+    persp_status st = persp_image_alloc(s->ctx, img->width, img->height, &copy);
+    if (st != PERSP_OK) return st;
+    for (int y = 0; y < img->height; y++)
+        memcpy(copy.pixels + (size_t)y * copy.stride, img->pixels + (size_t)y * img->stride,
+               4 * (size_t)img->width);
+    persp__image_set_opaque(&copy);
     persp_texture *tex = NULL;
-    persp_status st = persp_texture_create(s->ctx, img, &tex);
+    st = persp_texture_create(s->ctx, &copy, &tex);
+    persp_image_free(s->ctx, &copy);
     if (st != PERSP_OK) return st;
     int index = -1;
     st = persp__scene_add_texture(s, tex, &index);

@@ -104,6 +104,12 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
         return st;
     }
     pi.format = PNG_FORMAT_RGBA;
+    /* libpng's simplified reader takes 16-bit samples without gAMA, sRGB or
+     * iCCP for linear light and gamma-encodes them on the way to 8 bits,
+     * brightening them. Such files nearly always hold the same sRGB values
+     * as their 8-bit originals (image editors write them that way), so they
+     * are read as sRGB; a gAMA chunk still says otherwise. */
+    pi.flags |= PNG_IMAGE_FLAG_16BIT_sRGB;
     st = persp_image_alloc(ctx, (int)pi.width, (int)pi.height, out);
     if (st != PERSP_OK) {
         png_image_free(&pi);
@@ -160,6 +166,110 @@ typedef struct jpeg_job {
     persp_image img;
 } jpeg_job;
 
+/* Adobe applications write CMYK (and YCCK) JPEGs with inverted samples
+ * (255 = no ink) and mark them with an APP14 "Adobe" segment; plain CMYK is
+ * taken as ink amounts. Converted without a colour profile:
+ * R = (1 - C)(1 - K), and so on. */
+static void cmyk_to_rgba(uint8_t *px, size_t n, int inverted)
+{
+    for (size_t i = 0; i < n; i++, px += 4) {
+        unsigned c = px[0], m = px[1], y = px[2], k = px[3];
+        if (!inverted) c = 255 - c, m = 255 - m, y = 255 - y, k = 255 - k;
+        px[0] = (uint8_t)((c * k + 127) / 255);
+        px[1] = (uint8_t)((m * k + 127) / 255);
+        px[2] = (uint8_t)((y * k + 127) / 255);
+        px[3] = 255;
+    }
+}
+
+static unsigned rd16(const unsigned char *p, int le)
+{
+    return le ? (unsigned)p[0] | (unsigned)p[1] << 8 : (unsigned)p[0] << 8 | (unsigned)p[1];
+}
+
+static uint32_t rd32(const unsigned char *p, int le)
+{
+    return le ? (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24
+              : (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | (uint32_t)p[3];
+}
+
+/* The Orientation tag (0x0112) of an APP1 Exif segment's first IFD (TIFF
+ * 6.0 / Exif 2.3 §4.6.4), 1..8; 1 (as stored) when absent or malformed. */
+static int exif_orientation(const struct jpeg_decompress_struct *cinfo)
+{
+    for (jpeg_saved_marker_ptr m = cinfo->marker_list; m; m = m->next) {
+        if (m->marker != JPEG_APP0 + 1 || m->data_length < 14 ||
+            memcmp(m->data, "Exif\0\0", 6) != 0)
+            continue;
+        const unsigned char *t = m->data + 6;
+        size_t n = m->data_length - 6;
+        int le = t[0] == 'I' && t[1] == 'I';
+        if (!le && !(t[0] == 'M' && t[1] == 'M')) continue;
+        if (rd16(t + 2, le) != 42) continue;
+        uint32_t ifd = rd32(t + 4, le);
+        if (ifd > n - 2 || n < 2) continue;
+        unsigned count = rd16(t + ifd, le);
+        for (unsigned i = 0; i < count; i++) {
+            size_t e = (size_t)ifd + 2 + 12 * (size_t)i;
+            if (e + 12 > n) break;
+            /* SHORT (type 3), one value, left-justified in the value field */
+            if (rd16(t + e, le) == 0x0112 && rd16(t + e + 2, le) == 3) {
+                unsigned o = rd16(t + e + 8, le);
+                return o >= 1 && o <= 8 ? (int)o : 1;
+            }
+        }
+    }
+    return 1;
+}
+
+/* Turns img (rows bottom-up, as decoded) the way the Exif orientation says
+ * the picture is meant to be seen. */
+static persp_status apply_orientation(persp_context *ctx, int orient, persp_image *img)
+{
+    if (orient == 1) return PERSP_OK;
+    const int W = img->width, H = img->height;
+    const int swap = orient >= 5;
+    persp_image out;
+    persp_status st = persp_image_alloc(ctx, swap ? H : W, swap ? W : H, &out);
+    if (st != PERSP_OK) return st;
+    const int OW = out.width, OH = out.height;
+    for (int y = 0; y < OH; y++) { /* displayed row, top first */
+        uint32_t *dst = (uint32_t *)(void *)(out.pixels + (size_t)(OH - 1 - y) * out.stride);
+        for (int x = 0; x < OW; x++) {
+            int sx, sy; /* stored pixel, top-first rows */
+            switch (orient) {
+            case 2:
+                sx = W - 1 - x, sy = y;
+                break;
+            case 3:
+                sx = W - 1 - x, sy = H - 1 - y;
+                break;
+            case 4:
+                sx = x, sy = H - 1 - y;
+                break;
+            case 5:
+                sx = y, sy = x;
+                break;
+            case 6:
+                sx = y, sy = H - 1 - x;
+                break;
+            case 7:
+                sx = W - 1 - y, sy = H - 1 - x;
+                break;
+            default:
+                sx = W - 1 - y, sy = x;
+                break; /* 8 */
+            }
+            const uint32_t *src =
+                (const uint32_t *)(const void *)(img->pixels + (size_t)(H - 1 - sy) * img->stride);
+            dst[x] = src[sx];
+        }
+    }
+    persp_image_free(ctx, img);
+    *img = out;
+    return PERSP_OK;
+}
+
 /* The setjmp lives in its own function whose locals are all in *job (not in
  * registers), so nothing it needs after a longjmp is indeterminate. */
 static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, size_t size,
@@ -172,13 +282,16 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
     }
     jpeg_create_decompress(&job->cinfo);
     jpeg_mem_src(&job->cinfo, data, (unsigned long)size);
+    jpeg_save_markers(&job->cinfo, JPEG_APP0 + 1, 0xffff);
     jpeg_read_header(&job->cinfo, TRUE);
     persp_status st = check_size(ctx, name, (long long)job->cinfo.image_width,
                                  (long long)job->cinfo.image_height);
     if (st != PERSP_OK) return st;
     /* libjpeg-turbo's extended colour spaces convert grey and YCbCr input
      * straight to RGBA with an opaque alpha. */
-    job->cinfo.out_color_space = JCS_EXT_RGBA;
+    const int cmyk =
+        job->cinfo.jpeg_color_space == JCS_CMYK || job->cinfo.jpeg_color_space == JCS_YCCK;
+    job->cinfo.out_color_space = cmyk ? JCS_CMYK : JCS_EXT_RGBA;
     jpeg_start_decompress(&job->cinfo);
     if (job->cinfo.output_components != 4)
         return persp__fail(ctx, PERSP_ERR_UNSUPPORTED, "%s: unsupported JPEG colour layout",
@@ -189,15 +302,18 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
     while (job->cinfo.output_scanline < job->cinfo.output_height) {
         size_t row = (size_t)(job->cinfo.output_height - 1u - job->cinfo.output_scanline);
         JSAMPROW rp = job->img.pixels + row * job->img.stride;
-        jpeg_read_scanlines(&job->cinfo, &rp, 1);
+        if (jpeg_read_scanlines(&job->cinfo, &rp, 1) == 1 && cmyk)
+            cmyk_to_rgba(rp, job->cinfo.output_width, job->cinfo.saw_Adobe_marker);
     }
+    /* Saved markers go with the image's memory at the finish. */
+    const int orient = exif_orientation(&job->cinfo);
     jpeg_finish_decompress(&job->cinfo);
     if (job->err.warnings > 0) {
         persp_image_free(ctx, &job->img);
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
                                   display_name(name), job->err.message);
     }
-    return PERSP_OK;
+    return apply_orientation(ctx, orient, &job->img);
 }
 
 static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size, const char *name,

@@ -6,7 +6,7 @@
  * Unknown keys are errors: a misspelt key must not silently do nothing.
  */
 #include "core/internal.h"
-#include "io/obj.h"
+#include "io/model.h"
 #include "io/text.h"
 
 #include <jansson.h>
@@ -908,7 +908,8 @@ static persp_status parse_object(jctx *j, json_t *o)
             st = jfail(j, 0, PERSP_ERR_FORMAT, "expected exactly one of 'file' and 'primitive'");
         }
     } else {
-        st = jfail(j, 0, PERSP_ERR_FORMAT, "expected a primitive name, an OBJ file name or an object");
+        st = jfail(j, 0, PERSP_ERR_FORMAT,
+                   "expected a primitive name, a model file name or an object");
     }
     if (st != PERSP_OK) {
         pop(j);
@@ -934,20 +935,24 @@ static persp_status parse_object(jctx *j, json_t *o)
     if (sub) pop(j);
     pop(j);
     if (st != PERSP_OK) return st;
-    persp_obj_result res;
+    persp_model res;
     size_t before = j->scene->mesh_count;
-    if ((st = persp__obj_load_file(j->scene, path, &j->cache, &res)) != PERSP_OK) return st;
+    if ((st = persp__model_load_file(j->scene, path, &j->cache, j->max_vertices - j->vertices,
+                                     &res)) != PERSP_OK)
+        return st;
     for (size_t i = before; i < j->scene->mesh_count && st == PERSP_OK; i++) {
         push_key(j, "mesh");
         st = count_vertices(j, j->scene->meshes[i].vertex_count);
         pop(j);
     }
+    persp_mat4 placed = obj.model;
     for (size_t i = 0; i < res.part_count && st == PERSP_OK; i++) {
         obj.mesh = res.parts[i].mesh;
         obj.material = material >= 0 ? material : res.parts[i].material;
+        obj.model = persp_mat4_mul(placed, res.parts[i].transform);
         st = persp__scene_add_object(j->scene, &obj);
     }
-    persp__obj_result_free(j->ctx, &res);
+    persp__model_free(j->ctx, &res);
     return st;
 }
 
@@ -1042,7 +1047,10 @@ persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene 
     if (st != PERSP_OK) return st;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
-    st = persp__scene_load_memory(ctx, data, size, path, dir[0] ? dir : "./", 0, out);
+    if (persp__model_is_model(path, data, size))
+        st = persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", out);
+    else
+        st = persp__scene_load_memory(ctx, data, size, path, dir[0] ? dir : "./", 0, out);
     persp__free(ctx, data);
     return st;
 }

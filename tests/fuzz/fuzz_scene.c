@@ -2,7 +2,7 @@
  * (no base folder) and the meshes of one input are held to 2^18 vertices so
  * that a short input cannot ask for gigabytes of primitives. */
 #include "geom/scene.h"
-#include "io/obj.h"
+#include "io/model.h"
 
 #include <stdint.h>
 

@@ -25,6 +25,9 @@ int cli_error(int code, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* The contexts' warning handler: "persp: warning: message" on stderr, so
+ * that problems worked around (a model's missing texture) stay visible. */
+void cli_warning(void *user, const char *message);
 /* Reports a failed library call: "persp: what: detail (status)". */
 int cli_status(persp_context *ctx, persp_status st, const char *what);
 /* Parses "WxH" with 1 <= W, H <= PERSP_IMAGE_MAX_SIDE and W·H <= PERSP_IMAGE_MAX_PIXELS. */

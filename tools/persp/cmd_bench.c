@@ -81,7 +81,9 @@ static void bench_usage(FILE *out, const cli_command *cmd)
 {
     fprintf(out, "usage: persp bench [SCENE] [options]\n\n"
                  "Measures fill rate (Mpixels/s = width*height*frames/seconds) of persp_render.\n"
-                 "SCENE is a built-in scene or a JSON scene file (default: corridor).\n\n"
+                 "SCENE is a built-in scene or a JSON scene file (default: corridor),\n"
+                 "or a model file (OBJ, glTF/GLB, PLY, STL, FBX, COLLADA, 3DS, ...) shown with a\n"
+                 "default camera and lights (docs/SCENES.md).\n\n"
                  "options:\n");
     cli_print_options(out, cmd);
 #ifndef PERSP_HAVE_OSMESA
@@ -844,6 +846,7 @@ int cmd_bench(int argc, char **argv)
         free(results);
         return cli_status(NULL, st, "bench");
     }
+    persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
     if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
     else st = persp_scene_load(b.ctx, o.scene, &b.scene);
     if (st != PERSP_OK) {

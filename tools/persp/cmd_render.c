@@ -9,7 +9,9 @@
 static void render_usage(FILE *out, const cli_command *cmd)
 {
     fprintf(out, "usage: persp render [SCENE] [options]\n\n"
-                 "SCENE is a built-in scene name or a JSON scene file (default: corridor).\n\n"
+                 "SCENE is a built-in scene name or a JSON scene file (default: corridor),\n"
+                 "or a model file (OBJ, glTF/GLB, PLY, STL, FBX, COLLADA, 3DS, ...) shown with a\n"
+                 "default camera and lights (docs/SCENES.md).\n\n"
                  "options:\n");
     cli_print_options(out, cmd);
     fprintf(out, "\nbuilt-in scenes:\n");
@@ -140,6 +142,7 @@ int cmd_render(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
+    persp_context_set_warning_handler(ctx, cli_warning, NULL);
     persp_scene *scene = NULL;
     persp_framebuffer fb = {0, 0, NULL, NULL};
     persp_image img = {0, 0, 0, NULL}, depth_img = {0, 0, 0, NULL};

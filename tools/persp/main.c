@@ -42,6 +42,12 @@ int cli_error(int code, const char *fmt, ...)
     return code;
 }
 
+void cli_warning(void *user, const char *message)
+{
+    (void)user;
+    fprintf(stderr, "persp: warning: %s\n", message);
+}
+
 int cli_status(persp_context *ctx, persp_status st, const char *what)
 {
     const char *detail = ctx ? persp_context_error(ctx) : "";

@@ -1,0 +1,940 @@
+/*
+ * Models through Assimp's C API: every format Assimp reads (OBJ/MTL, glTF
+ * 2.0 and GLB, PLY, STL, FBX, COLLADA, 3DS, ...) becomes persp meshes,
+ * materials and textures.
+ *
+ * Assimp reads the model through persp's own file callbacks: the main file
+ * is served from memory (so that loading from a file and from memory take
+ * the same path, and text files can be normalised first), the files it
+ * refers to are opened relative to the model's folder, and a file that
+ * cannot be opened becomes a warning, Assimp carrying on without it.
+ * Textures are decoded by persp (persp_image_load / _load_memory), so the
+ * image limits and decoders are the same as everywhere else.
+ */
+#include "core/internal.h"
+#include "io/model.h"
+#include "io/text.h"
+
+#include <assimp/cfileio.h>
+#include <assimp/cimport.h>
+#include <assimp/config.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <ctype.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Faces meeting at more than this angle keep separate normals where the
+ * file has none: cube edges stay sharp, tessellated curves come out smooth. */
+#define MODEL_CREASE_DEG 80.0f
+
+/* Assimp's C API keeps the last error message in a process-wide string;
+ * imports are serialised so that each reads its own. */
+static pthread_mutex_t import_lock = PTHREAD_MUTEX_INITIALIZER;
+
+/* ---------------------------------------------------------- text cleanup */
+
+static int has_ext(const char *name, const char *ext)
+{
+    const char *dot = strrchr(name, '.');
+    const char *slash = strrchr(name, '/');
+    if (!dot || (slash && slash > dot)) return 0;
+    dot++;
+    size_t n = strlen(ext);
+    if (strlen(dot) != n) return 0;
+    for (size_t i = 0; i < n; i++)
+        if (tolower((unsigned char)dot[i]) != ext[i]) return 0;
+    return 1;
+}
+
+static int finite3(float x, float y, float z)
+{
+    return isfinite(x) && isfinite(y) && isfinite(z);
+}
+
+/* Text formats whose readers stumble on a UTF-8 byte-order mark or on
+ * classic Mac line endings (CR only). */
+static int is_line_text(const char *name)
+{
+    return has_ext(name, "obj") || has_ext(name, "mtl");
+}
+
+/* Drops a byte-order mark and turns lone CRs into LFs, in place; returns the
+ * new size. */
+static size_t normalise_text(char *buf, size_t size, int lines)
+{
+    size_t start = 0;
+    if (size >= 3 && (unsigned char)buf[0] == 0xef && (unsigned char)buf[1] == 0xbb &&
+        (unsigned char)buf[2] == 0xbf)
+        start = 3;
+    if (start) memmove(buf, buf + start, size - start);
+    size -= start;
+    if (lines)
+        for (size_t i = 0; i < size; i++)
+            if (buf[i] == '\r' && (i + 1 == size || buf[i + 1] != '\n')) buf[i] = '\n';
+    return size;
+}
+
+/* --------------------------------------------------- declared counts */
+
+/* Readers of formats whose header declares element counts (PLY, OFF) size
+ * their arrays by the header before reading the data, so a few bytes could
+ * ask for gigabytes. Every element takes at least one byte of the file, and
+ * vertices are held to persp's own limit, before Assimp sees the file. */
+static persp_status check_count(persp_context *ctx, const char *display, const char *what,
+                                unsigned long long n, size_t room, unsigned long long limit)
+{
+    if (n > room || n > limit)
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: the header declares %llu %s, more than %s holds", display, n, what,
+                           n > limit ? "persp" : "the file");
+    return PERSP_OK;
+}
+
+static const char *next_line(const char *p, const char *end)
+{
+    while (p < end && *p != '\n')
+        p++;
+    return p < end ? p + 1 : end;
+}
+
+static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
+                                          size_t size)
+{
+    const char *end = buf + size, *p = buf;
+    if (has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
+        if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
+              (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s:1: expected 'ply' alone on the first line", display);
+        /* element lines until end_header; counts checked against what follows */
+        const char *elements[64];
+        int n = 0;
+        /* Assimp's PLY reader loops without end on some malformed headers:
+         * only the header's own keywords, up to end_header, get to it. */
+        static const char *const keys[] = {"format", "comment", "obj_info", "element", "property"};
+        size_t line = 1;
+        for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
+            line++;
+            if (!strncmp(p, "end_header", 10)) break;
+            int known = 0;
+            for (size_t k = 0; k < sizeof keys / sizeof keys[0] && !known; k++) {
+                size_t kl = strlen(keys[k]);
+                known = (size_t)(end - p) > kl && !strncmp(p, keys[k], kl) &&
+                        (p[kl] == ' ' || p[kl] == '\t' || p[kl] == '\n' || p[kl] == '\r');
+            }
+            if (!known)
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s:%zu: expected a PLY header keyword (format, comment, "
+                                   "obj_info, element, property, end_header)",
+                                   display, line);
+            const char *bad = NULL;
+            if (!strncmp(p, "format", 6) && strncmp(p, "format ascii 1.0", 16) != 0 &&
+                strncmp(p, "format binary_little_endian 1.0", 31) != 0 &&
+                strncmp(p, "format binary_big_endian 1.0", 28) != 0)
+                bad = "expected format ascii, binary_little_endian or binary_big_endian 1.0";
+            if (!strncmp(p, "property", 8) && n == 0) bad = "a property before any element";
+            if (bad) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%zu: %s", display, line, bad);
+            if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
+        }
+        const char *after = p + 10;
+        if (p >= end || n == 0 ||
+            !(after < end &&
+              (*after == '\n' || (*after == '\r' && after + 1 < end && after[1] == '\n'))))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: the PLY header has no element or no end_header line", display);
+        size_t room = (size_t)(end - next_line(p, end));
+        for (int i = 0; i < n; i++) {
+            const char *q = elements[i] + 8;
+            while (q < end && *q == ' ')
+                q++;
+            int vertex = !strncmp(q, "vertex ", 7);
+            while (q < end && *q != ' ' && *q != '\n')
+                q++;
+            unsigned long long count = strtoull(q, NULL, 10);
+            persp_status st =
+                check_count(ctx, display, vertex ? "vertices" : "elements", count, room,
+                            vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
+            if (st != PERSP_OK) return st;
+        }
+        return PERSP_OK;
+    }
+    /* OFF, COFF, NOFF, STOFF, ...: the counts follow the keyword, after
+     * comment lines */
+    while (p < end && isalpha((unsigned char)*p))
+        p++;
+    if (p - buf < 3 || p - buf > 8 || strncmp(p - 3, "OFF", 3) != 0) return PERSP_OK;
+    unsigned long long counts[2] = {0, 0};
+    for (int k = 0; k < 2 && p < end;) {
+        while (p < end && isspace((unsigned char)*p))
+            p++;
+        if (p < end && *p == '#') {
+            p = next_line(p, end);
+            continue;
+        }
+        if (p >= end || !isdigit((unsigned char)*p)) break;
+        counts[k++] = strtoull(p, (char **)&p, 10);
+    }
+    size_t room = (size_t)(end - p);
+    persp_status st =
+        check_count(ctx, display, "vertices", counts[0], room, PERSP_SCENE_MAX_VERTICES);
+    if (st == PERSP_OK)
+        st = check_count(ctx, display, "faces", counts[1], room, (unsigned long long)-1);
+    return st;
+}
+
+/* ------------------------------------------------------------ file access */
+
+typedef struct model_io {
+    persp_context *ctx;
+    const char *display;   /* the model's name in messages */
+    const char *main_name; /* what Assimp is asked to read */
+    const char *data;      /* the main file */
+    size_t size;
+    const char *base_dir; /* NULL: no other files */
+    char missing[8][256]; /* already warned about */
+    int nmissing;
+} model_io;
+
+typedef struct model_file {
+    const char *data;
+    size_t size, pos;
+    char *owned;
+} model_file;
+
+static size_t file_read(struct aiFile *f, char *buf, size_t size, size_t count)
+{
+    model_file *mf = (model_file *)(void *)f->UserData;
+    if (size == 0 || count == 0) return 0;
+    size_t left = mf->size - mf->pos, n = left / size;
+    if (n > count) n = count;
+    memcpy(buf, mf->data + mf->pos, n * size);
+    mf->pos += n * size;
+    return n;
+}
+
+static size_t file_write(struct aiFile *f, const char *buf, size_t size, size_t count)
+{
+    (void)f, (void)buf, (void)size, (void)count;
+    return 0;
+}
+
+static size_t file_tell(struct aiFile *f)
+{
+    return ((model_file *)(void *)f->UserData)->pos;
+}
+static size_t file_size(struct aiFile *f)
+{
+    return ((model_file *)(void *)f->UserData)->size;
+}
+static void file_flush(struct aiFile *f)
+{
+    (void)f;
+}
+
+static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
+{
+    model_file *mf = (model_file *)(void *)f->UserData;
+    size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? mf->pos : mf->size;
+    if (origin != aiOrigin_SET && origin != aiOrigin_CUR && origin != aiOrigin_END)
+        return aiReturn_FAILURE;
+    if (offset > mf->size - base) return aiReturn_FAILURE;
+    mf->pos = base + offset;
+    return aiReturn_SUCCESS;
+}
+
+/* Windows separators and "./" prefixes as real models have them. */
+static void clean_rel(const char *in, char *out, size_t size)
+{
+    size_t n = 0;
+    for (; *in && n + 1 < size; in++)
+        out[n++] = *in == '\\' ? '/' : *in;
+    out[n] = '\0';
+    while (out[0] == '.' && out[1] == '/')
+        memmove(out, out + 2, strlen(out + 2) + 1);
+}
+
+/* Assimp's OBJ reader, when a material library is missing, tries the
+ * model's own name with .mtl: a guess, not a reference worth a warning. */
+static int is_guess(const model_io *io, const char *rel)
+{
+    const char *dot = strrchr(io->main_name, '.');
+    size_t stem = dot ? (size_t)(dot - io->main_name) : strlen(io->main_name);
+    if (strncmp(rel, io->main_name, stem) != 0 || strcmp(rel + stem, ".mtl") != 0) return 0;
+    size_t n = strlen(rel);
+    for (size_t i = 0; i + n <= io->size; i++)
+        if (memcmp(io->data + i, rel, n) == 0) return 0;
+    return 1;
+}
+
+static void warn_missing(model_io *io, const char *rel, const char *why)
+{
+    if (is_guess(io, rel)) return;
+    for (int i = 0; i < io->nmissing; i++)
+        if (!strcmp(io->missing[i], rel)) return;
+    if (io->nmissing < (int)(sizeof io->missing / sizeof io->missing[0]))
+        snprintf(io->missing[io->nmissing++], sizeof io->missing[0], "%.255s", rel);
+    persp__warn(io->ctx, "%s: cannot read '%s' (%s); going on without it", io->display, rel, why);
+}
+
+static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const char *mode)
+{
+    model_io *io = (model_io *)(void *)fio->UserData;
+    if (!name || !mode || mode[0] != 'r') return NULL;
+    const char *data = NULL;
+    size_t size = 0;
+    char *owned = NULL;
+    if (!strcmp(name, io->main_name)) {
+        data = io->data;
+        size = io->size;
+    } else {
+        char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
+        clean_rel(name, rel, sizeof rel);
+        if (!io->base_dir) {
+            warn_missing(io, rel, "no folder to read it from");
+            return NULL;
+        }
+        if (!persp__path_join(io->base_dir, rel, path, sizeof path)) return NULL;
+        if (persp__read_file(io->ctx, path, &owned, &size) != PERSP_OK) {
+            /* Files that models name by an absolute path from another
+             * machine usually sit next to the model. */
+            const char *base = persp__path_base(rel);
+            if (base == rel || !persp__path_join(io->base_dir, base, path, sizeof path) ||
+                persp__read_file(io->ctx, path, &owned, &size) != PERSP_OK) {
+                warn_missing(io, rel, "no such file or unreadable");
+                return NULL;
+            }
+        }
+        if (is_line_text(rel) || has_ext(rel, "gltf"))
+            size = normalise_text(owned, size, is_line_text(rel));
+        data = owned;
+    }
+    struct aiFile *f = persp__calloc(io->ctx, 1, sizeof *f);
+    model_file *mf = persp__calloc(io->ctx, 1, sizeof *mf);
+    if (!f || !mf) {
+        persp__free(io->ctx, f);
+        persp__free(io->ctx, mf);
+        persp__free(io->ctx, owned);
+        return NULL;
+    }
+    mf->data = data ? data : "";
+    mf->size = size;
+    mf->owned = owned;
+    f->ReadProc = file_read;
+    f->WriteProc = file_write;
+    f->TellProc = file_tell;
+    f->FileSizeProc = file_size;
+    f->SeekProc = file_seek;
+    f->FlushProc = file_flush;
+    f->UserData = (aiUserData)(void *)mf;
+    return f;
+}
+
+static void file_close(struct aiFileIO *fio, struct aiFile *f)
+{
+    model_io *io = (model_io *)(void *)fio->UserData;
+    if (!f) return;
+    model_file *mf = (model_file *)(void *)f->UserData;
+    if (mf) persp__free(io->ctx, mf->owned);
+    persp__free(io->ctx, mf);
+    persp__free(io->ctx, f);
+}
+
+/* ------------------------------------------------------------- conversion */
+
+typedef struct importer {
+    persp_scene *scene;
+    persp_context *ctx;
+    const struct aiScene *ai;
+    const char *display, *base_dir;
+    persp_texcache *cache;
+    size_t max_vertices, vertices;
+    int *mesh_index;     /* per aiMesh: scene mesh, -1 not yet, -2 nothing to draw */
+    int *material_index; /* per aiMaterial: scene material, -1 not yet */
+    int *embedded_index; /* per aiTexture: scene texture, -1 not yet, -2 failed */
+    persp_model *out;
+    size_t part_cap;
+} importer;
+
+static persp_mat4 to_mat4(const struct aiMatrix4x4 *a)
+{
+    const float rows[4][4] = {{a->a1, a->a2, a->a3, a->a4},
+                              {a->b1, a->b2, a->b3, a->b4},
+                              {a->c1, a->c2, a->c3, a->c4},
+                              {a->d1, a->d2, a->d3, a->d4}};
+    persp_mat4 m;
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++)
+            m.m[c * 4 + r] = rows[r][c];
+    return m;
+}
+
+/* The UV channel the material's diffuse texture reads, or 0. */
+static unsigned material_uv(const struct aiMaterial *mat)
+{
+    struct aiString path;
+    unsigned uv = 0;
+    enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
+    for (int t = 0; t < 2; t++)
+        if (aiGetMaterialTexture(mat, types[t], 0, &path, NULL, &uv, NULL, NULL, NULL, NULL) ==
+            aiReturn_SUCCESS)
+            return uv < AI_MAX_NUMBER_OF_TEXTURECOORDS ? uv : 0;
+    return 0;
+}
+
+static persp_status convert_mesh(importer *im, unsigned index, int *out)
+{
+    const struct aiMesh *am = im->ai->mMeshes[index];
+    size_t tris = 0;
+    for (unsigned f = 0; f < am->mNumFaces; f++)
+        if (am->mFaces[f].mNumIndices == 3) tris++;
+    if (tris == 0 || am->mNumVertices == 0) {
+        *out = -2;
+        return PERSP_OK;
+    }
+    if (am->mNumVertices > PERSP_SCENE_MAX_VERTICES || tris > PERSP_SCENE_MAX_INDICES / 3 ||
+        am->mNumVertices > im->max_vertices - im->vertices)
+        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: more than %zu vertices or %u triangle corners", im->display,
+                           im->max_vertices, PERSP_SCENE_MAX_INDICES);
+    im->vertices += am->mNumVertices;
+    persp_mesh mesh;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertex_count = am->mNumVertices;
+    mesh.index_count = 3 * tris;
+    mesh.vertices = persp__calloc(im->ctx, mesh.vertex_count, sizeof *mesh.vertices);
+    mesh.indices = persp__calloc(im->ctx, mesh.index_count, sizeof *mesh.indices);
+    if (!mesh.vertices || !mesh.indices) {
+        persp__mesh_free(im->ctx, &mesh);
+        return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
+    }
+    unsigned uv = am->mMaterialIndex < im->ai->mNumMaterials
+                      ? material_uv(im->ai->mMaterials[am->mMaterialIndex])
+                      : 0;
+    const struct aiVector3D *tc =
+        am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
+    const struct aiColor4D *col = am->mColors[0];
+    for (unsigned i = 0; i < am->mNumVertices; i++) {
+        persp_vertex *v = &mesh.vertices[i];
+        const struct aiVector3D *p = &am->mVertices[i];
+        if (!finite3(p->x, p->y, p->z)) {
+            persp__mesh_free(im->ctx, &mesh);
+            return persp__fail(im->ctx, PERSP_ERR_FORMAT,
+                               "%s: mesh %u has a vertex position that is not finite", im->display,
+                               index);
+        }
+        v->pos[0] = p->x, v->pos[1] = p->y, v->pos[2] = p->z;
+        if (am->mNormals && finite3(am->mNormals[i].x, am->mNormals[i].y, am->mNormals[i].z)) {
+            v->normal[0] = am->mNormals[i].x, v->normal[1] = am->mNormals[i].y,
+            v->normal[2] = am->mNormals[i].z;
+        }
+        if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v->uv[0] = tc[i].x, v->uv[1] = tc[i].y;
+        if (col) {
+            const float c[4] = {col[i].r, col[i].g, col[i].b, col[i].a};
+            for (int k = 0; k < 3; k++)
+                v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
+            v->color[3] = 1.0f; /* opaque surfaces: no coverage into the image */
+        } else {
+            v->color[0] = v->color[1] = v->color[2] = v->color[3] = 1.0f;
+        }
+    }
+    size_t k = 0;
+    for (unsigned f = 0; f < am->mNumFaces; f++) {
+        const struct aiFace *face = &am->mFaces[f];
+        if (face->mNumIndices != 3) continue;
+        for (int c = 0; c < 3; c++) {
+            if (face->mIndices[c] >= am->mNumVertices) {
+                persp__mesh_free(im->ctx, &mesh);
+                return persp__fail(im->ctx, PERSP_ERR_FORMAT,
+                                   "%s: mesh %u has a vertex index out of range", im->display,
+                                   index);
+            }
+            mesh.indices[k++] = face->mIndices[c];
+        }
+    }
+    mesh.has_normals = am->mNormals != NULL;
+    if (!mesh.has_normals) persp__mesh_compute_normals(&mesh);
+    return persp__scene_add_mesh(im->scene, &mesh, out);
+}
+
+/* An embedded texture: compressed (PNG, JPEG bytes) or raw BGRA texels. */
+static persp_status embedded_texture(importer *im, unsigned index, int *out)
+{
+    const struct aiTexture *t = im->ai->mTextures[index];
+    persp_image img;
+    memset(&img, 0, sizeof img);
+    persp_status st;
+    char name[512];
+    snprintf(name, sizeof name, "%s: embedded texture %u", im->display, index);
+    if (t->mHeight == 0) {
+        st = persp_image_load_memory(im->ctx, t->pcData, t->mWidth, name, &img);
+    } else {
+        st = persp__image_check_size(im->ctx, name, t->mWidth, t->mHeight);
+        if (st == PERSP_OK) st = persp_image_alloc(im->ctx, (int)t->mWidth, (int)t->mHeight, &img);
+        if (st == PERSP_OK) /* Texel rows run top to bottom; persp's row 0 is the bottom. */
+            for (unsigned y = 0; y < t->mHeight; y++) {
+                const struct aiTexel *src = &t->pcData[(size_t)(t->mHeight - 1 - y) * t->mWidth];
+                uint8_t *dst = img.pixels + (size_t)y * img.stride;
+                for (unsigned x = 0; x < t->mWidth; x++) {
+                    dst[4 * x] = src[x].r, dst[4 * x + 1] = src[x].g;
+                    dst[4 * x + 2] = src[x].b, dst[4 * x + 3] = src[x].a;
+                }
+            }
+    }
+    persp_texture *tex = NULL;
+    persp__image_set_opaque(&img);
+    if (st == PERSP_OK) st = persp_texture_create(im->ctx, &img, &tex);
+    persp_image_free(im->ctx, &img);
+    if (st == PERSP_OK) st = persp__scene_add_texture(im->scene, tex, out);
+    return st;
+}
+
+/* The scene texture for a material's texture path, or -1 with a warning. */
+static int material_texture(importer *im, const char *material, const char *file)
+{
+    int index = -1;
+    const struct aiTexture *const *texs = (const struct aiTexture *const *)im->ai->mTextures;
+    long emb = -1;
+    if (file[0] == '*') {
+        char *end = NULL;
+        emb = strtol(file + 1, &end, 10);
+        if (!end || *end || emb < 0 || (unsigned long)emb >= im->ai->mNumTextures) emb = -2;
+    } else {
+        for (unsigned i = 0; i < im->ai->mNumTextures; i++)
+            if (texs[i]->mFilename.length && !strcmp(texs[i]->mFilename.data, file)) emb = (long)i;
+    }
+    if (emb == -2) {
+        persp__warn(im->ctx,
+                    "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
+                    "it untextured",
+                    im->display, material, file);
+        return -1;
+    }
+    if (emb >= 0) {
+        int *slot = &im->embedded_index[emb];
+        if (*slot == -1 && embedded_texture(im, (unsigned)emb, slot) != PERSP_OK) {
+            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display,
+                        material, persp_context_error(im->ctx));
+            *slot = -2;
+        }
+        return *slot >= 0 ? *slot : -1;
+    }
+    char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
+    clean_rel(file, rel, sizeof rel);
+    if (!im->base_dir) {
+        persp__warn(im->ctx, "%s: material '%s': texture '%s' not read (no folder to read it from)",
+                    im->display, material, rel);
+        return -1;
+    }
+    persp_status st = PERSP_ERR_IO;
+    if (persp__path_join(im->base_dir, rel, path, sizeof path))
+        st = persp__texcache_load(im->scene, im->cache, path, &index);
+    if (st != PERSP_OK) {
+        char why[PERSP_ERRMSG_BYTES];
+        snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
+        const char *base = persp__path_base(rel);
+        if (base == rel || !persp__path_join(im->base_dir, base, path, sizeof path) ||
+            persp__texcache_load(im->scene, im->cache, path, &index) != PERSP_OK) {
+            persp__warn(im->ctx,
+                        "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
+                        im->display, material, rel, why[0] ? why : "bad path");
+            return -1;
+        }
+    }
+    return index;
+}
+
+static persp_wrap wrap_of(enum aiTextureMapMode m)
+{
+    switch (m) {
+    case aiTextureMapMode_Clamp:
+        return PERSP_WRAP_CLAMP_TO_EDGE;
+    case aiTextureMapMode_Mirror:
+        return PERSP_WRAP_MIRRORED_REPEAT;
+    case aiTextureMapMode_Decal:
+        return PERSP_WRAP_CLAMP_TO_BORDER;
+    default:
+        return PERSP_WRAP_REPEAT;
+    }
+}
+
+static persp_status convert_material(importer *im, unsigned index, int *out)
+{
+    const struct aiMaterial *am = im->ai->mMaterials[index];
+    persp_material m = persp__material_default();
+    struct aiString name;
+    if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
+        name.length = 0, name.data[0] = '\0';
+    /* Assimp's stand-in for geometry without a material: persp's default. */
+    if (strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0) {
+        struct aiColor4D c;
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS &&
+            finite3(c.r, c.g, c.b))
+            m.diffuse[0] = c.r, m.diffuse[1] = c.g, m.diffuse[2] = c.b;
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS &&
+            finite3(c.r, c.g, c.b))
+            m.specular[0] = c.r, m.specular[1] = c.g, m.specular[2] = c.b;
+        /* Black ambient is what most exporters write when they mean none;
+         * persp's default keeps unlit sides from going black. */
+        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == aiReturn_SUCCESS &&
+            finite3(c.r, c.g, c.b) && (c.r > 0 || c.g > 0 || c.b > 0))
+            m.ambient[0] = c.r, m.ambient[1] = c.g, m.ambient[2] = c.b;
+        float shin = 0;
+        unsigned one = 1;
+        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) == aiReturn_SUCCESS &&
+            isfinite(shin) && shin > 0)
+            m.shininess = fminf(shin, 1000.0f);
+        for (int k = 0; k < 3; k++) {
+            m.diffuse[k] = fminf(fmaxf(m.diffuse[k], 0.0f), 1000.0f);
+            m.specular[k] = fminf(fmaxf(m.specular[k], 0.0f), 1000.0f);
+            m.ambient[k] = fminf(fmaxf(m.ambient[k], 0.0f), 1000.0f);
+        }
+        struct aiString file;
+        enum aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+        enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
+        for (int t = 0; t < 2; t++) {
+            if (aiGetMaterialTexture(am, types[t], 0, &file, NULL, NULL, NULL, NULL, modes, NULL) !=
+                aiReturn_SUCCESS)
+                continue;
+            if (file.length == 0) break;
+            m.texture = material_texture(im, name.data, file.data);
+            if (m.texture >= 0) {
+                m.env = PERSP_TEXENV_MODULATE;
+                m.sampler.wrap_s = wrap_of(modes[0]);
+                m.sampler.wrap_t = wrap_of(modes[1]);
+            }
+            break;
+        }
+    }
+    return persp__scene_add_material(im->scene, &m, out);
+}
+
+static persp_status add_part(importer *im, int mesh, int material, const persp_mat4 *xf)
+{
+    persp_model *o = im->out;
+    if (o->part_count >= PERSP_SCENE_MAX_OBJECTS)
+        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %d mesh instances",
+                           im->display, PERSP_SCENE_MAX_OBJECTS);
+    if (persp__grow(im->ctx, (void **)&o->parts, &im->part_cap, o->part_count + 1,
+                    sizeof *o->parts) != PERSP_OK)
+        return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
+    persp_model_part *p = &o->parts[o->part_count++];
+    p->mesh = mesh;
+    p->material = material;
+    p->transform = *xf;
+    const persp_mesh *pm = &im->scene->meshes[mesh];
+    for (size_t i = 0; i < pm->vertex_count; i++) {
+        const float *q = pm->vertices[i].pos;
+        persp_vec4 w = persp_mat4_apply(*xf, (persp_vec4){q[0], q[1], q[2], 1.0f});
+        float x = w.x, y = w.y, z = w.z;
+        if (w.w != 0.0f && w.w != 1.0f) x /= w.w, y /= w.w, z /= w.w;
+        if (!finite3(x, y, z)) continue;
+        const float v[3] = {x, y, z};
+        for (int k = 0; k < 3; k++) {
+            if (v[k] < o->bbox_min[k]) o->bbox_min[k] = v[k];
+            if (v[k] > o->bbox_max[k]) o->bbox_max[k] = v[k];
+        }
+    }
+    return PERSP_OK;
+}
+
+static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 parent, int depth)
+{
+    if (depth > PERSP_MODEL_MAX_DEPTH)
+        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: node hierarchy deeper than %d",
+                           im->display, PERSP_MODEL_MAX_DEPTH);
+    persp_mat4 xf = persp_mat4_mul(parent, to_mat4(&node->mTransformation));
+    persp_status st;
+    for (unsigned i = 0; i < node->mNumMeshes; i++) {
+        unsigned mi = node->mMeshes[i];
+        if (mi >= im->ai->mNumMeshes) continue;
+        if (im->mesh_index[mi] == -1 &&
+            (st = convert_mesh(im, mi, &im->mesh_index[mi])) != PERSP_OK)
+            return st;
+        if (im->mesh_index[mi] < 0) continue;
+        unsigned mat = im->ai->mMeshes[mi]->mMaterialIndex;
+        int material;
+        if (mat < im->ai->mNumMaterials) {
+            if (im->material_index[mat] == -1 &&
+                (st = convert_material(im, mat, &im->material_index[mat])) != PERSP_OK)
+                return st;
+            material = im->material_index[mat];
+        } else {
+            persp_material d = persp__material_default();
+            if ((st = persp__scene_add_material(im->scene, &d, &material)) != PERSP_OK) return st;
+        }
+        if ((st = add_part(im, im->mesh_index[mi], material, &xf)) != PERSP_OK) return st;
+    }
+    for (unsigned i = 0; i < node->mNumChildren; i++)
+        if ((st = walk(im, node->mChildren[i], xf, depth + 1)) != PERSP_OK) return st;
+    return PERSP_OK;
+}
+
+static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
+{
+    *slots = persp__calloc(ctx, n ? n : 1, sizeof **slots);
+    if (!*slots) return PERSP_ERR_OUT_OF_MEMORY;
+    for (unsigned i = 0; i < n; i++)
+        (*slots)[i] = -1;
+    return PERSP_OK;
+}
+
+/* ----------------------------------------------------------------- import */
+
+/* What the post-processing steps need and do not check themselves: the
+ * primitive types recomputed from the faces (some readers, PLY's among
+ * them, get them wrong on malformed input, and Debian's Assimp aborts on
+ * the internal check that catches it), finite positions, and something to
+ * triangulate. Returns NULL or what is wrong. */
+static const char *prepare_scene(const struct aiScene *ai)
+{
+    int any = 0;
+    for (unsigned i = 0; i < ai->mNumMeshes; i++) {
+        struct aiMesh *m = ai->mMeshes[i]; /* the scene is this import's own */
+        unsigned types = 0;
+        for (unsigned f = 0; f < m->mNumFaces; f++) {
+            unsigned n = m->mFaces[f].mNumIndices;
+            types |= n == 0   ? 0u /* an empty face: nothing to draw */
+                     : n == 1 ? aiPrimitiveType_POINT
+                     : n == 2 ? aiPrimitiveType_LINE
+                     : n == 3 ? aiPrimitiveType_TRIANGLE
+                              : aiPrimitiveType_POLYGON;
+        }
+        m->mPrimitiveTypes = types;
+        any |= (types & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) != 0;
+        for (unsigned v = 0; v < m->mNumVertices; v++)
+            if (!finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
+                return "a vertex position is not finite";
+    }
+    return any ? NULL : "the model has no triangles to draw";
+}
+
+void persp__model_free(persp_context *ctx, persp_model *model)
+{
+    if (!model) return;
+    persp__free(ctx, model->parts);
+    memset(model, 0, sizeof *model);
+}
+
+persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
+                                      const char *name, const char *base_dir, persp_texcache *cache,
+                                      size_t max_vertices, persp_model *out)
+{
+    if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    persp_context *ctx = scene->ctx;
+    memset(out, 0, sizeof *out);
+    const char *display = name ? name : "<model>";
+    /* Assimp picks the reader by the name's extension and then the content;
+     * a name without a usable one still gets the content sniffed. */
+    const char *main_name = persp__path_base(display);
+    if (!main_name[0]) main_name = "model";
+    char *buf = persp__alloc(ctx, size + 1);
+    if (!buf) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
+    if (size) memcpy(buf, data, size);
+    buf[size] = '\0';
+    if (is_line_text(main_name) || has_ext(main_name, "gltf"))
+        size = normalise_text(buf, size, is_line_text(main_name));
+
+    persp_status cst = check_declared_counts(ctx, display, buf, size);
+    if (cst != PERSP_OK) {
+        persp__free(ctx, buf);
+        return cst;
+    }
+    model_io io;
+    memset(&io, 0, sizeof io);
+    io.ctx = ctx;
+    io.display = display;
+    io.main_name = main_name;
+    io.data = buf;
+    io.size = size;
+    io.base_dir = base_dir;
+    struct aiFileIO fio = {file_open, file_close, (aiUserData)(void *)&io};
+
+    struct aiPropertyStore *props = aiCreatePropertyStore();
+    if (!props) {
+        persp__free(ctx, buf);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
+    }
+    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, MODEL_CREASE_DEG);
+    aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE,
+                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+    /* Read and validated first, then prepared (prepare_scene) for the
+     * post-processing steps. A scene they would fail on is refused before
+     * them: Assimp 5.2 crashes releasing a scene whose post-processing
+     * failed. */
+    const unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                           aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    char why[256] = "";
+    const char *wrong = NULL;
+    pthread_mutex_lock(&import_lock);
+    const struct aiScene *ai =
+        aiImportFileExWithProperties(main_name, aiProcess_ValidateDataStructure, &fio, props);
+    if (ai && (wrong = prepare_scene(ai)) != NULL) {
+        aiReleaseImport(ai);
+        ai = NULL;
+    }
+    if (ai) ai = aiApplyPostProcessing(ai, steps);
+    if (!ai && !wrong) snprintf(why, sizeof why, "%s", aiGetErrorString());
+    pthread_mutex_unlock(&import_lock);
+    aiReleasePropertyStore(props);
+    persp__free(ctx, buf);
+    if (wrong) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, wrong);
+    if (!ai) {
+        why[strcspn(why, "\r\n")] = '\0';
+        for (char *c = why; *c; c++)
+            if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: cannot import the model: %s", display,
+                           why[0] ? why : "unknown format or malformed file");
+    }
+
+    importer im;
+    memset(&im, 0, sizeof im);
+    im.scene = scene;
+    im.ctx = ctx;
+    im.ai = ai;
+    im.display = display;
+    im.base_dir = base_dir;
+    im.cache = cache;
+    im.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
+    im.out = out;
+    for (int k = 0; k < 3; k++)
+        out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
+    persp_status st = PERSP_OK;
+    if (fill_slots(ctx, &im.mesh_index, ai->mNumMeshes) != PERSP_OK ||
+        fill_slots(ctx, &im.material_index, ai->mNumMaterials) != PERSP_OK ||
+        fill_slots(ctx, &im.embedded_index, ai->mNumTextures) != PERSP_OK)
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
+    if (st == PERSP_OK && ai->mRootNode) st = walk(&im, ai->mRootNode, persp_mat4_identity(), 0);
+    if (st == PERSP_OK && out->part_count == 0)
+        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", display);
+    if (st == PERSP_OK && !(out->bbox_min[0] <= out->bbox_max[0]))
+        st = persp__fail(ctx, PERSP_ERR_FORMAT,
+                         "%s: the model's transformed vertices are not finite", display);
+    persp__free(ctx, im.mesh_index);
+    persp__free(ctx, im.material_index);
+    persp__free(ctx, im.embedded_index);
+    aiReleaseImport(ai);
+    /* Files worked around left their failures in the detail: warnings. */
+    if (st == PERSP_OK)
+        persp__clear_error(ctx);
+    else
+        persp__model_free(ctx, out);
+    return st;
+}
+
+persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_texcache *cache,
+                                    size_t max_vertices, persp_model *out)
+{
+    if (!scene || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    char *data = NULL;
+    size_t size = 0;
+    persp_status st = persp__read_file(scene->ctx, path, &data, &size);
+    if (st != PERSP_OK) return st;
+    char dir[PERSP_PATH_MAX];
+    persp__path_dir(path, dir, sizeof dir);
+    st = persp__model_load_memory(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices,
+                                  out);
+    persp__free(scene->ctx, data);
+    return st;
+}
+
+int persp__model_is_model(const char *path, const char *data, size_t size)
+{
+    if (has_ext(path, "json")) return 0;
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    if (dot && (!slash || dot > slash) && dot[1] && aiIsExtensionSupported(dot)) return 1;
+    if (!data) return 0;
+    size_t i = 0;
+    if (size >= 3 && (unsigned char)data[0] == 0xef && (unsigned char)data[1] == 0xbb &&
+        (unsigned char)data[2] == 0xbf)
+        i = 3;
+    while (i < size && isspace((unsigned char)data[i]))
+        i++;
+    return i < size && data[i] != '{';
+}
+
+/* ------------------------------------------------- scene around a model */
+
+static persp_vec3 from_angles(float elev_deg, float azim_deg)
+{
+    const float d2r = 3.14159265f / 180.0f;
+    float e = elev_deg * d2r, a = azim_deg * d2r;
+    return (persp_vec3){cosf(e) * sinf(a), sinf(e), cosf(e) * cosf(a)};
+}
+
+persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
+                                     const char *name, const char *base_dir, persp_scene **out)
+{
+    *out = NULL;
+    persp_scene *s = NULL;
+    persp_status st = persp__scene_new(ctx, &s);
+    if (st != PERSP_OK) return st;
+    persp_texcache cache;
+    memset(&cache, 0, sizeof cache);
+    persp_model model;
+    st = persp__model_load_memory(s, data, size, name, base_dir, &cache, 0, &model);
+    persp__texcache_free(ctx, &cache);
+    for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {
+        persp_object o;
+        memset(&o, 0, sizeof o);
+        o.mesh = model.parts[i].mesh;
+        o.material = model.parts[i].material;
+        o.model = model.parts[i].transform;
+        o.texgen_axis = 1;
+        st = persp__scene_add_object(s, &o);
+    }
+    if (st != PERSP_OK) {
+        persp__model_free(ctx, &model);
+        persp_scene_destroy(s);
+        return st;
+    }
+    /* Camera: 30 degrees above and 35 around the front (+z) of the bounding
+     * box, far enough for the bounding sphere to fill a 45-degree view. */
+    float c[3], r2 = 0;
+    for (int k = 0; k < 3; k++) {
+        c[k] = 0.5f * (model.bbox_min[k] + model.bbox_max[k]);
+        float h = 0.5f * (model.bbox_max[k] - model.bbox_min[k]);
+        r2 += h * h;
+    }
+    persp__model_free(ctx, &model);
+    float r = sqrtf(r2);
+    if (!(r > 1e-6f) || !isfinite(r)) r = 1.0f;
+    const float fov = 45.0f;
+    float dist = 1.05f * r / sinf(0.5f * fov * 3.14159265f / 180.0f);
+    persp_vec3 dir = from_angles(30.0f, 35.0f);
+    s->camera.eye = (persp_vec3){c[0] + dist * dir.x, c[1] + dist * dir.y, c[2] + dist * dir.z};
+    s->camera.target = (persp_vec3){c[0], c[1], c[2]};
+    s->camera.up = (persp_vec3){0, 1, 0};
+    s->camera.fovy_deg = fov;
+    s->camera.znear = 0.5f * (dist - r);
+    s->camera.zfar = 1.5f * (dist + r);
+    /* Three-point rig, directions relative to the camera's 35 degrees:
+     * key above and to the left, fill low on the right, rim from behind. */
+    static const float rig[3][3] = {{50.0f, 35.0f - 45.0f, 0.85f},
+                                    {10.0f, 35.0f + 60.0f, 0.35f},
+                                    {40.0f, 35.0f + 180.0f, 0.45f}};
+    for (int i = 0; i < 3; i++) {
+        persp_light *l = &s->lights[i];
+        memset(l, 0, sizeof *l);
+        l->type = PERSP_LIGHT_DIRECTIONAL;
+        persp_vec3 d = from_angles(rig[i][0], rig[i][1]);
+        l->position[0] = d.x, l->position[1] = d.y, l->position[2] = d.z;
+        l->color[0] = l->color[1] = l->color[2] = rig[i][2];
+        l->attenuation[0] = 1.0f;
+    }
+    s->light_count = 3;
+    for (int k = 0; k < 3; k++)
+        s->ambient[k] = 0.15f;
+    s->shading = PERSP_SHADING_PHONG;
+    s->clear[0] = s->clear[1] = s->clear[2] = 40;
+    s->clear[3] = 255;
+    *out = s;
+    return PERSP_OK;
+}

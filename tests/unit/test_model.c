@@ -1,0 +1,517 @@
+/* Model import: OBJ with MTL and textures, the quirks of real OBJ files,
+ * glTF with embedded buffers and textures, PLY and STL, node transforms,
+ * warnings and fallbacks for missing files, errors naming the file, and
+ * scenes built around a bare model. */
+#include "support.h"
+
+#include "core/internal.h"
+#include "geom/scene.h"
+#include "io/model.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+typedef struct warnings {
+    int count;
+    char last[512];
+} warnings;
+
+static void on_warning(void *user, const char *message)
+{
+    warnings *w = user;
+    w->count++;
+    if (getenv("PERSP_TEST_VERBOSE")) fprintf(stderr, "warning: %s\n", message);
+    snprintf(w->last, sizeof w->last, "%s", message);
+}
+
+typedef struct loaded {
+    persp_context *ctx;
+    persp_scene *scene;
+    persp_model model;
+    persp_status st;
+    warnings warn;
+} loaded;
+
+static void begin(loaded *l)
+{
+    memset(l, 0, sizeof *l);
+    l->ctx = test_context();
+    persp_context_set_warning_handler(l->ctx, on_warning, &l->warn);
+    assert_int_equal(persp__scene_new(l->ctx, &l->scene), PERSP_OK);
+}
+
+static void load_text(loaded *l, const char *text, const char *name)
+{
+    begin(l);
+    l->st = persp__model_load_memory(l->scene, text, strlen(text), name, NULL, NULL, 0, &l->model);
+}
+
+static void load_path(loaded *l, const char *path)
+{
+    begin(l);
+    l->st = persp__model_load_file(l->scene, path, NULL, 0, &l->model);
+}
+
+static void unload(loaded *l)
+{
+    persp__model_free(l->ctx, &l->model);
+    persp_scene_destroy(l->scene);
+    persp_context_destroy(l->ctx);
+}
+
+static const persp_mesh *mesh_of(const loaded *l, size_t part)
+{
+    assert_int_equal(l->st, PERSP_OK);
+    assert_true(l->model.part_count > part);
+    return &l->scene->meshes[l->model.parts[part].mesh];
+}
+
+static const persp_material *material_of(const loaded *l, size_t part)
+{
+    return &l->scene->materials[l->model.parts[part].material];
+}
+
+static char tmpdir[64];
+
+static void make_tmp(void)
+{
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/persp_model_XXXXXX");
+    assert_non_null(mkdtemp(tmpdir));
+}
+
+static void write_file(const char *name, const void *data, size_t size)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    fclose(f);
+}
+
+static void write_text(const char *name, const char *text)
+{
+    write_file(name, text, strlen(text));
+}
+
+static void write_png(persp_context *ctx, const char *name, int w, int h)
+{
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, w, h, &img), PERSP_OK);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            uint8_t *p = img.pixels + (size_t)y * img.stride + 4 * (size_t)x;
+            p[0] = (uint8_t)(x * 40), p[1] = (uint8_t)(y * 40), p[2] = 128, p[3] = 255;
+        }
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    assert_int_equal(persp_image_write_png(ctx, path, &img), PERSP_OK);
+    persp_image_free(ctx, &img);
+}
+
+static void tmp_path(char *out, size_t size, const char *name)
+{
+    snprintf(out, size, "%s/%s", tmpdir, name);
+}
+
+static void remove_tmp(void)
+{
+    char cmd[128];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    assert_int_equal(system(cmd), 0);
+}
+
+static void test_obj_quad_from_memory(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "# a unit quad\n"
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+              "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+              "vn 0 0 1\n"
+              "g quad\no thing\ns 1\n"
+              "f 1/1/1 2/2/1 3/3/1 4/4/1\n",
+              "t.obj");
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(l.model.part_count, 1);
+    assert_int_equal(m->index_count, 6);
+    assert_int_equal(m->vertex_count, 4);
+    assert_true(m->has_normals);
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        const persp_vertex *v = &m->vertices[i];
+        /* uv equals position for this quad */
+        assert_true(fabsf(v->uv[0] - v->pos[0]) < 1e-6f && fabsf(v->uv[1] - v->pos[1]) < 1e-6f);
+        assert_true(v->normal[2] == 1.0f && v->color[0] == 1.0f && v->color[3] == 1.0f);
+    }
+    /* counter-clockwise seen from +z, as the file's face */
+    for (size_t t = 0; t < m->index_count; t += 3) {
+        const float *a = m->vertices[m->indices[t]].pos, *b = m->vertices[m->indices[t + 1]].pos,
+                    *c = m->vertices[m->indices[t + 2]].pos;
+        float cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        assert_true(cross > 0);
+    }
+    /* no material: persp's default */
+    persp_material def = persp__material_default();
+    assert_memory_equal(material_of(&l, 0)->diffuse, def.diffuse, sizeof def.diffuse);
+    assert_int_equal(material_of(&l, 0)->texture, -1);
+    assert_true(l.model.bbox_min[0] == 0.0f && l.model.bbox_max[1] == 1.0f);
+    unload(&l);
+}
+
+/* What the hand-written OBJ reader did: relative (negative) indices,
+ * vertex colours after the position, polygons of more than 4 corners,
+ * v/vt, v//vn and v/vt/vn corners. */
+static void test_obj_indices_colours_polygons(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 1 1 0 0 0 1\nv 0.5 1.5 0 1 1 0\nv 0 1 0 0 1 1\n"
+              "vt 0 0\nvt 1 0\nvn 0 0 1\n"
+              "f -5/-2/-1 -4/-1/-1 -3//-1 -2 -1\n",
+              "pent.obj");
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 9);
+    int coloured = 0;
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        const persp_vertex *v = &m->vertices[i];
+        if (v->pos[0] == 0.0f && v->pos[1] == 0.0f)
+            coloured += v->color[0] == 1.0f && v->color[1] == 0.0f && v->color[2] == 0.0f;
+        if (v->pos[0] == 1.0f && v->pos[1] == 1.0f)
+            coloured += v->color[0] == 0.0f && v->color[1] == 0.0f && v->color[2] == 1.0f;
+        assert_true(v->color[3] == 1.0f);
+    }
+    assert_int_equal(coloured, 2);
+    float area = 0;
+    for (size_t t = 0; t < m->index_count; t += 3) {
+        const float *a = m->vertices[m->indices[t]].pos, *b = m->vertices[m->indices[t + 1]].pos,
+                    *c = m->vertices[m->indices[t + 2]].pos;
+        area += 0.5f * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]));
+    }
+    assert_true(fabsf(area - 1.25f) < 1e-5f); /* the pentagon, all front-facing */
+    unload(&l);
+}
+
+static void test_obj_smooth_normals_when_missing(void **state)
+{
+    (void)state;
+    /* Two faces of a shallow roof (20 degrees apart) share an edge: below
+     * the crease angle, so the shared corners get one averaged normal. */
+    loaded l;
+    load_text(&l,
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 2 0.36\nv 1 2 0.36\nf 1 2 3 4\nf 4 3 6 5\n",
+              "roof.obj");
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 12);
+    int shared = 0;
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        const persp_vertex *v = &m->vertices[i];
+        float len = sqrtf(v->normal[0] * v->normal[0] + v->normal[1] * v->normal[1] +
+                          v->normal[2] * v->normal[2]);
+        assert_true(fabsf(len - 1.0f) < 1e-3f);
+        if (v->pos[1] == 1.0f) {
+            shared++;
+            assert_true(v->normal[1] < -0.05f); /* tilted between the two faces */
+        }
+    }
+    assert_int_equal(shared, 2);
+    unload(&l);
+}
+
+static void test_obj_mtl_texture_and_quirks(void **state)
+{
+    (void)state;
+    make_tmp();
+    char sub[128];
+    snprintf(sub, sizeof sub, "%s/tex", tmpdir);
+    assert_int_equal(mkdir(sub, 0700), 0);
+    persp_context *ctx = test_context();
+    write_png(ctx, "tex/t.png", 4, 2);
+    persp_context_destroy(ctx);
+    /* A byte-order mark, CR-only lines, Windows separators, a material name
+     * with spaces and a statement persp ignores (Km). */
+    write_text("lib.mtl", "\xef\xbb\xbfnewmtl red stone\rKd 1 0 0\rKs 0.5 0.5 0.5\rNs 20\rKm 1\r"
+                          "map_Kd .\\tex\\t.png\r");
+    write_text("m.obj",
+               "\xef\xbb\xbfmtllib lib.mtl\rv 0 0 0\rv 1 0 0\rv 0 1 0\rvt 0 0\rvt 1 0\rvt 0 1\r"
+               "usemtl red stone\rf 1/1 2/2 3/3\r");
+    char path[256];
+    tmp_path(path, sizeof path, "m.obj");
+    loaded l;
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 0);
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 3);
+    const persp_material *mat = material_of(&l, 0);
+    assert_true(mat->diffuse[0] == 1.0f && mat->diffuse[1] == 0.0f);
+    assert_true(mat->specular[0] == 0.5f && mat->shininess == 20.0f);
+    assert_true(mat->texture >= 0);
+    assert_int_equal(mat->env, PERSP_TEXENV_MODULATE);
+    assert_int_equal(persp_texture_width(l.scene->textures[mat->texture]), 4);
+    unload(&l);
+    remove_tmp();
+}
+
+static void test_obj_missing_files_warn(void **state)
+{
+    (void)state;
+    make_tmp();
+    /* usemtl without any mtllib, a missing MTL file, a missing texture. */
+    write_text("a.obj", "usemtl Default\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text("b.obj", "mtllib gone.mtl\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    write_text("c.mtl", "newmtl x\nKd 0 1 0\nmap_Kd C:\\textures\\gone.jpg\n");
+    write_text("c.obj", "mtllib c.mtl\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    char path[256];
+    loaded l;
+    tmp_path(path, sizeof path, "a.obj");
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(material_of(&l, 0)->texture, -1);
+    unload(&l);
+
+    tmp_path(path, sizeof path, "b.obj");
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 1);
+    assert_non_null(strstr(l.warn.last, "gone.mtl"));
+    assert_non_null(strstr(l.warn.last, "b.obj"));
+    assert_int_equal(material_of(&l, 0)->texture, -1);
+    unload(&l);
+
+    tmp_path(path, sizeof path, "c.obj");
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 1);
+    assert_non_null(strstr(l.warn.last, "C:/textures/gone.jpg"));
+    assert_non_null(strstr(l.warn.last, "untextured"));
+    const persp_material *mat = material_of(&l, 0);
+    assert_int_equal(mat->texture, -1);
+    assert_true(mat->diffuse[1] == 1.0f);
+    unload(&l);
+    remove_tmp();
+}
+
+static void test_gltf_embedded_texture_and_nodes(void **state)
+{
+    (void)state;
+    char path[1024];
+    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
+    loaded l;
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 0);
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 3);
+    const persp_material *mat = material_of(&l, 0);
+    assert_true(mat->texture >= 0);
+    const persp_texture *tex = l.scene->textures[mat->texture];
+    assert_int_equal(persp_texture_width(tex), 2);
+    persp_image_view v;
+    assert_int_equal(persp_texture_level(tex, 0, &v), PERSP_OK);
+    /* the image's top row is red, green: persp's row 1 */
+    const uint8_t *top = v.pixels + v.stride;
+    assert_true(top[0] == 255 && top[1] == 0 && top[4] == 0 && top[5] == 255);
+    /* translate (2, 0, 0) above scale (1, 2, 1) */
+    const persp_mat4 *t = &l.model.parts[0].transform;
+    persp_vec4 p = persp_mat4_apply(*t, (persp_vec4){0, 1, 0, 1});
+    assert_true(fabsf(p.x - 2.0f) < 1e-6f && fabsf(p.y - 2.0f) < 1e-6f);
+    assert_true(fabsf(l.model.bbox_min[0] - 2.0f) < 1e-6f &&
+                fabsf(l.model.bbox_max[1] - 2.0f) < 1e-6f);
+    /* glTF's v runs down the image; persp's up: the vertex at uv (0, 1) in
+     * the file samples the image's bottom-left */
+    for (size_t i = 0; i < m->vertex_count; i++)
+        if (m->vertices[i].pos[1] == 1.0f) assert_true(fabsf(m->vertices[i].uv[1]) < 1e-6f);
+    unload(&l);
+}
+
+/* Binary glTF with the image in the binary chunk, COLLADA and ASCII FBX
+ * with a node transform (FBX also with a material), binary STL. */
+static void test_more_formats(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file;
+        int textured;
+        float z; /* translation of the instance */
+    } cases[] = {{"tests/data/models/embedded.glb", 1, 0.0f},
+                 {"tests/data/models/triangle.dae", 0, -1.0f},
+                 {"tests/data/models/triangle.fbx", 0, -1.0f},
+                 {"tests/data/models/triangle_binary.stl", 0, 0.0f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char path[1024];
+        test_source_path(path, sizeof path, cases[i].file);
+        loaded l;
+        load_path(&l, path);
+        if (l.st != PERSP_OK) fail_msg("%s: %s", cases[i].file, persp_context_error(l.ctx));
+        assert_int_equal(l.warn.count, 0);
+        const persp_mesh *m = mesh_of(&l, 0);
+        assert_int_equal(m->index_count, 3);
+        assert_int_equal(material_of(&l, 0)->texture >= 0, cases[i].textured);
+        if (cases[i].textured) {
+            persp_image_view v;
+            assert_int_equal(
+                persp_texture_level(l.scene->textures[material_of(&l, 0)->texture], 0, &v),
+                PERSP_OK);
+            assert_true(v.width == 2 && v.pixels[v.stride] == 255); /* top-left red */
+        }
+        if (strstr(cases[i].file, ".fbx")) {
+            const float *d = material_of(&l, 0)->diffuse;
+            assert_true(d[0] == 1.0f && d[1] == 0.0f && d[2] == 0.0f);
+        }
+        if (fabsf(l.model.parts[0].transform.m[14] - cases[i].z) > 1e-6f)
+            fail_msg("%s: z translation %g", cases[i].file,
+                     (double)l.model.parts[0].transform.m[14]);
+        unload(&l);
+    }
+}
+
+static void test_ply_vertex_colours(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+              "y\nproperty float z\n"
+              "property uchar red\nproperty uchar green\nproperty uchar blue\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n"
+              "0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n3 0 1 2\n",
+              "c.ply");
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 3);
+    int red = 0, green = 0, blue = 0;
+    for (size_t i = 0; i < m->vertex_count; i++) {
+        const float *c = m->vertices[i].color;
+        red += c[0] == 1.0f && c[1] == 0.0f && c[2] == 0.0f;
+        green += c[0] == 0.0f && c[1] == 1.0f && c[2] == 0.0f;
+        blue += c[0] == 0.0f && c[1] == 0.0f && c[2] == 1.0f;
+    }
+    assert_true(red == 1 && green == 1 && blue == 1);
+    unload(&l);
+}
+
+static void test_stl_ascii(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+              "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\n"
+              "vertex 0 1 0\nendloop\nendfacet\nendsolid t\n",
+              "s.stl");
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 6);
+    for (size_t i = 0; i < m->vertex_count; i++)
+        assert_true(fabsf(m->vertices[i].normal[2] - 1.0f) < 1e-5f);
+    unload(&l);
+}
+
+static void test_errors_name_the_file(void **state)
+{
+    (void)state;
+    loaded l;
+    /* points and lines only */
+    load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\n", "lines.obj");
+    assert_int_not_equal(l.st, PERSP_OK);
+    const char *e = persp_context_error(l.ctx);
+    assert_non_null(strstr(e, "lines.obj"));
+    assert_null(strchr(e, '\n'));
+    unload(&l);
+    load_text(&l, "\x01\x02 this is not a model \x03", "junk.xyz");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "junk.xyz: cannot import the model"));
+    unload(&l);
+    load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "range.obj");
+    assert_int_not_equal(l.st, PERSP_OK);
+    assert_non_null(strstr(persp_context_error(l.ctx), "range.obj"));
+    unload(&l);
+    /* header counts beyond the file or persp's limits: refused before
+     * the reader sizes its arrays by them */
+    load_text(
+        &l,
+        "ply\nformat ascii 1.0\nelement vertex 999999999\nproperty float x\nproperty float y\n"
+        "property float z\nend_header\n0 0 0\n",
+        "big.ply");
+    assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
+    assert_non_null(
+        strstr(persp_context_error(l.ctx), "big.ply: the header declares 999999999 vertices"));
+    unload(&l);
+    load_text(&l, "OFF\n# comment\n3 5000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "big.off");
+    assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
+    assert_non_null(strstr(persp_context_error(l.ctx), "5000 faces, more than the file holds"));
+    unload(&l);
+    /* vertex budget: checked before persp allocates the mesh */
+    begin(&l);
+    const char *quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+    l.st =
+        persp__model_load_memory(l.scene, quad, strlen(quad), "big.obj", NULL, NULL, 3, &l.model);
+    assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
+    unload(&l);
+}
+
+static void test_scene_from_bare_model_and_json_override(void **state)
+{
+    (void)state;
+    make_tmp();
+    write_text(
+        "box.obj",
+        "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\nv -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+        "f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 4 8 7 3\nf 1 5 8 4\nf 2 3 7 6\n");
+    write_text("s.json", "{\"materials\": {\"m\": {\"diffuse\": [0, 0, 1]}},\n"
+                         " \"objects\": [{\"mesh\": {\"file\": \"box.obj\"}, \"material\": \"m\",\n"
+                         "               \"transform\": {\"translate\": [0, 0, -6]}}]}\n");
+    persp_context *ctx = test_context();
+    char path[256];
+    tmp_path(path, sizeof path, "box.obj");
+    persp_scene *s = NULL;
+    assert_int_equal(persp_scene_load(ctx, path, &s), PERSP_OK);
+    persp_scene_info info;
+    persp_scene_get_info(s, &info);
+    assert_int_equal(info.objects, 1);
+    assert_int_equal(info.lights, 3);
+    /* the camera looks at the box's centre from above and in front */
+    assert_true(s->camera.eye.y > 0 && s->camera.eye.z > 0 && s->camera.eye.x > 0);
+    assert_true(s->camera.znear > 0 && s->camera.zfar > s->camera.znear);
+    uint8_t color[32 * 32 * 4];
+    float depth[32 * 32];
+    persp_framebuffer fb = {32, 32, color, depth};
+    assert_int_equal(persp_render(ctx, s, NULL, &fb, NULL), PERSP_OK);
+    /* the centre pixel shows the box, the corner the background */
+    const uint8_t *c = &color[4 * (16 * 32 + 16)];
+    assert_true(c[0] != 40 || c[1] != 40 || c[2] != 40);
+    assert_true(color[0] == 40 && color[3] == 255);
+    persp_scene_destroy(s);
+
+    tmp_path(path, sizeof path, "s.json");
+    assert_int_equal(persp_scene_load(ctx, path, &s), PERSP_OK);
+    assert_int_equal(s->object_count, 1);
+    const persp_material *m = &s->materials[s->objects[0].material];
+    assert_true(m->diffuse[2] == 1.0f && m->diffuse[0] == 0.0f);
+    assert_true(s->objects[0].model.m[14] == -6.0f);
+    persp_scene_destroy(s);
+    persp_context_destroy(ctx);
+    remove_tmp();
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_obj_quad_from_memory),
+        cmocka_unit_test(test_obj_indices_colours_polygons),
+        cmocka_unit_test(test_obj_smooth_normals_when_missing),
+        cmocka_unit_test(test_obj_mtl_texture_and_quirks),
+        cmocka_unit_test(test_obj_missing_files_warn),
+        cmocka_unit_test(test_gltf_embedded_texture_and_nodes),
+        cmocka_unit_test(test_more_formats),
+        cmocka_unit_test(test_ply_vertex_colours),
+        cmocka_unit_test(test_stl_ascii),
+        cmocka_unit_test(test_errors_name_the_file),
+        cmocka_unit_test(test_scene_from_bare_model_and_json_override),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
