@@ -6,8 +6,9 @@
 # sharded sweep of tests/cli/test_shard.sh; chromium (headless) loads the page
 # of `persp report` in tests/cli/test_report.sh.
 set -eu
-# libsdl2-dev, libimgui-dev and fonts-dejavu-core build the window of `persp view`.
-required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core libassimp-dev"
+# libsdl2-dev, libimgui-dev and fonts-dejavu-core build the window of `persp view`;
+# xvfb runs it in a real X window in tests/cli/test_view_xvfb.sh.
+required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core libassimp-dev xvfb"
 optional="clang"
 want="$required"
 [ "${1:-}" = "--optional" ] && want="$required $optional"

@@ -84,6 +84,13 @@ static const cli_spec opt_window_shot = {
     .metavar = "FILE",
     .help = "with --frames: save the window's last frame, panels included, as PNG"};
 
+static const cli_spec opt_script = {
+    .name = "script",
+    .kind = CLI_KIND_STRING,
+    .metavar = "FILE",
+    .help = "drive the window with the input actions in FILE (keys, mouse, method\n"
+            "changes, screenshots; format in docs/VIEWER.md); closes at its end"};
+
 static const cli_spec opt_mip_levels = {
     .name = "mip-levels",
     .kind = CLI_KIND_FLAG,
@@ -179,7 +186,7 @@ int view_window_run(const view_window_args *args)
 int cmd_view(int argc, char **argv)
 {
     const char *texture = NULL, *method = NULL, *compare = NULL, *output = NULL, *play = NULL,
-               *record = NULL, *window_shot = NULL;
+               *record = NULL, *window_shot = NULL, *script = NULL;
     cli_filter filter = {NULL, PERSP_FILTER_DEFAULT, 0};
     cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
@@ -217,6 +224,7 @@ int cmd_view(int argc, char **argv)
                      "folder for --play frames and screenshots (default out/frames)"),
         CLI_OPT(opt_record, &record),
         CLI_OPT(opt_window_shot, &window_shot),
+        CLI_OPT(opt_script, &script),
         CLI_OPT_HELP(cli_opt_quiet, &quiet, "print nothing on success"),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
@@ -298,7 +306,7 @@ int cmd_view(int argc, char **argv)
             ctx,   scene,  tinted,      coords,  scene_name,
             left,  right,  layout,      divider, heat_max,
             width, height, threads,     frames,  record ? record : "camera-path.json",
-            NULL,  output, window_shot, quiet};
+            NULL,  output, window_shot, script,  quiet};
         rc = view_window_run(&a);
     }
 done:

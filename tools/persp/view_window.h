@@ -26,6 +26,7 @@ typedef struct view_window_args {
     const view_path *play;   /* NULL: none loaded */
     const char *shot_dir;    /* screenshots go here */
     const char *window_shot; /* with frames: the last frame, panels included, as PNG */
+    const char *script;      /* input actions to replay (docs/VIEWER.md); NULL: none */
     int quiet;
 } view_window_args;
 

@@ -19,6 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -96,6 +97,84 @@ int worker_main(void *arg)
     return 0;
 }
 
+/* One line of a --script file (docs/VIEWER.md). */
+struct action {
+    int line;
+    std::string op;
+    std::vector<std::string> arg;
+};
+
+/* Where the replay of a --script file stands. Input actions become SDL
+ * events pushed into the queue, so they take the same way as a person's. */
+struct script {
+    std::vector<action> actions;
+    size_t next = 0;
+    int wait = 0;            /* frames left before the next action */
+    std::vector<std::pair<int, SDL_Event>> later; /* (frames from now, event) */
+    int mouse_x = 0, mouse_y = 0;
+    std::vector<const action *> shots; /* taken once this frame is drawn */
+    bool settling = false;
+    long timing_frames = -1; /* frames since `timing start`; -1: not timing */
+    double timing_start = 0.0;
+};
+
+bool load_script(const char *path, script *sc, std::string *err)
+{
+    FILE *f = fopen(path, "r");
+    if (!f) {
+        *err = std::string(path) + ": " + strerror(errno);
+        return false;
+    }
+    char buf[1024];
+    int line = 0;
+    while (fgets(buf, sizeof buf, f)) {
+        line++;
+        char *hash = strchr(buf, '#');
+        if (hash) *hash = '\0';
+        action a;
+        a.line = line;
+        for (char *t = strtok(buf, " \t\r\n"); t; t = strtok(nullptr, " \t\r\n"))
+            (a.op.empty() ? a.op : a.arg.emplace_back()) = t;
+        if (a.op.empty()) continue;
+        static const struct {
+            const char *op;
+            size_t lo, hi;
+        } known[] = {{"wait", 1, 1},  {"key", 1, 2},   {"hold", 2, 2},   {"method", 2, 2},
+                     {"move", 2, 2},  {"drag", 2, 3},  {"play", 1, 1},   {"settle", 0, 0},
+                     {"shot", 1, 1},  {"image", 1, 1}, {"scale", 1, 1},  {"timing", 1, 1},
+                     {"stats", 1, 1}, {"quit", 0, 0}};
+        bool ok = false;
+        for (const auto &k : known)
+            if (a.op == k.op) ok = a.arg.size() >= k.lo && a.arg.size() <= k.hi;
+        if (ok && (a.op == "key" || a.op == "hold") &&
+            SDL_GetKeyFromName(a.arg[0].c_str()) == SDLK_UNKNOWN)
+            ok = false;
+        if (ok && a.op == "method")
+            ok = (a.arg[0] == "left" || a.arg[0] == "right") &&
+                 persp_method_check(a.arg[1].c_str()) == PERSP_OK;
+        if (ok && a.op == "timing") ok = a.arg[0] == "start" || a.arg[0] == "stop";
+        if (ok && a.op == "stats") ok = a.arg[0] == "on" || a.arg[0] == "off";
+        if (ok && (a.op == "wait" || a.op == "key" || a.op == "hold" || a.op == "move" ||
+                   a.op == "drag" || a.op == "scale"))
+            for (size_t i = a.op == "key" || a.op == "hold" ? 1 : 0; i < a.arg.size(); i++) {
+                char *end;
+                double v = strtod(a.arg[i].c_str(), &end);
+                ok = ok && *end == '\0' && v >= 0 && v <= 1e6;
+            }
+        if (!ok) {
+            *err = std::string(path) + ":" + std::to_string(line) + ": cannot read '" + a.op;
+            for (const auto &x : a.arg)
+                *err += " " + x;
+            *err += "'";
+            fclose(f);
+            return false;
+        }
+        sc->actions.push_back(a);
+    }
+    fclose(f);
+    return true;
+}
+
 struct state {
     const view_window_args *args;
     persp_context *ui_ctx = nullptr; /* the window's own (PNG writes), the worker has args->ctx */
@@ -138,6 +217,14 @@ struct state {
     view_path recorded{};
     const view_path *playing = nullptr;
     double play_start = 0.0;
+
+    /* Held keys from the events (SDL's keyboard state misses pushed ones). */
+    bool held[SDL_NUM_SCANCODES] = {};
+    script sc;
+    bool scripted = false;
+    bool overlay = false; /* split layout: differing pixels as heat colours, with a legend */
+    bool reupload = false;
+    view_path script_path{};
 
     std::string status; /* the last message (screenshot written, path saved) */
     int shots = 0;
@@ -440,6 +527,8 @@ bool rendering(state &s)
 
 /* Asks for a render when anything it depends on changed, and takes over a
  * finished one. wait: block until the latest request is done. */
+void upload(state &s);
+
 void render_if_needed(state &s, int w, int h, bool wait)
 {
     std::vector<unsigned char> key;
@@ -486,8 +575,16 @@ void render_if_needed(state &s, int w, int h, bool wait)
         }
     }
     SDL_UnlockMutex(wk.lock);
-    if (!updated) return;
-    w = s.frame.width, h = s.frame.height;
+    if (updated || s.reupload) upload(s);
+}
+
+/* The frame into the streaming texture; the difference overlay is applied
+ * here so that toggling it needs no render. */
+void upload(state &s)
+{
+    s.reupload = false;
+    if (!s.frame.out) return;
+    int w = s.frame.width, h = s.frame.height;
     if (!s.texture || s.tex_w != w || s.tex_h != h) {
         if (s.texture) SDL_DestroyTexture(s.texture);
         s.texture = SDL_CreateTexture(s.renderer, SDL_PIXELFORMAT_RGBA32,
@@ -498,9 +595,21 @@ void render_if_needed(state &s, int w, int h, bool wait)
     int pitch;
     if (s.texture && SDL_LockTexture(s.texture, nullptr, &pixels, &pitch) == 0) {
         /* persp's rows go bottom-up, SDL's top-down. */
-        for (int y = 0; y < h; y++)
-            memcpy((unsigned char *)pixels + (size_t)y * (size_t)pitch,
-                   s.frame.out + (size_t)(h - 1 - y) * (size_t)w * 4, (size_t)w * 4);
+        bool heat = s.overlay && s.frame.layout == VIEW_LAYOUT_SPLIT && s.frame.have_err;
+        for (int y = 0; y < h; y++) {
+            unsigned char *dst = (unsigned char *)pixels + (size_t)y * (size_t)pitch;
+            size_t row = (size_t)(h - 1 - y) * (size_t)w * 4;
+            memcpy(dst, s.frame.out + row, (size_t)w * 4);
+            if (!heat) continue;
+            for (int x = 0; x < w; x++) {
+                const uint8_t *a = s.frame.left + row + (size_t)x * 4,
+                              *b = s.frame.right + row + (size_t)x * 4;
+                int d = 0;
+                for (int c = 0; c < 3; c++)
+                    d = std::max(d, abs((int)a[c] - (int)b[c]));
+                if (d) view_heat_color(d, s.heat_max, dst + (size_t)x * 4);
+            }
+        }
         SDL_UnlockTexture(s.texture);
     }
     s.have_frame = true;
@@ -611,6 +720,9 @@ void panel(state &s)
             ImGui::SliderInt("hottest at", &s.heat_max, 1, 255, texel ? "%d texels" : "%d levels");
             heat_legend(s.heat_max, texel);
         }
+        if (s.layout == VIEW_LAYOUT_SPLIT &&
+            ImGui::Checkbox("difference overlay (H)", &s.overlay))
+            s.reupload = true;
         ImGui::Checkbox("magnifier (M)", &s.magnifier);
         if (s.magnifier) ImGui::SliderInt("magnified pixels", &s.mag_cells, 5, 41);
     }
@@ -740,6 +852,26 @@ void overlay(state &s, int out_w, int out_h)
     side_label(s.right, "exact", r, sizeof r);
     label(dl, ImVec2(x - 8 - ImGui::CalcTextSize(l).x, (float)out_h - 24), l);
     label(dl, ImVec2(x + 8, (float)out_h - 24), r);
+    if (!s.overlay) return;
+    /* The legend of the overlay, bottom left above the side labels. */
+    const float lw = 260.0f, lh = 14.0f, x0 = 8.0f, y0 = (float)out_h - 84.0f;
+    dl->AddRectFilled(ImVec2(x0 - 4, y0 - 22), ImVec2(x0 + lw + 4, y0 + lh + 22),
+                      IM_COL32(0, 0, 0, 200));
+    dl->AddText(ImVec2(x0, y0 - 19), IM_COL32(255, 255, 255, 255),
+                "left vs right, levels (H hides)");
+    const int steps = 64;
+    for (int i = 0; i < steps; i++) {
+        uint8_t rgb[3];
+        view_heat_color(i == 0 ? 0.0 : s.heat_max * (i + 0.5) / steps, s.heat_max, rgb);
+        dl->AddRectFilled(ImVec2(x0 + lw * (float)i / steps, y0),
+                          ImVec2(x0 + lw * (float)(i + 1) / steps, y0 + lh),
+                          IM_COL32(rgb[0], rgb[1], rgb[2], 255));
+    }
+    char hi[16];
+    snprintf(hi, sizeof hi, ">=%d", s.heat_max);
+    dl->AddText(ImVec2(x0, y0 + lh + 2), IM_COL32(255, 255, 255, 255), "1");
+    dl->AddText(ImVec2(x0 + lw - ImGui::CalcTextSize(hi).x, y0 + lh + 2),
+                IM_COL32(255, 255, 255, 255), hi);
 }
 
 void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
@@ -752,8 +884,12 @@ void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
     case SDL_WINDOWEVENT:
         if (e.window.event == SDL_WINDOWEVENT_CLOSE) *quit = true;
         break;
+    case SDL_KEYUP:
+        if (e.key.keysym.scancode < SDL_NUM_SCANCODES) s.held[e.key.keysym.scancode] = false;
+        break;
     case SDL_KEYDOWN:
         if (io.WantCaptureKeyboard || e.key.repeat) break;
+        if (e.key.keysym.scancode < SDL_NUM_SCANCODES) s.held[e.key.keysym.scancode] = true;
         switch (e.key.keysym.sym) {
         case SDLK_ESCAPE:
             *quit = true;
@@ -773,6 +909,9 @@ void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
             break;
         case SDLK_m:
             s.magnifier = !s.magnifier;
+            break;
+        case SDLK_h:
+            s.overlay = !s.overlay, s.reupload = true;
             break;
         case SDLK_p:
         case SDLK_F12:
@@ -837,7 +976,7 @@ void handle_event(state &s, const SDL_Event &e, bool *quit, int out_w)
 void fly(state &s, double dt)
 {
     if (ImGui::GetIO().WantCaptureKeyboard) return;
-    const Uint8 *k = SDL_GetKeyboardState(nullptr);
+    const bool *k = s.held;
     double fwd = (k[SDL_SCANCODE_W] ? 1 : 0) - (k[SDL_SCANCODE_S] ? 1 : 0);
     double right = (k[SDL_SCANCODE_D] ? 1 : 0) - (k[SDL_SCANCODE_A] ? 1 : 0);
     double up = (k[SDL_SCANCODE_E] || k[SDL_SCANCODE_SPACE] ? 1 : 0) -
@@ -855,6 +994,159 @@ void fly(state &s, double dt)
     camera_changed(s);
 }
 
+SDL_Event key_event(state &s, SDL_Keycode k, bool down)
+{
+    SDL_Event e;
+    memset(&e, 0, sizeof e);
+    e.type = down ? SDL_KEYDOWN : SDL_KEYUP;
+    e.key.timestamp = SDL_GetTicks();
+    e.key.windowID = SDL_GetWindowID(s.window);
+    e.key.state = down ? SDL_PRESSED : SDL_RELEASED;
+    e.key.keysym.sym = k;
+    e.key.keysym.scancode = SDL_GetScancodeFromKey(k);
+    return e;
+}
+
+SDL_Event mouse_event(state &s, Uint32 type, int x, int y)
+{
+    SDL_Event e;
+    memset(&e, 0, sizeof e);
+    e.type = type;
+    if (type == SDL_MOUSEMOTION) {
+        e.motion.timestamp = SDL_GetTicks();
+        e.motion.windowID = SDL_GetWindowID(s.window);
+        e.motion.x = x, e.motion.y = y;
+        e.motion.xrel = x - s.sc.mouse_x, e.motion.yrel = y - s.sc.mouse_y;
+        e.motion.state = s.dragging_divider || s.turning ? SDL_BUTTON_LMASK : 0;
+        s.sc.mouse_x = x, s.sc.mouse_y = y;
+    } else {
+        e.button.timestamp = SDL_GetTicks();
+        e.button.windowID = SDL_GetWindowID(s.window);
+        e.button.button = SDL_BUTTON_LEFT;
+        e.button.state = type == SDL_MOUSEBUTTONDOWN ? SDL_PRESSED : SDL_RELEASED;
+        e.button.clicks = 1;
+        e.button.x = x, e.button.y = y;
+    }
+    return e;
+}
+
+void later(state &s, int frames, const SDL_Event &e)
+{
+    s.sc.later.emplace_back(frames, e);
+    s.sc.wait = std::max(s.sc.wait, frames + 1);
+}
+
+/* Whether the view shows a full-size frame of a camera at rest. */
+bool settled(state &s, int out_w, int out_h)
+{
+    return !s.playing && !s.turning && s.now - s.last_motion >= 0.25 && s.have_frame &&
+           s.frame.width == out_w && s.frame.height == out_h && !rendering(s) && !s.reupload;
+}
+
+/* Runs the script's actions due this frame, before its events are read. */
+void step_script(state &s, bool *quit, int out_w, int out_h)
+{
+    script &sc = s.sc;
+    std::vector<std::pair<int, SDL_Event>> keep;
+    for (auto &l : sc.later)
+        if (l.first-- <= 0)
+            SDL_PushEvent(&l.second);
+        else
+            keep.push_back(l);
+    sc.later.swap(keep);
+    if (sc.timing_frames >= 0) sc.timing_frames++;
+    if (sc.settling) {
+        if (!settled(s, out_w, out_h)) return;
+        sc.settling = false;
+    }
+    if (sc.wait > 0 && --sc.wait > 0) return;
+    while (sc.next < sc.actions.size() && sc.wait == 0 && !sc.settling) {
+        const action &a = sc.actions[sc.next++];
+        const std::string &op = a.op;
+        auto num = [&](size_t i) { return atof(a.arg[i].c_str()); };
+        if (op == "wait") {
+            sc.wait = (int)num(0);
+        } else if (op == "key" || op == "hold") {
+            SDL_Keycode k = SDL_GetKeyFromName(a.arg[0].c_str());
+            SDL_Event down = key_event(s, k, true);
+            SDL_PushEvent(&down);
+            later(s, a.arg.size() > 1 ? std::max(0, (int)num(1) - 1) : 0, key_event(s, k, false));
+        } else if (op == "method") {
+            int i = a.arg[0] == "left" ? 0 : 1;
+            side_from_spec(&s.ui[i], a.arg[1].c_str());
+            update_spec(&s.ui[i], i ? &s.right : &s.left);
+        } else if (op == "move") {
+            SDL_Event e = mouse_event(s, SDL_MOUSEMOTION, (int)num(0), (int)num(1));
+            SDL_PushEvent(&e);
+            sc.wait = 1;
+        } else if (op == "drag") {
+            /* Press, move and release on frames of their own, as a hand would. */
+            int y = a.arg.size() > 2 ? (int)num(2) : out_h / 2;
+            SDL_Event e = mouse_event(s, SDL_MOUSEMOTION, (int)num(0), y);
+            SDL_PushEvent(&e);
+            later(s, 0, mouse_event(s, SDL_MOUSEBUTTONDOWN, (int)num(0), y));
+            later(s, 1, mouse_event(s, SDL_MOUSEMOTION, (int)num(1), y));
+            later(s, 2, mouse_event(s, SDL_MOUSEBUTTONUP, (int)num(1), y));
+        } else if (op == "play") {
+            char err[512];
+            view_path_free(&s.script_path);
+            if (!view_path_load(a.arg[0].c_str(), &s.script_path, err, sizeof err)) {
+                s.render_error = err;
+                *quit = true;
+                return;
+            }
+            start_playing(s, &s.script_path);
+        } else if (op == "settle") {
+            sc.settling = !settled(s, out_w, out_h);
+        } else if (op == "shot" || op == "image") {
+            sc.shots.push_back(&a);
+            sc.wait = 1;
+        } else if (op == "scale") {
+            s.move_scale = (float)std::min(1.0, std::max(0.05, num(0)));
+        } else if (op == "stats") {
+            s.error_stats = a.arg[0] == "on";
+        } else if (op == "timing" && a.arg[0] == "start") {
+            sc.timing_frames = 0;
+            sc.timing_start = seconds();
+        } else if (op == "timing") {
+            double t = seconds() - sc.timing_start;
+            long n = sc.timing_frames;
+            if (n > 0 && !s.args->quiet)
+                printf("timing: %ld frames of %dx%d (%s) in %.3f s: %.2f ms per frame, %.2f fps\n",
+                       n, out_w, out_h, layout_label(s.layout), t, t * 1e3 / (double)n,
+                       (double)n / t);
+            sc.timing_frames = -1;
+        } else if (op == "quit") {
+            *quit = true;
+            return;
+        }
+    }
+    if (sc.next >= sc.actions.size() && sc.wait == 0 && !sc.settling && sc.later.empty() &&
+        sc.shots.empty())
+        *quit = true;
+}
+
+/* The script's screenshots, once the frame is drawn and before it is shown. */
+void script_shots(state &s)
+{
+    for (const action *a : s.sc.shots) {
+        const char *path = a->arg[0].c_str();
+        if (a->op == "shot") {
+            window_shot(s, path);
+        } else if (s.have_frame) {
+            persp_image img = {s.frame.width, s.frame.height, (size_t)s.frame.width * 4,
+                               s.frame.out};
+            persp_status st = persp_image_write_png(s.ui_ctx, path, &img);
+            s.status = st == PERSP_OK ? std::string("wrote ") + path
+                                      : std::string(path) + ": " + persp_context_error(s.ui_ctx);
+        } else {
+            s.status = std::string(path) + ": no frame yet";
+        }
+        if (s.status.compare(0, 6, "wrote ") != 0) s.render_error = s.status;
+    }
+    s.sc.shots.clear();
+}
+
 int run(state &s)
 {
     const view_window_args *a = s.args;
@@ -862,14 +1154,20 @@ int run(state &s)
     bool quit = false;
     int frames = 0;
     double last = seconds(), avg_dt = 0.0;
+    /* A script runs on a clock of its own, 30 frames a second whatever the
+     * machine, so that its flights and replays land on the same cameras. */
+    const double script_dt = 1.0 / 30.0;
     while (!quit) {
-        s.now = seconds();
-        double dt = s.now - last;
-        last = s.now;
+        double real = seconds();
+        double dt = real - last;
+        last = real;
         if (dt > 0) avg_dt = avg_dt > 0 ? avg_dt * 0.9 + dt * 0.1 : dt;
         s.fps = avg_dt > 0 ? 1.0 / avg_dt : 0.0;
+        s.now = s.scripted ? frames * script_dt : real;
+        if (s.scripted) dt = script_dt;
         int out_w, out_h;
         SDL_GetRendererOutputSize(s.renderer, &out_w, &out_h);
+        if (s.scripted) step_script(s, &quit, out_w, out_h);
         SDL_Event e;
         while (SDL_PollEvent(&e)) {
             ImGui_ImplSDL2_ProcessEvent(&e);
@@ -891,7 +1189,7 @@ int run(state &s)
         hud(s, out_w);
         int w, h;
         render_size(s, out_w, out_h, &w, &h);
-        render_if_needed(s, w, h, a->frames > 0);
+        render_if_needed(s, w, h, a->frames > 0 || s.scripted);
         overlay(s, out_w, out_h);
         magnifier(s, out_w, out_h);
         ImGui::Render();
@@ -899,13 +1197,16 @@ int run(state &s)
         SDL_RenderClear(s.renderer);
         if (s.texture && s.have_frame) SDL_RenderCopy(s.renderer, s.texture, nullptr, nullptr);
         imgui_sdl_draw(s.renderer, ImGui::GetDrawData());
-        bool last_frame = a->frames > 0 && ++frames >= a->frames;
+        if (!s.sc.shots.empty()) script_shots(s);
+        bool last_frame = a->frames > 0 && frames + 1 >= a->frames;
+        frames++;
         if (last_frame && a->window_shot) {
             window_shot(s, a->window_shot);
             if (s.status.compare(0, 6, "wrote ") != 0) s.render_error = s.status;
         }
         SDL_RenderPresent(s.renderer);
         if (last_frame) break;
+        if (s.scripted) continue; /* as fast as it renders */
         /* Leave the cores to the render workers: sleep until an event when
          * idle, briefly while a frame renders, and cap the loop otherwise
          * (without vsync it would spin). */
@@ -921,7 +1222,7 @@ int run(state &s)
     if (!a->quiet && !s.status.empty() && a->frames == 0) printf("%s\n", s.status.c_str());
     /* Interactively a failed configuration was shown in the HUD and could be
      * changed; a fixed run of frames has nobody watching. */
-    if (!s.render_error.empty() && a->frames > 0) {
+    if (!s.render_error.empty() && (a->frames > 0 || s.scripted)) {
         fprintf(stderr, "persp: view: %s\n", s.render_error.c_str());
         rc = 1;
     }
@@ -974,6 +1275,12 @@ extern "C" int view_window_run(const view_window_args *args)
     if (!imgui_sdl_draw_init(s.renderer)) {
         fprintf(stderr, "persp: view: cannot create the font texture: %s\n", SDL_GetError());
     } else {
+        std::string err;
+        if (args->script && !load_script(args->script, &s.sc, &err)) {
+            fprintf(stderr, "persp: view: %s\n", err.c_str());
+            goto cleanup;
+        }
+        s.scripted = args->script != nullptr;
         s.left = args->left;
         s.right = args->right;
         s.layout = args->layout;
@@ -1001,6 +1308,7 @@ extern "C" int view_window_run(const view_window_args *args)
             SDL_UnlockMutex(s.wk.lock);
             SDL_WaitThread(s.wk.thread, nullptr);
         }
+    cleanup:
         for (view_frame &f : s.wk.frames)
             view_frame_free(&f);
         if (s.wk.done) SDL_DestroyCond(s.wk.done);
@@ -1009,6 +1317,7 @@ extern "C" int view_window_run(const view_window_args *args)
         persp_context_destroy(s.ui_ctx);
     }
     view_path_free(&s.recorded);
+    view_path_free(&s.script_path);
     view_frame_free(&s.frame);
     imgui_sdl_draw_shutdown();
     ImGui_ImplSDL2_Shutdown();
