@@ -691,7 +691,20 @@ static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
  * them, get them wrong on malformed input, and Debian's Assimp aborts on
  * the internal check that catches it), finite positions, and something to
  * triangulate. Returns NULL or what is wrong. */
-static const char *prepare_scene(const struct aiScene *ai)
+/* Some exporters write zero facet normals (Blender's old binary STL writer,
+ * for one); drawn as they are, such a surface gets no diffuse light at all.
+ * One unusable normal has the scene's normals made afresh. */
+static int normals_unusable(const struct aiMesh *m)
+{
+    if (!m->mNormals) return 0;
+    for (unsigned v = 0; v < m->mNumVertices; v++) {
+        const struct aiVector3D n = m->mNormals[v];
+        if (!finite3(n.x, n.y, n.z) || !(n.x * n.x + n.y * n.y + n.z * n.z > 1e-12f)) return 1;
+    }
+    return 0;
+}
+
+static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
 {
     int any = 0;
     for (unsigned i = 0; i < ai->mNumMeshes; i++) {
@@ -707,6 +720,7 @@ static const char *prepare_scene(const struct aiScene *ai)
         }
         m->mPrimitiveTypes = types;
         any |= (types & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) != 0;
+        if (!*regen_normals) *regen_normals = normals_unusable(m);
         for (unsigned v = 0; v < m->mNumVertices; v++)
             if (!finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
                 return "a vertex position is not finite";
@@ -767,17 +781,19 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
      * post-processing steps. A scene they would fail on is refused before
      * them: Assimp 5.2 crashes releasing a scene whose post-processing
      * failed. */
-    const unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                     aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    int regen_normals = 0;
     char why[256] = "";
     const char *wrong = NULL;
     pthread_mutex_lock(&import_lock);
     const struct aiScene *ai =
         aiImportFileExWithProperties(main_name, aiProcess_ValidateDataStructure, &fio, props);
-    if (ai && (wrong = prepare_scene(ai)) != NULL) {
+    if (ai && (wrong = prepare_scene(ai, &regen_normals)) != NULL) {
         aiReleaseImport(ai);
         ai = NULL;
     }
+    if (regen_normals) steps |= aiProcess_ForceGenNormals;
     if (ai) ai = aiApplyPostProcessing(ai, steps);
     if (!ai && !wrong) snprintf(why, sizeof why, "%s", aiGetErrorString());
     pthread_mutex_unlock(&import_lock);

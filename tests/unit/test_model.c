@@ -9,6 +9,7 @@
 #include "io/model.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -411,6 +412,29 @@ static void test_stl_ascii(void **state)
     unload(&l);
 }
 
+/* A binary STL whose facet normals are all zero gets normals of its own
+ * (here, the quad's +z), not zero normals that leave it unlit. */
+static void test_stl_zero_normals_made_afresh(void **state)
+{
+    (void)state;
+    static const float tri[2][9] = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}};
+    unsigned char stl[84 + 2 * 50];
+    memset(stl, 0, sizeof stl);
+    memcpy(stl, "zero normals", 12);
+    const uint32_t n = 2;
+    memcpy(stl + 80, &n, 4);
+    for (int f = 0; f < 2; f++)
+        memcpy(stl + 84 + 50 * f + 12, tri[f], sizeof tri[f]); /* normal stays 0 0 0 */
+    loaded l;
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, stl, sizeof stl, "z.stl", NULL, NULL, 0, &l.model);
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 6);
+    for (size_t i = 0; i < m->vertex_count; i++)
+        assert_true(fabsf(fabsf(m->vertices[i].normal[2]) - 1.0f) < 1e-5f);
+    unload(&l);
+}
+
 static void test_errors_name_the_file(void **state)
 {
     (void)state;
@@ -510,6 +534,7 @@ int main(void)
         cmocka_unit_test(test_more_formats),
         cmocka_unit_test(test_ply_vertex_colours),
         cmocka_unit_test(test_stl_ascii),
+        cmocka_unit_test(test_stl_zero_normals_made_afresh),
         cmocka_unit_test(test_errors_name_the_file),
         cmocka_unit_test(test_scene_from_bare_model_and_json_override),
     };
