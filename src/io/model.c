@@ -103,6 +103,13 @@ static const char *next_line(const char *p, const char *end)
     return p < end ? p + 1 : end;
 }
 
+static int printable_line(const char *p, const char *end)
+{
+    for (; p < end && *p != '\n'; p++)
+        if (!((*p >= 0x20 && *p < 0x7f) || *p == '\t' || *p == '\r')) return 0;
+    return 1;
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
@@ -116,7 +123,9 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
         const char *elements[64];
         int n = 0;
         /* Assimp's PLY reader loops without end on some malformed headers:
-         * only the header's own keywords, up to end_header, get to it. */
+         * only the header's own keywords, up to end_header, get to it, and
+         * lines of plain text, which it skips like comments (old Blender
+         * exports carry one). */
         static const char *const keys[] = {"format", "comment", "obj_info", "element", "property"};
         size_t line = 1;
         for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
@@ -128,6 +137,7 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                 known = (size_t)(end - p) > kl && !strncmp(p, keys[k], kl) &&
                         (p[kl] == ' ' || p[kl] == '\t' || p[kl] == '\n' || p[kl] == '\r');
             }
+            if (!known && printable_line(p, end)) known = 1;
             if (!known)
                 return persp__fail(ctx, PERSP_ERR_FORMAT,
                                    "%s:%zu: expected a PLY header keyword (format, comment, "

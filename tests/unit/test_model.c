@@ -396,6 +396,32 @@ static void test_ply_vertex_colours(void **state)
     unload(&l);
 }
 
+/* Old Blender exports carry a bare text line ("Created by Blender3D ...")
+ * after the format line; it is read past as a comment would be. A line that
+ * is not text still stops the header. */
+static void test_ply_bare_text_line_in_header(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "ply\nformat ascii 1.0\nCreated by an old exporter\nelement vertex 3\n"
+              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n"
+              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+              "old.ply");
+    assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    unload(&l);
+    load_text(&l,
+              "ply\nformat ascii 1.0\nCreated \x01\x02\nelement vertex 3\n"
+              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n"
+              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+              "bin.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "bin.ply:3: expected a PLY header keyword"));
+    unload(&l);
+}
+
 static void test_stl_ascii(void **state)
 {
     (void)state;
@@ -533,6 +559,7 @@ int main(void)
         cmocka_unit_test(test_gltf_embedded_texture_and_nodes),
         cmocka_unit_test(test_more_formats),
         cmocka_unit_test(test_ply_vertex_colours),
+        cmocka_unit_test(test_ply_bare_text_line_in_header),
         cmocka_unit_test(test_stl_ascii),
         cmocka_unit_test(test_stl_zero_normals_made_afresh),
         cmocka_unit_test(test_errors_name_the_file),
