@@ -23,11 +23,13 @@
 #include <assimp/scene.h>
 
 #include <ctype.h>
+#include <dirent.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* Faces meeting at more than this angle keep separate normals where the
  * file has none: cube edges stay sharp, tessellated curves come out smooth. */
@@ -269,6 +271,45 @@ static void clean_rel(const char *in, char *out, size_t size)
         memmove(out, out + 2, strlen(out + 2) + 1);
 }
 
+/* Models made on systems blind to case name their files in a case the
+ * files do not carry (3DS's 8.3 names in capitals, for one): when the exact
+ * name is missing, its folder is searched for the name in any case. The
+ * path is rewritten to the file found; 0 when there is none other. */
+static int any_case(char *path, size_t size)
+{
+    char *slash = strrchr(path, '/');
+    const char *name = slash ? slash + 1 : path;
+    char folder[PERSP_PATH_MAX];
+    int n = slash ? snprintf(folder, sizeof folder, "%.*s/", (int)(slash - path), path)
+                  : snprintf(folder, sizeof folder, "./");
+    if (!name[0] || n < 0 || (size_t)n >= sizeof folder) return 0;
+    DIR *d = opendir(folder);
+    if (!d) return 0;
+    int found = 0;
+    for (struct dirent *e; !found && (e = readdir(d)) != NULL;) {
+        if (strcasecmp(e->d_name, name) != 0 || !strcmp(e->d_name, name)) continue;
+        size_t at = (size_t)(name - path), len = strlen(e->d_name);
+        if (at + len < size) {
+            memcpy(path + at, e->d_name, len + 1);
+            found = 1;
+        }
+    }
+    closedir(d);
+    return found;
+}
+
+/* Where a file the model names may be, in the order tried: the name
+ * relative to the model's folder; its last part next to the model (files
+ * named by an absolute path from another machine usually sit there); then
+ * both in any case. 0 when candidate k does not apply. */
+static int candidate(const char *base_dir, const char *rel, int k, char *path, size_t size)
+{
+    const char *base = persp__path_base(rel);
+    if ((k & 1) && base == rel) return 0;
+    if (!persp__path_join(base_dir, (k & 1) ? base : rel, path, size)) return 0;
+    return k < 2 || any_case(path, size);
+}
+
 /* Assimp's OBJ reader, when a material library is missing, tries the
  * model's own name with .mtl: a guess, not a reference worth a warning. */
 static int is_guess(const model_io *io, const char *rel)
@@ -309,16 +350,13 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
             warn_missing(io, rel, "no folder to read it from");
             return NULL;
         }
-        if (!persp__path_join(io->base_dir, rel, path, sizeof path)) return NULL;
-        if (persp__read_file(io->ctx, path, &owned, &size) != PERSP_OK) {
-            /* Files that models name by an absolute path from another
-             * machine usually sit next to the model. */
-            const char *base = persp__path_base(rel);
-            if (base == rel || !persp__path_join(io->base_dir, base, path, sizeof path) ||
-                persp__read_file(io->ctx, path, &owned, &size) != PERSP_OK) {
-                warn_missing(io, rel, "no such file or unreadable");
-                return NULL;
-            }
+        persp_status st = PERSP_ERR_IO;
+        for (int k = 0; k < 4 && st != PERSP_OK; k++)
+            if (candidate(io->base_dir, rel, k, path, sizeof path))
+                st = persp__read_file(io->ctx, path, &owned, &size);
+        if (st != PERSP_OK) {
+            warn_missing(io, rel, "no such file or unreadable");
+            return NULL;
         }
         if (is_line_text(rel) || has_ext(rel, "gltf"))
             size = normalise_text(owned, size, is_line_text(rel));
@@ -542,19 +580,17 @@ static int material_texture(importer *im, const char *material, const char *file
         return -1;
     }
     persp_status st = PERSP_ERR_IO;
-    if (persp__path_join(im->base_dir, rel, path, sizeof path))
+    char why[PERSP_ERRMSG_BYTES] = "";
+    for (int k = 0; k < 4 && st != PERSP_OK; k++) {
+        if (!candidate(im->base_dir, rel, k, path, sizeof path)) continue;
         st = persp__texcache_load(im->scene, im->cache, path, &index);
+        if (st != PERSP_OK && k == 0) snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
+    }
     if (st != PERSP_OK) {
-        char why[PERSP_ERRMSG_BYTES];
-        snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
-        const char *base = persp__path_base(rel);
-        if (base == rel || !persp__path_join(im->base_dir, base, path, sizeof path) ||
-            persp__texcache_load(im->scene, im->cache, path, &index) != PERSP_OK) {
-            persp__warn(im->ctx,
-                        "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
-                        im->display, material, rel, why[0] ? why : "bad path");
-            return -1;
-        }
+        persp__warn(im->ctx,
+                    "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
+                    im->display, material, rel, why[0] ? why : "bad path");
+        return -1;
     }
     return index;
 }

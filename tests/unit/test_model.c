@@ -259,6 +259,32 @@ static void test_obj_mtl_texture_and_quirks(void **state)
     remove_tmp();
 }
 
+/* Names written on systems blind to case (WALL.PNG, LIB.MTL) find the files
+ * that carry them in another case. */
+static void test_names_in_another_case(void **state)
+{
+    (void)state;
+    make_tmp();
+    persp_context *ctx = test_context();
+    write_png(ctx, "wall.png", 4, 2);
+    persp_context_destroy(ctx);
+    write_text("lib.mtl", "newmtl m\nKd 1 1 1\nmap_Kd C:\\MODELS\\WALL.PNG\n");
+    write_text("m.obj", "mtllib LIB.MTL\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                        "usemtl m\nf 1/1 2/2 3/3\n");
+    char path[256];
+    tmp_path(path, sizeof path, "m.obj");
+    loaded l;
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 0);
+    mesh_of(&l, 0);
+    const persp_material *mat = material_of(&l, 0);
+    assert_true(mat->texture >= 0);
+    assert_int_equal(persp_texture_width(l.scene->textures[mat->texture]), 4);
+    unload(&l);
+    remove_tmp();
+}
+
 static void test_obj_missing_files_warn(void **state)
 {
     (void)state;
@@ -555,6 +581,7 @@ int main(void)
         cmocka_unit_test(test_obj_indices_colours_polygons),
         cmocka_unit_test(test_obj_smooth_normals_when_missing),
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
+        cmocka_unit_test(test_names_in_another_case),
         cmocka_unit_test(test_obj_missing_files_warn),
         cmocka_unit_test(test_gltf_embedded_texture_and_nodes),
         cmocka_unit_test(test_more_formats),
