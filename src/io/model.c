@@ -750,9 +750,29 @@ static int normals_unusable(const struct aiMesh *m)
     return 0;
 }
 
+/* Whether a face spans any area: a model whose faces all lie on a line or a
+ * point would render as an empty picture. The fan from the first corner
+ * covers the polygon; "no area" is relative to the edges' lengths. */
+static int face_has_area(const struct aiMesh *m, const struct aiFace *f)
+{
+    if (f->mNumIndices < 3) return 0;
+    const struct aiVector3D a = m->mVertices[f->mIndices[0]];
+    for (unsigned i = 1; i + 1 < f->mNumIndices; i++) {
+        const struct aiVector3D b = m->mVertices[f->mIndices[i]];
+        const struct aiVector3D c = m->mVertices[f->mIndices[i + 1]];
+        double ux = (double)b.x - a.x, uy = (double)b.y - a.y, uz = (double)b.z - a.z;
+        double vx = (double)c.x - a.x, vy = (double)c.y - a.y, vz = (double)c.z - a.z;
+        double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+        double cross2 = cx * cx + cy * cy + cz * cz;
+        double lens2 = (ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz);
+        if (cross2 > 1e-12 * lens2 && cross2 > 0.0) return 1;
+    }
+    return 0;
+}
+
 static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
 {
-    int any = 0;
+    int any = 0, area = 0;
     for (unsigned i = 0; i < ai->mNumMeshes; i++) {
         struct aiMesh *m = ai->mMeshes[i]; /* the scene is this import's own */
         unsigned types = 0;
@@ -770,8 +790,11 @@ static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
         for (unsigned v = 0; v < m->mNumVertices; v++)
             if (!finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
                 return "a vertex position is not finite";
+        for (unsigned f = 0; f < m->mNumFaces && !area; f++)
+            area = face_has_area(m, &m->mFaces[f]);
     }
-    return any ? NULL : "the model has no triangles to draw";
+    if (!any) return "the model has no triangles to draw";
+    return area ? NULL : "the model's triangles all have zero area (nothing to draw)";
 }
 
 void persp__model_free(persp_context *ctx, persp_model *model)

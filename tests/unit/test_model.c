@@ -487,6 +487,22 @@ static void test_stl_zero_normals_made_afresh(void **state)
     unload(&l);
 }
 
+/* Faces that all lie on a line would draw an empty picture: refused. One
+ * face with area is enough. */
+static void test_zero_area_model_refused(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l, "v 0 0 0\nv 1 2 3\nv -1 -2 -3\nv 2 4 6\nf 1 2 3\nf 1 2 4\n", "line.obj");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(
+        strstr(persp_context_error(l.ctx), "line.obj: the model's triangles all have zero area"));
+    unload(&l);
+    load_text(&l, "v 0 0 0\nv 1 2 3\nv -1 -2 -3\nv 0 1 0\nf 1 2 3\nf 1 2 4\n", "one.obj");
+    assert_int_equal(l.st, PERSP_OK);
+    unload(&l);
+}
+
 static void test_errors_name_the_file(void **state)
 {
     (void)state;
@@ -590,6 +606,7 @@ int main(void)
         cmocka_unit_test(test_stl_ascii),
         cmocka_unit_test(test_stl_zero_normals_made_afresh),
         cmocka_unit_test(test_errors_name_the_file),
+        cmocka_unit_test(test_zero_area_model_refused),
         cmocka_unit_test(test_scene_from_bare_model_and_json_override),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
