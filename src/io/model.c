@@ -23,11 +23,13 @@
 #include <assimp/scene.h>
 
 #include <ctype.h>
+#include <dirent.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* Faces meeting at more than this angle keep separate normals where the
  * file has none: cube edges stay sharp, tessellated curves come out smooth. */
@@ -103,6 +105,13 @@ static const char *next_line(const char *p, const char *end)
     return p < end ? p + 1 : end;
 }
 
+static int printable_line(const char *p, const char *end)
+{
+    for (; p < end && *p != '\n'; p++)
+        if (!((*p >= 0x20 && *p < 0x7f) || *p == '\t' || *p == '\r')) return 0;
+    return 1;
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
@@ -116,7 +125,9 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
         const char *elements[64];
         int n = 0;
         /* Assimp's PLY reader loops without end on some malformed headers:
-         * only the header's own keywords, up to end_header, get to it. */
+         * only the header's own keywords, up to end_header, get to it, and
+         * lines of plain text, which it skips like comments (old Blender
+         * exports carry one). */
         static const char *const keys[] = {"format", "comment", "obj_info", "element", "property"};
         size_t line = 1;
         for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
@@ -128,6 +139,7 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                 known = (size_t)(end - p) > kl && !strncmp(p, keys[k], kl) &&
                         (p[kl] == ' ' || p[kl] == '\t' || p[kl] == '\n' || p[kl] == '\r');
             }
+            if (!known && printable_line(p, end)) known = 1;
             if (!known)
                 return persp__fail(ctx, PERSP_ERR_FORMAT,
                                    "%s:%zu: expected a PLY header keyword (format, comment, "
@@ -259,6 +271,45 @@ static void clean_rel(const char *in, char *out, size_t size)
         memmove(out, out + 2, strlen(out + 2) + 1);
 }
 
+/* Models made on systems blind to case name their files in a case the
+ * files do not carry (3DS's 8.3 names in capitals, for one): when the exact
+ * name is missing, its folder is searched for the name in any case. The
+ * path is rewritten to the file found; 0 when there is none other. */
+static int any_case(char *path, size_t size)
+{
+    char *slash = strrchr(path, '/');
+    const char *name = slash ? slash + 1 : path;
+    char folder[PERSP_PATH_MAX];
+    int n = slash ? snprintf(folder, sizeof folder, "%.*s/", (int)(slash - path), path)
+                  : snprintf(folder, sizeof folder, "./");
+    if (!name[0] || n < 0 || (size_t)n >= sizeof folder) return 0;
+    DIR *d = opendir(folder);
+    if (!d) return 0;
+    int found = 0;
+    for (struct dirent *e; !found && (e = readdir(d)) != NULL;) {
+        if (strcasecmp(e->d_name, name) != 0 || !strcmp(e->d_name, name)) continue;
+        size_t at = (size_t)(name - path), len = strlen(e->d_name);
+        if (at + len < size) {
+            memcpy(path + at, e->d_name, len + 1);
+            found = 1;
+        }
+    }
+    closedir(d);
+    return found;
+}
+
+/* Where a file the model names may be, in the order tried: the name
+ * relative to the model's folder; its last part next to the model (files
+ * named by an absolute path from another machine usually sit there); then
+ * both in any case. 0 when candidate k does not apply. */
+static int candidate(const char *base_dir, const char *rel, int k, char *path, size_t size)
+{
+    const char *base = persp__path_base(rel);
+    if ((k & 1) && base == rel) return 0;
+    if (!persp__path_join(base_dir, (k & 1) ? base : rel, path, size)) return 0;
+    return k < 2 || any_case(path, size);
+}
+
 /* Assimp's OBJ reader, when a material library is missing, tries the
  * model's own name with .mtl: a guess, not a reference worth a warning. */
 static int is_guess(const model_io *io, const char *rel)
@@ -299,16 +350,13 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
             warn_missing(io, rel, "no folder to read it from");
             return NULL;
         }
-        if (!persp__path_join(io->base_dir, rel, path, sizeof path)) return NULL;
-        if (persp__read_file(io->ctx, path, &owned, &size) != PERSP_OK) {
-            /* Files that models name by an absolute path from another
-             * machine usually sit next to the model. */
-            const char *base = persp__path_base(rel);
-            if (base == rel || !persp__path_join(io->base_dir, base, path, sizeof path) ||
-                persp__read_file(io->ctx, path, &owned, &size) != PERSP_OK) {
-                warn_missing(io, rel, "no such file or unreadable");
-                return NULL;
-            }
+        persp_status st = PERSP_ERR_IO;
+        for (int k = 0; k < 4 && st != PERSP_OK; k++)
+            if (candidate(io->base_dir, rel, k, path, sizeof path))
+                st = persp__read_file(io->ctx, path, &owned, &size);
+        if (st != PERSP_OK) {
+            warn_missing(io, rel, "no such file or unreadable");
+            return NULL;
         }
         if (is_line_text(rel) || has_ext(rel, "gltf"))
             size = normalise_text(owned, size, is_line_text(rel));
@@ -532,19 +580,17 @@ static int material_texture(importer *im, const char *material, const char *file
         return -1;
     }
     persp_status st = PERSP_ERR_IO;
-    if (persp__path_join(im->base_dir, rel, path, sizeof path))
+    char why[PERSP_ERRMSG_BYTES] = "";
+    for (int k = 0; k < 4 && st != PERSP_OK; k++) {
+        if (!candidate(im->base_dir, rel, k, path, sizeof path)) continue;
         st = persp__texcache_load(im->scene, im->cache, path, &index);
+        if (st != PERSP_OK && k == 0) snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
+    }
     if (st != PERSP_OK) {
-        char why[PERSP_ERRMSG_BYTES];
-        snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
-        const char *base = persp__path_base(rel);
-        if (base == rel || !persp__path_join(im->base_dir, base, path, sizeof path) ||
-            persp__texcache_load(im->scene, im->cache, path, &index) != PERSP_OK) {
-            persp__warn(im->ctx,
-                        "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
-                        im->display, material, rel, why[0] ? why : "bad path");
-            return -1;
-        }
+        persp__warn(im->ctx,
+                    "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
+                    im->display, material, rel, why[0] ? why : "bad path");
+        return -1;
     }
     return index;
 }
@@ -691,9 +737,42 @@ static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
  * them, get them wrong on malformed input, and Debian's Assimp aborts on
  * the internal check that catches it), finite positions, and something to
  * triangulate. Returns NULL or what is wrong. */
-static const char *prepare_scene(const struct aiScene *ai)
+/* Some exporters write zero facet normals (Blender's old binary STL writer,
+ * for one); drawn as they are, such a surface gets no diffuse light at all.
+ * One unusable normal has the scene's normals made afresh. */
+static int normals_unusable(const struct aiMesh *m)
 {
-    int any = 0;
+    if (!m->mNormals) return 0;
+    for (unsigned v = 0; v < m->mNumVertices; v++) {
+        const struct aiVector3D n = m->mNormals[v];
+        if (!finite3(n.x, n.y, n.z) || !(n.x * n.x + n.y * n.y + n.z * n.z > 1e-12f)) return 1;
+    }
+    return 0;
+}
+
+/* Whether a face spans any area: a model whose faces all lie on a line or a
+ * point would render as an empty picture. The fan from the first corner
+ * covers the polygon; "no area" is relative to the edges' lengths. */
+static int face_has_area(const struct aiMesh *m, const struct aiFace *f)
+{
+    if (f->mNumIndices < 3) return 0;
+    const struct aiVector3D a = m->mVertices[f->mIndices[0]];
+    for (unsigned i = 1; i + 1 < f->mNumIndices; i++) {
+        const struct aiVector3D b = m->mVertices[f->mIndices[i]];
+        const struct aiVector3D c = m->mVertices[f->mIndices[i + 1]];
+        double ux = (double)b.x - a.x, uy = (double)b.y - a.y, uz = (double)b.z - a.z;
+        double vx = (double)c.x - a.x, vy = (double)c.y - a.y, vz = (double)c.z - a.z;
+        double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+        double cross2 = cx * cx + cy * cy + cz * cz;
+        double lens2 = (ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz);
+        if (cross2 > 1e-12 * lens2 && cross2 > 0.0) return 1;
+    }
+    return 0;
+}
+
+static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
+{
+    int any = 0, area = 0;
     for (unsigned i = 0; i < ai->mNumMeshes; i++) {
         struct aiMesh *m = ai->mMeshes[i]; /* the scene is this import's own */
         unsigned types = 0;
@@ -707,11 +786,15 @@ static const char *prepare_scene(const struct aiScene *ai)
         }
         m->mPrimitiveTypes = types;
         any |= (types & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) != 0;
+        if (!*regen_normals) *regen_normals = normals_unusable(m);
         for (unsigned v = 0; v < m->mNumVertices; v++)
             if (!finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
                 return "a vertex position is not finite";
+        for (unsigned f = 0; f < m->mNumFaces && !area; f++)
+            area = face_has_area(m, &m->mFaces[f]);
     }
-    return any ? NULL : "the model has no triangles to draw";
+    if (!any) return "the model has no triangles to draw";
+    return area ? NULL : "the model's triangles all have zero area (nothing to draw)";
 }
 
 void persp__model_free(persp_context *ctx, persp_model *model)
@@ -767,17 +850,19 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
      * post-processing steps. A scene they would fail on is refused before
      * them: Assimp 5.2 crashes releasing a scene whose post-processing
      * failed. */
-    const unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                           aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                     aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    int regen_normals = 0;
     char why[256] = "";
     const char *wrong = NULL;
     pthread_mutex_lock(&import_lock);
     const struct aiScene *ai =
         aiImportFileExWithProperties(main_name, aiProcess_ValidateDataStructure, &fio, props);
-    if (ai && (wrong = prepare_scene(ai)) != NULL) {
+    if (ai && (wrong = prepare_scene(ai, &regen_normals)) != NULL) {
         aiReleaseImport(ai);
         ai = NULL;
     }
+    if (regen_normals) steps |= aiProcess_ForceGenNormals;
     if (ai) ai = aiApplyPostProcessing(ai, steps);
     if (!ai && !wrong) snprintf(why, sizeof why, "%s", aiGetErrorString());
     pthread_mutex_unlock(&import_lock);

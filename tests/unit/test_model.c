@@ -9,6 +9,7 @@
 #include "io/model.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -258,6 +259,32 @@ static void test_obj_mtl_texture_and_quirks(void **state)
     remove_tmp();
 }
 
+/* Names written on systems blind to case (WALL.PNG, LIB.MTL) find the files
+ * that carry them in another case. */
+static void test_names_in_another_case(void **state)
+{
+    (void)state;
+    make_tmp();
+    persp_context *ctx = test_context();
+    write_png(ctx, "wall.png", 4, 2);
+    persp_context_destroy(ctx);
+    write_text("lib.mtl", "newmtl m\nKd 1 1 1\nmap_Kd C:\\MODELS\\WALL.PNG\n");
+    write_text("m.obj", "mtllib LIB.MTL\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                        "usemtl m\nf 1/1 2/2 3/3\n");
+    char path[256];
+    tmp_path(path, sizeof path, "m.obj");
+    loaded l;
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 0);
+    mesh_of(&l, 0);
+    const persp_material *mat = material_of(&l, 0);
+    assert_true(mat->texture >= 0);
+    assert_int_equal(persp_texture_width(l.scene->textures[mat->texture]), 4);
+    unload(&l);
+    remove_tmp();
+}
+
 static void test_obj_missing_files_warn(void **state)
 {
     (void)state;
@@ -395,6 +422,32 @@ static void test_ply_vertex_colours(void **state)
     unload(&l);
 }
 
+/* Old Blender exports carry a bare text line ("Created by Blender3D ...")
+ * after the format line; it is read past as a comment would be. A line that
+ * is not text still stops the header. */
+static void test_ply_bare_text_line_in_header(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l,
+              "ply\nformat ascii 1.0\nCreated by an old exporter\nelement vertex 3\n"
+              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n"
+              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+              "old.ply");
+    assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    unload(&l);
+    load_text(&l,
+              "ply\nformat ascii 1.0\nCreated \x01\x02\nelement vertex 3\n"
+              "property float x\nproperty float y\nproperty float z\nelement face 1\n"
+              "property list uchar int vertex_indices\nend_header\n"
+              "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+              "bin.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "bin.ply:3: expected a PLY header keyword"));
+    unload(&l);
+}
+
 static void test_stl_ascii(void **state)
 {
     (void)state;
@@ -408,6 +461,45 @@ static void test_stl_ascii(void **state)
     assert_int_equal(m->index_count, 6);
     for (size_t i = 0; i < m->vertex_count; i++)
         assert_true(fabsf(m->vertices[i].normal[2] - 1.0f) < 1e-5f);
+    unload(&l);
+}
+
+/* A binary STL whose facet normals are all zero gets normals of its own
+ * (here, the quad's +z), not zero normals that leave it unlit. */
+static void test_stl_zero_normals_made_afresh(void **state)
+{
+    (void)state;
+    static const float tri[2][9] = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}};
+    unsigned char stl[84 + 2 * 50];
+    memset(stl, 0, sizeof stl);
+    memcpy(stl, "zero normals", 12);
+    const uint32_t n = 2;
+    memcpy(stl + 80, &n, 4);
+    for (int f = 0; f < 2; f++)
+        memcpy(stl + 84 + 50 * f + 12, tri[f], sizeof tri[f]); /* normal stays 0 0 0 */
+    loaded l;
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, stl, sizeof stl, "z.stl", NULL, NULL, 0, &l.model);
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 6);
+    for (size_t i = 0; i < m->vertex_count; i++)
+        assert_true(fabsf(fabsf(m->vertices[i].normal[2]) - 1.0f) < 1e-5f);
+    unload(&l);
+}
+
+/* Faces that all lie on a line would draw an empty picture: refused. One
+ * face with area is enough. */
+static void test_zero_area_model_refused(void **state)
+{
+    (void)state;
+    loaded l;
+    load_text(&l, "v 0 0 0\nv 1 2 3\nv -1 -2 -3\nv 2 4 6\nf 1 2 3\nf 1 2 4\n", "line.obj");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(
+        strstr(persp_context_error(l.ctx), "line.obj: the model's triangles all have zero area"));
+    unload(&l);
+    load_text(&l, "v 0 0 0\nv 1 2 3\nv -1 -2 -3\nv 0 1 0\nf 1 2 3\nf 1 2 4\n", "one.obj");
+    assert_int_equal(l.st, PERSP_OK);
     unload(&l);
 }
 
@@ -505,12 +597,16 @@ int main(void)
         cmocka_unit_test(test_obj_indices_colours_polygons),
         cmocka_unit_test(test_obj_smooth_normals_when_missing),
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
+        cmocka_unit_test(test_names_in_another_case),
         cmocka_unit_test(test_obj_missing_files_warn),
         cmocka_unit_test(test_gltf_embedded_texture_and_nodes),
         cmocka_unit_test(test_more_formats),
         cmocka_unit_test(test_ply_vertex_colours),
+        cmocka_unit_test(test_ply_bare_text_line_in_header),
         cmocka_unit_test(test_stl_ascii),
+        cmocka_unit_test(test_stl_zero_normals_made_afresh),
         cmocka_unit_test(test_errors_name_the_file),
+        cmocka_unit_test(test_zero_area_model_refused),
         cmocka_unit_test(test_scene_from_bare_model_and_json_override),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
