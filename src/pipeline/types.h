@@ -42,6 +42,8 @@ typedef struct persp_tri {
     uint32_t prep;               /* index into the method prep array, or UINT32_MAX */
     float poly_lambda;           /* per-polygon level of detail */
     int backfacing;
+    float light_side;            /* two-sided lighting: 1 lights the front, -1 the back
+                                    (persp__shade_light_side, at set-up) */
     float vattr[3][PERSP_A_COUNT]; /* vertex attributes in setup vertex order */
 } persp_tri;
 

@@ -6,6 +6,7 @@
  */
 #include "interp/methods.h"
 #include "raster/raster.h"
+#include "shade/shade.h"
 
 #include <math.h>
 #include <string.h>
@@ -94,6 +95,7 @@ int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int
         t->bary.s1v[i] = i == 1;
         t->bary.s2v[i] = i == 2;
     }
+    t->light_side = persp__shade_light_side(t);
     persp__plane_through(vx, vy, uq, &t->rat.a, &t->rat.b, &t->rat.c);
     persp__plane_through(vx, vy, vq, &t->rat.d, &t->rat.e, &t->rat.f);
     persp__plane_through(vx, vy, q, &t->rat.g, &t->rat.h, &t->rat.i);

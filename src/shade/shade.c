@@ -60,7 +60,7 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
 {
     const persp_material *m = &ds->material;
     const persp_lighting *L = &ds->lighting;
-    /* Two-sided lighting: side = −1 lights the other face (see face_side). */
+    /* Two-sided lighting: side = −1 lights the other face (persp_tri.light_side). */
     float n[3] = {side * n_in[0], side * n_in[1], side * n_in[2]};
     float vlen = sqrtf(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     float v[3] = {0.0f, 0.0f, 1.0f};
@@ -353,12 +353,7 @@ static void shade_vertex_color(const persp_draw_state *ds, const persp_tri *t,
     }
 }
 
-/* Two-sided lighting decided once per triangle, as OpenGL picks the front
- * or back colour by the polygon's facing: −1 when the triangle's vertex
- * normals, summed, face away from the eye at its centroid. A per-pixel test
- * of N·E would flip the smooth normals of front faces near silhouettes
- * (where they turn away from the eye) and light a rim on the dark side. */
-static float face_side(const persp_tri *t)
+float persp__shade_light_side(const persp_tri *t)
 {
     float d = 0.0f;
     for (int c = 0; c < 3; c++) {
@@ -378,9 +373,9 @@ static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const 
     (void)q;
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
     bary_for(ds, t, b, b1, b2);
-    /* Front or back colour by the triangle's facing (face_side), as
+    /* Front or back colour by the triangle's facing (light_side), as
      * OpenGL's two-sided lighting picks them per polygon. */
-    const int attr = face_side(t) < 0.0f ? PERSP_A_BR : PERSP_A_R;
+    const int attr = t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R;
     float c[3][PERSP_SPAN_MAX], zero[PERSP_SPAN_MAX];
     interp_soa(t, attr, b->n, b1, b2, c[0], c[1], c[2]);
     for (int k = 0; k < b->n; k++) zero[k] = 0.0f;
@@ -555,7 +550,7 @@ static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, li
 {
     float c[6][PERSP_SPAN_MAX];
     pad_lit_span(g, n);
-    light_soa(ds, face_side(t), n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
+    light_soa(ds, t->light_side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
     combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
 }
 

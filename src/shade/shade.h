@@ -18,6 +18,14 @@ static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri
     ds->shade(ds, t, b, q, texel, out);
 }
 
+/* Two-sided lighting decided once per triangle (at set-up, into
+ * persp_tri.light_side), as OpenGL picks the front or back colour by the
+ * polygon's facing: -1 (light the back) when the triangle's vertex normals,
+ * summed, face away from the eye at its centroid, else 1. A per-pixel test
+ * of N·E would flip the smooth normals of front faces near silhouettes
+ * (where they turn away from the eye) and light a rim on the dark side. */
+float persp__shade_light_side(const persp_tri *t);
+
 /* The unit normal and eye-space position each pixel of batch b is lit with
  * under ds->shading (the same code the span shaders use), for accuracy
  * analysis. Returns 0 for modes without per-pixel normals (none, gouraud,

@@ -288,6 +288,7 @@ static void test_gouraud_two_sided_per_triangle(void **state)
             if (facing) /* the back side: every normal reversed */
                 for (int c = 0; c < 3; c++) t.vattr[k][PERSP_A_NX + c] = -N[k][c];
         }
+        t.light_side = persp__shade_light_side(&t); /* as set-up does */
         /* Screen-linear barycentrics b1 = x / 10, b2 = y / 10 on a 10x10 area. */
         t.lb1[0] = 0.1;
         t.lb2[1] = 0.1;
