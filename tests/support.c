@@ -40,6 +40,29 @@ double test_rng_uniform(test_rng *r, double lo, double hi)
     return lo + (hi - lo) * t;
 }
 
+uint64_t test_hash(const void *data, size_t n)
+{
+    const uint8_t *p = data;
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 1099511628211ull;
+    return h;
+}
+
+int test_tmpdir_make(char *dir, size_t size, const char *tag)
+{
+    int n = snprintf(dir, size, "/tmp/persp-%s-XXXXXX", tag);
+    if (n < 0 || (size_t)n >= size) return -1;
+    return mkdtemp(dir) ? 0 : -1;
+}
+
+int test_tmpdir_remove(const char *dir)
+{
+    char cmd[1100];
+    int n = snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (n < 0 || (size_t)n >= sizeof cmd) return -1;
+    return system(cmd) == 0 ? 0 : -1;
+}
+
 persp_context *test_context(void) { return test_context_threads(1); }
 
 persp_context *test_context_threads(int threads)

@@ -18,6 +18,12 @@ void test_binary_path(char *buf, size_t size, const char *rel);
 typedef struct test_rng { uint64_t s; } test_rng;
 uint64_t test_rng_next(test_rng *r);
 double test_rng_uniform(test_rng *r, double lo, double hi);
+/* FNV-1a of n bytes: images compared by hash. */
+uint64_t test_hash(const void *data, size_t n);
+/* A new directory /tmp/persp-TAG-XXXXXX written to dir, and the removal of
+ * such a directory with its contents; 0 on success. */
+int test_tmpdir_make(char *dir, size_t size, const char *tag);
+int test_tmpdir_remove(const char *dir);
 /* A context that fails the test if it cannot be created. */
 persp_context *test_context(void);
 /* A context drawing with the given number of threads. */

@@ -10,13 +10,6 @@
 
 enum { W = 160, H = 120 };
 
-static uint64_t fnv(const uint8_t *p, size_t n)
-{
-    uint64_t h = 1469598103934665603ull;
-    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 1099511628211ull;
-    return h;
-}
-
 typedef struct frame {
     uint8_t color[W * H * 4];
     float depth[W * H];
@@ -36,7 +29,7 @@ static uint64_t render_hash(persp_context *ctx, const persp_scene *scene, const 
     assert_non_null(f);
     persp_status st = render(ctx, scene, d, f);
     if (st != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
-    uint64_t h = fnv(f->color, sizeof f->color);
+    uint64_t h = test_hash(f->color, sizeof f->color);
     free(f);
     return h;
 }

@@ -78,11 +78,7 @@ static const persp_material *material_of(const loaded *l, size_t part)
 
 static char tmpdir[64];
 
-static void make_tmp(void)
-{
-    snprintf(tmpdir, sizeof tmpdir, "/tmp/persp_model_XXXXXX");
-    assert_non_null(mkdtemp(tmpdir));
-}
+static void make_tmp(void) { assert_int_equal(test_tmpdir_make(tmpdir, sizeof tmpdir, "model"), 0); }
 
 static void write_file(const char *name, const void *data, size_t size)
 {
@@ -119,12 +115,7 @@ static void tmp_path(char *out, size_t size, const char *name)
     snprintf(out, size, "%s/%s", tmpdir, name);
 }
 
-static void remove_tmp(void)
-{
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-    assert_int_equal(system(cmd), 0);
-}
+static void remove_tmp(void) { assert_int_equal(test_tmpdir_remove(tmpdir), 0); }
 
 static void test_obj_quad_from_memory(void **state)
 {

@@ -9,21 +9,24 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint64_t fnv(const uint8_t *p, size_t n)
-{
-    uint64_t h = 1469598103934665603ull;
-    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 1099511628211ull;
-    return h;
-}
-
-/* Renders a built-in scene with d and hashes the colour buffer; keep (when
- * not NULL) receives the colour buffer instead of it being freed. */
-static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
-                                 int h, uint8_t **keep)
+/* Renders a scene — built-in, or a file named relative to the source tree
+ * (it contains a '/') — with d on a context of the given threads and
+ * triangle batch size (0: the renderer's), and hashes the colour buffer;
+ * keep (when not NULL) receives the colour buffer instead of it being
+ * freed, stats (when not NULL) the render's statistics. */
+static uint64_t render_hash_batched(const char *scene_name, const persp_render_desc *d, int threads,
+                                    size_t batch, int w, int h, uint8_t **keep, persp_render_stats *stats)
 {
     persp_context *ctx = test_context_threads(threads);
+    ctx->frame_batch = batch;
     persp_scene *scene = NULL;
-    assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
+    if (strchr(scene_name, '/')) {
+        char path[1024];
+        test_source_path(path, sizeof path, scene_name);
+        assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    } else {
+        assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
+    }
     uint8_t *color = malloc((size_t)w * h * 4);
     float *depth = malloc((size_t)w * h * sizeof(float));
     assert_non_null(color);
@@ -33,13 +36,20 @@ static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc
     persp_status s = persp_render(ctx, scene, d, &fb, &st);
     if (s != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
     assert_true(st.pixels_written > 0);
-    uint64_t hash = fnv(color, (size_t)w * h * 4);
+    uint64_t hash = test_hash(color, (size_t)w * h * 4);
     if (keep) *keep = color;
     else free(color);
+    if (stats) *stats = st;
     free(depth);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
     return hash;
+}
+
+static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
+                                 int h, uint8_t **keep)
+{
+    return render_hash_batched(scene_name, d, threads, 0, w, h, keep, NULL);
 }
 
 static uint64_t render_hash(const char *scene_name, const char *method, int threads, persp_depth_mode dm,
@@ -360,32 +370,17 @@ static void test_batches_bit_identical(void **state)
     enum { W = 200, H = 150 };
     const size_t batches[] = {0, 1, 7, 1000};
     for (size_t si = 0; si < 2; si++) {
-        char path[1024];
-        test_source_path(path, sizeof path, scenes[si]);
         uint64_t ref = 0;
         for (int threads = 1; threads <= 5; threads += 2)
             for (size_t bi = 0; bi < sizeof batches / sizeof *batches; bi++) {
-                persp_context *ctx = test_context_threads(threads);
-                ctx->frame_batch = batches[bi] ? batches[bi] : (size_t)-1;
-                persp_scene *scene = NULL;
-                assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
-                uint8_t *color = malloc((size_t)W * H * 4);
-                float *depth = malloc((size_t)W * H * sizeof(float));
-                assert_non_null(color);
-                assert_non_null(depth);
-                persp_framebuffer fb = {W, H, color, depth};
                 persp_render_stats st;
-                assert_int_equal(persp_render(ctx, scene, NULL, &fb, &st), PERSP_OK);
+                uint64_t h = render_hash_batched(scenes[si], NULL, threads,
+                                                 batches[bi] ? batches[bi] : (size_t)-1, W, H, NULL, &st);
                 assert_true(st.triangles_drawn > 1000);
-                uint64_t h = fnv(color, (size_t)W * H * 4);
                 if (threads == 1 && bi == 0) ref = h;
                 else if (h != ref)
                     fail_msg("%s, batch %zu, %d threads: hash %016llx, serial one batch %016llx", scenes[si],
                              batches[bi], threads, (unsigned long long)h, (unsigned long long)ref);
-                free(color);
-                free(depth);
-                persp_scene_destroy(scene);
-                persp_context_destroy(ctx);
             }
     }
 }
@@ -426,7 +421,7 @@ static void test_submission_order_kept(void **state)
             d.mvp = persp_mat4_identity();
             d.depth_test = PERSP_TOGGLE_OFF;
             assert_int_equal(persp_draw(ctx, &fb, &d, v, 3 * NT, idx, 3 * NT), PERSP_OK);
-            uint64_t h = fnv(color, sizeof color);
+            uint64_t h = test_hash(color, sizeof color);
             if (threads == 1 && bi == 0) ref = h;
             else if (h != ref)
                 fail_msg("batch %zu, %d threads: hash %016llx, serial %016llx", batches[bi], threads,
