@@ -177,12 +177,8 @@ int cmd_accuracy(int argc, char **argv)
     cli_command cmd = {
         "accuracy", "persp accuracy --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0,
         NULL};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        accuracy_usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, accuracy_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     if (shard.count && format != PERSP_REPORT_JSON)
         return cli_error(CLI_USAGE, "accuracy: --shard needs --json (slices are merged from JSON)");
     desc.shard_index = shard.index;

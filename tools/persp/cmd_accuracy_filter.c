@@ -96,12 +96,8 @@ int cmd_accuracy_filter(int argc, char **argv)
                        0,
                        0,
                        NULL};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     d.width = size.width;
     d.height = size.height;
     size_t nf = filter_list.count, nc = case_list.count;

@@ -63,12 +63,8 @@ int cmd_accuracy_shading(int argc, char **argv)
                        0,
                        0,
                        NULL};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     desc.width = size.width;
     desc.height = size.height;
     persp_context *ctx = NULL;

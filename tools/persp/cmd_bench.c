@@ -786,12 +786,8 @@ int cmd_bench(int argc, char **argv)
     cli_command cmd = {
         "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o.scene, 1, 0,
         "scene"};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        bench_usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, bench_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     int child_mode = cli_given(&cmd, &opt_peer_child) > 0;
     o.filter_given = cli_given(&cmd, &cli_opt_filter) > 0;
     o.filter_name = filter.name;

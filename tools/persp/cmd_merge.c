@@ -28,12 +28,8 @@ int cmd_merge(int argc, char **argv)
     };
     cli_command cmd = {"merge",  "persp merge --help", NULL, opts,  sizeof opts / sizeof opts[0],
                        operands, MAX_SHARDS,           0,    "FILE"};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        merge_usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, merge_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     size_t n = cmd.operand_count;
     if (!n) return cli_error(CLI_USAGE, "merge: no files (see persp merge --help)");
 

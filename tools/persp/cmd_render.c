@@ -96,12 +96,8 @@ int cmd_render(int argc, char **argv)
     cli_command cmd = {
         "render", "persp render --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0,
         "scene"};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        render_usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, render_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
 
     if (cli_given(&cmd, &cli_opt_min_lod) || cli_given(&cmd, &cli_opt_max_lod)) {
         if (min_lod > max_lod)

@@ -50,12 +50,8 @@ int cmd_report(int argc, char **argv)
     cli_command cmd = {
         "report", "persp report --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0,
         NULL};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        report_usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, report_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     if (!output || !strcmp(output, "-"))
         return cli_error(CLI_USAGE, "report: -o DIR is required (the page has files beside it)");
 

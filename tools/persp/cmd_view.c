@@ -232,12 +232,8 @@ int cmd_view(int argc, char **argv)
     cli_command cmd = {
         "view", "persp view --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0,
         "scene"};
-    int rc = cli_parse(&cmd, argc, argv);
-    if (rc == CLI_HELP) {
-        view_usage(stdout, &cmd);
-        return CLI_OK;
-    }
-    if (rc != CLI_OK) return rc;
+    int rc = cli_parse_or_usage(&cmd, argc, argv, view_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
 
     if (method) snprintf(left.method, sizeof left.method, "%s", method);
     left.filter = filter.filter;

@@ -531,3 +531,11 @@ const cli_spec cli_opt_seed = {.name = "seed",
                                .lo = 1,
                                .hi = 2147483647.0,
                                .help = "seed of the random triangles (default 1)"};
+
+int cli_parse_or_usage(cli_command *cmd, int argc, char **argv,
+                       void (*usage)(FILE *out, const cli_command *cmd))
+{
+    int rc = cli_parse(cmd, argc, argv);
+    if (rc == CLI_HELP) usage(stdout, cmd);
+    return rc;
+}

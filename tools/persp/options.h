@@ -83,6 +83,11 @@ struct cli_command {
 /* Parses argv[1..argc-1] into the options' destinations. CLI_OK, CLI_HELP,
  * or CLI_USAGE after printing "persp: COMMAND: problem" to stderr. */
 int cli_parse(cli_command *cmd, int argc, char **argv);
+/* cli_parse, answering --help with usage(stdout, cmd): CLI_OK to go on,
+ * CLI_HELP once the help is printed (the command then exits with CLI_OK),
+ * or CLI_USAGE. */
+int cli_parse_or_usage(cli_command *cmd, int argc, char **argv,
+                       void (*usage)(FILE *out, const cli_command *cmd));
 /* The option list of the command's help, one entry per listed option. */
 void cli_print_options(FILE *out, const cli_command *cmd);
 /* How often the option of this spec was given. */
