@@ -46,8 +46,62 @@ typedef struct persp_winvert {
  * outside the viewport, or culled; 1 otherwise. */
 int persp__setup_triangle(const persp_winvert v[3], int width, int height, int cull,
                           persp_tri *t);
+/* The same with only the fields need names: PERSP_SETUP_SHADING adds the
+ * barycentric planes (bary, lb1, lb2), the vertex attributes (vattr) and
+ * light_side, which only the span shaders and the analyses read; without
+ * it those fields are left unwritten. persp__setup_triangle sets up all. */
+#define PERSP_SETUP_SHADING 1u
+#define PERSP_SETUP_ALL PERSP_SETUP_SHADING
+int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
+                              persp_tri *t);
 
 /* Covered pixel range of row y (inclusive), clipped to [x0, x1]. */
 int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int *hi);
+
+/* The covered ranges of consecutive rows, the same as persp__tri_row_range
+ * gives, by exact integer stepping: each edge's bound at the first row
+ * takes one division, later rows an addition and a comparison (the
+ * quotient and remainder of the edge's per-row step are fixed). Small
+ * triangles are a few pixels per row, so per-row divisions would otherwise
+ * be a large share of their cost. */
+typedef struct persp_row_walk {
+    int64_t lo, hi;     /* clip range [x0, x1] ∩ bounding box */
+    int64_t m[3], r[3]; /* edge k's bound on this row and its remainder in [0, d[k]) */
+    int64_t d[3];       /* 256·|A| (0: the edge is horizontal) */
+    int64_t q[3], s[3]; /* per-row step of the bound: quotient and remainder by d[k] */
+    int64_t R[3];       /* horizontal edges: edge value at the row, and its step in s[k] */
+    int sign[3];        /* +1: bound from below (A > 0), −1: from above, 0: horizontal */
+} persp_row_walk;
+
+void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int x0, int x1);
+
+/* The range of the walk's current row, then advances it by one row. */
+static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
+{
+    int64_t l = w->lo, h = w->hi;
+    int ok = 1;
+    for (int k = 0; k < 3; k++) {
+        if (w->sign[k] > 0) {
+            l = w->m[k] > l ? w->m[k] : l;
+            int64_t r = w->r[k] + w->s[k];
+            int carry = r >= w->d[k];
+            w->m[k] -= w->q[k] + carry;
+            w->r[k] = carry ? r - w->d[k] : r;
+        } else if (w->sign[k] < 0) {
+            h = w->m[k] < h ? w->m[k] : h;
+            int64_t r = w->r[k] + w->s[k];
+            int carry = r >= w->d[k];
+            w->m[k] += w->q[k] + carry;
+            w->r[k] = carry ? r - w->d[k] : r;
+        } else {
+            ok &= w->R[k] >= 0;
+            w->R[k] += w->s[k];
+        }
+    }
+    if (!ok || l > h) return 0;
+    *lo = (int)l;
+    *hi = (int)h;
+    return 1;
+}
 
 #endif

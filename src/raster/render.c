@@ -141,7 +141,10 @@ static persp_status reserve_triangle(persp_frame *f)
 static int setup_record(const persp_frame *f, const persp_draw_state *ds, const persp_winvert tv[3],
                         uint32_t state, int cull, persp_tri *t)
 {
-    if (!persp__setup_triangle(tv, f->fb->width, f->fb->height, cull, t)) return 0;
+    /* A span that is the texel itself reads no shading field; the
+     * analyses' capture and the object-space pipeline read them all. */
+    const unsigned need = ds->shade_is_texel && !f->capture ? 0u : PERSP_SETUP_ALL;
+    if (!persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t)) return 0;
     t->state = state;
     if (ds->tex) {
         t->rat.scale1 = (float)ds->tex->width;
@@ -149,10 +152,8 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
     }
     /* Only the per-polygon level of detail reads it (a log2 per triangle). */
     if (ds->tex && ds->sampler.desc.lod_mode == PERSP_LOD_POLYGON) {
-        double du1 = (double)t->vattr[1][PERSP_A_U] - t->vattr[0][PERSP_A_U];
-        double dv1 = (double)t->vattr[1][PERSP_A_V] - t->vattr[0][PERSP_A_V];
-        double du2 = (double)t->vattr[2][PERSP_A_U] - t->vattr[0][PERSP_A_U];
-        double dv2 = (double)t->vattr[2][PERSP_A_V] - t->vattr[0][PERSP_A_V];
+        double du1 = t->rat.s1v[1] - t->rat.s1v[0], dv1 = t->rat.s2v[1] - t->rat.s2v[0];
+        double du2 = t->rat.s1v[2] - t->rat.s1v[0], dv2 = t->rat.s2v[2] - t->rat.s2v[0];
         double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
         double px_area = 0.5 * fabs((t->rat.vx[1] - t->rat.vx[0]) * (t->rat.vy[2] - t->rat.vy[0]) -
                                     (t->rat.vx[2] - t->rat.vx[0]) * (t->rat.vy[1] - t->rat.vy[0]));
@@ -676,9 +677,11 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             continue;
         }
         const int ya = PERSP_MAX(y0, t->ymin), yb = PERSP_MIN(y1, t->ymax);
+        persp_row_walk walk;
+        persp__row_walk_init(&walk, t, ya, x0, x1);
         for (int y = ya; y <= yb; y++) {
             int lo, hi;
-            if (!persp__tri_row_range(t, y, x0, x1, &lo, &hi)) continue;
+            if (!persp__row_walk_next(&walk, &lo, &hi)) continue;
             persp_frag_batch b = {.n = hi - lo + 1, .x0 = lo, .y = y};
             shade_batch(&sc, &b);
         }

@@ -19,6 +19,12 @@ static int64_t ceil_div(int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b 
 
 int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int cull, persp_tri *t)
 {
+    return persp__setup_triangle_for(vin, width, height, cull, PERSP_SETUP_ALL, t);
+}
+
+int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height, int cull, unsigned need,
+                              persp_tri *t)
+{
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; i++) {
         if (!(fabs(vin[i].x) < COORD_LIMIT && fabs(vin[i].y) < COORD_LIMIT) || !isfinite(vin[i].z) ||
@@ -59,7 +65,11 @@ int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int
     if (by1 > height - 1) by1 = height - 1;
     if (bx0 > bx1 || by0 > by1) return 0;
 
-    memset(t, 0, sizeof *t);
+    const int shading = (need & PERSP_SETUP_SHADING) != 0;
+    /* Without the shading fields (bary, lb1, lb2, vattr, light_side) the
+     * record is written field by field: clearing all of it would cost as
+     * much as the planes it skips. */
+    if (shading) memset(t, 0, sizeof *t);
     t->backfacing = back;
     t->xmin = (int)bx0, t->xmax = (int)bx1, t->ymin = (int)by0, t->ymax = (int)by1;
     for (int k = 0; k < 3; k++) {
@@ -86,33 +96,45 @@ int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int
         vq[i] = (double)w->attr[PERSP_A_V] * w->q;
         b1[i] = i == 1 ? w->q : 0.0;
         b2[i] = i == 2 ? w->q : 0.0;
-        memcpy(t->vattr[i], w->attr, sizeof t->vattr[i]);
-        t->rat.vx[i] = t->bary.vx[i] = vx[i];
-        t->rat.vy[i] = t->bary.vy[i] = vy[i];
-        t->rat.qv[i] = t->bary.qv[i] = q[i];
+        t->rat.vx[i] = vx[i];
+        t->rat.vy[i] = vy[i];
+        t->rat.qv[i] = q[i];
         t->rat.s1v[i] = w->attr[PERSP_A_U];
         t->rat.s2v[i] = w->attr[PERSP_A_V];
+        if (!shading) continue;
+        memcpy(t->vattr[i], w->attr, sizeof t->vattr[i]);
+        t->bary.vx[i] = vx[i];
+        t->bary.vy[i] = vy[i];
+        t->bary.qv[i] = q[i];
         t->bary.s1v[i] = i == 1;
         t->bary.s2v[i] = i == 2;
     }
-    t->light_side = persp__shade_light_side(t);
     persp__plane_through(vx, vy, uq, &t->rat.a, &t->rat.b, &t->rat.c);
     persp__plane_through(vx, vy, vq, &t->rat.d, &t->rat.e, &t->rat.f);
     persp__plane_through(vx, vy, q, &t->rat.g, &t->rat.h, &t->rat.i);
+    persp__plane_through(vx, vy, zz, &t->zp[0], &t->zp[1], &t->zp[2]);
+    t->rat.xmin = t->xmin;
+    t->rat.xmax = t->xmax;
+    t->rat.ymin = t->ymin;
+    t->rat.ymax = t->ymax;
+    t->rat.scale1 = t->rat.scale2 = 1.0f;
+    t->state = 0;
+    t->prep = UINT32_MAX;
+    t->poly_lambda = 0.0f;
+    t->light_side = 1.0f;
+    if (!shading) return 1;
+    t->light_side = persp__shade_light_side(t);
     persp__plane_through(vx, vy, b1, &t->bary.a, &t->bary.b, &t->bary.c);
     persp__plane_through(vx, vy, b2, &t->bary.d, &t->bary.e, &t->bary.f);
     t->bary.g = t->rat.g, t->bary.h = t->rat.h, t->bary.i = t->rat.i;
-    persp__plane_through(vx, vy, zz, &t->zp[0], &t->zp[1], &t->zp[2]);
     const double e1[3] = {0, 1, 0}, e2[3] = {0, 0, 1};
     persp__plane_through(vx, vy, e1, &t->lb1[0], &t->lb1[1], &t->lb1[2]);
     persp__plane_through(vx, vy, e2, &t->lb2[0], &t->lb2[1], &t->lb2[2]);
-    t->rat.xmin = t->bary.xmin = t->xmin;
-    t->rat.xmax = t->bary.xmax = t->xmax;
-    t->rat.ymin = t->bary.ymin = t->ymin;
-    t->rat.ymax = t->bary.ymax = t->ymax;
-    t->rat.scale1 = t->rat.scale2 = 1.0f;
+    t->bary.xmin = t->xmin;
+    t->bary.xmax = t->xmax;
+    t->bary.ymin = t->ymin;
+    t->bary.ymax = t->ymax;
     t->bary.scale1 = t->bary.scale2 = 1.0f;
-    t->prep = UINT32_MAX;
     return 1;
 }
 
@@ -141,3 +163,43 @@ int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int
     *hi = (int)h;
     return 1;
 }
+
+void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int x0, int x1)
+{
+    w->lo = x0 > t->xmin ? x0 : t->xmin;
+    w->hi = x1 < t->xmax ? x1 : t->xmax;
+    const int64_t Y = (int64_t)y * PERSP_SUBPIXEL + PERSP_SUBPIXEL / 2;
+    for (int k = 0; k < 3; k++) {
+        const int64_t A = t->ea[k];
+        /* As in persp__tri_row_range: pixel px of the row is inside edge k
+         * when A·256·px + R >= 0; the next row adds S = 256·B to R. */
+        const int64_t R = t->eb[k] * Y + t->ec[k] + A * (PERSP_SUBPIXEL / 2);
+        const int64_t S = t->eb[k] * PERSP_SUBPIXEL;
+        if (A == 0) {
+            w->sign[k] = 0;
+            w->R[k] = R;
+            w->s[k] = S;
+            w->d[k] = w->m[k] = w->r[k] = w->q[k] = 0;
+            continue;
+        }
+        const int64_t d = (A > 0 ? A : -A) * PERSP_SUBPIXEL;
+        w->d[k] = d;
+        w->R[k] = 0;
+        if (A > 0) {
+            /* Smallest m with d·m + R >= 0; r = d·m + R in [0, d). A step
+             * adds S to R, so m falls by floor((r + S) / d). */
+            w->sign[k] = 1;
+            w->m[k] = ceil_div(-R, d);
+            w->r[k] = d * w->m[k] + R;
+        } else {
+            /* Largest m with d·m <= R; r = R − d·m in [0, d). A step adds
+             * S to R, so m rises by floor((r + S) / d). */
+            w->sign[k] = -1;
+            w->m[k] = floor_div(R, d);
+            w->r[k] = R - d * w->m[k];
+        }
+        w->q[k] = floor_div(S, d);
+        w->s[k] = S - d * w->q[k];
+    }
+}
+

@@ -654,18 +654,31 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
 void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n)
 {
     if (ds->shading != PERSP_SHADING_GOURAUD && ds->shading != PERSP_SHADING_GOURAUD_PC) return;
-    for (size_t i = 0; i < n; i++) {
-        float nn[3] = {v[i].attr[PERSP_A_NX], v[i].attr[PERSP_A_NY], v[i].attr[PERSP_A_NZ]};
-        normalize3(nn);
-        float diff[3], spec[3];
-        /* Vertices are lit before their triangles are known (render.c), so
-         * both sides are lit here, as OpenGL's two-sided lighting does, and
-         * shade_gouraud picks one per triangle. */
-        const float *e = &v[i].attr[PERSP_A_EX];
-        light_point(ds, nn, e, 1.0f, diff, spec);
-        for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_R + c] = diff[c] + spec[c];
-        light_point(ds, nn, e, -1.0f, diff, spec);
-        for (int c = 0; c < 3; c++) v[i].attr[PERSP_A_BR + c] = diff[c] + spec[c];
-        v[i].attr[PERSP_A_A] = 1.0f;
+    /* Vertices are lit before their triangles are known (render.c), so
+     * both sides are lit here, as OpenGL's two-sided lighting does, and
+     * shade_gouraud picks one per triangle. Blocks of vertices go through
+     * the span lighting (light_soa: light_point's operations in the same
+     * order, so the colours are those of lighting one vertex at a time). */
+    lit_span g;
+    float d[6][PERSP_SPAN_MAX];
+    for (size_t a = 0; a < n; a += PERSP_SPAN_MAX) {
+        const int m = (int)(n - a < PERSP_SPAN_MAX ? n - a : PERSP_SPAN_MAX);
+        for (int k = 0; k < m; k++) {
+            const float *at = v[a + (size_t)k].attr;
+            float nn[3] = {at[PERSP_A_NX], at[PERSP_A_NY], at[PERSP_A_NZ]};
+            normalize3(nn);
+            g.nx[k] = nn[0], g.ny[k] = nn[1], g.nz[k] = nn[2];
+            g.ex[k] = at[PERSP_A_EX], g.ey[k] = at[PERSP_A_EY], g.ez[k] = at[PERSP_A_EZ];
+        }
+        pad_lit_span(&g, m);
+        for (int side = 0; side < 2; side++) {
+            light_soa(ds, side ? -1.0f : 1.0f, m, &g, d[0], d[1], d[2], d[3], d[4], d[5]);
+            const int base = side ? PERSP_A_BR : PERSP_A_R;
+            for (int k = 0; k < m; k++) {
+                float *at = v[a + (size_t)k].attr;
+                for (int c = 0; c < 3; c++) at[base + c] = d[c][k] + d[3 + c][k];
+            }
+        }
+        for (int k = 0; k < m; k++) v[a + (size_t)k].attr[PERSP_A_A] = 1.0f;
     }
 }

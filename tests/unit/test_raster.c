@@ -237,6 +237,78 @@ static void test_watertight_guard_band_fan(void **state)
     free(cnt);
 }
 
+/* The row walk (exact stepping) gives the same ranges as the per-row
+ * division for every row and clip window: random triangles of all sizes
+ * and slopes, vertices on and off the sub-pixel grid, both windings, and
+ * windows that cut them (the tile loop starts a walk at the tile's row). */
+static void test_row_walk_matches_row_range(void **state)
+{
+    (void)state;
+    test_rng rng = {777};
+    int checked = 0;
+    for (int n = 0; n < 4000; n++) {
+        double s = n % 4 == 0 ? 300 : n % 4 == 1 ? 40 : n % 4 == 2 ? 6 : 1.5;
+        double cx = test_rng_uniform(&rng, -20, 220), cy = test_rng_uniform(&rng, -20, 180);
+        persp_winvert v[3];
+        for (int k = 0; k < 3; k++) {
+            double x = cx + test_rng_uniform(&rng, -s, s), y = cy + test_rng_uniform(&rng, -s, s);
+            if (test_rng_next(&rng) % 5 == 0) x = floor(x) + 0.5;
+            if (test_rng_next(&rng) % 5 == 0) y = floor(y);
+            /* On a half-pixel lattice edges pass exactly through pixel
+             * centres of many rows (the remainder reaches its bound). */
+            if (n % 3 == 0) x = floor(2 * x) * 0.5, y = floor(2 * y) * 0.5;
+            v[k] = wv(x, y);
+        }
+        if (n % 7 == 0) v[1] = wv(v[0].x + 30, v[0].y); /* a horizontal edge */
+        persp_tri t;
+        if (!persp__setup_triangle(v, 200, 160, 0, &t)) continue;
+        const int x0 = (int)(test_rng_next(&rng) % 200), x1 = x0 + (int)(test_rng_next(&rng) % 80);
+        const int ya = t.ymin + (int)(test_rng_next(&rng) % 3);
+        persp_row_walk w;
+        persp__row_walk_init(&w, &t, ya, x0, x1);
+        for (int y = ya; y <= t.ymax; y++) {
+            int lo = -1, hi = -1, lo2 = -1, hi2 = -1;
+            int a = persp__tri_row_range(&t, y, x0, x1, &lo, &hi);
+            int b = persp__row_walk_next(&w, &lo2, &hi2);
+            if (a != b || (a && (lo != lo2 || hi != hi2)))
+                fail_msg("triangle %d row %d: range %d [%d, %d], walk %d [%d, %d]", n, y, a, lo, hi, b,
+                         lo2, hi2);
+            checked += a;
+        }
+    }
+    assert_true(checked > 10000);
+    /* Edges with small coefficients, so that a pixel centre often lies
+     * exactly on an edge (the remainder reaches its bound) for both signs
+     * of A, and horizontal edges; the two functions read only the edges
+     * and the box. */
+    for (int n = 0; n < 3000; n++) {
+        persp_tri t;
+        memset(&t, 0, sizeof t);
+        t.xmin = (int)(test_rng_next(&rng) % 50), t.xmax = t.xmin + (int)(test_rng_next(&rng) % 150);
+        t.ymin = (int)(test_rng_next(&rng) % 50), t.ymax = t.ymin + (int)(test_rng_next(&rng) % 100);
+        for (int k = 0; k < 3; k++) {
+            /* Through a point of the box (in 1/256 px), so that each edge
+             * bounds some rows. */
+            int64_t X = (int64_t)(test_rng_next(&rng) % (uint64_t)(256 * (t.xmax + 1)));
+            int64_t Y = (int64_t)(test_rng_next(&rng) % (uint64_t)(256 * (t.ymax + 1)));
+            t.ea[k] = (int64_t)(test_rng_next(&rng) % 7) - 3;
+            t.eb[k] = (int64_t)(test_rng_next(&rng) % 1401) - 700;
+            t.ec[k] = -(t.ea[k] * X + t.eb[k] * Y) + (int64_t)(test_rng_next(&rng) % 5) - 2;
+        }
+        persp_row_walk w;
+        persp__row_walk_init(&w, &t, t.ymin, 0, 199);
+        for (int y = t.ymin; y <= t.ymax; y++) {
+            int lo = -1, hi = -1, lo2 = -1, hi2 = -1;
+            int a = persp__tri_row_range(&t, y, 0, 199, &lo, &hi);
+            int b = persp__row_walk_next(&w, &lo2, &hi2);
+            if (a != b || (a && (lo != lo2 || hi != hi2)))
+                fail_msg("edges %d row %d: range %d [%d, %d], walk %d [%d, %d]", n, y, a, lo, hi, b, lo2,
+                         hi2);
+            checked += a;
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -244,7 +316,7 @@ int main(void)
         cmocka_unit_test(test_clip_near_plane), cmocka_unit_test(test_clip_rejects_nan_inf),
         cmocka_unit_test(test_clip_w_not_positive), cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
         cmocka_unit_test(test_fill_rule_pixel_centres), cmocka_unit_test(test_watertight_random_mesh),
-        cmocka_unit_test(test_watertight_guard_band_fan),
+        cmocka_unit_test(test_watertight_guard_band_fan), cmocka_unit_test(test_row_walk_matches_row_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
