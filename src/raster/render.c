@@ -30,9 +30,19 @@ struct vert_win {
     unsigned code; /* persp__clip_outcode */
 };
 
+/* The tiles a set-up triangle covers, kept beside its record when it is
+ * appended (and the record is in cache), so that binning reads 8 bytes per
+ * triangle instead of a cache line of each ~800-byte record. */
+struct tri_tiles {
+    uint16_t tx0, tx1, ty0, ty1;
+};
+_Static_assert(PERSP_IMAGE_MAX_SIDE / PERSP_TILE <= UINT16_MAX, "tile index fits 16 bits");
+
 struct persp_render_cache {
     persp_tri *tris;
     size_t tri_cap;
+    struct tri_tiles *tiles; /* per triangle of tris */
+    size_t tiles_cap;
     persp_method_prep *preps;
     size_t prep_cap;
     persp_clipvert *verts;
@@ -56,6 +66,7 @@ static void render_cache_free(persp_context *ctx)
     struct persp_render_cache *c = ctx ? ctx->render : NULL;
     if (!c) return;
     persp__free(ctx, c->tris);
+    persp__free(ctx, c->tiles);
     persp__free(ctx, c->preps);
     persp__free(ctx, c->verts);
     persp__free(ctx, c->win);
@@ -131,9 +142,21 @@ static persp_status reserve_triangle(persp_frame *f)
         if (st != PERSP_OK) return st;
         f->tri_count = f->prep_count = 0;
     }
-    if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris) != PERSP_OK)
+    if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris) != PERSP_OK ||
+        persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + 1, sizeof *c->tiles) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     return PERSP_OK;
+}
+
+/* Records the tiles of the frame's newest triangle (reserve_triangle made
+ * room) and counts it in. */
+static void commit_triangle(persp_frame *f)
+{
+    struct persp_render_cache *c = f->cache;
+    const persp_tri *t = &c->tris[f->tri_count];
+    c->tiles[f->tri_count] = (struct tri_tiles){(uint16_t)(t->xmin / PERSP_TILE), (uint16_t)(t->xmax / PERSP_TILE),
+                                                (uint16_t)(t->ymin / PERSP_TILE), (uint16_t)(t->ymax / PERSP_TILE)};
+    f->tri_count++;
 }
 
 /* The set-up record of one triangle with its texture scale and per-polygon
@@ -179,7 +202,7 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uin
         ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
                               f->count_ops ? &f->stats.ops : NULL);
     }
-    f->tri_count++;
+    commit_triangle(f);
     return PERSP_OK;
 }
 
@@ -391,7 +414,8 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
             const setup_slab *slab = &j->slabs[k];
             for (size_t i = 0; i < slab->count; i++) {
                 if ((st = reserve_triangle(f)) != PERSP_OK) return st;
-                c->tris[f->tri_count++] = slab->tris[i];
+                c->tris[f->tri_count] = slab->tris[i];
+                commit_triangle(f);
             }
             const size_t end = PERSP_MIN(j->first + ((size_t)k + 1) * SETUP_CHUNK, ntri);
             if (slab->stop < end && (st = mesh_triangles(j, slab->stop, end, NULL)) != PERSP_OK) return st;
@@ -714,9 +738,8 @@ persp_status persp__frame_flush(persp_frame *f)
      * submission order (the order that makes results thread-independent). */
     size_t total = 0;
     for (size_t i = 0; i < f->tri_count; i++) {
-        const persp_tri *t = &c->tris[i];
-        int tx0 = t->xmin / PERSP_TILE, tx1 = t->xmax / PERSP_TILE;
-        int ty0 = t->ymin / PERSP_TILE, ty1 = t->ymax / PERSP_TILE;
+        const struct tri_tiles *b = &c->tiles[i];
+        const int tx0 = b->tx0, tx1 = b->tx1, ty0 = b->ty0, ty1 = b->ty1;
         for (int ty = ty0; ty <= ty1; ty++)
             for (int tx = tx0; tx <= tx1; tx++) c->bin_count[ty * tiles_x + tx]++;
         total += (size_t)(tx1 - tx0 + 1) * (size_t)(ty1 - ty0 + 1);
@@ -733,9 +756,8 @@ persp_status persp__frame_flush(persp_frame *f)
         c->bin_count[k] = 0;
     }
     for (size_t i = 0; i < f->tri_count; i++) {
-        const persp_tri *t = &c->tris[i];
-        int tx0 = t->xmin / PERSP_TILE, tx1 = t->xmax / PERSP_TILE;
-        int ty0 = t->ymin / PERSP_TILE, ty1 = t->ymax / PERSP_TILE;
+        const struct tri_tiles *b = &c->tiles[i];
+        const int tx0 = b->tx0, tx1 = b->tx1, ty0 = b->ty0, ty1 = b->ty1;
         for (int ty = ty0; ty <= ty1; ty++)
             for (int tx = tx0; tx <= tx1; tx++) {
                 size_t k = (size_t)ty * (size_t)tiles_x + (size_t)tx;
