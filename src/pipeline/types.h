@@ -32,18 +32,21 @@ typedef struct persp_clipvert {
 /* Set-up triangle: fixed-point edges, bounding box and the screen-space
  * planes every method reads (Heckbert's a..i in `rat`). */
 typedef struct persp_tri {
+    /* What every pixel of an unlit span reads comes first, so that it
+     * shares the record's first few cache lines (records are read back
+     * cold, after the whole batch is set up). */
     int64_t ea[3], eb[3], ec[3]; /* edge k: ea·X + eb·Y + ec >= 0 inside (X, Y in 1/256 px), top-left bias folded into ec */
     int xmin, xmax, ymin, ymax;  /* inclusive pixel bounding box inside the viewport */
-    persp_rational rat;          /* s1 = u, s2 = v */
-    persp_rational bary;         /* s1 = b1, s2 = b2 (perspective-correct barycentrics) */
     double zp[3];                /* window depth plane: z = zp0·x + zp1·y + zp2 */
-    double lb1[3], lb2[3];       /* screen-linear barycentric planes (classical Gouraud/Phong) */
     uint32_t state;              /* index of the draw state */
     uint32_t prep;               /* index into the method prep array, or UINT32_MAX */
     float poly_lambda;           /* per-polygon level of detail */
     int backfacing;
     float light_side;            /* two-sided lighting: 1 lights the front, -1 the back
                                     (persp__shade_light_side, at set-up) */
+    persp_rational rat;          /* s1 = u, s2 = v */
+    persp_rational bary;         /* s1 = b1, s2 = b2 (perspective-correct barycentrics) */
+    double lb1[3], lb2[3];       /* screen-linear barycentric planes (classical Gouraud/Phong) */
     float vattr[3][PERSP_A_COUNT]; /* vertex attributes in setup vertex order */
 } persp_tri;
 
