@@ -368,7 +368,7 @@ persp_status persp__shading_random(persp_context *ctx, uint64_t seed, double hba
             for (int x = lo; x <= hi;) {
                 int end = (x / PERSP_TILE) * PERSP_TILE + PERSP_TILE - 1;
                 if (end > hi) end = hi;
-                persp_frag_batch b = {end - x + 1, x, y, NULL, NULL, NULL, NULL};
+                persp_frag_batch b = {.n = end - x + 1, .x0 = x, .y = y};
                 reference_span(&ds[0], &t, x, y, b.n, &ref);
                 for (int i = 0; i < PERSP_SHADE_MODES; i++) measure_span(&ds[i], &t, &b, &ref, &out[i], &acc[i]);
                 x = end + 1;

@@ -254,7 +254,7 @@ typedef struct ad_batch {
 static void ad_flush(ad_batch *b, persp_batch_sink sink, void *user)
 {
     if (b->n == 0) return;
-    persp_frag_batch fb = {b->n, b->px[0], b->py[0], b->px, b->py, b->s1, b->s2};
+    persp_frag_batch fb = {.n = b->n, .x0 = b->px[0], .y = b->py[0], .px = b->px, .py = b->py, .s1 = b->s1, .s2 = b->s2};
     sink(user, &fb);
     b->n = 0;
 }
@@ -319,7 +319,7 @@ static void ad_traverse(const persp_rational *r, const persp_method_params *para
         for (int x0 = lo; x0 <= hi; x0 += PERSP_SPAN_MAX) {
             int n = hi - x0 + 1 < PERSP_SPAN_MAX ? hi - x0 + 1 : PERSP_SPAN_MAX;
             ad_span(r, params, prep, x0, y, n, s1, s2, ops);
-            persp_frag_batch b = {n, x0, y, NULL, NULL, s1, s2};
+            persp_frag_batch b = {.n = n, .x0 = x0, .y = y, .s1 = s1, .s2 = s2};
             sink(user, &b);
         }
     }

@@ -202,7 +202,7 @@ typedef struct cz_batch {
 static void cz_flush(cz_batch *b)
 {
     if (b->n == 0) return;
-    persp_frag_batch fb = {b->n, b->px[0], b->py[0], b->px, b->py, b->s1, b->s2};
+    persp_frag_batch fb = {.n = b->n, .x0 = b->px[0], .y = b->py[0], .px = b->px, .py = b->py, .s1 = b->s1, .s2 = b->s2};
     b->sink(b->user, &fb);
     b->n = 0;
 }

@@ -61,6 +61,10 @@ typedef struct persp_frag_batch {
     int x0, y;
     const int32_t *px, *py;
     float *s1, *s2;
+    /* Span form only: perspective-correct barycentrics already computed
+     * with the texture coordinates' reciprocal (NULL: the shader computes
+     * them; persp__exact_span_pair). */
+    const float *w1, *w2;
 } persp_frag_batch;
 
 /* Called by a custom traversal for each batch it produces. */

@@ -25,6 +25,13 @@ static inline void persp__plane_through(const double vx[3], const double vy[3], 
     *pc = val[0] - *px * vx[0] - *py * vy[0];
 }
 
+/* The exact method's span for two rationals sharing their denominator (the
+ * texture coordinates and the perspective-correct barycentrics of one
+ * triangle): the same values as two calls of its span, one reciprocal per
+ * pixel. */
+void persp__exact_span_pair(const persp_rational *r, const persp_rational *w, int x0, int y, int n,
+                            float *s1, float *s2, float *w1, float *w2);
+
 extern const persp_method persp__method_affine;
 extern const persp_method persp__method_exact;
 /* incremental.c, subdiv.c, quadratic.c, bipoly.c, bezier.c */

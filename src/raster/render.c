@@ -10,6 +10,7 @@
 #include "core/internal.h"
 #include "core/pool.h"
 #include "geom/scene.h"
+#include "interp/methods.h"
 #include "raster/raster.h"
 #include "raster/frame.h"
 #include "shade/shade.h"
@@ -538,11 +539,24 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
     sc->stats->fragments += (uint64_t)n;
     if (!any) return;
 
-    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX];
+    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX];
     const float *su = u, *sv = v;
+    persp_frag_batch fused;
     if (b->s1) {
         su = b->s1;
         sv = b->s2;
+    } else if (!ds->tex && !f->capture && !sc->ops) {
+        /* Untextured: nothing reads the texture coordinates. */
+    } else if (!sc->ops && ds->method.m == &persp__method_exact && ds->shade_method.m == &persp__method_exact &&
+               (ds->shading == PERSP_SHADING_GOURAUD_PC || ds->shading == PERSP_SHADING_PHONG_PC)) {
+        /* Texture coordinates and the shader's perspective-correct weights
+         * share 1/w: one reciprocal per pixel for both ([Romanyuk-PCF] §4.2
+         * weights are Heckbert's rational form with other numerators). */
+        persp__exact_span_pair(&t->rat, &t->bary, b->x0, b->y, n, u, v, w1, w2);
+        fused = *b;
+        fused.w1 = w1;
+        fused.w2 = w2;
+        b = &fused;
     } else {
         ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, sc->ops);
     }

@@ -262,6 +262,11 @@ static void bary_linear(const persp_tri *t, const persp_frag_batch *b, float *b1
 static void bary_perspective(const persp_draw_state *ds, const persp_tri *t,
                              const persp_frag_batch *b, float *b1, float *b2)
 {
+    if (b->w1) {
+        memcpy(b1, b->w1, (size_t)b->n * sizeof *b1);
+        memcpy(b2, b->w2, (size_t)b->n * sizeof *b2);
+        return;
+    }
     if (!b->px) {
         ds->shade_method.m->span(&t->bary, &ds->shade_method.params, NULL, b->x0, b->y, b->n, b1,
                                  b2, NULL);
