@@ -125,19 +125,27 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
 }
 
 /* Set-up triangles held before the tiles draw them. A frame with more is
- * drawn in batches of this many: each tile draws its triangles in
- * submission order whatever the batches, so the image is the same, while
- * the triangle records (~800 bytes each) stay within 52 MiB instead of
- * growing with the mesh (a 2M-triangle mesh would need 650 MiB). A capture
- * refers to triangles by their index in the frame, so it takes one batch. */
-#define PERSP_FRAME_BATCH 65536u
+ * drawn in batches: each tile draws its triangles in submission order
+ * whatever the batches, so the image is the same. A batch is written by the
+ * set-up and read back by the tiles, so it is sized for the caches:
+ * PERSP_FRAME_BATCH_PER_WORKER records (~800 bytes each, 6.3 MiB) per
+ * worker thread. Against one batch of 65 536 (52 MiB, read back from
+ * memory) that took 20 % less CPU time on the 2M-triangle torus and 17 %
+ * on the 200k one (docs/PERFORMANCE.md), and memory stays bounded
+ * whatever the mesh. A capture refers to triangles by their index in the
+ * frame, so it takes one batch. */
+#define PERSP_FRAME_BATCH_PER_WORKER 8192u
+#define PERSP_FRAME_BATCH_MAX 65536u
 
 /* Makes room for one more triangle in the frame, drawing the batch first
  * when it is full. */
 static persp_status reserve_triangle(persp_frame *f)
 {
     struct persp_render_cache *c = f->cache;
-    const size_t batch = f->ctx->frame_batch ? f->ctx->frame_batch : PERSP_FRAME_BATCH;
+    const size_t batch = f->ctx->frame_batch
+                             ? f->ctx->frame_batch
+                             : PERSP_MIN(PERSP_FRAME_BATCH_MAX,
+                                         PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(f->ctx));
     if (!f->capture && f->tri_count >= batch) {
         persp_status st = persp__frame_flush(f);
         if (st != PERSP_OK) return st;
