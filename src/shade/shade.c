@@ -372,15 +372,48 @@ float persp__shade_light_side(const persp_tri *t)
 /* Gouraud: colours lit per vertex (persp__shade_vertices), interpolated with
  * screen-linear (classical) or perspective-correct (§4.2) weights. The
  * vertex colour carries ambient + diffuse + specular, so modulate scales all. */
+/* Gouraud colour modulating the texels: interp_soa and combine_soa's
+ * texel path in one loop, the same operations in the same order (the
+ * specular term of a Gouraud vertex colour is in the colour, so the
+ * combine adds a zero specular: kept, as it turns −0 into +0). */
+PERSP_SIMD_CLONES static void gouraud_modulate(const persp_tri *t, int attr, int n, const float *b1,
+                                               const float *b2, const uint32_t *texel, uint32_t *out)
+{
+    const float r0 = t->vattr[0][attr], r1 = t->vattr[1][attr], r2 = t->vattr[2][attr];
+    const float g0 = t->vattr[0][attr + 1], g1 = t->vattr[1][attr + 1], g2 = t->vattr[2][attr + 1];
+    const float c0 = t->vattr[0][attr + 2], c1 = t->vattr[1][attr + 2], c2 = t->vattr[2][attr + 2];
+    const float inv = 1.0f / 255.0f;
+    for (int k = 0; k < n; k++) {
+        const float w0 = 1.0f - b1[k] - b2[k];
+        const float cr = w0 * r0 + b1[k] * r1 + b2[k] * r2;
+        const float cg = w0 * g0 + b1[k] * g1 + b2[k] * g2;
+        const float cb = w0 * c0 + b1[k] * c1 + b2[k] * c2;
+        const uint32_t p = texel[k];
+        const float t0 = (float)(p & 255u) * inv, t1 = (float)((p >> 8) & 255u) * inv;
+        const float t2 = (float)((p >> 16) & 255u) * inv;
+        out[k] = pack_channel(cr * t0 + 0.0f, 0) | pack_channel(cg * t1 + 0.0f, 8) |
+                 pack_channel(cb * t2 + 0.0f, 16) | (p & 0xff000000u);
+    }
+}
+
 static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                           const float *q, const uint32_t *texel, uint32_t *out)
 {
     (void)q;
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
-    bary_for(ds, t, b, b1, b2);
     /* Front or back colour by the triangle's facing (light_side), as
      * OpenGL's two-sided lighting picks them per polygon. */
     const int attr = t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R;
+    if (texel && ds->material.env != PERSP_TEXENV_REPLACE) {
+        if (b->w1) {
+            gouraud_modulate(t, attr, b->n, b->w1, b->w2, texel, out);
+        } else {
+            bary_for(ds, t, b, b1, b2);
+            gouraud_modulate(t, attr, b->n, b1, b2, texel, out);
+        }
+        return;
+    }
+    bary_for(ds, t, b, b1, b2);
     float c[3][PERSP_SPAN_MAX], zero[PERSP_SPAN_MAX];
     interp_soa(t, attr, b->n, b1, b2, c[0], c[1], c[2]);
     for (int k = 0; k < b->n; k++) zero[k] = 0.0f;
