@@ -24,6 +24,9 @@ struct persp_context {
     /* Set-up triangles the renderer holds before drawing a batch; 0: its
      * default. Changed only by tests, to compare batch sizes. */
     size_t frame_batch;
+    /* Nonzero: small triangles are drawn row by row as spans, not packed
+     * into lanes. Changed only by tests, to compare the two paths. */
+    int span_only;
     persp_warning_fn warn;
     void *warn_user;
 };

@@ -619,6 +619,151 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
 
 static void sink(void *user, const persp_frag_batch *b) { shade_batch(user, b); }
 
+/* ---------------------------------------------------- small triangles
+ *
+ * A triangle a few pixels wide has rows of a few pixels, and each row as
+ * its own span pays the fixed cost of a span (depth set-up, a method call,
+ * a sampler call, the write-back) for very few pixels. The rows of such a
+ * triangle are packed instead into lanes of one batch, each lane carrying
+ * its row's start values and its offset k in the row, so that every value
+ * is computed by the same operations as on the span path (row start in
+ * double rounded to float, then start + k·step, one reciprocal), and the
+ * image is the same bit for bit. Taken where every stage works lane by
+ * lane: the exact method, a filter whose footprint is each pixel's own
+ * (not the window or EWA filters, nor a custom traversal), and shading
+ * that is the texel or perspective-correct Gouraud modulating it. */
+#define SMALL_TRI_WIDTH 16
+
+typedef struct lane_batch {
+    int n;
+    float u0[PERSP_SPAN_MAX], v0[PERSP_SPAN_MAX], q0[PERSP_SPAN_MAX], z0[PERSP_SPAN_MAX];
+    float w10[PERSP_SPAN_MAX], w20[PERSP_SPAN_MAX], k[PERSP_SPAN_MAX];
+    int32_t idx[PERSP_SPAN_MAX];
+} lane_batch;
+
+static int lanes_apply(const persp_frame *f, const persp_draw_state *ds, const persp_tri *t)
+{
+    if (f->ctx->span_only || f->capture || f->count_ops || !ds->tex || ds->method.m != &persp__method_exact ||
+        t->prep != UINT32_MAX || t->xmax - t->xmin >= SMALL_TRI_WIDTH || t->ymax == t->ymin)
+        return 0;
+    switch (ds->sampler.desc.filter) {
+    case PERSP_FILTER_NEAREST:
+    case PERSP_FILTER_BILINEAR:
+    case PERSP_FILTER_NEAREST_MIP_NEAREST:
+    case PERSP_FILTER_BILINEAR_MIP_NEAREST:
+    case PERSP_FILTER_NEAREST_MIP_LINEAR:
+    case PERSP_FILTER_TRILINEAR: break;
+    default: return 0;
+    }
+    if (ds->shade_is_texel) return 1;
+    return ds->shading == PERSP_SHADING_GOURAUD_PC && ds->shade_method.m == &persp__method_exact &&
+           ds->material.env != PERSP_TEXENV_REPLACE;
+}
+
+PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
+{
+    const persp_frame *f = sc->f;
+    const persp_tri *t = sc->t;
+    const persp_draw_state *ds = sc->ds;
+    const int n = lb->n;
+    const int invw = f->depth_mode == PERSP_DEPTH_INVW;
+    float *depth = sc->depth;
+    uint32_t *color = sc->color;
+    float q[PERSP_SPAN_MAX], z[PERSP_SPAN_MAX];
+    int32_t live[PERSP_SPAN_MAX];
+    const float dq = (float)t->rat.g, dz = (float)t->zp[0];
+    for (int k = 0; k < n; k++) {
+        q[k] = lb->q0[k] + lb->k[k] * dq;
+        z[k] = lb->z0[k] + lb->k[k] * dz;
+    }
+    if (!ds->depth_test) {
+        for (int k = 0; k < n; k++) live[k] = 1;
+    } else if (invw) {
+        for (int k = 0; k < n; k++) live[k] = q[k] > depth[lb->idx[k]];
+    } else {
+        for (int k = 0; k < n; k++) live[k] = z[k] < depth[lb->idx[k]];
+    }
+    int any = 0;
+    for (int k = 0; k < n; k++) any += live[k];
+    sc->stats->fragments += (uint64_t)n;
+    if (!any) return;
+    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX];
+    const float du = (float)t->rat.a, dv = (float)t->rat.d;
+    const int gouraud = !ds->shade_is_texel;
+    /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]. */
+    for (int k = 0; k < n; k++) {
+        const float rq = 1.0f / q[k];
+        u[k] = (lb->u0[k] + lb->k[k] * du) * rq;
+        v[k] = (lb->v0[k] + lb->k[k] * dv) * rq;
+    }
+    if (gouraud) {
+        const float da = (float)t->bary.a, db = (float)t->bary.d;
+        for (int k = 0; k < n; k++) {
+            const float rq = 1.0f / q[k];
+            w1[k] = (lb->w10[k] + lb->k[k] * da) * rq;
+            w2[k] = (lb->w20[k] + lb->k[k] * db) * rq;
+        }
+    }
+    uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
+    persp_tex_span_in in = {
+        .n = n, .u = u, .v = v, .q = q,
+        .a = (float)t->rat.a, .b = (float)t->rat.b, .d = (float)t->rat.d,
+        .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
+        .poly_lambda = t->poly_lambda,
+    };
+    persp__sample_span(&ds->sampler, &in, gouraud ? texel : out);
+    if (gouraud) persp__shade_gouraud_lanes(ds, t, n, w1, w2, texel, out);
+    const float *dvals = invw ? q : z;
+    for (int k = 0; k < n; k++) {
+        if (!live[k]) continue;
+        color[lb->idx[k]] = out[k];
+        if (ds->depth_write) depth[lb->idx[k]] = dvals[k];
+    }
+    sc->stats->pixels_written += (uint64_t)any;
+}
+
+/* The rows ya..yb of a small triangle within the tile's columns x0..x1, in
+ * batches of whole rows. */
+static void draw_small(span_ctx *sc, int ya, int yb, int x0, int x1)
+{
+    const persp_tri *t = sc->t;
+    const int gouraud = !sc->ds->shade_is_texel;
+    lane_batch lb;
+    lb.n = 0;
+    persp_row_walk walk;
+    persp__row_walk_init(&walk, t, ya, x0, x1);
+    for (int y = ya; y <= yb; y++) {
+        int lo, hi;
+        if (!persp__row_walk_next(&walk, &lo, &hi)) continue;
+        const int len = hi - lo + 1;
+        if (lb.n + len > PERSP_SPAN_MAX) {
+            shade_lanes(sc, &lb);
+            lb.n = 0;
+        }
+        /* The row's start values as shade_batch and exact_span compute them. */
+        const double px = lo + 0.5, py = y + 0.5;
+        const float U = (float)(t->rat.a * px + t->rat.b * py + t->rat.c);
+        const float V = (float)(t->rat.d * px + t->rat.e * py + t->rat.f);
+        const float Q = (float)(t->rat.g * px + t->rat.h * py + t->rat.i);
+        const float Z = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
+        float A = 0.0f, B = 0.0f;
+        if (gouraud) {
+            A = (float)(t->bary.a * px + t->bary.b * py + t->bary.c);
+            B = (float)(t->bary.d * px + t->bary.e * py + t->bary.f);
+        }
+        const int32_t base = (y - sc->oy) * PERSP_TILE + (lo - sc->ox);
+        for (int k = 0; k < len; k++) {
+            const int i = lb.n + k;
+            lb.u0[i] = U, lb.v0[i] = V, lb.q0[i] = Q, lb.z0[i] = Z;
+            lb.w10[i] = A, lb.w20[i] = B;
+            lb.k[i] = (float)k;
+            lb.idx[i] = base + k;
+        }
+        lb.n += len;
+    }
+    if (lb.n) shade_lanes(sc, &lb);
+}
+
 typedef struct area_tri {
     const persp_tri *t;
     int x0, x1;
@@ -723,6 +868,10 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             continue;
         }
         const int ya = PERSP_MAX(y0, t->ymin), yb = PERSP_MIN(y1, t->ymax);
+        if (lanes_apply(f, sc.ds, t)) {
+            draw_small(&sc, ya, yb, x0, x1);
+            continue;
+        }
         persp_row_walk walk;
         persp__row_walk_init(&walk, t, ya, x0, x1);
         for (int y = ya; y <= yb; y++) {

@@ -396,6 +396,13 @@ PERSP_SIMD_CLONES static void gouraud_modulate(const persp_tri *t, int attr, int
     }
 }
 
+void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
+                                const float *w2, const uint32_t *texel, uint32_t *out)
+{
+    (void)ds;
+    gouraud_modulate(t, t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R, n, w1, w2, texel, out);
+}
+
 static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                           const float *q, const uint32_t *texel, uint32_t *out)
 {

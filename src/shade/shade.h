@@ -25,6 +25,11 @@ static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri
  * of N·E would flip the smooth normals of front faces near silhouettes
  * (where they turn away from the eye) and light a rim on the dark side. */
 float persp__shade_light_side(const persp_tri *t);
+/* Perspective-correct Gouraud modulating texels for pixels given by their
+ * weights w1, w2 alone (in any arrangement: the small-triangle path of
+ * render.c packs several rows); the same colours as the span shader. */
+void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
+                                const float *w2, const uint32_t *texel, uint32_t *out);
 
 /* The unit normal and eye-space position each pixel of batch b is lit with
  * under ds->shading (the same code the span shaders use), for accuracy

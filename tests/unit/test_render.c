@@ -46,6 +46,56 @@ static uint64_t render_hash_batched(const char *scene_name, const persp_render_d
     return hash;
 }
 
+/* The small-triangle path (rows packed into lanes) against spans: the
+ * same image bit for bit, for the filters and shading it takes, both depth
+ * modes, one and two threads. The 2k-triangle torus at 256×192 has
+ * triangles a few pixels wide, which all take the packed path. */
+static void test_small_triangles_as_spans(void **state)
+{
+    (void)state;
+    static const char *const filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear"};
+    static const char *const shadings[] = {"none", "gouraud-pc"};
+    int compared = 0;
+    for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
+        for (size_t si = 0; si < sizeof shadings / sizeof *shadings; si++)
+            for (int dm = 0; dm < 2; dm++) {
+                uint64_t h[2];
+                for (int span_only = 0; span_only < 2; span_only++) {
+                    persp_context *ctx = test_context_threads(1 + (int)fi % 2);
+                    ctx->span_only = span_only;
+                    char path[1024];
+                    test_source_path(path, sizeof path, "scenes/bench/torus-2k.json");
+                    persp_scene *scene = NULL;
+                    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+                    persp_render_desc d;
+                    memset(&d, 0, sizeof d);
+                    assert_int_equal(persp_filter_parse(filters[fi], &d.filter, NULL), PERSP_OK);
+                    assert_int_equal(persp_shading_parse(shadings[si], &d.shading), PERSP_OK);
+                    d.depth_mode = dm ? PERSP_DEPTH_INVW : PERSP_DEPTH_Z;
+                    enum { W = 256, H = 192 };
+                    uint8_t *color = malloc(W * H * 4);
+                    float *depth = malloc(W * H * sizeof(float));
+                    assert_non_null(color);
+                    assert_non_null(depth);
+                    persp_framebuffer fb = {W, H, color, depth};
+                    persp_render_stats st;
+                    if (persp_render(ctx, scene, &d, &fb, &st) != PERSP_OK)
+                        fail_msg("render: %s", persp_context_error(ctx));
+                    assert_true(st.pixels_written > W * H / 4);
+                    h[span_only] = test_hash(color, W * H * 4);
+                    free(color);
+                    free(depth);
+                    persp_scene_destroy(scene);
+                    persp_context_destroy(ctx);
+                }
+                if (h[0] != h[1])
+                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", filters[fi], shadings[si],
+                             dm ? "invw" : "z", (unsigned long long)h[0], (unsigned long long)h[1]);
+                compared++;
+            }
+    assert_int_equal(compared, 16);
+}
+
 static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
                                  int h, uint8_t **keep)
 {
@@ -435,7 +485,7 @@ static void test_submission_order_kept(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_threads_bit_identical),
+        cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_small_triangles_as_spans),
         cmocka_unit_test(test_threads_bit_identical_filters),
         cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_row_range_brute_force),
