@@ -631,7 +631,8 @@ static void sink(void *user, const persp_frag_batch *b) { shade_batch(user, b); 
  * image is the same bit for bit. Taken where every stage works lane by
  * lane: the exact method, a filter whose footprint is each pixel's own
  * (not the window or EWA filters, nor a custom traversal), and shading
- * that is the texel or perspective-correct Gouraud modulating it. */
+ * that is the texel, perspective-correct Gouraud modulating it, or
+ * perspective-correct Phong (whose lighting runs across lanes anyway). */
 #define SMALL_TRI_WIDTH 16
 
 typedef struct lane_batch {
@@ -656,8 +657,9 @@ static int lanes_apply(const persp_frame *f, const persp_draw_state *ds, const p
     default: return 0;
     }
     if (ds->shade_is_texel) return 1;
-    return ds->shading == PERSP_SHADING_GOURAUD_PC && ds->shade_method.m == &persp__method_exact &&
-           ds->material.env != PERSP_TEXENV_REPLACE;
+    if (ds->shade_method.m != &persp__method_exact) return 0;
+    return (ds->shading == PERSP_SHADING_GOURAUD_PC && ds->material.env != PERSP_TEXENV_REPLACE) ||
+           ds->shading == PERSP_SHADING_PHONG_PC;
 }
 
 PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
@@ -712,7 +714,10 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
         .poly_lambda = t->poly_lambda,
     };
     persp__sample_span(&ds->sampler, &in, gouraud ? texel : out);
-    if (gouraud) persp__shade_gouraud_lanes(ds, t, n, w1, w2, texel, out);
+    if (ds->shading == PERSP_SHADING_PHONG_PC)
+        persp__shade_phong_lanes(ds, t, n, w1, w2, texel, out);
+    else if (gouraud)
+        persp__shade_gouraud_lanes(ds, t, n, w1, w2, texel, out);
     const float *dvals = invw ? q : z;
     for (int k = 0; k < n; k++) {
         if (!live[k]) continue;

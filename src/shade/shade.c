@@ -599,6 +599,22 @@ static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, li
     combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
 }
 
+void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
+                              const float *w2, const uint32_t *texel, uint32_t *out)
+{
+    /* phong_normals with perspective-correct weights given (phong-pc). */
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    const int lanes = span_lanes(n);
+    memcpy(b1, w1, (size_t)n * sizeof *b1);
+    memcpy(b2, w2, (size_t)n * sizeof *b2);
+    for (int k = n; k < lanes; k++) b1[k] = b2[k] = 0.0f;
+    lit_span g;
+    interp_soa(t, PERSP_A_NX, lanes, b1, b2, g.nx, g.ny, g.nz);
+    normalize_soa(lanes, g.nx, g.ny, g.nz);
+    interp_soa(t, PERSP_A_EX, lanes, b1, b2, g.ex, g.ey, g.ez);
+    light_span(ds, t, n, &g, texel, out);
+}
+
 /* Flat: one lighting evaluation per triangle. */
 static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                        const float *q, const uint32_t *texel, uint32_t *out)

@@ -30,6 +30,9 @@ float persp__shade_light_side(const persp_tri *t);
  * render.c packs several rows); the same colours as the span shader. */
 void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                                 const float *w2, const uint32_t *texel, uint32_t *out);
+/* The same for perspective-correct Phong (phong-pc with the exact weights). */
+void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
+                              const float *w2, const uint32_t *texel, uint32_t *out);
 
 /* The unit normal and eye-space position each pixel of batch b is lit with
  * under ds->shading (the same code the span shaders use), for accuracy

@@ -54,7 +54,7 @@ static void test_small_triangles_as_spans(void **state)
 {
     (void)state;
     static const char *const filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear"};
-    static const char *const shadings[] = {"none", "gouraud-pc"};
+    static const char *const shadings[] = {"none", "gouraud-pc", "phong-pc"};
     int compared = 0;
     for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
         for (size_t si = 0; si < sizeof shadings / sizeof *shadings; si++)
@@ -93,7 +93,7 @@ static void test_small_triangles_as_spans(void **state)
                              dm ? "invw" : "z", (unsigned long long)h[0], (unsigned long long)h[1]);
                 compared++;
             }
-    assert_int_equal(compared, 16);
+    assert_int_equal(compared, 24);
 }
 
 static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
