@@ -390,6 +390,21 @@ PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name,
  * Model imports from several threads take turns (Assimp's C API reports
  * errors through one process-wide message). */
 PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
+
+/* Zero-initialised: the files a scene or model names (textures, models,
+ * material libraries, buffers) must lie in the loaded file's folder or
+ * below it, after links and ".." are resolved (realpath). A scene file then
+ * cannot make persp read, say, /etc/passwd or ~/.ssh. A scene naming a file
+ * elsewhere fails with PERSP_ERR_IO ("file:line:col: 'name' is outside the
+ * folder ..."); a model's file elsewhere is skipped with a warning, like a
+ * missing one. */
+typedef struct persp_scene_load_desc {
+    persp_toggle any_folder; /* ON: referenced files may lie anywhere; DEFAULT, OFF: restricted */
+} persp_scene_load_desc;
+/* persp_scene_load with settings; desc NULL: all defaults (restricted), as
+ * persp_scene_load does. */
+PERSP_API persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
+                                           const persp_scene_load_desc *desc, persp_scene **out);
 PERSP_API void persp_scene_destroy(persp_scene *scene);
 /* Replaces the texture of every textured object (e.g. --texture FILE); the
  * scene keeps a copy, not img. */

@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include <jpeglib.h>
+#include <jerror.h>
 #include <png.h>
 
 static const char *stream_name(const char *name)
@@ -69,6 +70,8 @@ static persp_status encode_png(persp_context *ctx, FILE *f, const char *name,
     if (!ok && ferror(f))
         st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", name,
                          err ? strerror(err) : pi.message);
+    else if (!ok && (strstr(pi.message, "ut of memory") || strstr(pi.message, "insufficient memory")))
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory encoding the PNG", name);
     else if (!ok)
         st = persp__fail(ctx, PERSP_ERR_IO, "%s: PNG encoding failed: %s", name, pi.message);
     png_image_free(&pi);
@@ -145,7 +148,10 @@ static persp_status encode_jpeg(persp_context *ctx, FILE *f, const char *name,
     job->quality = quality;
     persp_status st = PERSP_OK;
     if (run_jpeg_job(job)) {
-        if (ferror(f))
+        if (job->pub.msg_code == JERR_OUT_OF_MEMORY)
+            st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory encoding the JPEG",
+                             name);
+        else if (ferror(f))
             st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", name,
                              job->saved_errno ? strerror(job->saved_errno) : job->message);
         else

@@ -34,6 +34,8 @@ int cli_status(persp_context *ctx, persp_status st, const char *what);
 int cli_parse_size(const char *text, int *w, int *h);
 /* Parses a whole decimal integer in [lo, hi]. */
 int cli_parse_int(const char *text, long lo, long hi, long *out);
+/* A plain decimal number (fraction and exponent allowed) in [lo, hi]. */
+int cli_parse_real(const char *text, double lo, double hi, double *out);
 /* CLI_OK if spec names a method with valid parameters; otherwise prints
  * "persp: COMMAND: ..." with the accepted form and returns CLI_USAGE. */
 int cli_check_method(const char *command, const char *spec);

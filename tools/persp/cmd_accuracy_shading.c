@@ -47,6 +47,7 @@ int cmd_accuracy_shading(int argc, char **argv)
         CLI_OPT(cli_opt_seed, &desc.seed),
         CLI_OPT(opt_triangles, &desc.triangles),
         CLI_OPT(opt_scene, &desc.scene),
+        CLI_OPT(cli_opt_any_folder, &desc.any_folder),
         CLI_OPT_HELP(cli_opt_size, &size,
                      "lit-scene image size (default: the scene's, else 640x480)"),
         CLI_OPT(opt_svg, &desc.svg_path),

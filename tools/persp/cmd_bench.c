@@ -66,6 +66,7 @@ typedef struct image_diff {
 } image_diff;
 
 typedef struct bench_opts {
+    persp_scene_load_desc load;
     const char *scene, *method, *filter_name, *peer, *peer_image;
     int filter_given, shading_given;
     persp_shading shading; /* DEFAULT: the scene's */
@@ -226,7 +227,7 @@ static int peer_child(const bench_opts *o)
     persp_status st = persp_context_create(NULL, &ctx);
     if (st == PERSP_OK)
         st = is_builtin(o->scene) ? persp_scene_builtin(ctx, o->scene, &scene)
-                                  : persp_scene_load(ctx, o->scene, &scene);
+                                  : persp_scene_load_ex(ctx, o->scene, &o->load, &scene);
     if (st != PERSP_OK) {
         int rc = cli_status(ctx, st, o->scene);
         persp_context_destroy(ctx);
@@ -766,6 +767,7 @@ int cmd_bench(int argc, char **argv)
     const char *output = NULL;
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
+        CLI_OPT(cli_opt_any_folder, &o.load.any_folder),
         CLI_OPT_HELP(cli_opt_filter, &filter,
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
@@ -844,7 +846,7 @@ int cmd_bench(int argc, char **argv)
     }
     persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
     if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
-    else st = persp_scene_load(b.ctx, o.scene, &b.scene);
+    else st = persp_scene_load_ex(b.ctx, o.scene, &o.load, &b.scene);
     if (st != PERSP_OK) {
         rc = cli_status(b.ctx, st, o.scene);
         goto done;
