@@ -127,6 +127,15 @@ PERSP_API const char *persp_context_error(const persp_context *ctx);
 typedef void (*persp_warning_fn)(void *user, const char *message);
 PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn,
                                                  void *user);
+/* Files persp writes (images, reports) go to a temporary file renamed over
+ * the target at the end. The handler hears the temporary file's path once
+ * it exists and NULL once it is renamed or removed, so that a program can
+ * remove it when a signal ends it mid-write (the path is valid until the
+ * NULL call; copy it). persp installs no signal handlers itself. Called on
+ * the thread that called into persp; fn NULL removes the handler. */
+typedef void (*persp_temp_file_fn)(void *user, const char *path);
+PERSP_API void persp_context_set_temp_file_handler(persp_context *ctx, persp_temp_file_fn fn,
+                                                   void *user);
 
 /* -------------------------------------------------------------------- math */
 

@@ -10,6 +10,7 @@
 #include "analysis/shading.h"
 #include "analysis/svg.h"
 #include "core/internal.h"
+#include "io/outfile.h"
 
 #include <errno.h>
 #include <jansson.h>
@@ -978,10 +979,13 @@ static persp_status filters(rep *r)
     persp_filter_accuracy_result *fr = NULL;
     persp_status st = persp_filter_accuracy_run(r->ctx, &fd, &fr);
     if (st != PERSP_OK) return st;
-    FILE *j = fopen(path, "w");
-    if (j) {
-        persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j);
-        fclose(j);
+    persp_outfile j;
+    if ((st = persp__outfile_open(r->ctx, path, &j)) == PERSP_OK)
+        st = persp__outfile_close(r->ctx, &j,
+                                  persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j.f));
+    if (st != PERSP_OK) {
+        persp_filter_accuracy_destroy(fr);
+        return st;
     }
     size_t n = persp_filter_accuracy_row_count(fr);
     filter_table(r, n ? persp_filter_accuracy_row_at(fr, 0) : NULL, n);
@@ -1067,13 +1071,12 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
         if (st != PERSP_OK) return st;
         r.acc = acc;
         snprintf(path, sizeof path, "%s/accuracy.json", desc->dir);
-        FILE *j = fopen(path, "w");
-        if (j) {
-            persp_accuracy_write(ctx, acc, PERSP_REPORT_JSON, j);
-            fclose(j);
-        }
+        persp_outfile j;
+        if ((st = persp__outfile_open(ctx, path, &j)) == PERSP_OK)
+            st = persp__outfile_close(ctx, &j,
+                                      persp_accuracy_write(ctx, acc, PERSP_REPORT_JSON, j.f));
     }
-    st = render_all(&r);
+    if (st == PERSP_OK) st = render_all(&r);
     snprintf(path, sizeof path, "%s/index.html.tmp", desc->dir);
     if (st == PERSP_OK && !(r.f = fopen(path, "w")))
         st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create", path);

@@ -26,6 +26,8 @@ struct persp_context {
     size_t frame_batch;
     persp_warning_fn warn;
     void *warn_user;
+    persp_temp_file_fn temp_fn;
+    void *temp_user;
 };
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */

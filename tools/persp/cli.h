@@ -56,6 +56,16 @@ int cli_output_open(const char *command, const char *path, cli_output *out);
  * error (CLI_FAIL). Without (the command failed): removes a file, reports
  * nothing. */
 int cli_output_close(const char *command, cli_output *out, int ok);
+/* Checks, before any long work, that an output path can be written: an
+ * existing file is not a folder or read-only, and the folder it goes in
+ * exists and is writable ("-" and devices pass). CLI_OK, or CLI_FAIL after
+ * "persp: COMMAND: OPTION 'path': ...". */
+int cli_check_output(const char *command, const char *option, const char *path);
+/* The library's temp-file handler (persp_context_set_temp_file_handler):
+ * remembers the file so that SIGINT/SIGTERM removes it. */
+void cli_temp_file(void *user, const char *path);
+/* Installs the SIGINT/SIGTERM handlers that remove temporary files. */
+void cli_install_signal_handlers(void);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 

@@ -68,9 +68,12 @@ int cmd_accuracy_shading(int argc, char **argv)
     if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     desc.width = size.width;
     desc.height = size.height;
+    /* The figures are written last: a path that cannot be is known now. */
+    if ((rc = cli_check_output("accuracy --shading", "--svg", desc.svg_path)) != CLI_OK) return rc;
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy --shading: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     cli_output out;
     if ((rc = cli_output_open("accuracy --shading", output, &out)) != CLI_OK) {
         persp_context_destroy(ctx);

@@ -819,6 +819,7 @@ int cmd_bench(int argc, char **argv)
     }
 #endif
 
+    if ((rc = cli_check_output("bench", "--peer-image", o.peer_image)) != CLI_OK) return rc;
     method_result *results = calloc(BENCH_MAX_METHODS, sizeof *results);
     if (!results) return cli_error(CLI_FAIL, "bench: out of memory");
     size_t count = 0;
@@ -843,6 +844,9 @@ int cmd_bench(int argc, char **argv)
         cli_output_close("bench", &out, 0);
         free(results);
         return cli_status(NULL, st, "bench");
+    }
+    persp_context_set_temp_file_handler(b.ctx, cli_temp_file, NULL);
+    {
     }
     persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
     if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);

@@ -36,6 +36,7 @@ int cmd_merge(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "merge: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     persp_accuracy_result **parts = calloc(n, sizeof *parts), *merged = NULL;
     if (!parts) {
         persp_context_destroy(ctx);

@@ -112,6 +112,8 @@ int cmd_render(int argc, char **argv)
     persp_image_write_desc wd = {PERSP_IMAGE_FORMAT_DEFAULT, quality};
     if ((rc = output_format(output, format, &wd.format)) != CLI_OK) return rc;
     int to_stdout = output && !strcmp(output, "-");
+    /* A path that cannot be written fails now, not after the render. */
+    if ((rc = cli_check_output("render", "-o", output)) != CLI_OK) return rc;
     if (to_stdout && isatty(STDOUT_FILENO))
         return cli_error(CLI_USAGE,
                          "render: not writing a binary image to a terminal (redirect -o - "
@@ -141,6 +143,7 @@ int cmd_render(int argc, char **argv)
     persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
     persp_context_set_warning_handler(ctx, cli_warning, NULL);
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     persp_scene *scene = NULL;
     persp_framebuffer fb = {0, 0, NULL, NULL};
     persp_image img = {0, 0, 0, NULL}, depth_img = {0, 0, 0, NULL};

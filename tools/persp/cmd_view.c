@@ -273,6 +273,7 @@ int cmd_view(int argc, char **argv)
         view_path_free(&path);
         return cli_status(NULL, st, "view");
     }
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     if ((rc = load_scene(ctx, scene_name, texture, &load, &scene)) != CLI_OK) goto done;
     /* The window offers mip levels on either side at any time. */
     if (mip_levels || !play) {

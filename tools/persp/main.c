@@ -162,6 +162,7 @@ static int finish_stdout(const char *command, int rc)
 
 int main(int argc, char **argv)
 {
+    cli_install_signal_handlers();
     if (argc < 2) {
         usage(stderr);
         return CLI_USAGE;
