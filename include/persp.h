@@ -519,7 +519,9 @@ typedef struct persp_draw_desc {
     persp_toggle depth_test;  /* DEFAULT: on (less; greater for INVW) */
 } persp_draw_desc;
 
-/* Draws indexed triangles (3 indices each) into fb without clearing it. */
+/* Draws indexed triangles (3 indices each) into fb without clearing it.
+ * Surfaces are opaque: every pixel written has alpha 255, whatever the
+ * alpha of the texture or the vertex colours. */
 PERSP_API persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_draw_desc *desc,
                         const persp_vertex *vertices, size_t vertex_count, const uint32_t *indices,
                         size_t index_count);

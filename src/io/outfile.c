@@ -20,16 +20,25 @@ static void tell_temp(persp_context *ctx, const char *tmp)
  * applies as for any new file: mkstemp picks a free name (and creates it
  * 0600), which is then re-created with O_EXCL, so a name another process
  * takes meanwhile is an error, never a file of theirs overwritten. */
-static int create_temp(char *tmp, size_t len)
+static int create_temp(persp_context *ctx, char *tmp, size_t len)
 {
     for (int tries = 0; tries < 8; tries++) {
         memcpy(tmp + len, ".tmp-XXXXXX", 12);
         int fd = mkstemp(tmp);
         if (fd < 0) return -1;
+        /* Announced as soon as it exists, so that a signal from here on
+         * finds it (removing a name that is briefly absent is harmless). */
+        tell_temp(ctx, tmp);
         close(fd);
         unlink(tmp);
         fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0 || errno != EEXIST) return fd;
+        if (fd >= 0) return fd;
+        int err = errno;
+        tell_temp(ctx, NULL);
+        if (err != EEXIST) {
+            errno = err;
+            return -1;
+        }
     }
     errno = EEXIST;
     return -1;
@@ -72,7 +81,7 @@ persp_status persp__outfile_open(persp_context *ctx, const char *path, persp_out
     memcpy(out->target, target, len + 1);
     memcpy(out->tmp, target, len);
     free(resolved);
-    int fd = create_temp(out->tmp, len);
+    int fd = create_temp(ctx, out->tmp, len);
     if (fd < 0) {
         int err = errno;
         persp__free(ctx, out->target);
@@ -81,7 +90,6 @@ persp_status persp__outfile_open(persp_context *ctx, const char *path, persp_out
         return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create a file there: %s", path,
                            strerror(err));
     }
-    tell_temp(ctx, out->tmp);
     if (exists) {
         /* The replacement keeps the permission bits (and, where allowed,
          * the owner) of the file it replaces. */

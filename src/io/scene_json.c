@@ -1054,7 +1054,9 @@ static persp_status load_json(persp_context *ctx, const char *data, size_t size,
     json_t *root = json_loadb(j.text, size, JSON_REJECT_DUPLICATES, &err);
     /* jansson (2.11 and later) classifies its errors: an allocation failure
      * is json_error_out_of_memory, not a fault of the file. */
-    if (!root && json_error_code(&err) == json_error_out_of_memory)
+    /* A failure before the lexer exists (its buffer's allocation) leaves
+     * the error text empty: nothing else does. */
+    if (!root && (json_error_code(&err) == json_error_out_of_memory || !err.text[0]))
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory parsing the JSON",
                            j.name);
     if (!root) {

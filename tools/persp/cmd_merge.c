@@ -52,7 +52,8 @@ int cmd_merge(int argc, char **argv)
     cli_output out = {0};
     if (rc == CLI_OK && (rc = cli_output_open("merge", output, &out)) == CLI_OK) {
         if ((st = persp_accuracy_write(ctx, merged, format, out.f)) != PERSP_OK)
-            rc = cli_status(ctx, st, "merge: writing");
+            rc = cli_error(CLI_FAIL, "merge: cannot write '%s': %s", output ? output : "-",
+                           persp_context_error(ctx));
         int out_rc = cli_output_close("merge", &out, rc == CLI_OK);
         if (rc == CLI_OK) rc = out_rc;
     }

@@ -142,12 +142,17 @@ int cli_output_open(const char *command, const char *path, cli_output *out)
     for (int tries = 0; tries < 8 && fd < 0; tries++) {
         memcpy(out->tmp + len, ".tmp-XXXXXX", 12);
         if ((fd = mkstemp(out->tmp)) < 0) break;
+        temp_register(1, out->tmp); /* from the moment it exists */
         close(fd);
         unlink(out->tmp);
         fd = open(out->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd < 0 && errno != EEXIST) break;
+        if (fd < 0) {
+            int err = errno;
+            temp_register(1, NULL);
+            errno = err;
+            if (err != EEXIST) break;
+        }
     }
-    if (fd >= 0) temp_register(1, out->tmp);
     if (fd >= 0 && exists) {
         (void)fchmod(fd, sb.st_mode & 07777);
         if (fchown(fd, sb.st_uid, sb.st_gid) != 0) {
