@@ -66,6 +66,9 @@ int cli_check_output(const char *command, const char *option, const char *path);
 void cli_temp_file(void *user, const char *path);
 /* Installs the SIGINT/SIGTERM handlers that remove temporary files. */
 void cli_install_signal_handlers(void);
+/* Gives SIGINT/SIGTERM their default action back (for a library, SDL, that
+ * installs its own only over the default). */
+void cli_restore_signal_handlers(void);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 

@@ -318,6 +318,7 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     if (o->filter_given) argv[argc++] = "--filter", argv[argc++] = (char *)o->filter_name;
     if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
+    if (o->load.any_folder == PERSP_TOGGLE_ON) argv[argc++] = "--any-folder";
     argv[argc] = NULL;
 
     size_t nenv = 0;

@@ -307,6 +307,10 @@ int cmd_view(int argc, char **argv)
             left,  right,  layout,      divider, heat_max,
             width, height, threads,     frames,  record ? record : "camera-path.json",
             NULL,  output, window_shot, script,  quiet};
+        /* SDL turns SIGINT/SIGTERM into its quit event, so that the window
+         * closes cleanly, but only where the signal has its default action
+         * (SDL_INIT_EVENTS, SDL_HINT_NO_SIGNAL_HANDLERS): hand them back. */
+        cli_restore_signal_handlers();
         rc = view_window_run(&a);
     }
 done:

@@ -65,6 +65,12 @@ void cli_install_signal_handlers(void)
     sigaction(SIGTERM, &sa, NULL);
 }
 
+void cli_restore_signal_handlers(void)
+{
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+}
+
 /* ------------------------------------------------------------ checks */
 
 int cli_check_output(const char *command, const char *option, const char *path)
