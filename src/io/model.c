@@ -652,26 +652,27 @@ static int material_texture(importer *im, const char *material, const char *file
         for (unsigned i = 0; i < im->ai->mNumTextures; i++)
             if (texs[i]->mFilename.length && !strcmp(texs[i]->mFilename.data, file)) emb = (long)i;
     }
+    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
+    persp__quote(material, strlen(material), qm, sizeof qm);
     if (emb == -2) {
         persp__warn(im->ctx,
                     "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
                     "it untextured",
-                    im->display, material, file);
+                    im->display, qm, persp__quote(file, strlen(file), qf, sizeof qf));
         return -1;
     }
     if (emb >= 0) {
         int *slot = &im->embedded_index[emb];
         if (*slot == -1 && embedded_texture(im, (unsigned)emb, slot) != PERSP_OK) {
-            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display,
-                        material, persp_context_error(im->ctx));
+            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display, qm,
+                        persp_context_error(im->ctx));
             *slot = -2;
         }
         return *slot >= 0 ? *slot : -1;
     }
     char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
     clean_rel(file, rel, sizeof rel);
-    char qm[PERSP_QUOTE_BYTES], qr[PERSP_QUOTE_BYTES];
-    persp__quote(material, strlen(material), qm, sizeof qm);
+    char qr[PERSP_QUOTE_BYTES];
     persp__quote(rel, strlen(rel), qr, sizeof qr);
     if (!im->base_dir) {
         persp__warn(im->ctx, "%s: material '%s': texture '%s' not read (no folder to read it from)",
