@@ -62,6 +62,30 @@ expect_not 0 "root:x" -- "$persp" render "$m/b.obj" --any-folder --size 16x16 -o
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nmtllib ../secret.mtl\nf 1 2 9\n' >"$m/c.obj"
 expect_not 1 "root:x" -- "$persp" render "$m/c.obj" --any-folder --size 16x16 -o "$tmp/a.png"
 
+# ------------------------------------------------------------- out of memory
+# The decoders' own allocations fail (tests/cli/data/fail_alloc.c, preloaded;
+# not with the sanitizers, whose runtime must come first).
+cc_bin=$(command -v cc || command -v gcc || true)
+if [ -n "$cc_bin" ] && ! ldd "$persp" 2>/dev/null | grep -q libasan &&
+    "$cc_bin" -shared -fPIC -O2 -o "$tmp/fail_alloc.so" "$src/tests/cli/data/fail_alloc.c" -ldl 2>/dev/null; then
+    oom() { # oom LIBRARY PATTERN -- command...
+        local lib="$1" pattern="$2"; shift 3
+        expect 1 "$pattern" -- env PERSP_FAIL_ALLOC_IN="$lib" LD_PRELOAD="$tmp/fail_alloc.so" "$@"
+    }
+    oom libjpeg "checker.jpg: out of memory decoding the JPEG \(out of memory\)" -- \
+        "$persp" render cube --size 8x8 --texture "$src/tests/cli/data/checker.jpg" -o "$tmp/a.png"
+    oom libpng "checker.png: out of memory decoding the PNG \(out of memory\)" -- \
+        "$persp" render cube --size 8x8 --texture "$src/scenes/textures/checker.png" -o "$tmp/a.jpg"
+    oom libpng "a.png: out of memory encoding the PNG \(out of memory\)" -- \
+        "$persp" render cube --size 8x8 -o "$tmp/a.png"
+    oom libjpeg "a.jpg: out of memory encoding the JPEG \(out of memory\)" -- \
+        "$persp" render cube --size 8x8 -o "$tmp/a.jpg"
+    oom libjansson "spheres.json: out of memory parsing the JSON \(out of memory\)" -- \
+        "$persp" render "$src/scenes/spheres.json" --size 8x8 -o "$tmp/a.png"
+else
+    echo "out-of-memory checks skipped (no C compiler, or a sanitizer build)"
+fi
+
 # ------------------------------------------------------------------ messages
 printf '{"objects": [{"mesh": "plane", "material": "\\u001b]0;x\\u0007%s"}]}' \
     "$(head -c 300 /dev/zero | tr '\0' 'z')" >"$tmp/esc.json"
