@@ -1077,9 +1077,10 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
                                       persp_accuracy_write(ctx, acc, PERSP_REPORT_JSON, j.f));
     }
     if (st == PERSP_OK) st = render_all(&r);
-    snprintf(path, sizeof path, "%s/index.html.tmp", desc->dir);
-    if (st == PERSP_OK && !(r.f = fopen(path, "w")))
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create", path);
+    /* Written last, through a temporary file: the page appears only whole. */
+    snprintf(path, sizeof path, "%s/index.html", desc->dir);
+    persp_outfile page;
+    if (st == PERSP_OK && (st = persp__outfile_open(ctx, path, &page)) == PERSP_OK) r.f = page.f;
     if (st == PERSP_OK) {
         head(&r);
         fputs("<p><a href=#methods>methods</a> · <a href=#claims>claims</a> · <a "
@@ -1112,17 +1113,8 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
             environment(&r);
             fputs("</body></html>\n", r.f);
         }
-        int bad = ferror(r.f);
-        if (fclose(r.f) != 0 || bad)
-            if (st == PERSP_OK) st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed", path);
-        char final[1200];
-        snprintf(final, sizeof final, "%s/index.html", desc->dir);
-        if (st == PERSP_OK && rename(path, final) != 0)
-            st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot rename: %s", final, strerror(errno));
-        if (st != PERSP_OK)
-            remove(path);
-        else
-            say(&r, "wrote %s", final);
+        st = persp__outfile_close(ctx, &page, st);
+        if (st == PERSP_OK) say(&r, "wrote %s", path);
     }
     persp_accuracy_destroy(acc);
     return st;
