@@ -223,8 +223,13 @@ PERSP_API persp_status persp_image_write_jpeg(persp_context *ctx, const char *pa
  * except that an existing device or pipe without one gets a PNG).
  * A regular file (or a link to one) is replaced atomically: the image goes
  * to a temporary file in the same folder, renamed on success and removed on
- * failure. Any other existing file (a device such as /dev/null, a pipe) is
- * opened and written in place. */
+ * failure (persp_context_set_temp_file_handler hears of it). The replacement
+ * keeps the old file's permission bits; through a link the file it points
+ * to is replaced and the link stays; other hard links to the old file keep
+ * the old content. A read-only file (no write permission bit, whoever runs
+ * persp), a folder and a link to nothing are refused with PERSP_ERR_IO. Any
+ * other existing file (a device such as /dev/null, a pipe) is opened and
+ * written in place. */
 PERSP_API persp_status persp_image_write(persp_context *ctx, const char *path,
                                          const persp_image *img,
                                          const persp_image_write_desc *desc);
@@ -397,7 +402,9 @@ PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name,
  * with a default camera and lights (docs/SCENES.md). Problems worked around
  * (a model's missing texture or material file) go to the warning handler.
  * Model imports from several threads take turns (Assimp's C API reports
- * errors through one process-wide message). */
+ * errors through one process-wide message). The files a scene or model
+ * names must lie in the loaded file's folder or below it; see
+ * persp_scene_load_ex to allow more. */
 PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
 
 /* Zero-initialised: the files a scene or model names (textures, models,
