@@ -127,6 +127,15 @@ PERSP_API const char *persp_context_error(const persp_context *ctx);
 typedef void (*persp_warning_fn)(void *user, const char *message);
 PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn,
                                                  void *user);
+/* Files persp writes (images, reports) go to a temporary file renamed over
+ * the target at the end. The handler hears the temporary file's path once
+ * it exists and NULL once it is renamed or removed, so that a program can
+ * remove it when a signal ends it mid-write (the path is valid until the
+ * NULL call; copy it). persp installs no signal handlers itself. Called on
+ * the thread that called into persp; fn NULL removes the handler. */
+typedef void (*persp_temp_file_fn)(void *user, const char *path);
+PERSP_API void persp_context_set_temp_file_handler(persp_context *ctx, persp_temp_file_fn fn,
+                                                   void *user);
 
 /* -------------------------------------------------------------------- math */
 
@@ -214,8 +223,13 @@ PERSP_API persp_status persp_image_write_jpeg(persp_context *ctx, const char *pa
  * except that an existing device or pipe without one gets a PNG).
  * A regular file (or a link to one) is replaced atomically: the image goes
  * to a temporary file in the same folder, renamed on success and removed on
- * failure. Any other existing file (a device such as /dev/null, a pipe) is
- * opened and written in place. */
+ * failure (persp_context_set_temp_file_handler hears of it). The replacement
+ * keeps the old file's permission bits; through a link the file it points
+ * to is replaced and the link stays; other hard links to the old file keep
+ * the old content. A read-only file (no write permission bit, whoever runs
+ * persp), a folder and a link to nothing are refused with PERSP_ERR_IO. Any
+ * other existing file (a device such as /dev/null, a pipe) is opened and
+ * written in place. */
 PERSP_API persp_status persp_image_write(persp_context *ctx, const char *path,
                                          const persp_image *img,
                                          const persp_image_write_desc *desc);
@@ -388,8 +402,25 @@ PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name,
  * with a default camera and lights (docs/SCENES.md). Problems worked around
  * (a model's missing texture or material file) go to the warning handler.
  * Model imports from several threads take turns (Assimp's C API reports
- * errors through one process-wide message). */
+ * errors through one process-wide message). The files a scene or model
+ * names must lie in the loaded file's folder or below it; see
+ * persp_scene_load_ex to allow more. */
 PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
+
+/* Zero-initialised: the files a scene or model names (textures, models,
+ * material libraries, buffers) must lie in the loaded file's folder or
+ * below it, after links and ".." are resolved (realpath). A scene file then
+ * cannot make persp read, say, /etc/passwd or ~/.ssh. A scene naming a file
+ * elsewhere fails with PERSP_ERR_IO ("file:line:col: 'name' is outside the
+ * folder ..."); a model's file elsewhere is skipped with a warning, like a
+ * missing one. */
+typedef struct persp_scene_load_desc {
+    persp_toggle any_folder; /* ON: referenced files may lie anywhere; DEFAULT, OFF: restricted */
+} persp_scene_load_desc;
+/* persp_scene_load with settings; desc NULL: all defaults (restricted), as
+ * persp_scene_load does. */
+PERSP_API persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
+                                           const persp_scene_load_desc *desc, persp_scene **out);
 PERSP_API void persp_scene_destroy(persp_scene *scene);
 /* Replaces the texture of every textured object (e.g. --texture FILE); the
  * scene keeps a copy, not img. */
@@ -495,7 +526,9 @@ typedef struct persp_draw_desc {
     persp_toggle depth_test;  /* DEFAULT: on (less; greater for INVW) */
 } persp_draw_desc;
 
-/* Draws indexed triangles (3 indices each) into fb without clearing it. */
+/* Draws indexed triangles (3 indices each) into fb without clearing it.
+ * Surfaces are opaque: every pixel written has alpha 255, whatever the
+ * alpha of the texture or the vertex colours. */
 PERSP_API persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_draw_desc *desc,
                         const persp_vertex *vertices, size_t vertex_count, const uint32_t *indices,
                         size_t index_count);

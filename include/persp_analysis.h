@@ -114,6 +114,8 @@ typedef struct persp_shading_accuracy_desc {
     int triangles;        /* random triangles per depth-ratio group; 0: 20 */
     int width, height;    /* lit-scene image; 0: the scene's size, else 640×480 */
     const char *scene;    /* JSON scene for the lit-scene case; NULL: the built-in lit test scene */
+    persp_toggle any_folder; /* ON: the scene may read files outside its folder
+                                (persp_scene_load_desc); DEFAULT, OFF: it may not */
     const char *svg_path; /* NULL: no plot; else Fig. 4.3-4.4 (and t_w errors) written there */
 } persp_shading_accuracy_desc;
 

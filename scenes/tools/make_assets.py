@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """Generates the example scenes' textures and the room model.
 
-Everything under scenes/textures/ and scenes/models/ is produced here from
+Everything under scenes/textures/ and scenes/models/, and the texture of the
+workloads in scenes/bench/ (a copy of checker.png: a scene reads files only
+from its own folder and below), is produced here from
 code, deterministically (no randomness beyond a fixed integer hash), so the
 assets can be regenerated and reviewed. Standard library only.
 
@@ -286,6 +288,10 @@ def main():
     os.makedirs(model_dir, exist_ok=True)
     for name, (w, h, fn) in TEXTURES.items():
         write_png(os.path.join(tex_dir, name), w, h, fn)
+    bench_dir = os.path.join(out, "bench")
+    os.makedirs(bench_dir, exist_ok=True)
+    w, h, fn = TEXTURES["checker.png"]
+    write_png(os.path.join(bench_dir, "checker.png"), w, h, fn)
     with open(os.path.join(model_dir, "room.obj"), "w") as f:
         f.write(room_obj())
     with open(os.path.join(model_dir, "room.mtl"), "w") as f:

@@ -10,6 +10,7 @@
 #include "analysis/shading.h"
 #include "analysis/svg.h"
 #include "core/internal.h"
+#include "io/outfile.h"
 
 #include <errno.h>
 #include <jansson.h>
@@ -978,10 +979,13 @@ static persp_status filters(rep *r)
     persp_filter_accuracy_result *fr = NULL;
     persp_status st = persp_filter_accuracy_run(r->ctx, &fd, &fr);
     if (st != PERSP_OK) return st;
-    FILE *j = fopen(path, "w");
-    if (j) {
-        persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j);
-        fclose(j);
+    persp_outfile j;
+    if ((st = persp__outfile_open(r->ctx, path, &j)) == PERSP_OK)
+        st = persp__outfile_close(r->ctx, &j,
+                                  persp_filter_accuracy_write(r->ctx, fr, PERSP_REPORT_JSON, j.f));
+    if (st != PERSP_OK) {
+        persp_filter_accuracy_destroy(fr);
+        return st;
     }
     size_t n = persp_filter_accuracy_row_count(fr);
     filter_table(r, n ? persp_filter_accuracy_row_at(fr, 0) : NULL, n);
@@ -1067,16 +1071,16 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
         if (st != PERSP_OK) return st;
         r.acc = acc;
         snprintf(path, sizeof path, "%s/accuracy.json", desc->dir);
-        FILE *j = fopen(path, "w");
-        if (j) {
-            persp_accuracy_write(ctx, acc, PERSP_REPORT_JSON, j);
-            fclose(j);
-        }
+        persp_outfile j;
+        if ((st = persp__outfile_open(ctx, path, &j)) == PERSP_OK)
+            st = persp__outfile_close(ctx, &j,
+                                      persp_accuracy_write(ctx, acc, PERSP_REPORT_JSON, j.f));
     }
-    st = render_all(&r);
-    snprintf(path, sizeof path, "%s/index.html.tmp", desc->dir);
-    if (st == PERSP_OK && !(r.f = fopen(path, "w")))
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create", path);
+    if (st == PERSP_OK) st = render_all(&r);
+    /* Written last, through a temporary file: the page appears only whole. */
+    snprintf(path, sizeof path, "%s/index.html", desc->dir);
+    persp_outfile page;
+    if (st == PERSP_OK && (st = persp__outfile_open(ctx, path, &page)) == PERSP_OK) r.f = page.f;
     if (st == PERSP_OK) {
         head(&r);
         fputs("<p><a href=#methods>methods</a> · <a href=#claims>claims</a> · <a "
@@ -1109,17 +1113,8 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
             environment(&r);
             fputs("</body></html>\n", r.f);
         }
-        int bad = ferror(r.f);
-        if (fclose(r.f) != 0 || bad)
-            if (st == PERSP_OK) st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed", path);
-        char final[1200];
-        snprintf(final, sizeof final, "%s/index.html", desc->dir);
-        if (st == PERSP_OK && rename(path, final) != 0)
-            st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot rename: %s", final, strerror(errno));
-        if (st != PERSP_OK)
-            remove(path);
-        else
-            say(&r, "wrote %s", final);
+        st = persp__outfile_close(ctx, &page, st);
+        if (st == PERSP_OK) say(&r, "wrote %s", path);
     }
     persp_accuracy_destroy(acc);
     return st;

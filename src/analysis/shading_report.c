@@ -5,6 +5,7 @@
 #include "analysis/analysis.h"
 #include "analysis/svg.h"
 #include "core/internal.h"
+#include "io/outfile.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -113,18 +114,12 @@ static persp_status write_svg(persp_context *ctx, const char *path)
     p[2].series_count = 3;
 
     /* Written to a temporary name and renamed, so a failure leaves nothing. */
-    char tmp[4096];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "svg: path too long");
-    FILE *f = fopen(tmp, "w");
-    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "svg: cannot write '%s'", tmp);
-    int bad = persp__svg_write(f, p, 3, 460, 380);
-    if (fclose(f) != 0) bad = -1;
-    if (bad || rename(tmp, path) != 0) {
-        remove(tmp);
-        return persp__fail(ctx, PERSP_ERR_IO, "svg: cannot write '%s'", path);
-    }
-    return PERSP_OK;
+    persp_outfile o;
+    persp_status st = persp__outfile_open(ctx, path, &o);
+    if (st != PERSP_OK) return st;
+    int bad = persp__svg_write(o.f, p, 3, 460, 380);
+    return persp__outfile_close(
+        ctx, &o, bad ? persp__fail(ctx, PERSP_ERR_IO, "%s: write failed", path) : PERSP_OK);
 }
 
 persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
@@ -137,7 +132,8 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     persp_shade_err e[PERSP_SHADE_MODES];
     /* The scene is loaded first so that a bad file fails before any output. */
     persp_scene *scene = NULL;
-    persp_status st = desc->scene ? persp_scene_load(ctx, desc->scene, &scene)
+    persp_scene_load_desc load = {desc->any_folder};
+    persp_status st = desc->scene ? persp_scene_load_ex(ctx, desc->scene, &load, &scene)
                                   : persp__shading_test_scene(ctx, &scene);
     if (st != PERSP_OK) return st;
     int w = desc->width, h = desc->height;

@@ -83,6 +83,13 @@ void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn, 
     ctx->warn_user = fn ? user : NULL;
 }
 
+void persp_context_set_temp_file_handler(persp_context *ctx, persp_temp_file_fn fn, void *user)
+{
+    if (!ctx) return;
+    ctx->temp_fn = fn;
+    ctx->temp_user = fn ? user : NULL;
+}
+
 void persp__warn(persp_context *ctx, const char *fmt, ...)
 {
     if (!ctx || !ctx->warn || !fmt) return;

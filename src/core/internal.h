@@ -29,6 +29,8 @@ struct persp_context {
     int span_only;
     persp_warning_fn warn;
     void *warn_user;
+    persp_temp_file_fn temp_fn;
+    void *temp_user;
 };
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
@@ -76,6 +78,19 @@ persp_status persp__image_check_size(persp_context *ctx, const char *name, long 
 /* Sets every alpha to 255: persp draws opaque surfaces, so a scene's
  * textures carry no coverage into the image. */
 void persp__image_set_opaque(persp_image *img);
+
+/* Plain decimal numbers only (see src/core/strict.c): no blanks, no '+',
+ * no hexadecimal, inf or nan; integers without a fraction or exponent.
+ * 1 when text is well-formed and in [lo, hi]. */
+int persp__decimal_syntax(const char *text, int allow_fraction);
+int persp__parse_long(const char *text, long lo, long hi, long *out);
+int persp__parse_double(const char *text, double lo, double hi, double *out);
+
+/* Text from a file or a user, fit to quote in a one-line message: bytes
+ * outside printable ASCII become \xHH, a backslash doubles, and what does
+ * not fit in size bytes ends in "...". Returns buf. */
+#define PERSP_QUOTE_BYTES 64
+const char *persp__quote(const char *text, size_t len, char *buf, size_t size);
 
 /* Clears the context's error detail (called at the start of a public call). */
 void persp__clear_error(persp_context *ctx);

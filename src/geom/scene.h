@@ -93,6 +93,10 @@ struct persp_scene {
     size_t object_count, object_cap;
     persp_light lights[PERSP_SCENE_MAX_LIGHTS];
     size_t light_count;
+    /* While a file loads: the folder its references must stay in (the real
+     * path of the loaded file's folder), NULL when any file may be read
+     * (persp_scene_load_desc). Not used after the load. */
+    const char *load_root;
 };
 
 /* Allocates an empty scene with defaults (camera at origin looking down -z). */

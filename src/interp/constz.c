@@ -40,6 +40,7 @@
  * [Romanyuk-PCF]: divisions per polygon q + 1 for q lines (§4.8/§4.9); here per tile
  * (lines are restarted in each 64×64 block) plus the eps fallbacks.
  */
+#include "core/internal.h"
 #include "interp/method.h"
 #include "interp/methods.h"
 
@@ -74,9 +75,8 @@ static persp_status cz_parse(const char *text, persp_method_params *params)
     cz_params p = {CZ_EPS_DEFAULT, 1};
     if (text) {
         if (strncmp(text, "eps=", 4) != 0) return PERSP_ERR_INVALID_ARGUMENT;
-        char *end = NULL;
-        double e = strtod(text + 4, &end);
-        if (end == text + 4 || *end != '\0' || !isfinite(e) || e < 0.0)
+        double e = 0.0;
+        if (!persp__parse_double(text + 4, 0.0, HUGE_VAL, &e))
             return PERSP_ERR_INVALID_ARGUMENT;
         p.eps = e;
     }

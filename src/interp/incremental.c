@@ -57,9 +57,8 @@ static persp_status inc_parse(const char *text, persp_method_params *params)
         p.bidir = 1;
     } else if (text) {
         if (strncmp(text, "k=", 2) != 0) return PERSP_ERR_INVALID_ARGUMENT;
-        char *end = NULL;
-        long k = strtol(text + 2, &end, 10);
-        if (end == text + 2 || *end != '\0' || k < 1 || k > INC_MAX_LANES)
+        long k = 0;
+        if (!persp__parse_long(text + 2, 1, INC_MAX_LANES, &k))
             return PERSP_ERR_INVALID_ARGUMENT;
         p.lanes = (int)k;
     }

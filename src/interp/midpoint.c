@@ -104,9 +104,10 @@ static persp_status mp_parse(const char *text, persp_method_params *params)
         const char *s = text;
         while (*s) {
             size_t len = strcspn(s, ",");
-            if (len == 3 && strncmp(s, "int", 3) == 0)
+            /* A repeated flag is a typo, not a request twice over. */
+            if (len == 3 && strncmp(s, "int", 3) == 0 && !p.fixed)
                 p.fixed = 1;
-            else if (len == 4 && strncmp(s, "edge", 4) == 0)
+            else if (len == 4 && strncmp(s, "edge", 4) == 0 && !p.edge)
                 p.edge = 1;
             else
                 return PERSP_ERR_INVALID_ARGUMENT;

@@ -35,6 +35,7 @@ persp_status persp__method_resolve(persp_context *ctx, const char *spec, persp_m
 {
     if (!spec || !out) return PERSP_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
+    char q[PERSP_QUOTE_BYTES];
     const char *colon = strchr(spec, ':');
     size_t len = colon ? (size_t)(colon - spec) : strlen(spec);
     for (size_t i = 0; i < persp__method_count(); i++) {
@@ -45,7 +46,8 @@ persp_status persp__method_resolve(persp_context *ctx, const char *spec, persp_m
             persp_status st = m->parse(colon ? colon + 1 : NULL, &out->params);
             if (st != PERSP_OK)
                 return persp__fail(ctx, st, "method '%s': bad parameters (expected %s:%s)",
-                                          spec, m->name, m->params_help);
+                                          persp__quote(spec, strlen(spec), q, sizeof q), m->name,
+                                          m->params_help);
         } else if (colon) {
             return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                       "method '%s' takes no parameters", m->name);
@@ -53,7 +55,8 @@ persp_status persp__method_resolve(persp_context *ctx, const char *spec, persp_m
         return PERSP_OK;
     }
     return persp__fail(ctx, PERSP_ERR_NOT_FOUND,
-                              "unknown method '%s' (see `persp methods`)", spec);
+                              "unknown method '%s' (see `persp methods`)",
+                              persp__quote(spec, strlen(spec), q, sizeof q));
 }
 
 /* Public view of the registry. */

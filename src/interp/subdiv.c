@@ -41,9 +41,8 @@ static persp_status subdiv_parse(const char *text, persp_method_params *params)
 {
     subdiv_params p = {16};
     if (text) {
-        char *end = NULL;
-        long v = strtol(text, &end, 10);
-        if (end == text || *end != '\0' || !(v == 4 || v == 8 || v == 16 || v == 32))
+        long v = 0;
+        if (!persp__parse_long(text, 4, 32, &v) || !(v == 4 || v == 8 || v == 16 || v == 32))
             return PERSP_ERR_INVALID_ARGUMENT;
         p.step = (int)v;
     }

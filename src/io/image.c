@@ -16,10 +16,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <jpeglib.h>
+#include <jerror.h>
 #include <png.h>
 
 static const char *display_name(const char *name)
@@ -84,6 +86,66 @@ static persp_status check_png_structure(persp_context *ctx, const unsigned char 
     }
 }
 
+/* libpng reports a failed allocation through its error message only
+ * (png_malloc's "Out of memory", the chunk readers' "insufficient memory");
+ * the simplified API keeps no separate code. */
+static int png_out_of_memory(const char *message)
+{
+    for (const char *p = message; *p; p++)
+        if (!strncasecmp(p, "out of memory", 13) || !strncasecmp(p, "insufficient memory", 19))
+            return 1;
+    return 0;
+}
+
+static persp_status png_failure(persp_context *ctx, const char *name, const char *what,
+                                const char *message)
+{
+    if (png_out_of_memory(message))
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory decoding the PNG",
+                           display_name(name));
+    return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s: %s", display_name(name), what, message);
+}
+
+/* A paletted PNG whose pixels name entries past the end of PLTE is invalid
+ * (PNG specification §11.2.3: "the number of palette entries shall not
+ * exceed ... and pixels shall not index beyond"); libpng's simplified RGBA
+ * reader maps such pixels to black without a word. Read through the
+ * colour-map format instead, which hands over the indices themselves, check
+ * them, and expand them here. */
+static persp_status finish_png_palette(persp_context *ctx, png_image *pi, const char *name,
+                                       persp_image *out)
+{
+    size_t w = pi->width, h = pi->height;
+    uint8_t *idx = persp__calloc(ctx, w, h);
+    if (!idx)
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
+                           display_name(name));
+    uint8_t map[256 * 4];
+    pi->format = PNG_FORMAT_RGBA_COLORMAP;
+    persp_status st = PERSP_OK;
+    if (!png_image_finish_read(pi, NULL, idx, 0, map)) {
+        st = png_failure(ctx, name, "corrupt or truncated PNG", pi->message);
+    } else {
+        for (size_t y = 0; y < h && st == PERSP_OK; y++) {
+            const uint8_t *row = idx + y * w; /* top row first */
+            uint8_t *dst = out->pixels + (h - 1 - y) * out->stride;
+            for (size_t x = 0; x < w; x++) {
+                if (row[x] >= pi->colormap_entries) {
+                    st = persp__fail(ctx, PERSP_ERR_FORMAT,
+                                     "%s: invalid PNG: pixel (%zu, %zu) uses palette index %u, "
+                                     "the palette has %u entries",
+                                     display_name(name), x, y, (unsigned)row[x],
+                                     (unsigned)pi->colormap_entries);
+                    break;
+                }
+                memcpy(dst + 4 * x, map + 4 * (size_t)row[x], 4);
+            }
+        }
+    }
+    persp__free(ctx, idx);
+    return st;
+}
+
 static persp_status load_png(persp_context *ctx, const void *data, size_t size, const char *name,
                              persp_image *out)
 {
@@ -93,8 +155,7 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
     memset(&pi, 0, sizeof pi);
     pi.version = PNG_IMAGE_VERSION;
     if (!png_image_begin_read_from_memory(&pi, data, size)) {
-        persp_status st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: invalid PNG: %s",
-                                             display_name(name), pi.message);
+        persp_status st = png_failure(ctx, name, "invalid PNG", pi.message);
         png_image_free(&pi);
         return st;
     }
@@ -103,6 +164,7 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
         png_image_free(&pi);
         return st;
     }
+    const int paletted = (pi.format & PNG_FORMAT_FLAG_COLORMAP) != 0;
     pi.format = PNG_FORMAT_RGBA;
     /* libpng's simplified reader takes 16-bit samples without gAMA, sRGB or
      * iCCP for linear light and gamma-encodes them on the way to 8 bits,
@@ -118,9 +180,14 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
     /* A negative row stride makes libpng store the file's first (top) row
      * last, which is exactly the bottom-up layout of persp_image. */
     png_int_32 stride = -(png_int_32)out->stride;
+    if (paletted) {
+        st = finish_png_palette(ctx, &pi, name, out);
+        png_image_free(&pi);
+        if (st != PERSP_OK) persp_image_free(ctx, out);
+        return st;
+    }
     if (!png_image_finish_read(&pi, NULL, out->pixels, stride, NULL)) {
-        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt or truncated PNG: %s",
-                                display_name(name), pi.message);
+        st = png_failure(ctx, name, "corrupt or truncated PNG", pi.message);
         png_image_free(&pi);
         persp_image_free(ctx, out);
         return st;
@@ -277,6 +344,11 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
 {
     if (setjmp(job->err.jump)) {
         persp_image_free(ctx, &job->img);
+        /* libjpeg's memory manager fails with JERR_OUT_OF_MEMORY (jerror.h),
+         * which is no fault of the file. */
+        if (job->err.pub.msg_code == JERR_OUT_OF_MEMORY)
+            return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory decoding the JPEG",
+                               display_name(name));
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: corrupt JPEG: %s",
                                   display_name(name), job->err.message);
     }

@@ -11,8 +11,9 @@
  * other existing file is written in place, since renaming over /dev/null or
  * a named pipe would replace the device or pipe itself (for root, in /dev).
  */
-#define _XOPEN_SOURCE 700 /* realpath */
+#define _XOPEN_SOURCE 700 /* stat */
 #include "core/internal.h"
+#include "io/outfile.h"
 
 #include <errno.h>
 #include <setjmp.h>
@@ -23,6 +24,7 @@
 #include <unistd.h>
 
 #include <jpeglib.h>
+#include <jerror.h>
 #include <png.h>
 
 static const char *stream_name(const char *name)
@@ -69,6 +71,8 @@ static persp_status encode_png(persp_context *ctx, FILE *f, const char *name,
     if (!ok && ferror(f))
         st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", name,
                          err ? strerror(err) : pi.message);
+    else if (!ok && (strstr(pi.message, "ut of memory") || strstr(pi.message, "insufficient memory")))
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory encoding the PNG", name);
     else if (!ok)
         st = persp__fail(ctx, PERSP_ERR_IO, "%s: PNG encoding failed: %s", name, pi.message);
     png_image_free(&pi);
@@ -145,7 +149,10 @@ static persp_status encode_jpeg(persp_context *ctx, FILE *f, const char *name,
     job->quality = quality;
     persp_status st = PERSP_OK;
     if (run_jpeg_job(job)) {
-        if (ferror(f))
+        if (job->pub.msg_code == JERR_OUT_OF_MEMORY)
+            st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory encoding the JPEG",
+                             name);
+        else if (ferror(f))
             st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", name,
                              job->saved_errno ? strerror(job->saved_errno) : job->message);
         else
@@ -165,66 +172,15 @@ static persp_status encode(persp_context *ctx, FILE *f, const char *name, const 
     return encode_png(ctx, f, name, img);
 }
 
-/* Flushes and closes f, reporting the first failure unless st already is one. */
-static persp_status finish_file(persp_context *ctx, FILE *f, const char *name, persp_status st)
+/* Through persp__outfile: a temporary file renamed on success for a
+ * regular file, in place for a device or pipe. */
+static persp_status write_file(persp_context *ctx, const char *path, const persp_image *img,
+                               persp_image_format format, int quality)
 {
-    if (fflush(f) != 0 && st == PERSP_OK)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", name, strerror(errno));
-    if (fclose(f) != 0 && st == PERSP_OK)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: write failed: %s", name, strerror(errno));
-    return st;
-}
-
-/* Writes into an existing file that is not a regular one (a device, a pipe). */
-static persp_status write_in_place(persp_context *ctx, const char *path, const persp_image *img,
-                                   persp_image_format format, int quality)
-{
-    FILE *f = fopen(path, "wb");
-    if (!f)
-        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path, strerror(errno));
-    return finish_file(ctx, f, path, encode(ctx, f, path, img, format, quality));
-}
-
-static persp_status write_atomic(persp_context *ctx, const char *path, const persp_image *img,
-                                 persp_image_format format, int quality)
-{
-    /* Through a link, the file it names is replaced, not the link. */
-    char *resolved = NULL;
-    struct stat lsb;
-    if (lstat(path, &lsb) == 0 && S_ISLNK(lsb.st_mode)) resolved = realpath(path, NULL);
-    const char *target = resolved ? resolved : path;
-    size_t len = strlen(target);
-    char *tmp = persp__alloc(ctx, len + 16);
-    if (!tmp) {
-        free(resolved);
-        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
-    }
-    memcpy(tmp, target, len);
-    memcpy(tmp + len, ".tmp-XXXXXX", 12);
-    persp_status st = PERSP_OK;
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create file: %s", path, strerror(errno));
-        goto done;
-    }
-    /* mkstemp creates the file private (0600); an output image is not. */
-    (void)fchmod(fd, 0644);
-    FILE *f = fdopen(fd, "wb");
-    if (!f) {
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open file: %s", path, strerror(errno));
-        close(fd);
-        unlink(tmp);
-        goto done;
-    }
-    st = finish_file(ctx, f, path, encode(ctx, f, path, img, format, quality));
-    if (st == PERSP_OK && rename(tmp, target) != 0)
-        st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot rename temporary file: %s", path,
-                         strerror(errno));
-    if (st != PERSP_OK) unlink(tmp);
-done:
-    persp__free(ctx, tmp);
-    free(resolved);
-    return st;
+    persp_outfile o;
+    persp_status st = persp__outfile_open(ctx, path, &o);
+    if (st != PERSP_OK) return st;
+    return persp__outfile_close(ctx, &o, encode(ctx, o.f, path, img, format, quality));
 }
 
 static int ext_is(const char *ext, const char *want)
@@ -280,8 +236,7 @@ persp_status persp_image_write(persp_context *ctx, const char *path, const persp
     if (d.format == PERSP_IMAGE_FORMAT_JPEG &&
         (st = check_quality(ctx, path, d.quality, &quality)) != PERSP_OK)
         return st;
-    if (in_place) return write_in_place(ctx, path, img, d.format, quality);
-    return write_atomic(ctx, path, img, d.format, quality);
+    return write_file(ctx, path, img, d.format, quality);
 }
 
 persp_status persp_image_write_jpeg(persp_context *ctx, const char *path, const persp_image *img,

@@ -209,8 +209,19 @@ typedef struct model_io {
     const char *data;      /* the main file */
     size_t size;
     const char *base_dir; /* NULL: no other files */
+    const char *root;     /* references must resolve inside it; NULL: anywhere */
     char missing[8][256]; /* already warned about */
     int nmissing;
+    int others;           /* files other than the main one were opened */
+    /* Text files the model named (material libraries, glTF), kept until the
+     * load ends: for the line a texture is named on, and to tell whether
+     * Assimp's message quotes one of them. */
+    struct {
+        char name[256];
+        char *text;
+        size_t size;
+    } kept[4];
+    int nkept;
 } model_io;
 
 typedef struct model_file {
@@ -323,6 +334,70 @@ static int is_guess(const model_io *io, const char *rel)
     return 1;
 }
 
+/* The line of the model's text where name first appears, 0 when it does
+ * not (binary formats, names Assimp built): where the user should look. */
+static size_t line_of(const char *data, size_t size, const char *name)
+{
+    size_t n = strlen(name), line = 1;
+    if (!n) return 0;
+    for (size_t i = 0; i + n <= size; i++) {
+        if (data[i] == '\0') return 0;
+        if (data[i] == '\n') line++;
+        if (memcmp(data + i, name, n) == 0) return line;
+    }
+    return 0;
+}
+
+/* "model.obj:12" or "room.mtl:8" where the name is found in the model's
+ * text or a text file it named, else "model.obj". */
+static void where(const model_io *io, const char *name, char *out, size_t cap)
+{
+    size_t line = line_of(io->data, io->size, name);
+    if (line) {
+        snprintf(out, cap, "%s:%zu", io->display, line);
+        return;
+    }
+    for (int i = 0; i < io->nkept; i++) {
+        if ((line = line_of(io->kept[i].text, io->kept[i].size, name)) != 0) {
+            snprintf(out, cap, "%s (via %s:%zu)", io->display, io->kept[i].name, line);
+            return;
+        }
+    }
+    snprintf(out, cap, "%s", io->display);
+}
+
+/* 1 when msg shares 8 bytes in a row with a kept file other than the model:
+ * it may quote that file. */
+static int quotes_other(const model_io *io, const char *msg)
+{
+    size_t n = strlen(msg);
+    for (int i = 0; i < io->nkept; i++)
+        for (size_t a = 0; a + 8 <= n; a++)
+            for (size_t b = 0; b + 8 <= io->kept[i].size; b++)
+                if (!memcmp(msg + a, io->kept[i].text + b, 8)) return 1;
+    return 0;
+}
+
+static void keep_text(model_io *io, const char *rel, const char *text, size_t size)
+{
+    if (io->nkept >= (int)(sizeof io->kept / sizeof io->kept[0])) return;
+    char *copy = persp__alloc(io->ctx, size + 1);
+    if (!copy) return;
+    memcpy(copy, text, size);
+    copy[size] = '\0';
+    snprintf(io->kept[io->nkept].name, sizeof io->kept[0].name, "%.255s", rel);
+    io->kept[io->nkept].text = copy;
+    io->kept[io->nkept].size = size;
+    io->nkept++;
+}
+
+static void free_kept(model_io *io)
+{
+    for (int i = 0; i < io->nkept; i++)
+        persp__free(io->ctx, io->kept[i].text);
+    io->nkept = 0;
+}
+
 static void warn_missing(model_io *io, const char *rel, const char *why)
 {
     if (is_guess(io, rel)) return;
@@ -330,7 +405,21 @@ static void warn_missing(model_io *io, const char *rel, const char *why)
         if (!strcmp(io->missing[i], rel)) return;
     if (io->nmissing < (int)(sizeof io->missing / sizeof io->missing[0]))
         snprintf(io->missing[io->nmissing++], sizeof io->missing[0], "%.255s", rel);
-    persp__warn(io->ctx, "%s: cannot read '%s' (%s); going on without it", io->display, rel, why);
+    char at[PERSP_PATH_MAX + 32], q[PERSP_QUOTE_BYTES];
+    where(io, rel, at, sizeof at);
+    persp__warn(io->ctx, "%s: cannot read '%s' (%s); going on without it", at,
+                persp__quote(rel, strlen(rel), q, sizeof q), why);
+}
+
+/* The first of the candidate paths of rel that exists inside root. 1 when
+ * found; otherwise 0, with *outside set when one existed but lay outside. */
+static int find_candidate(const char *base_dir, const char *root, const char *rel, int k,
+                          char *path, size_t size, int *outside)
+{
+    if (!candidate(base_dir, rel, k, path, size)) return 0;
+    int in = persp__path_inside(root, path);
+    if (in == 0) *outside = 1;
+    return in != 0;
 }
 
 static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const char *mode)
@@ -351,15 +440,21 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
             return NULL;
         }
         persp_status st = PERSP_ERR_IO;
+        int outside = 0;
         for (int k = 0; k < 4 && st != PERSP_OK; k++)
-            if (candidate(io->base_dir, rel, k, path, sizeof path))
+            if (find_candidate(io->base_dir, io->root, rel, k, path, sizeof path, &outside))
                 st = persp__read_file(io->ctx, path, &owned, &size);
         if (st != PERSP_OK) {
-            warn_missing(io, rel, "no such file or unreadable");
+            warn_missing(io, rel,
+                         outside ? "outside the folder the model may read from"
+                                 : "no such file or unreadable");
             return NULL;
         }
-        if (is_line_text(rel) || has_ext(rel, "gltf"))
+        io->others = 1;
+        if (is_line_text(rel) || has_ext(rel, "gltf")) {
             size = normalise_text(owned, size, is_line_text(rel));
+            keep_text(io, rel, owned, size);
+        }
         data = owned;
     }
     struct aiFile *f = persp__calloc(io->ctx, 1, sizeof *f);
@@ -399,7 +494,8 @@ typedef struct importer {
     persp_scene *scene;
     persp_context *ctx;
     const struct aiScene *ai;
-    const char *display, *base_dir;
+    const char *display, *base_dir, *root;
+    const model_io *io; /* the model's text and the text files it named */
     persp_texcache *cache;
     size_t max_vertices, vertices;
     int *mesh_index;     /* per aiMesh: scene mesh, -1 not yet, -2 nothing to draw */
@@ -556,40 +652,57 @@ static int material_texture(importer *im, const char *material, const char *file
         for (unsigned i = 0; i < im->ai->mNumTextures; i++)
             if (texs[i]->mFilename.length && !strcmp(texs[i]->mFilename.data, file)) emb = (long)i;
     }
+    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
+    persp__quote(material, strlen(material), qm, sizeof qm);
     if (emb == -2) {
         persp__warn(im->ctx,
                     "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
                     "it untextured",
-                    im->display, material, file);
+                    im->display, qm, persp__quote(file, strlen(file), qf, sizeof qf));
         return -1;
     }
     if (emb >= 0) {
         int *slot = &im->embedded_index[emb];
         if (*slot == -1 && embedded_texture(im, (unsigned)emb, slot) != PERSP_OK) {
-            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display,
-                        material, persp_context_error(im->ctx));
+            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display, qm,
+                        persp_context_error(im->ctx));
             *slot = -2;
         }
         return *slot >= 0 ? *slot : -1;
     }
     char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
     clean_rel(file, rel, sizeof rel);
+    char qr[PERSP_QUOTE_BYTES];
+    persp__quote(rel, strlen(rel), qr, sizeof qr);
     if (!im->base_dir) {
         persp__warn(im->ctx, "%s: material '%s': texture '%s' not read (no folder to read it from)",
-                    im->display, material, rel);
+                    im->display, qm, qr);
         return -1;
     }
     persp_status st = PERSP_ERR_IO;
     char why[PERSP_ERRMSG_BYTES] = "";
+    int outside = 0;
     for (int k = 0; k < 4 && st != PERSP_OK; k++) {
-        if (!candidate(im->base_dir, rel, k, path, sizeof path)) continue;
+        /* A missing first candidate still reports why (the open's error). */
+        if (k == 0 ? !candidate(im->base_dir, rel, k, path, sizeof path)
+                   : !find_candidate(im->base_dir, im->root, rel, k, path, sizeof path, &outside))
+            continue;
+        if (k == 0 && persp__path_inside(im->root, path) == 0) {
+            outside = 1;
+            continue;
+        }
         st = persp__texcache_load(im->scene, im->cache, path, &index);
         if (st != PERSP_OK && k == 0) snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
     }
     if (st != PERSP_OK) {
+        /* The texture's name usually sits in a material library, not in the
+         * model's own text: the line is given only where it is found. */
+        char at[PERSP_PATH_MAX + 32];
+        where(im->io, rel, at, sizeof at);
+        if (outside && !why[0]) snprintf(why, sizeof why, "outside the folder the model may read from");
         persp__warn(im->ctx,
                     "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
-                    im->display, material, rel, why[0] ? why : "bad path");
+                    at, qm, qr, why[0] ? why : "bad path");
         return -1;
     }
     return index;
@@ -836,6 +949,7 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     io.data = buf;
     io.size = size;
     io.base_dir = base_dir;
+    io.root = scene->load_root;
     struct aiFileIO fio = {file_open, file_close, (aiUserData)(void *)&io};
 
     struct aiPropertyStore *props = aiCreatePropertyStore();
@@ -867,14 +981,27 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     if (!ai && !wrong) snprintf(why, sizeof why, "%s", aiGetErrorString());
     pthread_mutex_unlock(&import_lock);
     aiReleasePropertyStore(props);
-    persp__free(ctx, buf);
+    int withhold = !ai && io.others && quotes_other(&io, why);
+    if (wrong || !ai) {
+        persp__free(ctx, buf);
+        free_kept(&io);
+    }
     if (wrong) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, wrong);
     if (!ai) {
         why[strcspn(why, "\r\n")] = '\0';
-        for (char *c = why; *c; c++)
-            if ((unsigned char)*c < 0x20 || *c == 0x7f) *c = '?';
+        /* Assimp's message may quote the text it choked on; once another
+         * file (a material library, a buffer) has been read, that text may
+         * be that file's, which is not the user's to see through a model
+         * (a material library naming /etc/passwd, with any_folder on). */
+        if (withhold)
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: cannot import the model or a file it names (Assimp's "
+                               "message withheld: it may quote that file)",
+                               display);
+        char q[PERSP_QUOTE_BYTES * 2];
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: cannot import the model: %s", display,
-                           why[0] ? why : "unknown format or malformed file");
+                           why[0] ? persp__quote(why, strlen(why), q, sizeof q)
+                                  : "unknown format or malformed file");
     }
 
     importer im;
@@ -884,6 +1011,8 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     im.ai = ai;
     im.display = display;
     im.base_dir = base_dir;
+    im.root = scene->load_root;
+    im.io = &io;
     im.cache = cache;
     im.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
     im.out = out;
@@ -903,6 +1032,8 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     persp__free(ctx, im.mesh_index);
     persp__free(ctx, im.material_index);
     persp__free(ctx, im.embedded_index);
+    persp__free(ctx, buf);
+    free_kept(&io);
     aiReleaseImport(ai);
     /* Files worked around left their failures in the detail: warnings. */
     if (st == PERSP_OK)
@@ -955,7 +1086,8 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
 }
 
 persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
-                                     const char *name, const char *base_dir, persp_scene **out)
+                                     const char *name, const char *base_dir, const char *root,
+                                     persp_scene **out)
 {
     *out = NULL;
     persp_scene *s = NULL;
@@ -964,7 +1096,9 @@ persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_
     persp_texcache cache;
     memset(&cache, 0, sizeof cache);
     persp_model model;
+    s->load_root = root;
     st = persp__model_load_memory(s, data, size, name, base_dir, &cache, 0, &model);
+    s->load_root = NULL;
     persp__texcache_free(ctx, &cache);
     for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {
         persp_object o;

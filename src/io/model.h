@@ -45,7 +45,8 @@ typedef struct persp_model {
  * textures and lists the instances in *out. name (its extension picks the
  * format when the content does not) appears in messages; base_dir resolves
  * the files the model refers to (material libraries, textures, buffers);
- * NULL: none are opened. max_vertices bounds the vertices added (0:
+ * NULL: none are opened. Files outside scene->load_root (when set) are
+ * refused with a warning. max_vertices bounds the vertices added (0:
  * PERSP_SCENE_MAX_VERTICES). Free *out with persp__model_free. */
 persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
                                       const char *name, const char *base_dir, persp_texcache *cache,
@@ -60,9 +61,11 @@ void persp__model_free(persp_context *ctx, persp_model *model);
 int persp__model_is_model(const char *path, const char *data, size_t size);
 
 /* A scene showing a model: the default camera and light rig
- * (docs/SCENES.md, "Models without a scene file"). */
+ * (docs/SCENES.md, "Models without a scene file"). root: the folder the
+ * model's references must stay in, NULL: anywhere. */
 persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
-                                     const char *name, const char *base_dir, persp_scene **out);
+                                     const char *name, const char *base_dir, const char *root,
+                                     persp_scene **out);
 
 /* JSON scene from memory. name appears in errors; base_dir resolves the
  * files the scene names; NULL: any file reference is refused. max_vertices

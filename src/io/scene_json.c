@@ -164,14 +164,23 @@ static void locate(const jctx *j, int at_key, size_t *line, size_t *col)
     *col = best - best_start + 1;
 }
 
+/* A string of the file for a message: escaped and capped, so that control
+ * bytes (a terminal escape, say) never reach the user's terminal. */
+static const char *qs(const char *s, char buf[PERSP_QUOTE_BYTES])
+{
+    return persp__quote(s, strlen(s), buf, PERSP_QUOTE_BYTES);
+}
+
 static void path_string(const jctx *j, char *buf, size_t size)
 {
     size_t n = 0;
     buf[0] = '\0';
     for (int d = 0; d < j->depth && n < size; d++) {
         int w;
+        char q[PERSP_QUOTE_BYTES];
         if (j->path[d].key)
-            w = snprintf(buf + n, size - n, "%s%s", d ? "." : "", j->path[d].key);
+            w = snprintf(buf + n, size - n, "%s%s", d ? "." : "",
+                         persp__quote(j->path[d].key, strlen(j->path[d].key), q, sizeof q));
         else
             w = snprintf(buf + n, size - n, "[%zu]", j->path[d].index);
         if (w < 0) break;
@@ -336,11 +345,29 @@ static persp_status field_int(jctx *j, json_t *obj, const char *key, long lo, lo
     return st;
 }
 
+/* A filter name: an unknown one, or aniso with a tap count out of range
+ * (persp_filter_parse's INVALID_ARGUMENT), each with its own message. */
+static persp_status filter_field(jctx *j, const char *name, persp_filter *f, int *aniso)
+{
+    char q[PERSP_QUOTE_BYTES];
+    persp_status st = persp_filter_parse(name, f, aniso);
+    if (st == PERSP_ERR_INVALID_ARGUMENT)
+        return jfail(j, 0, PERSP_ERR_FORMAT, "bad filter '%s': aniso taps must be 2..16",
+                     qs(name, q));
+    if (st != PERSP_OK) return jfail(j, 0, PERSP_ERR_FORMAT, "unknown filter '%s'", qs(name, q));
+    return PERSP_OK;
+}
+
 static persp_status resolve_file(jctx *j, const char *rel, char *path, size_t size)
 {
     if (!rel[0]) return jfail(j, 0, PERSP_ERR_FORMAT, "expected a file name");
     if (!j->base_dir) return jfail(j, 0, PERSP_ERR_UNSUPPORTED, "file references are not allowed here");
     if (!persp__path_join(j->base_dir, rel, path, size)) return jfail(j, 0, PERSP_ERR_FORMAT, "file name too long");
+    if (persp__path_inside(j->scene->load_root, path) == 0) {
+        char q[PERSP_QUOTE_BYTES];
+        return jfail(j, 0, PERSP_ERR_IO, "'%s' is outside the folder the scene may read from (%s)",
+                     qs(rel, q), j->scene->load_root);
+    }
     return PERSP_OK;
 }
 
@@ -381,6 +408,7 @@ static persp_status parse_camera(jctx *j, json_t *cam)
 
 static persp_status parse_render(jctx *j, json_t *r)
 {
+    char q[PERSP_QUOTE_BYTES];
     static const char *const keys[] = {"size", "method", "filter", "shading", "clear", "cull", NULL};
     persp_status st = check_keys(j, r, keys);
     if (st != PERSP_OK) return st;
@@ -403,22 +431,22 @@ static persp_status parse_render(jctx *j, json_t *r)
         if (st == PERSP_OK && strlen(str) >= sizeof s->method)
             st = jfail(j, 0, PERSP_ERR_FORMAT, "method spec too long");
         if (st == PERSP_OK && (st = persp_method_check(str)) != PERSP_OK)
-            st = jfail(j, 0, st, "unknown method or bad parameters '%s' (see persp methods)", str);
+            st = jfail(j, 0, st, "unknown method or bad parameters '%s' (see persp methods)",
+                       qs(str, q));
         if (st == PERSP_OK) snprintf(s->method, sizeof s->method, "%s", str);
         pop(j);
         if (st != PERSP_OK) return st;
     }
     if ((v = field(j, r, "filter"))) {
         st = read_string(j, v, &str);
-        if (st == PERSP_OK && persp_filter_parse(str, &s->filter, &s->max_aniso) != PERSP_OK)
-            st = jfail(j, 0, PERSP_ERR_FORMAT, "unknown filter '%s'", str);
+        if (st == PERSP_OK) st = filter_field(j, str, &s->filter, &s->max_aniso);
         pop(j);
         if (st != PERSP_OK) return st;
     }
     if ((v = field(j, r, "shading"))) {
         st = read_string(j, v, &str);
         if (st == PERSP_OK && persp_shading_parse(str, &s->shading) != PERSP_OK)
-            st = jfail(j, 0, PERSP_ERR_FORMAT, "unknown shading '%s'", str);
+            st = jfail(j, 0, PERSP_ERR_FORMAT, "unknown shading '%s'", qs(str, q));
         pop(j);
         if (st != PERSP_OK) return st;
     }
@@ -560,8 +588,8 @@ static persp_status parse_texture(jctx *j, json_t *v, persp_material *m, int *fi
         if ((w = field(j, obj, "filter"))) {
             const char *name = NULL;
             st = read_string(j, w, &name);
-            if (st == PERSP_OK && persp_filter_parse(name, &m->sampler.filter, &m->sampler.max_aniso) != PERSP_OK)
-                st = jfail(j, 0, PERSP_ERR_FORMAT, "unknown filter '%s'", name);
+            if (st == PERSP_OK)
+                st = filter_field(j, name, &m->sampler.filter, &m->sampler.max_aniso);
             *filter_given = 1;
             pop(j);
             if (st != PERSP_OK) return st;
@@ -774,6 +802,7 @@ static persp_status count_vertices(jctx *j, size_t n)
 /* A primitive's parameters, validated here so the error points at them. */
 static persp_status make_primitive(jctx *j, const char *prim, json_t *obj, persp_mesh *mesh)
 {
+    char q[PERSP_QUOTE_BYTES];
     int subdiv = 1, slices = 32, stacks = 16, rings = 16;
     float major = 1.0f, minor = 0.25f;
     const char *allowed_plane[] = {"primitive", "subdivisions", NULL};
@@ -795,7 +824,7 @@ static persp_status make_primitive(jctx *j, const char *prim, json_t *obj, persp
         if (obj) push_key(j, "primitive");
         persp_status st = jfail(j, 0, PERSP_ERR_FORMAT,
                                 "unknown primitive '%s' (plane, cube, sphere, cylinder, torus, soup)",
-                                prim);
+                                qs(prim, q));
         if (obj) pop(j);
         return st;
     }
@@ -850,6 +879,7 @@ static int is_primitive(const char *s)
 
 static persp_status parse_object(jctx *j, json_t *o)
 {
+    char q[PERSP_QUOTE_BYTES];
     static const char *const keys[] = {"name", "mesh", "transform", "material", "texgen", NULL};
     persp_status st = check_keys(j, o, keys);
     if (st != PERSP_OK) return st;
@@ -878,7 +908,8 @@ static persp_status parse_object(jctx *j, json_t *o)
     if ((v = field(j, o, "material"))) {
         st = read_string(j, v, &str);
         if (st == PERSP_OK && (material = find_material(j, str)) < 0)
-            st = jfail(j, 0, PERSP_ERR_NOT_FOUND, "no material named '%s' in \"materials\"", str);
+            st = jfail(j, 0, PERSP_ERR_NOT_FOUND, "no material named '%s' in \"materials\"",
+                       qs(str, q));
         pop(j);
         if (st != PERSP_OK) return st;
     }
@@ -1005,8 +1036,9 @@ static persp_status parse_root(jctx *j, json_t *root)
     return PERSP_OK;
 }
 
-persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size_t size, const char *name,
-                                      const char *base_dir, size_t max_vertices, persp_scene **out)
+static persp_status load_json(persp_context *ctx, const char *data, size_t size, const char *name,
+                              const char *base_dir, const char *allowed, size_t max_vertices,
+                              persp_scene **out)
 {
     if (!ctx || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
     *out = NULL;
@@ -1020,11 +1052,24 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
     j.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
     json_error_t err;
     json_t *root = json_loadb(j.text, size, JSON_REJECT_DUPLICATES, &err);
-    if (!root)
+    /* jansson (2.11 and later) classifies its errors: an allocation failure
+     * is json_error_out_of_memory, not a fault of the file. */
+    /* A failure before the lexer exists (its buffer's allocation) leaves
+     * the error text empty: nothing else does. */
+    if (!root && (json_error_code(&err) == json_error_out_of_memory || !err.text[0]))
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory parsing the JSON",
+                           j.name);
+    if (!root) {
+        char q[PERSP_QUOTE_BYTES * 2];
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: invalid JSON: %s", j.name, err.line,
-                                  err.column, err.text);
+                           err.column, persp__quote(err.text, strlen(err.text), q, sizeof q));
+    }
     persp_status st = persp__scene_new(ctx, &j.scene);
-    if (st == PERSP_OK) st = parse_root(&j, root);
+    if (st == PERSP_OK) {
+        j.scene->load_root = allowed;
+        st = parse_root(&j, root);
+        j.scene->load_root = NULL;
+    }
     json_decref(root);
     persp__texcache_free(ctx, &j.cache);
     persp__free(ctx, j.mats);
@@ -1036,21 +1081,43 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
     return PERSP_OK;
 }
 
-persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out)
+persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size_t size,
+                                      const char *name, const char *base_dir, size_t max_vertices,
+                                      persp_scene **out)
+{
+    return load_json(ctx, data, size, name, base_dir, NULL, max_vertices, out);
+}
+
+persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
+                                 const persp_scene_load_desc *desc, persp_scene **out)
 {
     if (!ctx || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
     *out = NULL;
+    if (desc && (unsigned)desc->any_folder > (unsigned)PERSP_TOGGLE_OFF)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.any_folder");
+    char root[PERSP_PATH_MAX];
+    const int restricted = !desc || desc->any_folder != PERSP_TOGGLE_ON;
     char *data = NULL;
     size_t size = 0;
     persp_status st = persp__read_file(ctx, path, &data, &size);
-    if (st != PERSP_OK) return st;
+    if (st == PERSP_OK && restricted) st = persp__path_root(ctx, path, root, sizeof root);
+    if (st != PERSP_OK) {
+        persp__free(ctx, data);
+        return st;
+    }
+    const char *allowed = restricted ? root : NULL;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     if (persp__model_is_model(path, data, size))
-        st = persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", out);
+        st = persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, out);
     else
-        st = persp__scene_load_memory(ctx, data, size, path, dir[0] ? dir : "./", 0, out);
+        st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, out);
     persp__free(ctx, data);
     return st;
+}
+
+persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out)
+{
+    return persp_scene_load_ex(ctx, path, NULL, out);
 }

@@ -1,11 +1,14 @@
 /* Loader helpers: file reading and paths. */
+#define _XOPEN_SOURCE 700 /* fileno, realpath */
 #include "io/text.h"
 
 #include "core/internal.h"
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size)
 {
@@ -13,6 +16,13 @@ persp_status persp__read_file(persp_context *ctx, const char *path, char **data,
     *size = 0;
     FILE *f = fopen(path, "rb");
     if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    /* fopen succeeds on a folder (POSIX open() with O_RDONLY), whose "size"
+     * then reads as LONG_MAX: say what it is instead. */
+    struct stat sb;
+    if (fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+        fclose(f);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: is a directory, not a file", path);
+    }
     /* The size is taken from the stream itself so that the limit is checked
      * before the buffer exists. */
     if (fseek(f, 0, SEEK_END) != 0) {
@@ -72,4 +82,35 @@ const char *persp__path_base(const char *path)
 {
     const char *slash = strrchr(path, '/');
     return slash ? slash + 1 : path;
+}
+
+persp_status persp__path_root(persp_context *ctx, const char *path, char *out, size_t size)
+{
+    char dir[PERSP_PATH_MAX];
+    persp__path_dir(path, dir, sizeof dir);
+    char *real = realpath(dir[0] ? dir : ".", NULL);
+    if (!real) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot resolve its folder: %s", path,
+                                  strerror(errno));
+    int fits = strlen(real) < size;
+    if (fits) memcpy(out, real, strlen(real) + 1);
+    free(real);
+    if (!fits) return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "%s: folder name too long", path);
+    return PERSP_OK;
+}
+
+int persp__path_inside(const char *root, const char *path)
+{
+    if (!root) return 1;
+    /* realpath resolves every link and "..", so what is compared is where
+     * the open will actually land (POSIX realpath()). */
+    char *real = realpath(path, NULL);
+    if (!real) return -1;
+    size_t n = strlen(root);
+    /* "/" as the root allows everything under it; otherwise the next byte
+     * after the prefix must end the name or start a component, so that
+     * /a/bc is not inside /a/b. */
+    int inside = !strncmp(real, root, n) &&
+                 (real[n] == '\0' || real[n] == '/' || (n > 0 && root[n - 1] == '/'));
+    free(real);
+    return inside;
 }

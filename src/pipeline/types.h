@@ -79,6 +79,8 @@ typedef struct persp_draw_state {
      * [CS300-TexMap]'s "replace"), so the renderer may sample straight into the
      * destination. */
     int shade_is_texel;
+    int force_opaque; /* set every written alpha to 255 (persp_draw: the caller's texture and
+                         vertex colours may carry alpha; scene textures are made opaque at load) */
     /* Span shader chosen from shading and texture environment. */
     void (*shade)(const struct persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                   const float *q, const uint32_t *texel, uint32_t *out);

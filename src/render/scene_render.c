@@ -247,6 +247,7 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     ds.material = persp__material_default();
     ds.material.diffuse[0] = ds.material.diffuse[1] = ds.material.diffuse[2] = 1.0f;
     ds.tex = desc->texture;
+    ds.force_opaque = 1;
     if ((unsigned)desc->depth_test > PERSP_TOGGLE_OFF || (unsigned)desc->cull_backfaces > PERSP_TOGGLE_OFF)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: a toggle is out of range");
     ds.depth_test = ds.depth_write = desc->depth_test != PERSP_TOGGLE_OFF;

@@ -17,7 +17,7 @@ expect 2 "needs a value" -- "$persp" accuracy --shading --svg
 expect 2 "unexpected argument 'x'" -- "$persp" accuracy --shading x
 expect 1 "nope.json" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/nope.json" --svg "$tmp/no.svg"
 [ ! -e "$tmp/no.svg" ] || bad "an SVG was written although the run failed"
-expect 1 "cannot write" -- "$persp" accuracy --shading --triangles 1 --size 64x48 --svg "$tmp/missing/dir/f.svg"
+expect 1 "--svg '.*missing/dir/f.svg': folder '.*missing/dir' does not exist" -- "$persp" accuracy --shading --triangles 1 --size 64x48 --svg "$tmp/missing/dir/f.svg"
 [ -z "$(ls "$tmp/missing" 2>/dev/null)" ] || bad "a temporary SVG was left behind"
 
 out="$tmp/report.txt"

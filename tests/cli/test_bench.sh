@@ -84,7 +84,7 @@ else
     # the lit vertex colour before modulating (docs/PERFORMANCE.md).
     for case in none:40 phong-pc:40 phong:40 gouraud-pc:30; do
         sh=${case%%:*} min=${case##*:}
-        if "$persp" bench "$src/scenes/bench/torus-2k.json" "${tiny[@]}" --size 96x72 --shading "$sh" \
+        if "$persp" bench "$src/scenes/bench/torus-2k.json" "${tiny[@]:2}" --size 96x72 --shading "$sh" \
             --peer llvmpipe --json >"$tmp/lit-$sh.json" 2>"$tmp/err"; then
             check_json "$tmp/lit-$sh.json" "j['shading'] == '$sh' and j['results'][0]['vs_peer'] > 0 \
                 and j['peer']['mpix_median'] > 0 and j['peer_image']['covered_pct'] > 30 \
@@ -104,7 +104,7 @@ EOS
         check_json "$tmp/flat-out.json" "j['peer_image']['covered_pct'] > 30 and j['peer_image']['psnr_db'] < 25"
     else bad "bench flat floor --peer llvmpipe exited non-zero: $(cat "$tmp/err")"; fi
     # Text form: the shading, the peer's GL pipeline and the PSNR line.
-    out=$("$persp" bench "$src/scenes/bench/torus-2k.json" "${tiny[@]}" --size 64x48 --shading gouraud-pc \
+    out=$("$persp" bench "$src/scenes/bench/torus-2k.json" "${tiny[@]:2}" --size 64x48 --shading gouraud-pc \
           --peer llvmpipe 2>&1); rc=$?
     if [ "$rc" -ne 0 ]; then bad "bench torus-2k --peer llvmpipe exited $rc: $out"
     else
@@ -119,7 +119,7 @@ EOS
     # where a pixel centre lies within rounding distance of a texel edge.
     # A wrong projection, texture orientation or wrap mode differs in far
     # more pixels.
-    out=$("$persp" bench "${tiny[@]}" --size 128x96 --filter nearest --peer llvmpipe \
+    out=$("$persp" bench "${tiny[@]:2}" --size 128x96 --filter nearest --peer llvmpipe \
           --peer-image "$tmp/peer.png" 2>&1); rc=$?
     if [ "$rc" -ne 0 ]; then bad "bench --peer llvmpipe exited $rc: $out"
     else

@@ -25,7 +25,7 @@ if cmp -s "$tmp/l0.png" "$tmp/bl.png"; then ok; else bad "trilinear clamped to l
 "$persp" render corridor --filter trilinear --min-lod 3 --size 64x48 -q -o "$tmp/l3.png"
 if cmp -s "$tmp/l3.png" "$tmp/bl.png"; then bad "--min-lod 3 had no effect"; else ok; fi
 
-expect 2 "unknown filter 'aniso:1'" -- "$persp" render --filter aniso:1
+expect 2 "bad --filter 'aniso:1': aniso taps must be 2..16" -- "$persp" render --filter aniso:1
 expect 2 "unknown filter 'box'" -- "$persp" render --filter box
 expect 2 "bad --lod 'face'" -- "$persp" render --lod face
 expect 2 "bad --min-lod 'x'" -- "$persp" render --min-lod x

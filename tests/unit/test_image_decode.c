@@ -210,7 +210,9 @@ static void test_render_output_opaque(void **state)
                 path, envs[e]);
         fclose(f);
         persp_scene *s = NULL;
-        persp_status st = persp_scene_load(ctx, scene_path, &s);
+        /* The texture stays in the source tree, outside the scene's folder. */
+        persp_scene_load_desc load = {PERSP_TOGGLE_ON};
+        persp_status st = persp_scene_load_ex(ctx, scene_path, &load, &s);
         if (st != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
         uint8_t color[16 * 16 * 4];
         float depth[16 * 16];

@@ -34,6 +34,8 @@ int cli_status(persp_context *ctx, persp_status st, const char *what);
 int cli_parse_size(const char *text, int *w, int *h);
 /* Parses a whole decimal integer in [lo, hi]. */
 int cli_parse_int(const char *text, long lo, long hi, long *out);
+/* A plain decimal number (fraction and exponent allowed) in [lo, hi]. */
+int cli_parse_real(const char *text, double lo, double hi, double *out);
 /* CLI_OK if spec names a method with valid parameters; otherwise prints
  * "persp: COMMAND: ..." with the accepted form and returns CLI_USAGE. */
 int cli_check_method(const char *command, const char *spec);
@@ -54,6 +56,19 @@ int cli_output_open(const char *command, const char *path, cli_output *out);
  * error (CLI_FAIL). Without (the command failed): removes a file, reports
  * nothing. */
 int cli_output_close(const char *command, cli_output *out, int ok);
+/* Checks, before any long work, that an output path can be written: an
+ * existing file is not a folder or read-only, and the folder it goes in
+ * exists and is writable ("-" and devices pass). CLI_OK, or CLI_FAIL after
+ * "persp: COMMAND: OPTION 'path': ...". */
+int cli_check_output(const char *command, const char *option, const char *path);
+/* The library's temp-file handler (persp_context_set_temp_file_handler):
+ * remembers the file so that SIGINT/SIGTERM removes it. */
+void cli_temp_file(void *user, const char *path);
+/* Installs the SIGINT/SIGTERM handlers that remove temporary files. */
+void cli_install_signal_handlers(void);
+/* Gives SIGINT/SIGTERM their default action back (for a library, SDL, that
+ * installs its own only over the default). */
+void cli_restore_signal_handlers(void);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
 

@@ -69,9 +69,8 @@ static int parse_method_list(const cli_command *cmd, const cli_option *opt, char
 
 static int parse_rel_floor(const cli_command *cmd, const cli_option *opt, char *value)
 {
-    char *end;
-    double f = strtod(value, &end);
-    if (*end || end == value || !(f > 0.0 && f <= 1.0)) return cli_bad_value(cmd, opt, value);
+    double f = 0.0;
+    if (!cli_parse_real(value, 0.0, 1.0, &f) || !(f > 0.0)) return cli_bad_value(cmd, opt, value);
     memcpy(opt->dest, &f, sizeof f);
     return CLI_OK;
 }
@@ -81,6 +80,7 @@ static const cli_spec opt_method_list = {
     .kind = CLI_KIND_CUSTOM,
     .metavar = "M[,M...]",
     .parse = parse_method_list,
+    .repeatable = 1,
     .accepts = "methods of `persp methods`, comma-separated",
     .help = "methods to measure, repeatable (default: every method of\n"
             "`persp methods` that runs without parameters)"};
@@ -208,6 +208,7 @@ int cmd_accuracy(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     cli_output out;
     if ((rc = cli_output_open("accuracy", output, &out)) != CLI_OK) {
         persp_context_destroy(ctx);

@@ -125,6 +125,7 @@ int cmd_accuracy_filter(int argc, char **argv)
     persp_context_desc cd = {NULL, threads};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     cli_output out;
     if ((rc = cli_output_open("accuracy", output, &out)) != CLI_OK) {
         persp_context_destroy(ctx);

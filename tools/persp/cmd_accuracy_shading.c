@@ -47,6 +47,7 @@ int cmd_accuracy_shading(int argc, char **argv)
         CLI_OPT(cli_opt_seed, &desc.seed),
         CLI_OPT(opt_triangles, &desc.triangles),
         CLI_OPT(opt_scene, &desc.scene),
+        CLI_OPT(cli_opt_any_folder, &desc.any_folder),
         CLI_OPT_HELP(cli_opt_size, &size,
                      "lit-scene image size (default: the scene's, else 640x480)"),
         CLI_OPT(opt_svg, &desc.svg_path),
@@ -67,9 +68,12 @@ int cmd_accuracy_shading(int argc, char **argv)
     if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     desc.width = size.width;
     desc.height = size.height;
+    /* The figures are written last: a path that cannot be is known now. */
+    if ((rc = cli_check_output("accuracy --shading", "--svg", desc.svg_path)) != CLI_OK) return rc;
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy --shading: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     cli_output out;
     if ((rc = cli_output_open("accuracy --shading", output, &out)) != CLI_OK) {
         persp_context_destroy(ctx);

@@ -66,6 +66,7 @@ typedef struct image_diff {
 } image_diff;
 
 typedef struct bench_opts {
+    persp_scene_load_desc load;
     const char *scene, *method, *filter_name, *peer, *peer_image;
     int filter_given, shading_given;
     persp_shading shading; /* DEFAULT: the scene's */
@@ -226,7 +227,7 @@ static int peer_child(const bench_opts *o)
     persp_status st = persp_context_create(NULL, &ctx);
     if (st == PERSP_OK)
         st = is_builtin(o->scene) ? persp_scene_builtin(ctx, o->scene, &scene)
-                                  : persp_scene_load(ctx, o->scene, &scene);
+                                  : persp_scene_load_ex(ctx, o->scene, &o->load, &scene);
     if (st != PERSP_OK) {
         int rc = cli_status(ctx, st, o->scene);
         persp_context_destroy(ctx);
@@ -317,6 +318,7 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     if (o->filter_given) argv[argc++] = "--filter", argv[argc++] = (char *)o->filter_name;
     if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
+    if (o->load.any_folder == PERSP_TOGGLE_ON) argv[argc++] = "--any-folder";
     argv[argc] = NULL;
 
     size_t nenv = 0;
@@ -766,6 +768,7 @@ int cmd_bench(int argc, char **argv)
     const char *output = NULL;
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
+        CLI_OPT(cli_opt_any_folder, &o.load.any_folder),
         CLI_OPT_HELP(cli_opt_filter, &filter,
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
@@ -817,6 +820,7 @@ int cmd_bench(int argc, char **argv)
     }
 #endif
 
+    if ((rc = cli_check_output("bench", "--peer-image", o.peer_image)) != CLI_OK) return rc;
     method_result *results = calloc(BENCH_MAX_METHODS, sizeof *results);
     if (!results) return cli_error(CLI_FAIL, "bench: out of memory");
     size_t count = 0;
@@ -842,9 +846,12 @@ int cmd_bench(int argc, char **argv)
         free(results);
         return cli_status(NULL, st, "bench");
     }
+    persp_context_set_temp_file_handler(b.ctx, cli_temp_file, NULL);
+    {
+    }
     persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
     if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
-    else st = persp_scene_load(b.ctx, o.scene, &b.scene);
+    else st = persp_scene_load_ex(b.ctx, o.scene, &o.load, &b.scene);
     if (st != PERSP_OK) {
         rc = cli_status(b.ctx, st, o.scene);
         goto done;

@@ -36,6 +36,7 @@ int cmd_merge(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "merge: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     persp_accuracy_result **parts = calloc(n, sizeof *parts), *merged = NULL;
     if (!parts) {
         persp_context_destroy(ctx);
@@ -51,7 +52,8 @@ int cmd_merge(int argc, char **argv)
     cli_output out = {0};
     if (rc == CLI_OK && (rc = cli_output_open("merge", output, &out)) == CLI_OK) {
         if ((st = persp_accuracy_write(ctx, merged, format, out.f)) != PERSP_OK)
-            rc = cli_status(ctx, st, "merge: writing");
+            rc = cli_error(CLI_FAIL, "merge: cannot write '%s': %s", output ? output : "-",
+                           persp_context_error(ctx));
         int out_rc = cli_output_close("merge", &out, rc == CLI_OK);
         if (rc == CLI_OK) rc = out_rc;
     }

@@ -63,6 +63,7 @@ int cmd_render(int argc, char **argv)
     int quiet = 0, threads = 1, quality = 0;
     float min_lod = -1000.0f, max_lod = 1000.0f;
     persp_image_format format = PERSP_IMAGE_FORMAT_DEFAULT;
+    persp_scene_load_desc load = {PERSP_TOGGLE_DEFAULT};
     persp_render_desc desc;
     memset(&desc, 0, sizeof desc);
     cli_option opts[] = {
@@ -84,6 +85,7 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_max_lod, &max_lod),
         CLI_OPT(cli_opt_pipeline, &desc.pipeline),
         CLI_OPT(cli_opt_texture, &texture),
+        CLI_OPT(cli_opt_any_folder, &load.any_folder),
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT(cli_opt_cull, &desc.cull_backfaces),
         CLI_OPT(cli_opt_count_ops, &desc.count_ops),
@@ -110,6 +112,8 @@ int cmd_render(int argc, char **argv)
     persp_image_write_desc wd = {PERSP_IMAGE_FORMAT_DEFAULT, quality};
     if ((rc = output_format(output, format, &wd.format)) != CLI_OK) return rc;
     int to_stdout = output && !strcmp(output, "-");
+    /* A path that cannot be written fails now, not after the render. */
+    if ((rc = cli_check_output("render", "-o", output)) != CLI_OK) return rc;
     if (to_stdout && isatty(STDOUT_FILENO))
         return cli_error(CLI_USAGE,
                          "render: not writing a binary image to a terminal (redirect -o - "
@@ -139,11 +143,12 @@ int cmd_render(int argc, char **argv)
     persp_context_desc cd = {NULL, threads};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
     persp_context_set_warning_handler(ctx, cli_warning, NULL);
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     persp_scene *scene = NULL;
     persp_framebuffer fb = {0, 0, NULL, NULL};
     persp_image img = {0, 0, 0, NULL}, depth_img = {0, 0, 0, NULL};
     if (is_builtin(scene_name)) st = persp_scene_builtin(ctx, scene_name, &scene);
-    else st = persp_scene_load(ctx, scene_name, &scene);
+    else st = persp_scene_load_ex(ctx, scene_name, &load, &scene);
     if (st != PERSP_OK) {
         rc = cli_status(ctx, st, scene_name);
         goto done;

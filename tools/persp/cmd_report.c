@@ -73,6 +73,7 @@ int cmd_report(int argc, char **argv)
     persp_context *ctx = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "report: context");
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     double t0 = cli_now();
     st = persp_report_html(ctx, &desc);
     if (st != PERSP_OK)

@@ -97,13 +97,14 @@ static const cli_spec opt_mip_levels = {
     .help = "left side: each mip level as a flat colour (which levels the filter reads)"};
 
 /* A built-in scene or a scene file, with --texture applied. */
-static int load_scene(persp_context *ctx, const char *name, const char *texture, persp_scene **out)
+static int load_scene(persp_context *ctx, const char *name, const char *texture,
+                      const persp_scene_load_desc *load, persp_scene **out)
 {
     persp_status st;
     if (is_builtin(name))
         st = persp_scene_builtin(ctx, name, out);
     else
-        st = persp_scene_load(ctx, name, out);
+        st = persp_scene_load_ex(ctx, name, load, out);
     if (st != PERSP_OK) return cli_status(ctx, st, name);
     if (texture) {
         persp_image tex;
@@ -197,6 +198,7 @@ int cmd_view(int argc, char **argv)
     view_settings left;
     memset(&left, 0, sizeof left);
     cli_spec compare_spec = opt_compare;
+    persp_scene_load_desc load = {PERSP_TOGGLE_DEFAULT};
     compare_spec.parse = cli_opt_method.parse;
     compare_spec.accepts = cli_opt_method.accepts;
     cli_option opts[] = {
@@ -210,6 +212,7 @@ int cmd_view(int argc, char **argv)
         CLI_OPT(cli_opt_lod_bias, &left.lod_bias),
         CLI_OPT(cli_opt_pipeline, &left.pipeline),
         CLI_OPT(cli_opt_texture, &texture),
+        CLI_OPT(cli_opt_any_folder, &load.any_folder),
         CLI_OPT(cli_opt_count_ops, &count_ops),
         CLI_OPT(opt_mip_levels, &mip_levels),
         CLI_OPT(opt_layout, &layout),
@@ -270,14 +273,15 @@ int cmd_view(int argc, char **argv)
         view_path_free(&path);
         return cli_status(NULL, st, "view");
     }
-    if ((rc = load_scene(ctx, scene_name, texture, &scene)) != CLI_OK) goto done;
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
+    if ((rc = load_scene(ctx, scene_name, texture, &load, &scene)) != CLI_OK) goto done;
     /* The window offers mip levels on either side at any time. */
     if (mip_levels || !play) {
-        if ((rc = load_scene(ctx, scene_name, texture, &tinted)) != CLI_OK) goto done;
+        if ((rc = load_scene(ctx, scene_name, texture, &load, &tinted)) != CLI_OK) goto done;
         persp_scene_tint_mip_levels(tinted);
     }
     if (layout == VIEW_LAYOUT_TEXEL || !play) {
-        if ((rc = load_scene(ctx, scene_name, NULL, &coords)) != CLI_OK) goto done;
+        if ((rc = load_scene(ctx, scene_name, NULL, &load, &coords)) != CLI_OK) goto done;
         if ((st = view_coord_image(ctx, &coord_img)) != PERSP_OK ||
             (st = persp_scene_set_texture(coords, &coord_img)) != PERSP_OK) {
             rc = cli_status(ctx, st, "view: coordinate texture");
@@ -303,6 +307,10 @@ int cmd_view(int argc, char **argv)
             left,  right,  layout,      divider, heat_max,
             width, height, threads,     frames,  record ? record : "camera-path.json",
             NULL,  output, window_shot, script,  quiet};
+        /* SDL turns SIGINT/SIGTERM into its quit event, so that the window
+         * closes cleanly, but only where the signal has its default action
+         * (SDL_INIT_EVENTS, SDL_HINT_NO_SIGNAL_HANDLERS): hand them back. */
+        cli_restore_signal_handlers();
         rc = view_window_run(&a);
     }
 done:

@@ -1,6 +1,7 @@
 #include "cli.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,13 +61,47 @@ int cli_status(persp_context *ctx, persp_status st, const char *what)
     return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
 }
 
+/* Plain decimal text only: strtol and strtod also take leading blanks, a
+ * '+', hexadecimal and (strtod) "inf"/"nan" (C11 7.22.1.3-4), none of
+ * which a user means in an option value. */
+static int decimal_syntax(const char *s, int fraction)
+{
+    if (!s) return 0;
+    if (*s == '-') s++;
+    int digits = 0;
+    for (; *s >= '0' && *s <= '9'; s++)
+        digits++;
+    if (fraction && *s == '.')
+        for (s++; *s >= '0' && *s <= '9'; s++)
+            digits++;
+    if (!digits) return 0;
+    if (fraction && (*s == 'e' || *s == 'E')) {
+        s++;
+        if (*s == '-' || *s == '+') s++;
+        if (*s < '0' || *s > '9') return 0;
+        while (*s >= '0' && *s <= '9')
+            s++;
+    }
+    return *s == '\0';
+}
+
 int cli_parse_int(const char *text, long lo, long hi, long *out)
 {
-    if (!text || !*text) return 0;
+    if (!decimal_syntax(text, 0)) return 0;
     errno = 0;
     char *end = NULL;
     long v = strtol(text, &end, 10);
     if (errno || *end != '\0' || v < lo || v > hi) return 0;
+    *out = v;
+    return 1;
+}
+
+int cli_parse_real(const char *text, double lo, double hi, double *out)
+{
+    if (!decimal_syntax(text, 1)) return 0;
+    char *end = NULL;
+    double v = strtod(text, &end);
+    if (*end != '\0' || !isfinite(v) || !(v >= lo && v <= hi)) return 0;
     *out = v;
     return 1;
 }
@@ -127,6 +162,7 @@ static int finish_stdout(const char *command, int rc)
 
 int main(int argc, char **argv)
 {
+    cli_install_signal_handlers();
     if (argc < 2) {
         usage(stderr);
         return CLI_USAGE;

@@ -121,10 +121,8 @@ static int apply(const cli_command *cmd, cli_option *opt, char *value)
         return store_int(opt, v) ? CLI_OK : bad_table(cmd, opt);
     }
     case CLI_KIND_REAL: {
-        char *end;
-        double v = strtod(value, &end);
-        if (end == value || *end || !(v >= s->lo && v <= s->hi))
-            return cli_bad_value(cmd, opt, value);
+        double v;
+        if (!cli_parse_real(value, s->lo, s->hi, &v)) return cli_bad_value(cmd, opt, value);
         return store_real(opt, v) ? CLI_OK : bad_table(cmd, opt);
     }
     case CLI_KIND_ENUM:
@@ -237,6 +235,11 @@ int cli_parse(cli_command *cmd, int argc, char **argv)
             return cli_error(CLI_USAGE, "%s: option %s needs a value (expected %s)", cmd->name, a,
                              accepts);
         }
+        /* A second value would silently override the first; only list
+         * options, which append, may repeat. */
+        if (opt->seen && !s->repeatable && s->parse != cli_parse_list)
+            return cli_error(CLI_USAGE, "%s: option --%s given more than once", cmd->name,
+                             s->name);
         opt->seen++;
         int rc = apply(cmd, opt, value);
         if (rc != CLI_OK) return rc;
@@ -337,7 +340,12 @@ static const char *filter_suffix(int v)
 static int parse_filter(const cli_command *cmd, const cli_option *opt, char *value)
 {
     cli_filter *f = opt->dest;
-    if (persp_filter_parse(value, &f->filter, &f->max_aniso) != PERSP_OK) {
+    persp_status st = persp_filter_parse(value, &f->filter, &f->max_aniso);
+    /* persp_filter_parse tells a known filter with a bad tap count apart. */
+    if (st == PERSP_ERR_INVALID_ARGUMENT)
+        return cli_error(CLI_USAGE, "%s: bad --filter '%s': aniso taps must be 2..16", cmd->name,
+                         value);
+    if (st != PERSP_OK) {
         char names[512];
         list_names(names, sizeof names, PERSP_FILTER_DEFAULT + 1, PERSP_FILTER_COUNT - 1,
                    filter_name, filter_suffix);
@@ -483,6 +491,12 @@ const cli_spec cli_opt_texture = {.name = "texture",
                                   .kind = CLI_KIND_STRING,
                                   .metavar = "FILE",
                                   .help = "replace the scene's texture with a PNG or JPEG"};
+const cli_spec cli_opt_any_folder = {
+    .name = "any-folder",
+    .kind = CLI_KIND_FLAG,
+    .set = PERSP_TOGGLE_ON,
+    .help = "let the scene read files outside its own folder (by default\n"
+            "a scene or model reads only files in its folder and below)"};
 const cli_spec cli_opt_threads = {.name = "threads",
                                   .kind = CLI_KIND_INT,
                                   .metavar = "N",

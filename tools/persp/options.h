@@ -39,6 +39,8 @@ typedef struct cli_spec {
     const int *values;        /* ENUM: the value of each name */
     int set;                  /* FLAG */
     const char *accepts; /* the accepted values in error messages; NULL: from the range or names */
+    int repeatable;      /* may be given more than once (lists that append); otherwise a
+                            second occurrence is a usage error */
     int optional;        /* the value may be left out: the next argument is taken only if it
                             does not start with '-' (--opt=value always gives one) */
     /* CUSTOM: parses value (NULL where an optional value was left out) into
@@ -136,6 +138,7 @@ extern const cli_spec cli_opt_min_lod;  /* --min-lod L (float) */
 extern const cli_spec cli_opt_max_lod;  /* --max-lod L (float) */
 extern const cli_spec cli_opt_pipeline; /* --pipeline screen|object (persp_pipeline) */
 extern const cli_spec cli_opt_texture;  /* --texture FILE (const char *) */
+extern const cli_spec cli_opt_any_folder; /* --any-folder (persp_toggle) */
 extern const cli_spec cli_opt_threads;  /* --threads N (int) */
 extern const cli_spec cli_opt_cull;     /* --cull on|off (persp_toggle) */
 extern const cli_spec cli_opt_count_ops; /* --count-ops (persp_toggle) */

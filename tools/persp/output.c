@@ -1,17 +1,114 @@
 /*
- * Where a command's report goes (-o FILE, default standard output). A file
- * is written like persp_image_write writes images: to a temporary file
- * renamed over FILE only when everything was written, so a failed run
- * leaves no half report; devices and pipes are written in place.
+ * Where a command's output goes (-o FILE, default standard output), with
+ * the same rules as the library's files (src/io/outfile.h): a regular file
+ * or a new one is written to a temporary file renamed over FILE only when
+ * everything was written, so a failed run leaves no half report; through a
+ * symbolic link the file it points to is replaced and the link stays;
+ * devices and pipes are written in place; a read-only file is refused.
+ *
+ * Temporary files, the library's and these, are registered here so that
+ * SIGINT or SIGTERM during a write removes them before the process dies
+ * (unlink is async-signal-safe, POSIX.1-2008 XSH 2.4.3).
  */
-#define _XOPEN_SOURCE 700 /* realpath */
+#define _XOPEN_SOURCE 700 /* realpath, sigaction */
 #include "cli.h"
 
 #include <errno.h>
+#include <fcntl.h>
+#include <limits.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+/* ------------------------------------------------ temporary files, signals */
+
+/* Slot 0: the library's file of the moment (one context writes one file at
+ * a time and the CLI writes from one thread); slot 1: cli_output's. The
+ * handler reads a slot only while its flag is set; the path is complete
+ * before the flag is raised. */
+#define TEMP_SLOTS 2
+static char temp_path[TEMP_SLOTS][PATH_MAX];
+static volatile sig_atomic_t temp_set[TEMP_SLOTS];
+
+static void temp_register(int slot, const char *path)
+{
+    temp_set[slot] = 0;
+    if (!path || strlen(path) >= sizeof temp_path[slot]) return;
+    memcpy(temp_path[slot], path, strlen(path) + 1);
+    temp_set[slot] = 1;
+}
+
+void cli_temp_file(void *user, const char *path)
+{
+    (void)user;
+    temp_register(0, path);
+}
+
+static void on_signal(int sig)
+{
+    for (int i = 0; i < TEMP_SLOTS; i++)
+        if (temp_set[i]) unlink(temp_path[i]);
+    /* Die of the signal itself, so the parent sees how the command ended. */
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void cli_install_signal_handlers(void)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+}
+
+void cli_restore_signal_handlers(void)
+{
+    signal(SIGINT, SIG_DFL);
+    signal(SIGTERM, SIG_DFL);
+}
+
+/* ------------------------------------------------------------ checks */
+
+int cli_check_output(const char *command, const char *option, const char *path)
+{
+    if (!path || !strcmp(path, "-")) return CLI_OK;
+    struct stat sb;
+    if (stat(path, &sb) == 0) {
+        if (S_ISDIR(sb.st_mode))
+            return cli_error(CLI_FAIL, "%s: %s '%s' is a directory", command, option, path);
+        if (!S_ISREG(sb.st_mode)) return CLI_OK; /* a device or pipe, written in place */
+        if (access(path, W_OK) != 0 || !(sb.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH)))
+            return cli_error(CLI_FAIL, "%s: %s '%s' is read-only", command, option, path);
+    }
+    /* The folder the temporary file goes to (the link's, for a link). */
+    char *real = realpath(path, NULL);
+    const char *target = real ? real : path;
+    const char *slash = strrchr(target, '/');
+    char dir[PATH_MAX];
+    if (!slash)
+        snprintf(dir, sizeof dir, ".");
+    else if (slash == target)
+        snprintf(dir, sizeof dir, "/");
+    else
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - target), target);
+    free(real);
+    int rc = CLI_OK;
+    if (stat(dir, &sb) != 0)
+        rc = cli_error(CLI_FAIL, "%s: %s '%s': folder '%s' does not exist", command, option, path,
+                       dir);
+    else if (!S_ISDIR(sb.st_mode))
+        rc = cli_error(CLI_FAIL, "%s: %s '%s': '%s' is not a folder", command, option, path, dir);
+    else if (access(dir, W_OK | X_OK) != 0)
+        rc = cli_error(CLI_FAIL, "%s: %s '%s': folder '%s' is not writable", command, option,
+                       path, dir);
+    return rc;
+}
+
+/* -------------------------------------------------------------- output */
 
 int cli_output_open(const char *command, const char *path, cli_output *out)
 {
@@ -21,25 +118,59 @@ int cli_output_open(const char *command, const char *path, cli_output *out)
         return CLI_OK;
     }
     out->path = path;
-    struct stat sb;
-    if (stat(path, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+    struct stat sb, lsb;
+    int exists = stat(path, &sb) == 0;
+    if (exists && S_ISDIR(sb.st_mode))
+        return cli_error(CLI_FAIL, "%s: '%s' is a directory", command, path);
+    if (exists && !S_ISREG(sb.st_mode)) {
         if (!(out->f = fopen(path, "w")))
             return cli_error(CLI_FAIL, "%s: cannot open '%s': %s", command, path, strerror(errno));
         return CLI_OK;
     }
-    /* Through a link, the file it names is replaced, not the link. */
-    if (lstat(path, &sb) == 0 && S_ISLNK(sb.st_mode)) out->target = realpath(path, NULL);
+    int link = lstat(path, &lsb) == 0 && S_ISLNK(lsb.st_mode);
+    if (link && !exists)
+        return cli_error(CLI_FAIL, "%s: '%s' is a symbolic link to a missing file (not replaced)",
+                         command, path);
+    if (exists && (access(path, W_OK) != 0 || !(sb.st_mode & (S_IWUSR | S_IWGRP | S_IWOTH))))
+        return cli_error(CLI_FAIL, "%s: '%s' is read-only (not replaced)", command, path);
+    if (link) out->target = realpath(path, NULL);
     const char *target = out->target ? out->target : path;
     size_t len = strlen(target);
-    if (!(out->tmp = malloc(len + 12))) return cli_error(CLI_FAIL, "%s: out of memory", command);
+    if (!(out->tmp = malloc(len + 12))) {
+        free(out->target);
+        return cli_error(CLI_FAIL, "%s: out of memory", command);
+    }
     memcpy(out->tmp, target, len);
-    memcpy(out->tmp + len, ".tmp-XXXXXX", 12);
-    int fd = mkstemp(out->tmp);
-    if (fd < 0 || fchmod(fd, 0644) != 0 || !(out->f = fdopen(fd, "w"))) {
+    /* As in the library: mkstemp finds a free name, which is re-created
+     * with O_EXCL and mode 0666 so that the umask applies as for any new
+     * file. */
+    int fd = -1;
+    for (int tries = 0; tries < 8 && fd < 0; tries++) {
+        memcpy(out->tmp + len, ".tmp-XXXXXX", 12);
+        if ((fd = mkstemp(out->tmp)) < 0) break;
+        temp_register(1, out->tmp); /* from the moment it exists */
+        close(fd);
+        unlink(out->tmp);
+        fd = open(out->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd < 0) {
+            int err = errno;
+            temp_register(1, NULL);
+            errno = err;
+            if (err != EEXIST) break;
+        }
+    }
+    if (fd >= 0 && exists) {
+        (void)fchmod(fd, sb.st_mode & 07777);
+        if (fchown(fd, sb.st_uid, sb.st_gid) != 0) {
+            /* Only root may give a file away; others keep their own. */
+        }
+    }
+    if (fd < 0 || !(out->f = fdopen(fd, "w"))) {
         int err = errno;
         if (fd >= 0) {
             close(fd);
             unlink(out->tmp);
+            temp_register(1, NULL);
         }
         free(out->tmp);
         free(out->target);
@@ -70,6 +201,7 @@ int cli_output_close(const char *command, cli_output *out, int ok)
             rc = cli_error(CLI_FAIL, "%s: cannot write '%s': %s", command, out->path,
                            strerror(errno));
         if (out->tmp && (!ok || rc != CLI_OK)) unlink(out->tmp);
+        if (out->tmp) temp_register(1, NULL);
     }
     free(out->tmp);
     free(out->target);
