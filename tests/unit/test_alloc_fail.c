@@ -8,7 +8,8 @@
  * fails here, and in the ASan build LeakSanitizer sees it too).
  *
  * Covered: every built-in scene, a JSON scene with PNG textures and a glTF
- * model with an embedded texture, each with 1 and 2 threads. What the
+ * model with an embedded texture, each with 1 and 2 threads, and a JSON
+ * scene built on an OBJ model with MTL and texture files (1 thread). What the
  * decoders (libpng, libjpeg, jansson, Assimp) allocate with malloc does not
  * go through persp_allocator and is not injected here. */
 /* ctest-labels: threads (renders with several worker threads) */
@@ -177,6 +178,16 @@ static void test_json_scene_with_textures(void **state)
     check_threads(&w);
 }
 
+/* A JSON scene whose mesh is an OBJ model with its MTL file and texture
+ * files beside it: the model importer's reads of other files and its
+ * texture loads. One thread: the worker pool is covered above. */
+static void test_json_scene_with_model(void **state)
+{
+    (void)state;
+    workload w = {"scenes/room.json", 160, 120};
+    check_workload(&w, 1);
+}
+
 static void test_model_file(void **state)
 {
     (void)state;
@@ -190,6 +201,7 @@ int main(void)
         cmocka_unit_test(test_builtin_scenes),
         cmocka_unit_test(test_json_scene_with_textures),
         cmocka_unit_test(test_model_file),
+        cmocka_unit_test(test_json_scene_with_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
