@@ -2,6 +2,8 @@
 #   make demo            install missing packages, build, render corridor to out/corridor.png
 #   make test            install missing packages, build, run the whole suite (CTest)
 #   make test SANITIZE=1 the same under ASan + UBSan (separate build folder)
+#   make test TSAN=1     the tests labelled `threads` under ThreadSanitizer
+#                        (build-tsan; scripts/tsan.sh fails on any report)
 #   make bench           the workload table of docs/PERFORMANCE.md against llvmpipe
 #                        (scripts/bench.sh; not part of the test suite)
 #   make fuzz            libFuzzer harnesses with clang (not part of the test suite)
@@ -11,6 +13,9 @@ MAKEFLAGS += --no-print-directory
 ifeq ($(SANITIZE),1)
 BUILD ?= build-san
 CMAKE_FLAGS += -DPERSP_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+else ifeq ($(TSAN),1)
+BUILD ?= build-tsan
+CMAKE_FLAGS += -DPERSP_TSAN=ON -DCMAKE_BUILD_TYPE=Debug
 else
 BUILD ?= build
 endif
@@ -32,7 +37,11 @@ demo: build
 	@$(BUILD)/persp render corridor -o out/corridor.png
 
 test: build
+ifeq ($(TSAN),1)
+	@bash scripts/tsan.sh $(BUILD) $(JOBS)
+else
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+endif
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)/persp out/bench
@@ -47,4 +56,4 @@ format:
 	@clang-format -i include/*.h src/*/*.[ch] tools/persp/*.[ch] tests/*/*.[ch]
 
 clean:
-	rm -rf build build-san build-fuzz out
+	rm -rf build build-san build-tsan build-fuzz out

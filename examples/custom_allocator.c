@@ -17,6 +17,7 @@
  *
  *   cc custom_allocator.c $(pkg-config --cflags --libs persp) -o custom_allocator
  */
+/* ctest-labels: threads (renders with several worker threads) */
 #include <persp.h>
 
 #include <stdatomic.h>

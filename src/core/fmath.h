@@ -14,8 +14,13 @@
  * multi-versioning), the baseline x86-64 code elsewhere. Only floating-point
  * operations that are exactly rounded in IEEE 754 are used in such loops and
  * -ffp-contract=off forbids fused multiply-adds, so every clone computes the
- * same bits. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__)
+ * same bits. Not under ThreadSanitizer: the clones' resolver runs while
+ * the dynamic loader relocates the program, before the TSan runtime has
+ * started, and GCC instruments it, so the program crashes on load
+ * (google/sanitizers issue 342; llvm-project pull request 167516 exempts
+ * such resolvers in clang). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) &&  \
+    !defined(__SANITIZE_THREAD__)
 #define PERSP_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
 /* For loops bound by arithmetic rather than memory (lighting): an AVX-512
  * clone as well, which doubles the lanes of divisions and square roots. */

@@ -47,13 +47,25 @@ void persp__mesh_free(persp_context *ctx, persp_mesh *mesh)
     memset(mesh, 0, sizeof *mesh);
 }
 
+/* Room for one more entry of a scene's list of count entries. A list at its
+ * limit is TOO_LARGE; a refused allocation below it is OUT_OF_MEMORY, with a
+ * detail that says so. */
+static persp_status grow_list(persp_scene *s, void **list, size_t *cap, size_t count, size_t max,
+                              size_t elem, const char *what)
+{
+    if (count >= max) return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many %s", what);
+    persp_status st = persp__grow(s->ctx, list, cap, count + 1, elem);
+    if (st != PERSP_OK) return persp__fail(s->ctx, st, "scene: out of memory for its %s", what);
+    return PERSP_OK;
+}
+
 persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
 {
-    if (s->mesh_count >= PERSP_SCENE_MAX_OBJECTS ||
-        persp__grow(s->ctx, (void **)&s->meshes, &s->mesh_cap, s->mesh_count + 1,
-                    sizeof *s->meshes) != PERSP_OK) {
+    persp_status st = grow_list(s, (void **)&s->meshes, &s->mesh_cap, s->mesh_count,
+                                PERSP_SCENE_MAX_OBJECTS, sizeof *s->meshes, "meshes");
+    if (st != PERSP_OK) {
         persp__mesh_free(s->ctx, mesh);
-        return persp__fail(s->ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: too many meshes");
+        return st;
     }
     s->meshes[s->mesh_count] = *mesh;
     memset(mesh, 0, sizeof *mesh);
@@ -64,11 +76,11 @@ persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
 
 persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *index)
 {
-    if (s->texture_count >= PERSP_SCENE_MAX_TEXTURES ||
-        persp__grow(s->ctx, (void **)&s->textures, &s->texture_cap, s->texture_count + 1,
-                    sizeof *s->textures) != PERSP_OK) {
+    persp_status st = grow_list(s, (void **)&s->textures, &s->texture_cap, s->texture_count,
+                                PERSP_SCENE_MAX_TEXTURES, sizeof *s->textures, "textures");
+    if (st != PERSP_OK) {
         persp_texture_destroy(tex);
-        return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many textures");
+        return st;
     }
     s->textures[s->texture_count] = tex;
     if (index) *index = (int)s->texture_count;
@@ -78,10 +90,9 @@ persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *i
 
 persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index)
 {
-    if (s->material_count >= PERSP_SCENE_MAX_OBJECTS ||
-        persp__grow(s->ctx, (void **)&s->materials, &s->material_cap, s->material_count + 1,
-                    sizeof *s->materials) != PERSP_OK)
-        return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many materials");
+    persp_status st = grow_list(s, (void **)&s->materials, &s->material_cap, s->material_count,
+                                PERSP_SCENE_MAX_OBJECTS, sizeof *s->materials, "materials");
+    if (st != PERSP_OK) return st;
     s->materials[s->material_count] = *m;
     if (index) *index = (int)s->material_count;
     s->material_count++;
@@ -93,10 +104,9 @@ persp_status persp__scene_add_object(persp_scene *s, const persp_object *o)
     if (o->mesh < 0 || (size_t)o->mesh >= s->mesh_count || o->material < 0 ||
         (size_t)o->material >= s->material_count)
         return persp__fail(s->ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: object refers to a missing mesh or material");
-    if (s->object_count >= PERSP_SCENE_MAX_OBJECTS ||
-        persp__grow(s->ctx, (void **)&s->objects, &s->object_cap, s->object_count + 1,
-                    sizeof *s->objects) != PERSP_OK)
-        return persp__fail(s->ctx, PERSP_ERR_TOO_LARGE, "scene: too many objects");
+    persp_status st = grow_list(s, (void **)&s->objects, &s->object_cap, s->object_count,
+                                PERSP_SCENE_MAX_OBJECTS, sizeof *s->objects, "objects");
+    if (st != PERSP_OK) return st;
     s->objects[s->object_count++] = *o;
     return PERSP_OK;
 }

@@ -222,6 +222,7 @@ typedef struct model_io {
         size_t size;
     } kept[4];
     int nkept;
+    int out_of_memory; /* a file could not be opened for want of memory */
 } model_io;
 
 typedef struct model_file {
@@ -441,9 +442,13 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
         }
         persp_status st = PERSP_ERR_IO;
         int outside = 0;
-        for (int k = 0; k < 4 && st != PERSP_OK; k++)
+        for (int k = 0; k < 4 && st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY; k++)
             if (find_candidate(io->base_dir, io->root, rel, k, path, sizeof path, &outside))
                 st = persp__read_file(io->ctx, path, &owned, &size);
+        if (st == PERSP_ERR_OUT_OF_MEMORY) {
+            io->out_of_memory = 1;
+            return NULL;
+        }
         if (st != PERSP_OK) {
             warn_missing(io, rel,
                          outside ? "outside the folder the model may read from"
@@ -463,6 +468,7 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
         persp__free(io->ctx, f);
         persp__free(io->ctx, mf);
         persp__free(io->ctx, owned);
+        io->out_of_memory = 1;
         return NULL;
     }
     mf->data = data ? data : "";
@@ -503,6 +509,7 @@ typedef struct importer {
     int *embedded_index; /* per aiTexture: scene texture, -1 not yet, -2 failed */
     persp_model *out;
     size_t part_cap;
+    int out_of_memory; /* a texture could not be loaded for want of memory */
 } importer;
 
 static persp_mat4 to_mat4(const struct aiMatrix4x4 *a)
@@ -663,7 +670,12 @@ static int material_texture(importer *im, const char *material, const char *file
     }
     if (emb >= 0) {
         int *slot = &im->embedded_index[emb];
-        if (*slot == -1 && embedded_texture(im, (unsigned)emb, slot) != PERSP_OK) {
+        persp_status est = *slot == -1 ? embedded_texture(im, (unsigned)emb, slot) : PERSP_OK;
+        if (est == PERSP_ERR_OUT_OF_MEMORY) {
+            im->out_of_memory = 1;
+            return -1;
+        }
+        if (est != PERSP_OK) {
             persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display, qm,
                         persp_context_error(im->ctx));
             *slot = -2;
@@ -692,6 +704,10 @@ static int material_texture(importer *im, const char *material, const char *file
             continue;
         }
         st = persp__texcache_load(im->scene, im->cache, path, &index);
+        if (st == PERSP_ERR_OUT_OF_MEMORY) {
+            im->out_of_memory = 1;
+            return -1;
+        }
         if (st != PERSP_OK && k == 0) snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
     }
     if (st != PERSP_OK) {
@@ -982,6 +998,14 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     pthread_mutex_unlock(&import_lock);
     aiReleasePropertyStore(props);
     int withhold = !ai && io.others && quotes_other(&io, why);
+    /* Assimp takes a file that could not be opened for a missing or
+     * unreadable one, so the reason is kept on this side. */
+    if (io.out_of_memory) {
+        if (ai) aiReleaseImport(ai);
+        persp__free(ctx, buf);
+        free_kept(&io);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
+    }
     if (wrong || !ai) {
         persp__free(ctx, buf);
         free_kept(&io);
@@ -1024,6 +1048,11 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
         fill_slots(ctx, &im.embedded_index, ai->mNumTextures) != PERSP_OK)
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
     if (st == PERSP_OK && ai->mRootNode) st = walk(&im, ai->mRootNode, persp_mat4_identity(), 0);
+    /* A texture refused for want of memory is not drawn untextured with a
+     * warning, as a missing file is: the allocator's refusal is the caller's
+     * to see (PERSP_ERR_OUT_OF_MEMORY). */
+    if (st == PERSP_OK && im.out_of_memory)
+        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
     if (st == PERSP_OK && out->part_count == 0)
         st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", display);
     if (st == PERSP_OK && !(out->bbox_min[0] <= out->bbox_max[0]))

@@ -25,12 +25,16 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
     if (st != PERSP_OK) return st;
     st = persp__scene_add_texture(scene, tex, index);
     if (st != PERSP_OK || !cache) return st;
+    /* The cache only saves loading a file twice, but a refused allocation is
+     * still reported: a caller with a memory budget must learn that it ran
+     * out (PERSP_ERR_OUT_OF_MEMORY, persp.h) rather than get a scene that
+     * quietly took another path. The texture already belongs to the scene. */
     if (persp__grow(ctx, (void **)&cache->entries, &cache->cap, cache->count + 1,
                     sizeof *cache->entries) != PERSP_OK)
-        return PERSP_OK; /* the cache is an optimisation only */
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     size_t len = strlen(path);
     char *copy = persp__alloc(ctx, len + 1);
-    if (!copy) return PERSP_OK;
+    if (!copy) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     memcpy(copy, path, len + 1);
     cache->entries[cache->count].path = copy;
     cache->entries[cache->count].index = *index;

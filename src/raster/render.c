@@ -418,7 +418,9 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         const size_t left = ntri - j->first;
         const int tasks = (int)PERSP_MIN(tasks_max, (left + SETUP_CHUNK - 1) / SETUP_CHUNK);
         persp_status st = persp__pool_run(f->ctx, tasks, setup_task, j);
-        if (st != PERSP_OK) return persp__fail(f->ctx, st, "render: cannot start worker threads");
+        if (st != PERSP_OK)
+            return persp__fail(f->ctx, st, "render: cannot start worker threads: %s",
+                               persp_status_string(st));
         for (int k = 0; k < tasks; k++) {
             const setup_slab *slab = &j->slabs[k];
             for (size_t i = 0; i < slab->count; i++) {
@@ -452,7 +454,9 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     f->stats.triangles_in += mesh->index_count / 3;
     const int tasks = (int)((mesh->vertex_count + VERTEX_TASK - 1) / VERTEX_TASK);
     persp_status vst = persp__pool_run(f->ctx, tasks, vertex_task, &job);
-    if (vst != PERSP_OK) return persp__fail(f->ctx, vst, "render: cannot start worker threads");
+    if (vst != PERSP_OK)
+        return persp__fail(f->ctx, vst, "render: cannot start worker threads: %s",
+                           persp_status_string(vst));
     for (size_t t = 0; t + 2 < mesh->index_count; t += 3) {
         const uint32_t *ix = &mesh->indices[t];
         if (ix[0] >= mesh->vertex_count || ix[1] >= mesh->vertex_count || ix[2] >= mesh->vertex_count)
@@ -954,7 +958,9 @@ persp_status persp__frame_flush(persp_frame *f)
     tile_job job = {f, tiles_x, workers,
                     (size_t)f->fb->width * (size_t)f->fb->height * 8u > PERSP_STREAM_BYTES};
     persp_status st = persp__pool_run(ctx, (int)tiles, raster_tile, &job);
-    if (st != PERSP_OK) return persp__fail(ctx, st, "render: cannot start worker threads");
+    if (st != PERSP_OK)
+        return persp__fail(ctx, st, "render: cannot start worker threads: %s",
+                           persp_status_string(st));
     f->clear_pending = 0;
     f->stats.triangles_drawn += f->tri_count;
     for (int w = 0; w < workers; w++) {

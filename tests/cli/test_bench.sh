@@ -6,6 +6,7 @@
 # OSMesa, fails clearly. The peer draws JSON scenes with every shading mode's
 # GL state, and its image matches persp's over the covered pixels. No
 # assertion depends on timings.
+# ctest-labels: threads (persp runs with --threads > 1)
 set -u
 persp="$1"
 src="${PERSP_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}"

@@ -5,6 +5,7 @@
 # (JPEG loads back close to the PNG; an unknown extension is a usage error),
 # every command fails with a message when its output cannot be written
 # (/dev/full), and each command's --help lists the shared options.
+# ctest-labels: threads (persp runs with --threads > 1)
 set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"

@@ -2,6 +2,7 @@
 # CLI behaviour of `persp render`, `persp methods`, `--help` and `--version`:
 # successful renders write a PNG, bad usage exits 2 with a message naming the
 # problem, failures exit 1 and leave no output file behind.
+# ctest-labels: threads (persp runs with --threads > 1)
 set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"

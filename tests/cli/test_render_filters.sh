@@ -2,6 +2,7 @@
 # `persp render` with every texture filter, the level-of-detail options and
 # the object-space pipeline: images are written, the object pipeline reports
 # its pieces and no holes, and bad values exit 2 naming the problem.
+# ctest-labels: threads (persp runs with --threads > 1)
 set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # persp view --play: a checked-in camera path rendered headless twice gives
 # identical frames, consecutive frames differ, and bad input is refused.
+# ctest-labels: threads (persp view draws with one thread per CPU)
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 data="$PERSP_SOURCE_DIR/tests/cli/data"

@@ -1,6 +1,7 @@
 /* persp_render_desc.view / .projection and persp_scene_get_camera: the scene's
  * own matrices passed back in give the scene's image; other matrices give
  * another image; non-finite ones are refused. */
+/* ctest-labels: threads (renders with several worker threads) */
 #include "support.h"
 
 #include <math.h>

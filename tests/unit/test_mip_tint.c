@@ -1,6 +1,7 @@
 /* persp_scene_tint_mip_levels: with a nearest-mip-nearest filter every
  * textured pixel of the floor (unlit) is one level's colour, and the floor
  * going to the horizon shows several levels, in order of distance. */
+/* ctest-labels: threads (renders with several worker threads) */
 #include "support.h"
 
 #include <stdlib.h>

@@ -1,5 +1,6 @@
 /* Object-space texturing with screen-space filtering ([Romaniuk-ObjSpace],
  * src/objspace/objspace.c): thread independence, no holes, no bleeding. */
+/* ctest-labels: threads (renders with several worker threads) */
 #include "support.h"
 
 #include <math.h>

@@ -1,5 +1,6 @@
 /* End-to-end rendering invariants: thread-count independence, depth modes,
  * immediate drawing, bad framebuffers. */
+/* ctest-labels: threads (renders with several worker threads) */
 #include "support.h"
 
 #include "core/internal.h"

@@ -2,6 +2,7 @@
  * this test): the scene camera decomposed into position, yaw, pitch and
  * frustum gives back the scene's matrices; camera paths survive a save and
  * load and interpolate between keys; the composed layouts. */
+/* ctest-labels: threads (renders with several worker threads) */
 #include "support.h"
 
 #include "../../tools/persp/view_core.c"
