@@ -8,24 +8,28 @@
  *   - Vertex snapping. Window coordinates are snapped to the sub-pixel grid
  *     (GL 4.6 §14.5, SUBPIXEL_BITS; 8 bits in persp, docs/CONVENTIONS.md,
  *     and in llvmpipe), and both interpolate from the snapped vertices. A
- *     vertex moves by at most 1/512 pixel per axis, which moves the
- *     interpolated texture coordinate by a small multiple of (1/256 pixel)
- *     times its screen derivatives; thin triangles extrapolate, hence
- *     SNAP_PIXELS = 1/64 pixel. The position box is (u, v) ± that times
- *     |∂/∂x| + |∂/∂y|, plus DIFF_REF_TEXEL_MARGIN texel for persp's own
- *     float evaluation (its exact method is asserted within 5e-4 texel,
- *     docs/METHODS.md).
- *   - Level of detail. The same snapping changes the derivatives of a
- *     triangle N pixels across by about 1/(256 N) relative, and GL lets
- *     rho be approximated (§8.14.1); lambda ± DIFF_REF_LOD_MARGIN, wider
- *     for small triangles.
- *   - Coverage and visibility. A pixel centre within DIFF_REF_EDGE_MARGIN
- *     of an edge may go either way after snapping; so may depths closer
- *     than the 24-bit depth buffer of the peer resolves (2^-20 of the range
- *     here, far above its 2^-24 step). Every triangle seen from a probe
- *     point around the centre, or within the depth margin of the nearest,
- *     is a candidate, evaluated at the centre; "no triangle" is a candidate
- *     when a probe sees none.
+ *     vertex moves by at most 1/512 pixel per axis. snap_latitude() moves
+ *     each coordinate of the fan triangle holding the pixel (the clipped
+ *     polygon's, as the renderer draws it) by that much and sums the
+ *     changes of u, v and rho, doubled for the higher-order terms: this is
+ *     large exactly where it matters, on slivers and where one pixel spans
+ *     many texels.
+ *   - Floating point. GL 4.6 §2.3.4.1 asks results to about 1 part in
+ *     1e5: the position box gets 1e-5 of |u| and DIFF_REF_TEXEL_MARGIN
+ *     texel (4 times the 5e-4 texel persp's exact method is asserted to,
+ *     docs/METHODS.md); rho gets 1e-5 of the magnitudes of the terms a
+ *     renderer subtracts to form each derivative (large where they nearly
+ *     cancel), and lambda DIFF_REF_LOD_MARGIN.
+ *   - Coverage and visibility. Snapping moves an edge by at most
+ *     1/512 · √2 pixel, and float clipping moves a clipped vertex by far
+ *     less, so a pixel centre within DIFF_REF_EDGE_MARGIN (1/100 pixel,
+ *     3.5 times that) of an edge or clip line of a triangle may go either
+ *     way; so may depths closer than DEPTH_TIE, 2^-20 of the window depth
+ *     range (the peer's buffer has 24 bits, and both interpolate depth in
+ *     float). The nearest triangle that surely covers the centre hides the
+ *     rest; every triangle in front of it or tied with it that reaches
+ *     within the margin is a candidate, evaluated at the centre (its planes
+ *     extended); with no sure cover, "no triangle" is a candidate too.
  *
  * Inside these boxes the extremes are exact: nearest takes every texel the
  * box touches; bilinear is bilinear inside each texel cell, so its extremes
@@ -202,46 +206,49 @@ static int solve(const diff_ref *r, const ref_tri *t, double x, double y, double
     return 1;
 }
 
-/* Whether t covers window point (x, y) and its depth there. */
-static int hit(const diff_ref *r, const ref_tri *t, double x, double y, double *z)
+/* The five functions whose signs bound the visible part of t at window
+ * point (x, y): the three barycentrics, z + w (near) and w - z (far). */
+static int bounds_at(const diff_ref *r, const ref_tri *t, double x, double y, double f[5], double *z)
 {
-    if (x < t->xmin || x > t->xmax || y < t->ymin || y > t->ymax) return 0;
     double b[3];
     if (!solve(r, t, x, y, b)) return 0;
-    if (b[0] < 0.0 || b[1] < 0.0 || b[2] < 0.0) return 0;
     double cz = 0.0, cw = 0.0;
     for (int k = 0; k < 3; k++) cz += b[k] * t->c[k][2], cw += b[k] * t->c[k][3];
-    if (!(cw > 0.0) || cz < -cw || cz > cw) return 0;
+    f[0] = b[0], f[1] = b[1], f[2] = b[2], f[3] = cz + cw, f[4] = cw - cz;
+    if (z) *z = cw > 0.0 ? cz / cw : INFINITY;
+    return 1;
+}
+
+enum { MISS, EDGE, SOLID };
+
+/* Whether t covers window point (x, y): SOLID when the point lies more than
+ * DIFF_REF_EDGE_MARGIN pixels inside every bound, EDGE when within that
+ * distance of one, else MISS; z is t's depth at the point. */
+static int hit(const diff_ref *r, const ref_tri *t, double x, double y, double *z, double *gz)
+{
+    const double e = DIFF_REF_EDGE_MARGIN, h = 1e-3;
+    if (x < t->xmin - e || x > t->xmax + e || y < t->ymin - e || y > t->ymax + e) return MISS;
     if (r->cull) {
         /* Orientation of the visible part: sign of det(x, y, w). */
         const double(*c)[4] = t->c;
         double d = c[0][0] * (c[1][1] * c[2][3] - c[1][3] * c[2][1]) -
                    c[0][1] * (c[1][0] * c[2][3] - c[1][3] * c[2][0]) +
                    c[0][3] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
-        if (d < 0.0) return 0;
+        if (d < 0.0) return MISS;
     }
-    *z = cz / cw;
-    return 1;
-}
-
-/* Triangles nearest at (x, y) within the depth tie, appended to set. */
-static int nearest_tris(const diff_ref *r, double x, double y, size_t *set, int n, int cap)
-{
-    double best = INFINITY;
-    size_t first = 0;
-    for (size_t i = 0; i < r->ntris; i++) {
-        double z;
-        if (hit(r, &r->tris[i], x, y, &z) && z < best) best = z, first = i;
+    double f[5], fx[5], fy[5], zx, zy;
+    if (!bounds_at(r, t, x, y, f, z) || !bounds_at(r, t, x + h, y, fx, &zx) || !bounds_at(r, t, x, y + h, fy, &zy))
+        return MISS;
+    if (!isfinite(*z) || !isfinite(zx) || !isfinite(zy)) return MISS;
+    *gz = hypot(zx - *z, zy - *z) / h;
+    int solid = 1;
+    for (int k = 0; k < 5; k++) {
+        /* Distance to the bound's zero line, to first order. */
+        double g = hypot(fx[k] - f[k], fy[k] - f[k]) / h;
+        if (f[k] < -e * g) return MISS;
+        if (f[k] < e * g) solid = 0;
     }
-    if (isinf(best)) return n;
-    for (size_t i = 0; i < r->ntris && n < cap; i++) {
-        double z;
-        if (i != first && !(hit(r, &r->tris[i], x, y, &z) && z <= best + DEPTH_TIE)) continue;
-        int dup = 0;
-        for (int k = 0; k < n; k++) dup |= set[k] == i;
-        if (!dup) set[n++] = i;
-    }
-    return n;
+    return solid ? SOLID : EDGE;
 }
 
 /* ------------------------------------------------------------- sampling */
@@ -604,27 +611,29 @@ diff_ref_pixel diff_ref_eval(const diff_ref *r, int x, int y)
 {
     diff_ref_pixel out;
     memset(&out, 0, sizeof out);
-    double cx = x + 0.5, cy = y + 0.5, e = DIFF_REF_EDGE_MARGIN;
-    const double probes[5][2] = {{cx, cy}, {cx - e, cy}, {cx + e, cy}, {cx, cy - e}, {cx, cy + e}};
-    size_t set[32];
-    int n = 0, empty = 0;
-    for (int p = 0; p < 5; p++) {
-        int before = n;
-        double z;
-        int any = 0;
-        for (size_t i = 0; i < r->ntris && !any; i++) any = hit(r, &r->tris[i], probes[p][0], probes[p][1], &z);
-        if (!any) {
-            empty = 1;
-            continue;
-        }
-        n = nearest_tris(r, probes[p][0], probes[p][1], set, n, 32);
-        (void)before;
+    double cx = x + 0.5, cy = y + 0.5;
+    /* The nearest triangle that surely covers the centre hides everything
+     * behind it (beyond the depth tie); every triangle in front of it, or
+     * tied with it, whose edge or clip line passes within the margin may
+     * own the pixel; with no such triangle, the background may. */
+    double front = INFINITY, front_gz = 0.0;
+    for (size_t i = 0; i < r->ntris; i++) {
+        double z, gz;
+        if (hit(r, &r->tris[i], cx, cy, &z, &gz) == SOLID && z < front) front = z, front_gz = gz;
     }
     interval iv;
     iv_empty(&iv);
-    for (int k = 0; k < n; k++) tri_interval(r, &r->tris[set[k]], cx, cy, &iv);
-    out.covered = n > 0;
-    out.background_ok = empty;
+    for (size_t i = 0; i < r->ntris; i++) {
+        double z, gz;
+        if (hit(r, &r->tris[i], cx, cy, &z, &gz) == MISS) continue;
+        /* Where two surfaces cross, the line where they swap moves with
+         * snapping like an edge: the tie widens by the margin times both
+         * depth slopes. */
+        if (z > front + DEPTH_TIE + DIFF_REF_EDGE_MARGIN * (gz + front_gz)) continue;
+        tri_interval(r, &r->tris[i], cx, cy, &iv);
+        out.covered = 1;
+    }
+    out.background_ok = isinf(front);
     for (int c = 0; c < 3; c++) out.lo[c] = iv.lo[c], out.hi[c] = iv.hi[c];
     return out;
 }

@@ -9,6 +9,8 @@
  *   persp_difftest [--seeds A:B] [--fail-dir DIR] [--verbose]
  *       random scenes of seeds A..B-1; a scene out of bounds is written to
  *       DIR/seed-N/ (scene.json, textures, persp.png, peer.png, diff.png)
+ *   persp_difftest --seeds A:B --generate DIR
+ *       only writes the scenes of seeds A..B-1 to DIR/seed-N/
  *   persp_difftest --replay DIR...
  *       the scenes of those folders (written by --fail-dir, or
  *       tests/diff/regress/NAME/)
@@ -279,8 +281,17 @@ static int remove_tree(const char *dir)
     return rmdir(dir);
 }
 
+/* mkdir -p: every missing folder of the path. */
 static int make_dir(const char *dir)
 {
+    char part[4096];
+    snprintf(part, sizeof part, "%s", dir);
+    for (char *p = part + 1; *p; p++) {
+        if (*p != '/') continue;
+        *p = 0;
+        if (mkdir(part, 0777) != 0 && errno != EEXIST) break;
+        *p = '/';
+    }
     if (mkdir(dir, 0777) == 0 || errno == EEXIST) return 0;
     fprintf(stderr, "persp_difftest: cannot create %s: %s\n", dir, strerror(errno));
     return -1;
@@ -293,6 +304,9 @@ typedef struct arbiter_result {
     int first_x, first_y; /* first pixel persp is off at, -1 if none */
     uint8_t first_persp[4], first_peer[4];
     diff_ref_pixel first_ref;
+    int peer_x, peer_y; /* first pixel the peer is off at */
+    uint8_t peer_persp[4], peer_peer[4];
+    diff_ref_pixel peer_ref;
 } arbiter_result;
 
 /* Whether value (RGBA8, alpha 0 = not covered) is one GL allows at the
@@ -337,7 +351,14 @@ static arbiter_result arbitrate(const diff_ref *ref, const persp_image *mine, co
                 }
                 a.persp_off++;
             }
-            if (!allowed(&p, pb, rtol, clear)) a.peer_off++;
+            if (!allowed(&p, pb, rtol, clear)) {
+                if (!a.peer_off) {
+                    a.peer_x = x, a.peer_y = y, a.peer_ref = p;
+                    memcpy(a.peer_persp, pa, 4);
+                    memcpy(a.peer_peer, pb, 4);
+                }
+                a.peer_off++;
+            }
         }
     return a;
 }
@@ -362,6 +383,16 @@ static int filter_index(persp_filter f)
     for (int i = 0; i < DIFF_FILTER_COUNT; i++)
         if (diff_filters[i] == f) return i;
     return -1;
+}
+
+static void print_pixel(const char *who, int x, int y, const uint8_t *mine, const uint8_t *peer,
+                        const diff_ref_pixel *p)
+{
+    printf("  first pixel %s is off at: (%d, %d) from the bottom left: persp %d %d %d a=%d, peer %d %d %d a=%d; "
+           "GL allows %s[%.2f, %.2f] [%.2f, %.2f] [%.2f, %.2f]%s\n",
+           who, x, y, mine[0], mine[1], mine[2], mine[3], peer[0], peer[1], peer[2], peer[3],
+           p->covered ? "" : "(no triangle) ", p->lo[0], p->hi[0], p->lo[1], p->hi[1], p->lo[2], p->hi[2],
+           p->background_ok ? " or background" : "");
 }
 
 /* Loads DIR/scene.json, draws it both ways and compares; writes persp.png,
@@ -407,14 +438,8 @@ static int run_case(persp_context *ctx, const char *dir, const char *label, cons
     int ok = within(&r, b);
     if (count) add_summary(filter_index(c.filter), c.seed, &r, ok);
     report(label, c.filter, c.depth, &r, b, ok);
-    if (a.persp_off)
-        printf("  at (%d, %d): persp %d %d %d a=%d, peer %d %d %d a=%d; GL allows %s[%.2f, %.2f] [%.2f, %.2f] "
-               "[%.2f, %.2f]%s\n",
-               a.first_x, a.first_y, a.first_persp[0], a.first_persp[1], a.first_persp[2], a.first_persp[3],
-               a.first_peer[0], a.first_peer[1], a.first_peer[2], a.first_peer[3],
-               a.first_ref.covered ? "" : "(no triangle) ", a.first_ref.lo[0], a.first_ref.hi[0],
-               a.first_ref.lo[1], a.first_ref.hi[1], a.first_ref.lo[2], a.first_ref.hi[2],
-               a.first_ref.background_ok ? " or background" : "");
+    if (a.persp_off) print_pixel("persp", a.first_x, a.first_y, a.first_persp, a.first_peer, &a.first_ref);
+    if (a.peer_off && verbose) print_pixel("peer", a.peer_x, a.peer_y, a.peer_persp, a.peer_peer, &a.peer_ref);
     if (!ok && keep_dir) {
         snprintf(path, sizeof path, "%s/persp.png", keep_dir);
         write_rgba(ctx, path, fr.mine.pixels, c.width, c.height);
@@ -468,6 +493,20 @@ static int run_seeds(persp_context *ctx, uint64_t first, uint64_t end, const cha
     print_summary();
     printf("%llu scenes, %d out of bounds, %d errors\n", (unsigned long long)(end - first), failed, errors);
     return errors ? 2 : failed ? 1 : 0;
+}
+
+static int run_generate(persp_context *ctx, uint64_t first, uint64_t end, const char *out)
+{
+    if (make_dir(out)) return 2;
+    for (uint64_t seed = first; seed < end; seed++) {
+        char dir[4096], err[512];
+        snprintf(dir, sizeof dir, "%s/seed-%llu", out, (unsigned long long)seed);
+        if (make_dir(dir) || diff_generate(ctx, seed, dir, NULL, err, sizeof err)) {
+            fprintf(stderr, "persp_difftest: seed %llu: %s\n", (unsigned long long)seed, err);
+            return 2;
+        }
+    }
+    return 0;
 }
 
 static int run_replay(persp_context *ctx, int n, char **dirs)
@@ -568,6 +607,7 @@ static int run_golden(persp_context *ctx, const char *data_dir)
 static int usage(void)
 {
     fprintf(stderr, "usage: persp_difftest [--seeds A:B] [--fail-dir DIR] [--verbose]\n"
+                    "       persp_difftest --seeds A:B --generate DIR\n"
                     "       persp_difftest --replay DIR...\n"
                     "       persp_difftest --golden DATA_DIR\n");
     return 2;
@@ -578,7 +618,7 @@ int main(int argc, char **argv)
     /* Mesa reads the driver's name once, when the first context is made. */
     setenv("GALLIUM_DRIVER", "llvmpipe", 1);
     unsigned long long first = 1, end = 101;
-    const char *fail_dir = NULL, *golden = NULL;
+    const char *fail_dir = NULL, *golden = NULL, *generate = NULL;
     int replay_at = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--seeds") && i + 1 < argc) {
@@ -589,6 +629,8 @@ int main(int argc, char **argv)
             }
         } else if (!strcmp(argv[i], "--fail-dir") && i + 1 < argc) {
             fail_dir = argv[++i];
+        } else if (!strcmp(argv[i], "--generate") && i + 1 < argc) {
+            generate = argv[++i];
         } else if (!strcmp(argv[i], "--golden") && i + 1 < argc) {
             golden = argv[++i];
         } else if (!strcmp(argv[i], "--verbose")) {
@@ -606,7 +648,9 @@ int main(int argc, char **argv)
         return 2;
     }
     int rc;
-    if (golden)
+    if (generate)
+        rc = run_generate(ctx, first, end, generate);
+    else if (golden)
         rc = run_golden(ctx, golden);
     else if (replay_at)
         rc = run_replay(ctx, argc - replay_at, argv + replay_at);
