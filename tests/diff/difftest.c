@@ -171,8 +171,12 @@ static void add_summary(int fi, uint64_t seed, const diff_result *r, int ok)
     s->checked += r->checked, s->persp_off += r->persp_off, s->peer_off += r->peer_off;
 }
 
+/* The peer's GL_RENDERER and GL_VERSION, for the summary. */
+static char peer_name[256];
+
 static void print_summary(void)
 {
+    printf("peer: %s\n", peer_name[0] ? peer_name : "(not run)");
     printf("%-20s %6s %6s %20s %24s %24s %6s %8s %6s %6s\n", "filter", "scenes", "failed", "worst PSNR dB (seed)",
            "worst differing % (seed)", "worst coverage % (seed)", "max|d|", "checked", "persp!", "peer!");
     for (int i = 0; i < DIFF_FILTER_COUNT; i++) {
@@ -246,6 +250,8 @@ static int render_both(persp_context *ctx, const persp_scene *scene, int w, int 
         return -1;
     }
     bench_peer_render(p, 1);
+    if (!peer_name[0])
+        snprintf(peer_name, sizeof peer_name, "%s, OpenGL %s", bench_peer_renderer(p), bench_peer_version(p));
     out->peer = malloc((size_t)w * (size_t)h * 4);
     if (out->peer) memcpy(out->peer, bench_peer_pixels(p), (size_t)w * (size_t)h * 4);
     bench_peer_destroy(p);
@@ -598,7 +604,7 @@ static int run_golden(persp_context *ctx, const char *data_dir)
         frames_free(ctx, &fr);
         persp_image_free(ctx, &golden);
     }
-    printf("%zu golden images, %d out of bounds\n", sizeof goldens / sizeof goldens[0], failed);
+    printf("peer: %s\n%zu golden images, %d out of bounds\n", peer_name, sizeof goldens / sizeof goldens[0], failed);
     return failed ? 1 : 0;
 }
 
