@@ -42,8 +42,8 @@
  * llvmpipe is a conforming OpenGL implementation, not an exact one: it
  * takes derivatives by differences across 2×2 pixel quads and approximates
  * rho, both within the latitude of GL 4.6 §8.14.1, so on mip-mapped scenes
- * a few per cent of its pixels lie a level or a blend weight away from the
- * ideal value (the "peer off" column), and bounds on the share of pixels
+ * many of its pixels (up to 45 % of those checked) lie a level or a blend
+ * weight away from the ideal value (the "peer off" column), and bounds on the share of pixels
  * that differ or on the PSNR between the two images would measure
  * llvmpipe's approximations as much as persp's errors. Instead every pixel
  * where the two disagree (and every 16th where they agree) is judged by
@@ -102,7 +102,7 @@ typedef struct diff_result {
 /* a and b: RGBA8, w*h, the same row order. A pixel is covered where its
  * alpha is not the clear colour's 0 (diffgen.c gives every texel alpha 1).
  * With cover_by_alpha 0 every pixel counts as covered by both (golden
- * images, whose scenes clear to an opaque colour and fill the image). */
+ * images, whose scenes clear to an opaque colour). */
 static diff_result compare(const uint8_t *a, size_t a_stride, const uint8_t *b, size_t b_stride, int w, int h,
                            int cover_by_alpha, int tol, uint8_t *diff_rgba)
 {
