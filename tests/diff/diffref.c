@@ -24,7 +24,7 @@
  *     1/512 · √2 pixel, and float clipping moves a clipped vertex by far
  *     less, so a pixel centre within DIFF_REF_EDGE_MARGIN (1/100 pixel,
  *     3.5 times that) of an edge or clip line of a triangle may go either
- *     way; so may depths closer than DEPTH_TIE, 2^-20 of the window depth
+ *     way; so may depths closer than DEPTH_TIE, 2^-21 of the window depth
  *     range (the peer's buffer has 24 bits, and both interpolate depth in
  *     float). The nearest triangle that surely covers the centre hides the
  *     rest; every triangle in front of it or tied with it that reaches
@@ -46,7 +46,7 @@
 #include <string.h>
 
 #define MAX_CELLS 8
-#define DEPTH_TIE 1e-6 /* of z_ndc in [-1, 1]: 2^-20 of the window depth range */
+#define DEPTH_TIE 1e-6 /* of z_ndc in [-1, 1]: about 2^-21 of the window depth range */
 
 typedef struct ref_tri {
     double c[3][4];   /* clip coordinates */
