@@ -7,6 +7,8 @@
 #   make bench           the workload table of docs/PERFORMANCE.md against llvmpipe
 #                        (scripts/bench.sh; not part of the test suite)
 #   make fuzz            libFuzzer harnesses with clang (not part of the test suite)
+#   make difftest        persp against Mesa llvmpipe on 2000 random scenes (SEEDS=A:B),
+#                        a summary per filter; failing scenes kept in out/difftest/
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 # Keep the build's output to its progress lines.
 MAKEFLAGS += --no-print-directory
@@ -20,7 +22,7 @@ else
 BUILD ?= build
 endif
 
-.PHONY: all deps build demo test bench fuzz clean format
+.PHONY: all deps build demo test bench fuzz difftest clean format
 
 all: build
 
@@ -45,6 +47,12 @@ endif
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)/persp out/bench
+
+SEEDS ?= 1:2001
+difftest: build
+	@test -x $(BUILD)/persp_difftest || { echo "difftest: persp_difftest was not built (needs OSMesa, libosmesa6-dev: bash scripts/deps.sh)"; exit 1; }
+	@echo "+ $(BUILD)/persp_difftest --seeds $(SEEDS) --fail-dir out/difftest"
+	@$(BUILD)/persp_difftest --seeds $(SEEDS) --fail-dir out/difftest
 
 fuzz:
 	@bash scripts/deps.sh --optional
