@@ -24,6 +24,9 @@ struct persp_context {
     /* Set-up triangles the renderer holds before drawing a batch; 0: its
      * default. Changed only by tests, to compare batch sizes. */
     size_t frame_batch;
+    /* Samples and rows the object-space pipeline may walk in one frame; 0:
+     * its default. Changed only by tests, to reach the limit cheaply. */
+    double objspace_max_work;
     persp_warning_fn warn;
     void *warn_user;
     /* Memory budget (persp_context_desc.max_memory, 0: none): bytes held

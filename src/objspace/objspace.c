@@ -482,12 +482,13 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
      * any sample is walked rather than running for minutes. */
     double work = 0.0;
     for (size_t k = 0; k < n; k++) work += pcs[k].work;
-    if (work > OS_MAX_WORK) {
+    const double limit = ctx->objspace_max_work > 0.0 ? ctx->objspace_max_work : OS_MAX_WORK;
+    if (work > limit) {
         persp__free(ctx, pcs);
         return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
                            "object-space pipeline: about %.3g samples and rows to walk, over its "
                            "limit of %.3g (use the screen pipeline, or a smaller texture or image)",
-                           work, OS_MAX_WORK);
+                           work, limit);
     }
     *work_out = work;
     *out = pcs;
