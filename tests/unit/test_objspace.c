@@ -262,6 +262,7 @@ static void test_small_image_work_bounded(void **state)
                   (unsigned long long)r.stats.objspace_holes);
     assert_int_equal(r.stats.objspace_holes, 0);
     assert_true(r.stats.objspace_samples > 0);
+    assert_true(r.stats.objspace_samples <= 64u * 48u * 100u);
     assert_true(r.stats.objspace_visited <= 64u * 48u * 400u);
     free(r.color);
 }
