@@ -24,12 +24,11 @@
  *   matching *_destroy / *_free, which accept NULL; views (persp_image_view) point into an
  *   object and live as long as it. Every buffer persp returns or keeps
  *   comes from the context's allocator. The file-format libraries it calls
- *   allocate their transient working memory while a load or write runs:
- *   libpng through the context's allocator (its allocation hooks); libjpeg,
- *   jansson and the model importer with malloc, since their APIs take no
- *   per-call allocator, but within the memory budget
- *   (persp_context_desc.max_memory), which persp checks against their
- *   measured needs before they start (docs/RELIABILITY.md).
+ *   (libpng's simplified API, libjpeg, jansson, the model importer)
+ *   allocate their transient working memory with malloc while a load or
+ *   write runs, since their APIs take no per-call allocator; with a memory
+ *   budget (persp_context_desc.max_memory) persp reserves their bounded or
+ *   measured need from it before they start (docs/RELIABILITY.md).
  * - Threads: a persp_context is used by one thread at a time (it holds the
  *   last error, the worker pool and the per-frame buffers); to render from
  *   several threads at once, give each its own context. Textures and scenes
