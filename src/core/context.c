@@ -187,6 +187,7 @@ void *persp__alloc(persp_context *ctx, size_t size)
 {
     if (!ctx || size == 0 || size > (size_t)-1 - PERSP_BLOCK_HEADER) return NULL;
     size_t total = size + PERSP_BLOCK_HEADER;
+    ctx->mem_refused = 0; /* the detail speaks of the latest request only */
     if (!budget_fits(ctx, total)) {
         ctx->mem_refused = total;
         return NULL;
