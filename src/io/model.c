@@ -883,11 +883,13 @@ void persp__model_free(persp_context *ctx, persp_model *model)
     memset(model, 0, sizeof *model);
 }
 
-persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
-                                      const char *name, const char *base_dir, persp_texcache *cache,
-                                      size_t max_vertices, persp_model *out)
+/* persp__model_load_memory on buf, size + 1 bytes from the context's
+ * allocator with buf[size] = '\0', which it modifies and frees: a file's
+ * text is then held once, not read and copied (docs/RELIABILITY.md). */
+static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const char *name,
+                               const char *base_dir, persp_texcache *cache, size_t max_vertices,
+                               persp_model *out)
 {
-    if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp_context *ctx = scene->ctx;
     memset(out, 0, sizeof *out);
     const char *display = name ? name : "<model>";
@@ -895,10 +897,6 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
      * a name without a usable one still gets the content sniffed. */
     const char *main_name = persp__path_base(display);
     if (!main_name[0]) main_name = "model";
-    char *buf = persp__alloc(ctx, size + 1);
-    if (!buf) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
-    if (size) memcpy(buf, data, size);
-    buf[size] = '\0';
     if (is_line_text(main_name) || has_ext(main_name, "gltf"))
         size = normalise_text(buf, size, is_line_text(main_name));
 
@@ -1007,6 +1005,21 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     return st;
 }
 
+persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
+                                      const char *name, const char *base_dir, persp_texcache *cache,
+                                      size_t max_vertices, persp_model *out)
+{
+    if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    char *buf = persp__alloc(scene->ctx, size + 1);
+    if (!buf)
+        return persp__fail(scene->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
+                           name ? name : "<model>");
+    if (size) memcpy(buf, data, size);
+    buf[size] = '\0';
+    return load_owned(scene, buf, size, name, base_dir, cache, max_vertices, out);
+}
+
 persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_texcache *cache,
                                     size_t max_vertices, persp_model *out)
 {
@@ -1018,10 +1031,7 @@ persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_
     if (st != PERSP_OK) return st;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
-    st = persp__model_load_memory(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices,
-                                  out);
-    persp__free(scene->ctx, data);
-    return st;
+    return load_owned(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices, out);
 }
 
 int persp__model_is_model(const char *path, const char *data, size_t size)
@@ -1049,17 +1059,20 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
     return (persp_vec3){cosf(e) * sinf(a), sinf(e), cosf(e) * cosf(a)};
 }
 
-persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
+persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size,
                                      const char *name, const char *base_dir, persp_scene **out)
 {
     *out = NULL;
     persp_scene *s = NULL;
     persp_status st = persp__scene_new(ctx, &s);
-    if (st != PERSP_OK) return st;
+    if (st != PERSP_OK) {
+        persp__free(ctx, data);
+        return st;
+    }
     persp_texcache cache;
     memset(&cache, 0, sizeof cache);
     persp_model model;
-    st = persp__model_load_memory(s, data, size, name, base_dir, &cache, 0, &model);
+    st = load_owned(s, data, size, name, base_dir, &cache, 0, &model);
     persp__texcache_free(ctx, &cache);
     for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {
         persp_object o;

@@ -60,8 +60,9 @@ void persp__model_free(persp_context *ctx, persp_model *model);
 int persp__model_is_model(const char *path, const char *data, size_t size);
 
 /* A scene showing a model: the default camera and light rig
- * (docs/SCENES.md, "Models without a scene file"). */
-persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
+ * (docs/SCENES.md, "Models without a scene file"). Takes data, a buffer
+ * from persp__read_file (NUL-terminated, size + 1 bytes), and frees it. */
+persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size,
                                      const char *name, const char *base_dir, persp_scene **out);
 
 /* JSON scene from memory. name appears in errors; base_dir resolves the

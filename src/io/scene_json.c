@@ -1095,9 +1095,8 @@ persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene 
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     if (persp__model_is_model(path, data, size))
-        st = persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", out);
-    else
-        st = persp__scene_load_memory(ctx, data, size, path, dir[0] ? dir : "./", 0, out);
+        return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", out);
+    st = persp__scene_load_memory(ctx, data, size, path, dir[0] ? dir : "./", 0, out);
     persp__free(ctx, data);
     return st;
 }
