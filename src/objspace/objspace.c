@@ -33,6 +33,11 @@
  *    level at the same depths. Pieces are also clipped to the viewport.
  *  - The walk extends MARGIN_PX pixels beyond the triangle's screen edges
  *    (the surface continued), so edge pixels get samples on both sides.
+ *  - Bounded work (docs/RELIABILITY.md): the rows walked are those of the
+ *    walk region itself, per piece and per tile; the last slab ends at
+ *    twice the triangle's farthest depth; the top level is walked with a
+ *    stride that keeps the density target; and a frame whose estimated
+ *    walk exceeds OS_MAX_WORK is refused before walking.
  *  - Parallelism: the screen is cut into 64×64 tiles, each resolved by one
  *    task that walks, in a fixed order, the samples of every piece that can
  *    reach its pixels. A sample's membership in a piece is decided by the
@@ -214,8 +219,7 @@ static hplane pull_back(const map3 *M, double ax, double ay, double aw, double c
 
 /* Window position and the two column lengths of the map's Jacobian (pixels
  * per unit step of x and of y) at (x, y). Returns 0 behind the eye. */
-static int map_at(const map3 *M, double x, double y, double win[2], double *sx, double *sy,
-                  double *smin)
+static int map_at(const map3 *M, double x, double y, double win[2], double *sx, double *sy)
 {
     const double (*H)[3] = M->m;
     double w = H[2][0] * x + H[2][1] * y + H[2][2];
@@ -227,12 +231,6 @@ static int map_at(const map3 *M, double x, double y, double win[2], double *sx, 
     double jxy = (H[0][1] - X * H[2][1]) / w, jyy = (H[1][1] - Y * H[2][1]) / w;
     *sx = hypot(jxx, jyx);
     *sy = hypot(jxy, jyy);
-    /* Smallest singular value: |det| / largest. */
-    double s = jxx * jxx + jyx * jyx + jxy * jxy + jyy * jyy;
-    double det = fabs(jxx * jyy - jxy * jyx);
-    double disc = s * s - 4.0 * det * det;
-    double big = sqrt(0.5 * (s + sqrt(disc > 0.0 ? disc : 0.0)));
-    *smin = big > 0.0 ? det / big : 0.0;
     return 1;
 }
 
@@ -348,9 +346,9 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         memcpy(poly, tmp, sizeof(double) * 2 * (size_t)n);
     }
     if (n < 3) return 0;
-    /* Largest and smallest projected level-0 texel steps over the piece. */
+    /* Largest projected level-0 texel step over the piece. */
     double tw = tex->width, th = tex->height;
-    double smax = 0.0, smin = INFINITY, bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+    double smax = 0.0, bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
     double cu = 0.0, cv = 0.0;
     for (int k = 0; k <= n; k++) {
         double u, v;
@@ -360,13 +358,11 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         } else {
             u = cu, v = cv; /* and the centroid */
         }
-        double win[2], su, sv, sm;
-        if (!map_at(&ts->Huv, u, v, win, &su, &sv, &sm)) return 0;
+        double win[2], su, sv;
+        if (!map_at(&ts->Huv, u, v, win, &su, &sv)) return 0;
         su /= tw, sv /= th;
-        sm /= (tw > th ? tw : th);
         double s = su > sv ? su : sv;
         if (s > smax) smax = s;
-        if (sm < smin) smin = sm;
         if (win[0] < bx0) bx0 = win[0];
         if (win[0] > bx1) bx1 = win[0];
         if (win[1] < by0) by0 = win[1];
