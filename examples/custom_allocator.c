@@ -93,7 +93,7 @@ static persp_status render_once(counting_allocator *counter, const char *scene_n
     /* persp_context_create copies the allocator struct; what user points
      * to (the counter) must outlive the context. */
     persp_allocator allocator = {counting_alloc, counting_free, counter};
-    persp_context_desc cdesc = {&allocator, 2};
+    persp_context_desc cdesc = {.allocator = &allocator, .threads = 2};
     persp_context *ctx = NULL;
     persp_scene *scene = NULL;
     persp_image image = {0};

@@ -23,10 +23,12 @@
  *   images from persp_image_alloc/_load) are the caller's to release with the
  *   matching *_destroy / *_free, which accept NULL; views (persp_image_view) point into an
  *   object and live as long as it. Every buffer persp returns or keeps
- *   comes from the context's allocator; the file-format libraries it calls
+ *   comes from the context's allocator. The file-format libraries it calls
  *   (libpng's simplified API, libjpeg, jansson, the model importer)
  *   allocate their transient working memory with malloc while a load or
- *   write runs, since their APIs take no per-call allocator.
+ *   write runs, since their APIs take no per-call allocator; with a memory
+ *   budget (persp_context_desc.max_memory) persp reserves their bounded or
+ *   measured need from it before they start (docs/RELIABILITY.md).
  * - Threads: a persp_context is used by one thread at a time (it holds the
  *   last error, the worker pool and the per-frame buffers); to render from
  *   several threads at once, give each its own context. Textures and scenes
@@ -82,7 +84,8 @@ typedef enum persp_toggle {
 typedef enum persp_status {
     PERSP_OK = 0,
     PERSP_ERR_INVALID_ARGUMENT, /* a parameter is out of range, NULL or NaN */
-    PERSP_ERR_OUT_OF_MEMORY,    /* the allocator returned NULL */
+    PERSP_ERR_OUT_OF_MEMORY,    /* the allocator returned NULL, or the context's memory
+                                   budget (persp_context_desc.max_memory) would be exceeded */
     PERSP_ERR_IO,               /* a file could not be opened, read or written */
     PERSP_ERR_FORMAT,           /* a file's content is malformed */
     PERSP_ERR_TOO_LARGE,        /* a size or count exceeds persp's limits */
@@ -110,6 +113,16 @@ typedef struct persp_context_desc {
     const persp_allocator *allocator; /* NULL: malloc/free; copied, need not outlive the call */
     int threads;                      /* threads drawing each render, the caller's included,
                                          1..256; 0: 1 */
+    /* Memory budget in bytes for everything persp holds at once through this
+     * context: its own allocations (scenes, textures with their mip chains,
+     * images, per-frame buffers) and the working memory of the file-format
+     * libraries while they read (bounded or estimated before they start,
+     * docs/RELIABILITY.md). A request that would exceed it fails before
+     * anything is allocated, with PERSP_ERR_OUT_OF_MEMORY and a detail naming
+     * what and how much. 0: no budget (only the allocator's own limit): a
+     * library cannot know how much of the machine its caller means to give
+     * it, and persp's fixed size limits already bound each input. */
+    size_t max_memory;
 } persp_context_desc;
 
 /* desc may be NULL (all defaults). */
@@ -497,6 +510,9 @@ typedef struct persp_render_stats {
      * positions of the chosen levels), splats onto pixels, polygon pieces
      * (one mip level each), covered pixels that received no sample. */
     uint64_t objspace_samples, objspace_splats, objspace_pieces, objspace_holes;
+    /* The object-space walk's work: sample rows and samples stepped through,
+     * inside the tiles or not (bounded, docs/RELIABILITY.md). */
+    uint64_t objspace_visited;
 } persp_render_stats;
 
 /* Clears fb and renders the scene into it. desc and stats may be NULL. */

@@ -68,7 +68,7 @@ persp_context *test_context(void) { return test_context_threads(1); }
 persp_context *test_context_threads(int threads)
 {
     persp_context *ctx = NULL;
-    persp_context_desc cd = {NULL, threads};
+    persp_context_desc cd = {.threads = threads};
     assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
     assert_non_null(ctx);
     return ctx;

@@ -43,6 +43,7 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
     *out = NULL;
     persp_allocator al = {default_alloc, default_free, NULL};
     int threads = 1;
+    size_t max_memory = 0;
     if (desc) {
         if (desc->allocator) {
             if (!desc->allocator->alloc || !desc->allocator->free) return PERSP_ERR_INVALID_ARGUMENT;
@@ -50,12 +51,17 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
         }
         if (desc->threads < 0 || desc->threads > 256) return PERSP_ERR_INVALID_ARGUMENT;
         if (desc->threads > 1) threads = desc->threads;
+        max_memory = desc->max_memory;
     }
+    if (max_memory && max_memory < sizeof(persp_context))
+        return PERSP_ERR_OUT_OF_MEMORY; /* not even the context fits */
     persp_context *ctx = al.alloc(al.user, sizeof *ctx);
     if (!ctx) return PERSP_ERR_OUT_OF_MEMORY;
     memset(ctx, 0, sizeof *ctx);
     ctx->allocator = al;
     ctx->threads = threads;
+    ctx->max_memory = max_memory;
+    ctx->mem_used = ctx->mem_peak = sizeof *ctx;
     *out = ctx;
     return PERSP_OK;
 }
@@ -73,7 +79,66 @@ const char *persp_context_error(const persp_context *ctx) { return ctx ? ctx->er
 
 void persp__clear_error(persp_context *ctx)
 {
-    if (ctx) ctx->error[0] = '\0';
+    if (!ctx) return;
+    ctx->error[0] = '\0';
+    ctx->mem_refused = 0;
+}
+
+/* Sizes in messages: bytes below 10 KiB, else KiB, MiB or GiB with one
+ * decimal. */
+static void format_bytes(char *buf, size_t n, size_t bytes)
+{
+    static const char *unit[] = {"KiB", "MiB", "GiB", "TiB"};
+    if (bytes < 10240) {
+        snprintf(buf, n, "%zu bytes", bytes);
+        return;
+    }
+    double v = (double)bytes / 1024.0;
+    int u = 0;
+    while (v >= 1024.0 && u < 3) v /= 1024.0, u++;
+    snprintf(buf, n, "%.1f %s", v, unit[u]);
+}
+
+/* The budget's part of a detail: "needs X, over the memory budget of Y (Z
+ * already in use)". */
+static void budget_detail(const persp_context *ctx, size_t bytes, char *buf, size_t n)
+{
+    char need[32], max[32], used[32];
+    format_bytes(need, sizeof need, bytes);
+    format_bytes(max, sizeof max, ctx->max_memory);
+    format_bytes(used, sizeof used, ctx->mem_used);
+    snprintf(buf, n, "needs %s, over the memory budget of %s (%s already in use)", need, max, used);
+}
+
+static int budget_fits(const persp_context *ctx, size_t bytes)
+{
+    return !ctx->max_memory ||
+           (ctx->mem_used <= ctx->max_memory && bytes <= ctx->max_memory - ctx->mem_used);
+}
+
+size_t persp__mem_available(const persp_context *ctx)
+{
+    if (!ctx || !ctx->max_memory) return (size_t)-1;
+    return ctx->mem_used < ctx->max_memory ? ctx->max_memory - ctx->mem_used : 0;
+}
+
+persp_status persp__mem_reserve(persp_context *ctx, size_t bytes, const char *what)
+{
+    if (!ctx) return PERSP_OK;
+    if (!budget_fits(ctx, bytes)) {
+        char detail[160];
+        budget_detail(ctx, bytes, detail, sizeof detail);
+        ctx->mem_refused = 0; /* this detail already names the budget */
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: %s", what ? what : "memory", detail);
+    }
+    ctx->mem_used += bytes;
+    if (ctx->mem_used > ctx->mem_peak) ctx->mem_peak = ctx->mem_used;
+    return PERSP_OK;
+}
+
+void persp__mem_release(persp_context *ctx, size_t bytes)
+{
+    if (ctx) ctx->mem_used = bytes < ctx->mem_used ? ctx->mem_used - bytes : 0;
 }
 
 void persp_context_set_warning_handler(persp_context *ctx, persp_warning_fn fn, void *user)
@@ -111,19 +176,45 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
         va_start(ap, fmt);
         vsnprintf(ctx->error, sizeof ctx->error, fmt, ap);
         va_end(ap);
+        /* An allocation the budget refused: say so, whatever the caller
+         * knew about it. */
+        if (status == PERSP_ERR_OUT_OF_MEMORY && ctx->mem_refused) {
+            char detail[160];
+            budget_detail(ctx, ctx->mem_refused, detail, sizeof detail);
+            size_t len = strlen(ctx->error);
+            snprintf(ctx->error + len, sizeof ctx->error - len, " (%s)", detail);
+            ctx->mem_refused = 0;
+        }
     }
     return status;
 }
 
+
 void *persp__alloc(persp_context *ctx, size_t size)
 {
-    if (!ctx || size == 0) return NULL;
-    return ctx->allocator.alloc(ctx->allocator.user, size);
+    if (!ctx || size == 0 || size > (size_t)-1 - PERSP_BLOCK_HEADER) return NULL;
+    size_t total = size + PERSP_BLOCK_HEADER;
+    ctx->mem_refused = 0; /* the detail speaks of the latest request only */
+    if (!budget_fits(ctx, total)) {
+        ctx->mem_refused = total;
+        return NULL;
+    }
+    unsigned char *p = ctx->allocator.alloc(ctx->allocator.user, total);
+    if (!p) return NULL;
+    memcpy(p, &total, sizeof total);
+    ctx->mem_used += total;
+    if (ctx->mem_used > ctx->mem_peak) ctx->mem_peak = ctx->mem_used;
+    return p + PERSP_BLOCK_HEADER;
 }
 
 void persp__free(persp_context *ctx, void *ptr)
 {
-    if (ctx && ptr) ctx->allocator.free(ctx->allocator.user, ptr);
+    if (!ctx || !ptr) return;
+    unsigned char *p = (unsigned char *)ptr - PERSP_BLOCK_HEADER;
+    size_t total;
+    memcpy(&total, p, sizeof total);
+    persp__mem_release(ctx, total);
+    ctx->allocator.free(ctx->allocator.user, p);
 }
 
 void *persp__calloc(persp_context *ctx, size_t n, size_t size)

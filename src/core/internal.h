@@ -27,10 +27,18 @@ struct persp_context {
     /* Nonzero: small triangles are drawn row by row as spans, not packed
      * into lanes. Changed only by tests, to compare the two paths. */
     int span_only;
+    /* Samples and rows the object-space pipeline may walk in one frame; 0:
+     * its default. Changed only by tests, to reach the limit cheaply. */
+    double objspace_max_work;
     persp_warning_fn warn;
     void *warn_user;
     persp_temp_file_fn temp_fn;
     void *temp_user;
+    /* Memory budget (persp_context_desc.max_memory, 0: none): bytes held
+     * through persp__alloc plus those reserved for a library's working
+     * memory, the most held at once, and the request last refused (0:
+     * none since the current public call began). */
+    size_t max_memory, mem_used, mem_peak, mem_refused;
 };
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
@@ -54,9 +62,28 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
-/* The context's allocator; persp__free(ctx, NULL) is a no-op. */
+/* The context's allocator, within its memory budget: a request that would
+ * exceed the budget returns NULL without calling the allocator, and a
+ * following persp__fail with PERSP_ERR_OUT_OF_MEMORY names the budget in
+ * its detail. persp__free(ctx, NULL) is a no-op. */
 void *persp__alloc(persp_context *ctx, size_t size);
 void persp__free(persp_context *ctx, void *ptr);
+
+/* persp__alloc asks the allocator for this many bytes more than requested:
+ * each block carries its size in front of it, so that persp__free can
+ * return it to the budget; 16 bytes keep the allocator's 16-byte alignment
+ * (persp_allocator) for the caller's part. */
+#define PERSP_BLOCK_HEADER 16
+
+/* Reserves bytes of the budget for memory a library allocates on its own
+ * (a decoder's or parser's working memory, measured or bounded before it
+ * starts); what names it in the detail of the PERSP_ERR_OUT_OF_MEMORY
+ * returned when it does not fit. Release the same amount once the library
+ * has freed it. Without a budget both only count. */
+persp_status persp__mem_reserve(persp_context *ctx, size_t bytes, const char *what);
+void persp__mem_release(persp_context *ctx, size_t bytes);
+/* Bytes of the budget still free (SIZE_MAX without a budget). */
+size_t persp__mem_available(const persp_context *ctx);
 
 /* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
 void *persp__calloc(persp_context *ctx, size_t n, size_t size);

@@ -12,6 +12,7 @@
 #include "io/text.h"
 
 #include <errno.h>
+#include <limits.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -172,8 +173,22 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
      * as their 8-bit originals (image editors write them that way), so they
      * are read as sRGB; a gAMA chunk still says otherwise. */
     pi.flags |= PNG_IMAGE_FLAG_16BIT_sRGB;
+    /* libpng's simplified API allocates with malloc and takes no hooks; what
+     * it holds while reading is its state, zlib's inflate window and a few
+     * rows (libpng 1.6 pngrutil.c png_read_start_row: the row and previous
+     * row, and one more for the simplified API's conversions), at most 8
+     * bytes per pixel of the widest format, reserved before it starts. */
+    size_t work = 4u * (8u * (size_t)pi.width + 64u) + (size_t)256 * 1024;
+    char what[PERSP_ERRMSG_BYTES / 2];
+    snprintf(what, sizeof what, "%s: decoding the %ux%u PNG", display_name(name),
+             (unsigned)pi.width, (unsigned)pi.height);
+    if ((st = persp__mem_reserve(ctx, work, what)) != PERSP_OK) {
+        png_image_free(&pi);
+        return st;
+    }
     st = persp_image_alloc(ctx, (int)pi.width, (int)pi.height, out);
     if (st != PERSP_OK) {
+        persp__mem_release(ctx, work);
         png_image_free(&pi);
         return st;
     }
@@ -189,10 +204,12 @@ static persp_status load_png(persp_context *ctx, const void *data, size_t size, 
     if (!png_image_finish_read(&pi, NULL, out->pixels, stride, NULL)) {
         st = png_failure(ctx, name, "corrupt or truncated PNG", pi.message);
         png_image_free(&pi);
+        persp__mem_release(ctx, work);
         persp_image_free(ctx, out);
         return st;
     }
     png_image_free(&pi);
+    persp__mem_release(ctx, work);
     return PERSP_OK;
 }
 
@@ -230,6 +247,7 @@ static void jpeg_output_message(j_common_ptr cinfo)
 typedef struct jpeg_job {
     struct jpeg_decompress_struct cinfo;
     jpeg_err err;
+    size_t reserved; /* of the memory budget, for libjpeg's working memory */
     persp_image img;
 } jpeg_job;
 
@@ -364,6 +382,37 @@ static persp_status decode_jpeg(persp_context *ctx, const unsigned char *data, s
     const int cmyk =
         job->cinfo.jpeg_color_space == JCS_CMYK || job->cinfo.jpeg_color_space == JCS_YCCK;
     job->cinfo.out_color_space = cmyk ? JCS_CMYK : JCS_EXT_RGBA;
+    /* libjpeg allocates its working memory itself (no per-call allocator):
+     * a progressive or multi-scan file keeps every DCT coefficient of the
+     * image (64 × 2 bytes per block of each component, libjpeg's
+     * jdcoefct.c), a baseline file one row of blocks per component, plus
+     * sample and colour-conversion rows. That is reserved from the budget
+     * before jpeg_start_decompress asks for it, with the image itself (4
+     * bytes per pixel), and libjpeg's own limit (max_memory_to_use, which
+     * without a backing store makes it fail rather than exceed it) is set to
+     * the rest as a backstop. */
+    size_t blocks = 0, widest = 0;
+    for (int c = 0; c < job->cinfo.num_components; c++) {
+        const jpeg_component_info *ci = &job->cinfo.comp_info[c];
+        size_t row = (size_t)ci->width_in_blocks * (size_t)(ci->v_samp_factor > 0 ? ci->v_samp_factor : 1);
+        blocks += jpeg_has_multiple_scans(&job->cinfo)
+                      ? (size_t)ci->width_in_blocks * (size_t)ci->height_in_blocks
+                      : row;
+        widest += row;
+    }
+    size_t work = blocks * 128u + widest * 64u * 4u + (size_t)job->cinfo.image_width * 4u * 16u +
+                  (size_t)256 * 1024;
+    size_t pixels = (size_t)job->cinfo.image_width * (size_t)job->cinfo.image_height * 4u;
+    char what[PERSP_ERRMSG_BYTES / 2];
+    snprintf(what, sizeof what, "%s: decoding the %ux%u JPEG", display_name(name),
+             (unsigned)job->cinfo.image_width, (unsigned)job->cinfo.image_height);
+    if ((st = persp__mem_reserve(ctx, work + pixels, what)) != PERSP_OK) return st;
+    persp__mem_release(ctx, pixels); /* the image is counted when it is allocated */
+    job->reserved = work;
+    if (ctx->max_memory) {
+        size_t left = persp__mem_available(ctx) + work;
+        job->cinfo.mem->max_memory_to_use = left > (size_t)LONG_MAX ? LONG_MAX : (long)left;
+    }
     jpeg_start_decompress(&job->cinfo);
     if (job->cinfo.output_components != 4)
         return persp__fail(ctx, PERSP_ERR_UNSUPPORTED, "%s: unsupported JPEG colour layout",
@@ -400,6 +449,7 @@ static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size,
     job->err.pub.output_message = jpeg_output_message;
     persp_status st = decode_jpeg(ctx, data, size, name, job);
     jpeg_destroy_decompress(&job->cinfo);
+    persp__mem_release(ctx, job->reserved);
     if (st == PERSP_OK) {
         *out = job->img;
     } else {

@@ -88,6 +88,10 @@ static size_t normalise_text(char *buf, size_t size, int lines)
  * their arrays by the header before reading the data, so a few bytes could
  * ask for gigabytes. Every element takes at least one byte of the file, and
  * vertices are held to persp's own limit, before Assimp sees the file. */
+/* Bytes of Assimp's working memory reserved per byte of a model file (see
+ * persp__model_load_memory). */
+#define MODEL_IMPORT_PER_BYTE 6u
+
 static persp_status check_count(persp_context *ctx, const char *display, const char *what,
                                 unsigned long long n, size_t room, unsigned long long limit)
 {
@@ -538,6 +542,87 @@ static unsigned material_uv(const struct aiMaterial *mat)
     return 0;
 }
 
+/* Vertex i of an Assimp mesh as persp stores it; 0 if its position is
+ * not finite. */
+static int convert_vertex(const struct aiMesh *am, unsigned i, const struct aiVector3D *tc,
+                          const struct aiColor4D *col, persp_vertex *v)
+{
+    memset(v, 0, sizeof *v);
+    const struct aiVector3D *p = &am->mVertices[i];
+    if (!finite3(p->x, p->y, p->z)) return 0;
+    v->pos[0] = p->x, v->pos[1] = p->y, v->pos[2] = p->z;
+    if (am->mNormals && finite3(am->mNormals[i].x, am->mNormals[i].y, am->mNormals[i].z)) {
+        v->normal[0] = am->mNormals[i].x, v->normal[1] = am->mNormals[i].y,
+        v->normal[2] = am->mNormals[i].z;
+    }
+    if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v->uv[0] = tc[i].x, v->uv[1] = tc[i].y;
+    if (col) {
+        const float c[4] = {col[i].r, col[i].g, col[i].b, col[i].a};
+        for (int k = 0; k < 3; k++)
+            v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
+        v->color[3] = 1.0f; /* opaque surfaces: no coverage into the image */
+    } else {
+        v->color[0] = v->color[1] = v->color[2] = v->color[3] = 1.0f;
+    }
+    return 1;
+}
+
+static uint64_t vertex_hash(const persp_vertex *v)
+{
+    const unsigned char *b = (const unsigned char *)v;
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (size_t k = 0; k < sizeof *v; k++) h = (h ^ b[k]) * 1099511628211ull;
+    return h;
+}
+
+#define NO_VERTEX UINT32_MAX
+
+/* Identical vertices joined here rather than by Assimp's
+ * aiProcess_JoinIdenticalVertices: on a million-triangle OBJ that step
+ * doubled the importer's peak (311 MB to 608 MB) for 44 bytes of index
+ * tables per corner here. One hash table of the first occurrence of each
+ * distinct vertex (compared byte for byte as persp stores it) gives
+ * remap[i], the distinct vertex of corner vertex i, numbered in order of
+ * first occurrence as Assimp numbers them; *unique is the distinct count. */
+static persp_status join_vertices(importer *im, unsigned index, const struct aiVector3D *tc,
+                                  const struct aiColor4D *col, uint32_t *remap, size_t *unique)
+{
+    const struct aiMesh *am = im->ai->mMeshes[index];
+    const size_t n = am->mNumVertices;
+    size_t cap = 16;
+    while (cap < 2 * n) cap *= 2;
+    uint32_t *table = persp__alloc(im->ctx, cap * sizeof *table);
+    if (!table) return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
+    memset(table, 0xff, cap * sizeof *table);
+    size_t count = 0;
+    for (size_t i = 0; i < n; i++) {
+        persp_vertex v, r;
+        if (!convert_vertex(am, (unsigned)i, tc, col, &v)) {
+            persp__free(im->ctx, table);
+            return persp__fail(im->ctx, PERSP_ERR_FORMAT,
+                               "%s: mesh %u has a vertex position that is not finite", im->display,
+                               index);
+        }
+        size_t slot = (size_t)vertex_hash(&v) & (cap - 1);
+        for (;; slot = (slot + 1) & (cap - 1)) {
+            uint32_t first = table[slot];
+            if (first == NO_VERTEX) {
+                table[slot] = (uint32_t)i;
+                remap[i] = (uint32_t)count++;
+                break;
+            }
+            (void)convert_vertex(am, first, tc, col, &r);
+            if (!memcmp(&r, &v, sizeof v)) {
+                remap[i] = remap[first];
+                break;
+            }
+        }
+    }
+    persp__free(im->ctx, table);
+    *unique = count;
+    return PERSP_OK;
+}
+
 static persp_status convert_mesh(importer *im, unsigned index, int *out)
 {
     const struct aiMesh *am = im->ai->mMeshes[index];
@@ -548,66 +633,60 @@ static persp_status convert_mesh(importer *im, unsigned index, int *out)
         *out = -2;
         return PERSP_OK;
     }
-    if (am->mNumVertices > PERSP_SCENE_MAX_VERTICES || tris > PERSP_SCENE_MAX_INDICES / 3 ||
-        am->mNumVertices > im->max_vertices - im->vertices)
+    if (tris > PERSP_SCENE_MAX_INDICES / 3 || am->mNumVertices > PERSP_SCENE_MAX_INDICES)
         return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE,
                            "%s: more than %zu vertices or %u triangle corners", im->display,
                            im->max_vertices, PERSP_SCENE_MAX_INDICES);
-    im->vertices += am->mNumVertices;
-    persp_mesh mesh;
-    memset(&mesh, 0, sizeof mesh);
-    mesh.vertex_count = am->mNumVertices;
-    mesh.index_count = 3 * tris;
-    mesh.vertices = persp__calloc(im->ctx, mesh.vertex_count, sizeof *mesh.vertices);
-    mesh.indices = persp__calloc(im->ctx, mesh.index_count, sizeof *mesh.indices);
-    if (!mesh.vertices || !mesh.indices) {
-        persp__mesh_free(im->ctx, &mesh);
-        return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
-    }
     unsigned uv = am->mMaterialIndex < im->ai->mNumMaterials
                       ? material_uv(im->ai->mMaterials[am->mMaterialIndex])
                       : 0;
     const struct aiVector3D *tc =
         am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
     const struct aiColor4D *col = am->mColors[0];
-    for (unsigned i = 0; i < am->mNumVertices; i++) {
-        persp_vertex *v = &mesh.vertices[i];
-        const struct aiVector3D *p = &am->mVertices[i];
-        if (!finite3(p->x, p->y, p->z)) {
-            persp__mesh_free(im->ctx, &mesh);
-            return persp__fail(im->ctx, PERSP_ERR_FORMAT,
-                               "%s: mesh %u has a vertex position that is not finite", im->display,
-                               index);
-        }
-        v->pos[0] = p->x, v->pos[1] = p->y, v->pos[2] = p->z;
-        if (am->mNormals && finite3(am->mNormals[i].x, am->mNormals[i].y, am->mNormals[i].z)) {
-            v->normal[0] = am->mNormals[i].x, v->normal[1] = am->mNormals[i].y,
-            v->normal[2] = am->mNormals[i].z;
-        }
-        if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v->uv[0] = tc[i].x, v->uv[1] = tc[i].y;
-        if (col) {
-            const float c[4] = {col[i].r, col[i].g, col[i].b, col[i].a};
-            for (int k = 0; k < 3; k++)
-                v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
-            v->color[3] = 1.0f; /* opaque surfaces: no coverage into the image */
-        } else {
-            v->color[0] = v->color[1] = v->color[2] = v->color[3] = 1.0f;
-        }
+    uint32_t *remap = persp__calloc(im->ctx, am->mNumVertices, sizeof *remap);
+    if (!remap) return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
+    size_t unique = 0;
+    persp_status st = join_vertices(im, index, tc, col, remap, &unique);
+    if (st == PERSP_OK && (unique > PERSP_SCENE_MAX_VERTICES || unique > im->max_vertices - im->vertices))
+        st = persp__fail(im->ctx, PERSP_ERR_TOO_LARGE,
+                         "%s: more than %zu vertices or %u triangle corners", im->display,
+                         im->max_vertices, PERSP_SCENE_MAX_INDICES);
+    if (st != PERSP_OK) {
+        persp__free(im->ctx, remap);
+        return st;
     }
+    im->vertices += unique;
+    persp_mesh mesh;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertex_count = unique;
+    mesh.index_count = 3 * tris;
+    mesh.vertices = persp__calloc(im->ctx, mesh.vertex_count, sizeof *mesh.vertices);
+    mesh.indices = persp__calloc(im->ctx, mesh.index_count, sizeof *mesh.indices);
+    if (!mesh.vertices || !mesh.indices) {
+        persp__free(im->ctx, remap);
+        persp__mesh_free(im->ctx, &mesh);
+        return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
+    }
+    /* Each distinct vertex is stored at its first occurrence. */
+    size_t emitted = 0;
+    for (unsigned i = 0; i < am->mNumVertices; i++)
+        if (remap[i] == emitted) (void)convert_vertex(am, i, tc, col, &mesh.vertices[emitted++]);
     size_t k = 0;
     for (unsigned f = 0; f < am->mNumFaces; f++) {
         const struct aiFace *face = &am->mFaces[f];
         if (face->mNumIndices != 3) continue;
         for (int c = 0; c < 3; c++) {
             if (face->mIndices[c] >= am->mNumVertices) {
+                persp__free(im->ctx, remap);
                 persp__mesh_free(im->ctx, &mesh);
                 return persp__fail(im->ctx, PERSP_ERR_FORMAT,
                                    "%s: mesh %u has a vertex index out of range", im->display,
                                    index);
             }
-            mesh.indices[k++] = face->mIndices[c];
+            mesh.indices[k++] = remap[face->mIndices[c]];
         }
     }
+    persp__free(im->ctx, remap);
     mesh.has_normals = am->mNormals != NULL;
     if (!mesh.has_normals) persp__mesh_compute_normals(&mesh);
     return persp__scene_add_mesh(im->scene, &mesh, out);
@@ -933,11 +1012,13 @@ void persp__model_free(persp_context *ctx, persp_model *model)
     memset(model, 0, sizeof *model);
 }
 
-persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
-                                      const char *name, const char *base_dir, persp_texcache *cache,
-                                      size_t max_vertices, persp_model *out)
+/* persp__model_load_memory on buf, size + 1 bytes from the context's
+ * allocator with buf[size] = '\0', which it modifies and frees: a file's
+ * text is then held once, not read and copied (docs/RELIABILITY.md). */
+static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const char *name,
+                               const char *base_dir, persp_texcache *cache, size_t max_vertices,
+                               persp_model *out)
 {
-    if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp_context *ctx = scene->ctx;
     memset(out, 0, sizeof *out);
     const char *display = name ? name : "<model>";
@@ -945,10 +1026,6 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
      * a name without a usable one still gets the content sniffed. */
     const char *main_name = persp__path_base(display);
     if (!main_name[0]) main_name = "model";
-    char *buf = persp__alloc(ctx, size + 1);
-    if (!buf) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
-    if (size) memcpy(buf, data, size);
-    buf[size] = '\0';
     if (is_line_text(main_name) || has_ext(main_name, "gltf"))
         size = normalise_text(buf, size, is_line_text(main_name));
 
@@ -968,8 +1045,23 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     io.root = scene->load_root;
     struct aiFileIO fio = {file_open, file_close, (aiUserData)(void *)&io};
 
+    /* Assimp allocates with new/malloc and its C API has no allocator hook:
+     * its need is reserved from the budget by the file's size. Importing a
+     * 68.5 MB OBJ grid of a million triangles with these steps peaked at
+     * 311 MB of process memory (docs/RELIABILITY.md), 4.5 bytes per byte of
+     * the file. */
+    size_t import_bytes = size > ((size_t)-1 - (1u << 20)) / MODEL_IMPORT_PER_BYTE
+                              ? (size_t)-1
+                              : size * MODEL_IMPORT_PER_BYTE + ((size_t)1 << 20);
+    char what[PERSP_ERRMSG_BYTES / 2];
+    snprintf(what, sizeof what, "%s: importing the model", display);
+    if (persp__mem_reserve(ctx, import_bytes, what) != PERSP_OK) {
+        persp__free(ctx, buf);
+        return PERSP_ERR_OUT_OF_MEMORY;
+    }
     struct aiPropertyStore *props = aiCreatePropertyStore();
     if (!props) {
+        persp__mem_release(ctx, import_bytes);
         persp__free(ctx, buf);
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
     }
@@ -980,8 +1072,7 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
      * post-processing steps. A scene they would fail on is refused before
      * them: Assimp 5.2 crashes releasing a scene whose post-processing
      * failed. */
-    unsigned steps = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                     aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    unsigned steps = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType;
     int regen_normals = 0;
     char why[256] = "";
     const char *wrong = NULL;
@@ -1004,11 +1095,13 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
         if (ai) aiReleaseImport(ai);
         persp__free(ctx, buf);
         free_kept(&io);
+        persp__mem_release(ctx, import_bytes);
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
     }
     if (wrong || !ai) {
         persp__free(ctx, buf);
         free_kept(&io);
+        persp__mem_release(ctx, import_bytes);
     }
     if (wrong) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, wrong);
     if (!ai) {
@@ -1064,12 +1157,28 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
     persp__free(ctx, buf);
     free_kept(&io);
     aiReleaseImport(ai);
+    persp__mem_release(ctx, import_bytes);
     /* Files worked around left their failures in the detail: warnings. */
     if (st == PERSP_OK)
         persp__clear_error(ctx);
     else
         persp__model_free(ctx, out);
     return st;
+}
+
+persp_status persp__model_load_memory(persp_scene *scene, const void *data, size_t size,
+                                      const char *name, const char *base_dir, persp_texcache *cache,
+                                      size_t max_vertices, persp_model *out)
+{
+    if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    memset(out, 0, sizeof *out);
+    char *buf = persp__alloc(scene->ctx, size + 1);
+    if (!buf)
+        return persp__fail(scene->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
+                           name ? name : "<model>");
+    if (size) memcpy(buf, data, size);
+    buf[size] = '\0';
+    return load_owned(scene, buf, size, name, base_dir, cache, max_vertices, out);
 }
 
 persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_texcache *cache,
@@ -1083,10 +1192,7 @@ persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_
     if (st != PERSP_OK) return st;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
-    st = persp__model_load_memory(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices,
-                                  out);
-    persp__free(scene->ctx, data);
-    return st;
+    return load_owned(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices, out);
 }
 
 int persp__model_is_model(const char *path, const char *data, size_t size)
@@ -1114,19 +1220,21 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
     return (persp_vec3){cosf(e) * sinf(a), sinf(e), cosf(e) * cosf(a)};
 }
 
-persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
-                                     const char *name, const char *base_dir, const char *root,
-                                     persp_scene **out)
+persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
+                                     const char *base_dir, const char *root, persp_scene **out)
 {
     *out = NULL;
     persp_scene *s = NULL;
     persp_status st = persp__scene_new(ctx, &s);
-    if (st != PERSP_OK) return st;
+    if (st != PERSP_OK) {
+        persp__free(ctx, data);
+        return st;
+    }
     persp_texcache cache;
     memset(&cache, 0, sizeof cache);
     persp_model model;
     s->load_root = root;
-    st = persp__model_load_memory(s, data, size, name, base_dir, &cache, 0, &model);
+    st = load_owned(s, data, size, name, base_dir, &cache, 0, &model);
     s->load_root = NULL;
     persp__texcache_free(ctx, &cache);
     for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {

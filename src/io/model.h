@@ -61,11 +61,11 @@ void persp__model_free(persp_context *ctx, persp_model *model);
 int persp__model_is_model(const char *path, const char *data, size_t size);
 
 /* A scene showing a model: the default camera and light rig
- * (docs/SCENES.md, "Models without a scene file"). root: the folder the
- * model's references must stay in, NULL: anywhere. */
-persp_status persp__scene_from_model(persp_context *ctx, const void *data, size_t size,
-                                     const char *name, const char *base_dir, const char *root,
-                                     persp_scene **out);
+ * (docs/SCENES.md, "Models without a scene file"). Takes data, a buffer
+ * from persp__read_file (NUL-terminated, size + 1 bytes), and frees it.
+ * root: the folder the model's references must stay in, NULL: anywhere. */
+persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
+                                     const char *base_dir, const char *root, persp_scene **out);
 
 /* JSON scene from memory. name appears in errors; base_dir resolves the
  * files the scene names; NULL: any file reference is refused. max_vertices

@@ -1036,6 +1036,45 @@ static persp_status parse_root(jctx *j, json_t *root)
     return PERSP_OK;
 }
 
+/* An upper bound of what jansson (2.14) allocates to parse text: it takes
+ * no per-call allocator (json_set_alloc_funcs is process-wide, and would
+ * also take over the blocks of any other jansson user in the program), so
+ * its need is bounded from the text before it starts, by one pass that
+ * counts what the parser will build. The costs per item, malloc's own
+ * overhead included, cover what jansson was measured to take (text of a
+ * million of each, docs/RELIABILITY.md): an empty object 232 bytes, an
+ * empty array 136, a number 40, an empty string 88, a member beyond its key
+ * and value at most 90, a string's text 2.9 bytes per byte. */
+static size_t json_parse_bound(const char *t, size_t n)
+{
+    size_t objects = 0, arrays = 0, scalars = 0, strings = 0, members = 0, text = 0;
+    int value_next = 1; /* after '[', ',', ':' or at the start */
+    for (size_t i = 0; i < n; i++) {
+        char c = t[i];
+        if (c == '"') {
+            size_t k = i + 1;
+            while (k < n && t[k] != '"') k += t[k] == '\\' ? 2 : 1;
+            strings++;
+            text += k - i;
+            i = k;
+            value_next = 0;
+        } else if (c == '{') {
+            objects++, value_next = 0;
+        } else if (c == '[') {
+            arrays++, value_next = 1;
+        } else if (c == ',' || c == ':') {
+            members += c == ':';
+            value_next = 1;
+        } else if (value_next && c != ' ' && c != '\t' && c != '\n' && c != '\r' && c != ']' &&
+                   c != '}') {
+            scalars++, value_next = 0;
+        }
+    }
+    double b = 240.0 * (double)objects + 144.0 * (double)arrays + 48.0 * (double)scalars +
+               96.0 * (double)strings + 112.0 * (double)members + 4.0 * (double)text + 65536.0;
+    return b < (double)((size_t)-1 / 2) ? (size_t)b : (size_t)-1 / 2;
+}
+
 static persp_status load_json(persp_context *ctx, const char *data, size_t size, const char *name,
                               const char *base_dir, const char *allowed, size_t max_vertices,
                               persp_scene **out)
@@ -1051,7 +1090,13 @@ static persp_status load_json(persp_context *ctx, const char *data, size_t size,
     j.base_dir = base_dir;
     j.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
     json_error_t err;
+    char what[PERSP_ERRMSG_BYTES / 2];
+    snprintf(what, sizeof what, "%s: parsing the JSON", j.name);
+    size_t parse_bytes = json_parse_bound(j.text, size);
+    persp_status rst = persp__mem_reserve(ctx, parse_bytes, what);
+    if (rst != PERSP_OK) return rst;
     json_t *root = json_loadb(j.text, size, JSON_REJECT_DUPLICATES, &err);
+    if (!root) persp__mem_release(ctx, parse_bytes);
     /* jansson (2.11 and later) classifies its errors: an allocation failure
      * is json_error_out_of_memory, not a fault of the file. */
     /* A failure before the lexer exists (its buffer's allocation) leaves
@@ -1071,6 +1116,7 @@ static persp_status load_json(persp_context *ctx, const char *data, size_t size,
         j.scene->load_root = NULL;
     }
     json_decref(root);
+    persp__mem_release(ctx, parse_bytes);
     persp__texcache_free(ctx, &j.cache);
     persp__free(ctx, j.mats);
     if (st != PERSP_OK) {
@@ -1110,9 +1156,8 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     if (persp__model_is_model(path, data, size))
-        st = persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, out);
-    else
-        st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, out);
+        return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, out);
+    st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, out);
     persp__free(ctx, data);
     return st;
 }

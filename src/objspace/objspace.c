@@ -33,6 +33,11 @@
  *    level at the same depths. Pieces are also clipped to the viewport.
  *  - The walk extends MARGIN_PX pixels beyond the triangle's screen edges
  *    (the surface continued), so edge pixels get samples on both sides.
+ *  - Bounded work (docs/RELIABILITY.md): the rows walked are those of the
+ *    walk region itself, per piece and per tile; the last slab ends at
+ *    twice the triangle's farthest depth; the top level is walked with a
+ *    stride that keeps the density target; and a frame whose estimated
+ *    walk exceeds OS_MAX_WORK is refused before walking.
  *  - Parallelism: the screen is cut into 64×64 tiles, each resolved by one
  *    task that walks, in a fixed order, the samples of every piece that can
  *    reach its pixels. A sample's membership in a piece is decided by the
@@ -56,9 +61,10 @@
 #define MAX_SLABS 96
 #define MAX_PLANES 12
 #define MAX_POLY 24
-/* Samples of one piece at the top of the pyramid beyond which it is walked
- * with a stride (every sample there has the same single-texel colour). */
-#define TOP_LEVEL_CAP 4.0e6
+#define MAX_INDEX 2.0e9 /* sample indices stay within int */
+/* Samples and rows one frame may walk: about 25 s on one core of the
+ * machine docs/RELIABILITY.md measures on. */
+#define OS_MAX_WORK 5.0e8
 
 /* A half-plane A·i + B·j + C >= 0 in sample-index space. */
 typedef struct hplane {
@@ -78,6 +84,7 @@ typedef struct os_piece {
     int planes;
     int j0, j1;            /* sample rows to visit */
     double bx0, by0, bx1, by1; /* window bounding box (reach included) */
+    double work;           /* samples and rows in the walk region */
 } os_piece;
 
 typedef struct os_job {
@@ -87,7 +94,7 @@ typedef struct os_job {
     size_t piece_count;
     float *acc;            /* per worker: OS_TILE² × 5 */
     int tiles_x, tiles_y;
-    uint64_t *walked, *splats, *holes; /* per tile */
+    uint64_t *walked, *splats, *holes, *visited; /* per tile */
 } os_job;
 
 /* ---------------------------------------------------------- [Romaniuk-ObjSpace] maths */
@@ -167,6 +174,37 @@ static int clip_poly(const double *in, int n, const hplane *p, double *out)
     return m;
 }
 
+/* Rows [j0, j1] of the convex region inside every plane of pl (and of
+ * extra): a box of all usable sample indices clipped by them. Returns 0 when
+ * the region is empty or reaches the box (unbounded: not walked). */
+static int region_rows(const hplane *pl, int np, const hplane *extra, int ne, double *j0, double *j1,
+                       double *area)
+{
+    double a[2 * MAX_POLY], b[2 * MAX_POLY];
+    const double B = MAX_INDEX;
+    double box[8] = {-B, -B, B, -B, B, B, -B, B};
+    memcpy(a, box, sizeof box);
+    int n = 4;
+    for (int k = 0; k < np + ne && n > 0; k++) {
+        n = clip_poly(a, n, k < np ? &pl[k] : &extra[k - np], b);
+        memcpy(a, b, sizeof(double) * 2 * (size_t)n);
+    }
+    if (n < 1) return 0;
+    double lo = INFINITY, hi = -INFINITY, twice = 0.0;
+    for (int k = 0; k < n; k++) {
+        if (!(fabs(a[2 * k]) < B && fabs(a[2 * k + 1]) < B)) return 0;
+        const double *p = a + 2 * k, *q = a + 2 * ((k + 1) % n);
+        twice += p[0] * q[1] - p[1] * q[0];
+        if (a[2 * k + 1] < lo) lo = a[2 * k + 1];
+        if (a[2 * k + 1] > hi) hi = a[2 * k + 1];
+    }
+    /* One row either side absorbs the clip's rounding; the walk tests each
+     * row exactly (row_interval). */
+    *j0 = floor(lo) - 1.0, *j1 = ceil(hi) + 1.0;
+    if (area) *area = 0.5 * fabs(twice);
+    return 1;
+}
+
 /* Half-plane of the homogeneous window-space plane (ax, ay, aw)·(X·w, Y·w, w)
  * + c·1 >= 0 pulled back through H (rows map (x, y, 1) to X·w, Y·w, w). */
 static hplane pull_back(const map3 *M, double ax, double ay, double aw, double c)
@@ -181,8 +219,7 @@ static hplane pull_back(const map3 *M, double ax, double ay, double aw, double c
 
 /* Window position and the two column lengths of the map's Jacobian (pixels
  * per unit step of x and of y) at (x, y). Returns 0 behind the eye. */
-static int map_at(const map3 *M, double x, double y, double win[2], double *sx, double *sy,
-                  double *smin)
+static int map_at(const map3 *M, double x, double y, double win[2], double *sx, double *sy)
 {
     const double (*H)[3] = M->m;
     double w = H[2][0] * x + H[2][1] * y + H[2][2];
@@ -194,12 +231,6 @@ static int map_at(const map3 *M, double x, double y, double win[2], double *sx, 
     double jxy = (H[0][1] - X * H[2][1]) / w, jyy = (H[1][1] - Y * H[2][1]) / w;
     *sx = hypot(jxx, jyx);
     *sy = hypot(jxy, jyy);
-    /* Smallest singular value: |det| / largest. */
-    double s = jxx * jxx + jyx * jyx + jxy * jxy + jyy * jyy;
-    double det = fabs(jxx * jyy - jxy * jyx);
-    double disc = s * s - 4.0 * det * det;
-    double big = sqrt(0.5 * (s + sqrt(disc > 0.0 ? disc : 0.0)));
-    *smin = big > 0.0 ? det / big : 0.0;
     return 1;
 }
 
@@ -315,9 +346,9 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         memcpy(poly, tmp, sizeof(double) * 2 * (size_t)n);
     }
     if (n < 3) return 0;
-    /* Largest and smallest projected level-0 texel steps over the piece. */
+    /* Largest projected level-0 texel step over the piece. */
     double tw = tex->width, th = tex->height;
-    double smax = 0.0, smin = INFINITY, bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
+    double smax = 0.0, bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
     double cu = 0.0, cv = 0.0;
     for (int k = 0; k <= n; k++) {
         double u, v;
@@ -327,13 +358,11 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         } else {
             u = cu, v = cv; /* and the centroid */
         }
-        double win[2], su, sv, sm;
-        if (!map_at(&ts->Huv, u, v, win, &su, &sv, &sm)) return 0;
+        double win[2], su, sv;
+        if (!map_at(&ts->Huv, u, v, win, &su, &sv)) return 0;
         su /= tw, sv /= th;
-        sm /= (tw > th ? tw : th);
         double s = su > sv ? su : sv;
         if (s > smax) smax = s;
-        if (sm < smin) smin = sm;
         if (win[0] < bx0) bx0 = win[0];
         if (win[0] > bx1) bx1 = win[0];
         if (win[1] < by0) by0 = win[1];
@@ -372,35 +401,27 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         pc->pl[k].c = q.a * 0.5 * step_u + q.b * 0.5 * step_v + q.c;
     }
     pc->planes = np;
-    /* Rows: the polygon's, widened by the margin measured with the
-     * smallest singular value of the map (the shortest pixel distance a
-     * sample step can cover). */
-    double smin_sample = smin * ldexp(1.0, level) / sub;
-    double jlo = INFINITY, jhi = -INFINITY;
-    for (int k = 0; k < n; k++) {
-        double j = poly[2 * k + 1] / step_v - 0.5;
-        if (j < jlo) jlo = j;
-        if (j > jhi) jhi = j;
-    }
-    double mj = smin_sample > 0.0 ? (MARGIN_PX + 1.0) / smin_sample + 1.0 : 1e9;
-    if (mj > 1e8) mj = 1e8;
-    jlo = floor(jlo - mj), jhi = ceil(jhi + mj);
-    if (!(jlo > -2e9) || !(jhi < 2e9)) return 0;
+    /* Rows: those of the walk region itself (the planes above), found by
+     * clipping a box of every representable sample index, so the rows
+     * walked follow the triangle's screen footprint plus the margin. */
+    double jlo, jhi, region;
+    if (!region_rows(pc->pl, np, NULL, 0, &jlo, &jhi, &region)) return 0;
     pc->j0 = (int)jlo, pc->j1 = (int)jhi;
     const double reach = MARGIN_PX + 2.0;
     pc->bx0 = bx0 - reach, pc->bx1 = bx1 + reach, pc->by0 = by0 - reach, pc->by1 = by1 + reach;
-    /* Walked samples ≈ polygon area in samples; at the top of the pyramid
-     * (where every sample has the one texel's colour) bound it by a stride. */
+    /* At the top of the pyramid the level cannot coarsen with the
+     * minification, so its samples may lie far closer than SPACING_TARGET;
+     * every sample there has the one texel's colour, so walking every
+     * stride-th sample in i and j keeps the density target (stride ×
+     * spacing <= SPACING_TARGET) and the image, with work proportional to
+     * the piece's pixels rather than to the texture's repeats. */
     pc->stride = 1;
-    if (level == top) {
-        double area = 0.0;
-        for (int k = 0; k < n; k++) {
-            const double *a = poly + 2 * k, *b = poly + 2 * ((k + 1) % n);
-            area += a[0] * b[1] - a[1] * b[0];
-        }
-        double samples = 0.5 * fabs(area) / (step_u * step_v);
-        if (samples > TOP_LEVEL_CAP) pc->stride = (int)ceil(sqrt(samples / TOP_LEVEL_CAP));
+    if (level == top && sub == 1 && spacing > 0.0) {
+        double s = floor(SPACING_TARGET / spacing);
+        pc->stride = s > 1.0 ? (s < 65536.0 ? (int)s : 65536) : 1;
     }
+    /* The walk's work: the region's samples on the stride grid and its rows. */
+    pc->work = region / ((double)pc->stride * pc->stride) + (jhi - jlo + 1.0) / pc->stride;
     return 1;
 }
 
@@ -414,7 +435,7 @@ static int objspace_applies(const persp_draw_state *ds)
 
 /* Pieces of every triangle, in triangle order then slab order. */
 static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_piece **out,
-                                 size_t *count, uint64_t *split)
+                                 size_t *count, uint64_t *split, double *work_out)
 {
     persp_context *ctx = f->ctx;
     size_t cap_n = 0, n = 0;
@@ -441,8 +462,11 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
                 return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
                                           "object-space pipeline: out of memory");
             }
-            if (make_piece(&ts, ds->tex, &ds->sampler, (int)ti, wlo,
-                           isfinite(whi) ? whi : 1e300, &pcs[n])) {
+            /* The last slab ends at twice the triangle's farthest depth:
+             * beyond it only the margin continues the surface, and towards
+             * the horizon it would continue without end. */
+            if (!isfinite(whi)) whi = 2.0 * ts.wmax;
+            if (make_piece(&ts, ds->tex, &ds->sampler, (int)ti, wlo, whi, &pcs[n])) {
                 n++;
                 made++;
             }
@@ -450,6 +474,19 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
         }
         if (made > 1) (*split)++;
     }
+    /* An explicit bound on the walk (docs/RELIABILITY.md): refused before
+     * any sample is walked rather than running for minutes. */
+    double work = 0.0;
+    for (size_t k = 0; k < n; k++) work += pcs[k].work;
+    const double limit = ctx->objspace_max_work > 0.0 ? ctx->objspace_max_work : OS_MAX_WORK;
+    if (work > limit) {
+        persp__free(ctx, pcs);
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                           "object-space pipeline: about %.3g samples and rows to walk, over its "
+                           "limit of %.3g (use the screen pipeline, or a smaller texture or image)",
+                           work, limit);
+    }
+    *work_out = work;
     *out = pcs;
     *count = n;
     return PERSP_OK;
@@ -478,7 +515,7 @@ static void row_interval(const hplane *pl, int np, double j, double *lo, double 
 }
 
 static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, int tx1, int ty1,
-                       float *acc, uint64_t *walked, uint64_t *splats)
+                       float *acc, uint64_t *walked, uint64_t *splats, uint64_t *visited)
 {
     const persp_tri *t = &persp__frame_tris(j->f)[pc->tri];
     const persp_draw_state *ds = persp__frame_state(j->f, t->state);
@@ -496,8 +533,20 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
         pull_back(&pc->H, 0.0, -1.0, (double)ty1 + 1.0, 0.0),
     };
     const double inv_u = 1.0 / ((double)lv->w * pc->sub), inv_v = 1.0 / ((double)lv->h * pc->sub);
-    uint64_t nw = 0, ns = 0;
-    for (int jj = pc->j0; jj <= pc->j1; jj += pc->stride) {
+    uint64_t nw = 0, ns = 0, nv = 0;
+    /* Only the rows whose samples can reach this tile; rows stay on the
+     * piece's stride grid (j0 + k·stride) so that every tile walks the same
+     * samples. */
+    double tj0, tj1;
+    if (!region_rows(pc->pl, pc->planes, tp, 4, &tj0, &tj1, NULL)) return;
+    int jstart = pc->j0, jend = pc->j1;
+    if (tj0 > (double)jstart) {
+        long long k = ((long long)tj0 - pc->j0) / pc->stride;
+        jstart = (int)(pc->j0 + k * pc->stride);
+    }
+    if (tj1 < (double)jend) jend = (int)tj1;
+    for (int jj = jstart; jj <= jend; jj += pc->stride) {
+        nv++;
         double lo, hi, tlo, thi;
         row_interval(pc->pl, pc->planes, (double)jj, &lo, &hi);
         if (!(lo <= hi)) continue;
@@ -527,6 +576,7 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
         int xr = step_wrap ? persp__wrap_index(ws, i0, lv->w) : 0;
         for (int ii = i0; ii <= i1; ii += pc->stride, nx += dx, ny += dy, nz += dz,
                  xr = xr + 1 == lv->w ? 0 : xr + 1) {
+            nv++;
             double w = nz;
             if (!(w > 0.0)) continue;
             double iw = 1.0 / w;
@@ -580,6 +630,7 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
     }
     *walked += nw;
     *splats += ns;
+    *visited += nv;
 }
 
 static void tile_task(void *user, int task, int worker)
@@ -591,13 +642,13 @@ static void tile_task(void *user, int task, int worker)
     int x1 = x0 + OS_TILE < W ? x0 + OS_TILE : W, y1 = y0 + OS_TILE < H ? y0 + OS_TILE : H;
     float *acc = j->acc + (size_t)worker * OS_TILE * OS_TILE * 5;
     memset(acc, 0, sizeof(float) * OS_TILE * OS_TILE * 5);
-    uint64_t walked = 0, splats = 0, holes = 0;
+    uint64_t walked = 0, splats = 0, holes = 0, visited = 0;
     for (size_t k = 0; k < j->piece_count; k++) {
         const os_piece *pc = &j->pieces[k];
         if (pc->bx1 < (double)x0 - 1.0 || pc->bx0 > (double)x1 + 1.0 || pc->by1 < (double)y0 - 1.0 ||
             pc->by0 > (double)y1 + 1.0)
             continue;
-        walk_piece(j, pc, x0, y0, x1, y1, acc, &walked, &splats);
+        walk_piece(j, pc, x0, y0, x1, y1, acc, &walked, &splats, &visited);
     }
     uint32_t *color = (uint32_t *)(void *)j->f->fb->color;
     const persp_tri *tris = persp__frame_tris(j->f);
@@ -620,6 +671,7 @@ static void tile_task(void *user, int task, int worker)
     j->walked[task] = walked;
     j->splats[task] = splats;
     j->holes[task] = holes;
+    j->visited[task] = visited;
 }
 
 persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
@@ -633,7 +685,8 @@ persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
     uint64_t split = 0;
     os_piece *pieces = NULL;
     size_t npieces = 0;
-    persp_status st = build_pieces(f, cap, &pieces, &npieces, &split);
+    double work = 0.0;
+    persp_status st = build_pieces(f, cap, &pieces, &npieces, &split, &work);
     if (st != PERSP_OK) return st;
     j.pieces = pieces;
     j.piece_count = npieces;
@@ -645,7 +698,8 @@ persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
     j.walked = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
     j.splats = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
     j.holes = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
-    if (!j.acc || !j.walked || !j.splats || !j.holes) {
+    j.visited = persp__calloc(ctx, (size_t)tiles, sizeof(uint64_t));
+    if (!j.acc || !j.walked || !j.splats || !j.holes || !j.visited) {
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "object-space pipeline: out of memory");
     } else {
         st = persp__pool_run(ctx, tiles, tile_task, &j);
@@ -656,14 +710,17 @@ persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
             stats->texels_walked += j.walked[k];
             stats->splats += j.splats[k];
             stats->holes += j.holes[k];
+            stats->visited += j.visited[k];
         }
         stats->triangles_split = split;
         stats->pieces = npieces;
+        stats->work_estimate = work;
     }
     persp__free(ctx, j.acc);
     persp__free(ctx, j.walked);
     persp__free(ctx, j.splats);
     persp__free(ctx, j.holes);
+    persp__free(ctx, j.visited);
     persp__free(ctx, pieces);
     return st;
 }

@@ -9,6 +9,8 @@
  * re-colours every pixel from splatted texels (src/objspace/objspace.c). */
 typedef struct persp_objspace_stats {
     uint64_t splats, texels_walked, holes, triangles_split, pieces;
+    uint64_t visited;     /* rows and samples the walk stepped through */
+    double work_estimate; /* the same, estimated before the walk */
 } persp_objspace_stats;
 persp_status persp__objspace_resolve(persp_frame *f, const persp_capture *cap,
                                      persp_objspace_stats *stats);

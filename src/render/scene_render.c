@@ -163,6 +163,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
                 stats->objspace_splats = os.splats;
                 stats->objspace_pieces = os.pieces;
                 stats->objspace_holes = os.holes;
+                stats->objspace_visited = os.visited;
             }
         } else {
             persp__fail(ctx, st, "render: out of memory for the object-space pipeline");

@@ -3,7 +3,10 @@
 /* ctest-labels: threads (renders with several worker threads) */
 #include "support.h"
 
+#include "core/internal.h"
+
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -156,6 +159,145 @@ static void test_rotation_errata(void **state)
     assert_true(printed_wrong > 100);
 }
 
+/* Writes a bumpy grid of cols x rows quads (two triangles each) with a
+ * material whose texture is a 64x64 checker, as OBJ + MTL + PNG in dir:
+ * neighbouring triangles face different ways, many nearly edge-on. */
+static void write_bumpy_grid(const char *dir, int cols, int rows, double bump, char *obj, size_t n)
+{
+    char path[400];
+    persp_context *ctx = test_context();
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, 64, 64, &img), PERSP_OK);
+    for (int y = 0; y < 64; y++)
+        for (int x = 0; x < 64; x++) {
+            uint8_t *p = img.pixels + (size_t)y * img.stride + 4 * (size_t)x;
+            uint8_t c = ((x / 8 + y / 8) & 1) ? 230 : 40;
+            p[0] = c, p[1] = (uint8_t)(255 - c), p[2] = (uint8_t)(x * 4), p[3] = 255;
+        }
+    snprintf(path, sizeof path, "%s/checker.png", dir);
+    assert_int_equal(persp_image_write_png(ctx, path, &img), PERSP_OK);
+    persp_image_free(ctx, &img);
+    persp_context_destroy(ctx);
+    snprintf(path, sizeof path, "%s/grid.mtl", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f, "newmtl grid\nKd 1 1 1\nmap_Kd checker.png\n");
+    assert_int_equal(fclose(f), 0);
+    snprintf(obj, n, "%s/grid.obj", dir);
+    f = fopen(obj, "w");
+    assert_non_null(f);
+    fprintf(f, "mtllib grid.mtl\nusemtl grid\n");
+    const double pi = 3.14159265358979, aspect = (double)rows / cols;
+    for (int j = 0; j <= rows; j++)
+        for (int i = 0; i <= cols; i++) {
+            double s = (double)i / cols, t = (double)j / rows;
+            fprintf(f, "v %.6f %.6f %.6f\n", 2 * s - 1, (2 * t - 1) * aspect,
+                    bump * sin(8 * pi * s) * sin(8 * pi * t));
+        }
+    for (int j = 0; j <= rows; j++)
+        for (int i = 0; i <= cols; i++) fprintf(f, "vt %.6f %.6f\n", (double)i / cols, (double)j / rows);
+    for (int j = 0; j < rows; j++)
+        for (int i = 0; i < cols; i++) {
+            int p = j * (cols + 1) + i + 1, q = p + 1, r = p + cols + 2, s = p + cols + 1;
+            fprintf(f, "f %d/%d %d/%d %d/%d\nf %d/%d %d/%d %d/%d\n", p, p, q, q, r, r, p, p, r, r, s, s);
+        }
+    assert_int_equal(fclose(f), 0);
+}
+
+static persp_status render_file(const char *path, int threads, int w, int h, persp_render_stats *stats)
+{
+    persp_context *ctx = test_context_threads(threads);
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    uint8_t *color = malloc((size_t)w * h * 4);
+    float *depth = malloc((size_t)w * h * sizeof(float));
+    assert_non_null(color);
+    assert_non_null(depth);
+    persp_framebuffer fb = {w, h, color, depth};
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.pipeline = PERSP_PIPELINE_OBJECT;
+    d.shading = PERSP_SHADING_NONE;
+    persp_status s = persp_render(ctx, scene, &d, &fb, stats);
+    free(color), free(depth);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+    return s;
+}
+
+/* The walk follows each triangle's screen footprint: an 80x20 bumpy grid
+ * (3 200 triangles, many nearly edge-on) at 256x192 once walked thousands
+ * of rows per small triangle (its margin came from the smallest singular
+ * value of the mapping, capped at 1e8 rows) and did not finish in ten
+ * minutes; bounded by the region's own rows it visits about 1.7e7 samples
+ * and rows. */
+static void test_bumpy_grid_work_bounded(void **state)
+{
+    (void)state;
+    char dir[256], obj[400];
+    assert_int_equal(test_tmpdir_make(dir, sizeof dir, "objspace"), 0);
+    write_bumpy_grid(dir, 80, 20, 0.3, obj, sizeof obj);
+    persp_render_stats st;
+    assert_int_equal(render_file(obj, 2, 256, 192, &st), PERSP_OK);
+    print_message("bumpy grid 256x192: %llu pieces, %llu samples walked, %llu visited, %llu holes\n",
+                  (unsigned long long)st.objspace_pieces, (unsigned long long)st.objspace_samples,
+                  (unsigned long long)st.objspace_visited, (unsigned long long)st.objspace_holes);
+    assert_true(st.objspace_pieces >= 3000);
+    assert_true(st.objspace_samples > 0);
+    assert_true(st.objspace_visited >= st.objspace_samples);
+    assert_true(st.objspace_visited <= 50000000u);
+    test_tmpdir_remove(dir);
+}
+
+/* At the top of the mip pyramid the floor's far end once walked 1.35e8
+ * samples for 64x48 pixels (78 000 per pixel, the texture's repeats); the
+ * stride that keeps the density target bounds it by the pixels. */
+static void test_small_image_work_bounded(void **state)
+{
+    (void)state;
+    os_render r;
+    render_object("floor", NULL, 1, 64, 48, &r);
+    print_message("floor 64x48: %llu samples walked, %llu visited, %llu holes\n",
+                  (unsigned long long)r.stats.objspace_samples,
+                  (unsigned long long)r.stats.objspace_visited,
+                  (unsigned long long)r.stats.objspace_holes);
+    assert_int_equal(r.stats.objspace_holes, 0);
+    assert_true(r.stats.objspace_samples > 0);
+    assert_true(r.stats.objspace_samples <= 64u * 48u * 100u);
+    assert_true(r.stats.objspace_visited <= 64u * 48u * 400u);
+    free(r.color);
+}
+
+/* Work over the limit is refused before any sample is walked, with a
+ * message that says so and what to do. */
+static void test_work_limit_refused(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    ctx->objspace_max_work = 1e5;
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_builtin(ctx, "corridor", &scene), PERSP_OK);
+    const int w = 320, h = 240;
+    uint8_t *color = malloc((size_t)w * h * 4);
+    float *depth = malloc((size_t)w * h * sizeof(float));
+    assert_non_null(color);
+    assert_non_null(depth);
+    persp_framebuffer fb = {w, h, color, depth};
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.pipeline = PERSP_PIPELINE_OBJECT;
+    assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_ERR_TOO_LARGE);
+    const char *e = persp_context_error(ctx);
+    if (!strstr(e, "object-space pipeline: about") || !strstr(e, "over its limit of 1e+05"))
+        fail_msg("detail: %s", e);
+    /* The default limit lets the same frame through. */
+    ctx->objspace_max_work = 0.0;
+    assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
+    free(color), free(depth);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -163,6 +305,9 @@ int main(void)
         cmocka_unit_test(test_no_holes),
         cmocka_unit_test(test_constant_texture_no_bleeding),
         cmocka_unit_test(test_rotation_errata),
+        cmocka_unit_test(test_bumpy_grid_work_bounded),
+        cmocka_unit_test(test_small_image_work_bounded),
+        cmocka_unit_test(test_work_limit_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

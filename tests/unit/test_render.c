@@ -175,7 +175,7 @@ static void test_no_allocation_after_first_frame(void **state)
     counting_alloc counter = {0};
     persp_allocator a = {count_alloc, count_free, &counter};
     for (int threads = 1; threads <= 2; threads++) {
-        persp_context_desc cd = {&a, threads};
+        persp_context_desc cd = {.allocator = &a, .threads = threads};
         persp_context *ctx = NULL;
         assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
         persp_scene *scene = NULL;

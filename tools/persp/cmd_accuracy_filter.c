@@ -122,7 +122,7 @@ int cmd_accuracy_filter(int argc, char **argv)
     d.cases = cases;
     d.case_count = nc;
     persp_context *ctx = NULL;
-    persp_context_desc cd = {NULL, threads};
+    persp_context_desc cd = {.threads = threads};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);

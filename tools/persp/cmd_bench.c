@@ -766,6 +766,7 @@ int cmd_bench(int argc, char **argv)
     cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
     const char *output = NULL;
+    size_t max_memory = 0;
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
         CLI_OPT(cli_opt_any_folder, &o.load.any_folder),
@@ -773,6 +774,7 @@ int cmd_bench(int argc, char **argv)
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(opt_frames, &o.frames),
         CLI_OPT(opt_reps, &o.reps),
         CLI_OPT(opt_time, &o.run_seconds),
@@ -839,7 +841,7 @@ int cmd_bench(int argc, char **argv)
     uint8_t *exact_image = NULL;
     image_diff diff;
     int have_diff = 0;
-    persp_context_desc cd = {NULL, o.threads};
+    persp_context_desc cd = {.threads = o.threads, .max_memory = max_memory};
     persp_status st = persp_context_create(&cd, &b.ctx);
     if (st != PERSP_OK) {
         cli_output_close("bench", &out, 0);

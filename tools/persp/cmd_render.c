@@ -61,6 +61,7 @@ int cmd_render(int argc, char **argv)
     cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
     int quiet = 0, threads = 1, quality = 0;
+    size_t max_memory = 0;
     float min_lod = -1000.0f, max_lod = 1000.0f;
     persp_image_format format = PERSP_IMAGE_FORMAT_DEFAULT;
     persp_scene_load_desc load = {PERSP_TOGGLE_DEFAULT};
@@ -87,6 +88,7 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_texture, &texture),
         CLI_OPT(cli_opt_any_folder, &load.any_folder),
         CLI_OPT(cli_opt_threads, &threads),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(cli_opt_cull, &desc.cull_backfaces),
         CLI_OPT(cli_opt_count_ops, &desc.count_ops),
         CLI_OPT_HELP(cli_opt_quiet, &quiet,
@@ -140,7 +142,7 @@ int cmd_render(int argc, char **argv)
     desc.shading = shading.shading;
 
     persp_context *ctx = NULL;
-    persp_context_desc cd = {NULL, threads};
+    persp_context_desc cd = {.threads = threads, .max_memory = max_memory};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
     persp_context_set_warning_handler(ctx, cli_warning, NULL);
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
@@ -241,11 +243,13 @@ int cmd_render(int argc, char **argv)
                 (unsigned long long)stats.fragments, (unsigned long long)stats.pixels_written);
         if (desc.pipeline == PERSP_PIPELINE_OBJECT)
             fprintf(summary,
-                    "  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes\n",
+                    "  object space: %llu pieces, %llu samples walked, %llu splats, %llu holes, "
+                    "%llu rows and samples visited\n",
                     (unsigned long long)stats.objspace_pieces,
                     (unsigned long long)stats.objspace_samples,
                     (unsigned long long)stats.objspace_splats,
-                    (unsigned long long)stats.objspace_holes);
+                    (unsigned long long)stats.objspace_holes,
+                    (unsigned long long)stats.objspace_visited);
         if (desc.count_ops == PERSP_TOGGLE_ON) {
             /* Per fragment the method was run for (covered and not hidden at
              * the time it was drawn). */

@@ -192,6 +192,7 @@ int cmd_view(int argc, char **argv)
     cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
     int quiet = 0, threads = (int)cpu_count(), heat_max = 16, frames = 0, mip_levels = 0;
+    size_t max_memory = 0;
     persp_toggle count_ops = PERSP_TOGGLE_DEFAULT;
     double divider = 0.5;
     view_layout layout = VIEW_LAYOUT_SPLIT;
@@ -221,6 +222,7 @@ int cmd_view(int argc, char **argv)
         CLI_OPT_HELP(cli_opt_size, &size,
                      "window or frame size (default: the scene's, else 1024x768)"),
         CLI_OPT_HELP(cli_opt_threads, &threads, "worker threads, 1..256 (default: all CPUs)"),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(opt_play, &play),
         CLI_OPT(opt_frames, &frames),
         CLI_OPT_HELP(cli_opt_output, &output,
@@ -268,7 +270,7 @@ int cmd_view(int argc, char **argv)
     persp_scene *scene = NULL, *tinted = NULL, *coords = NULL;
     persp_image coord_img = {0, 0, 0, NULL};
     persp_status st;
-    persp_context_desc cd = {NULL, threads};
+    persp_context_desc cd = {.threads = threads, .max_memory = max_memory};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
         view_path_free(&path);
         return cli_status(NULL, st, "view");

@@ -1,5 +1,7 @@
 #include "options.h"
 
+#include <errno.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -545,6 +547,38 @@ const cli_spec cli_opt_seed = {.name = "seed",
                                .lo = 1,
                                .hi = 2147483647.0,
                                .help = "seed of the random triangles (default 1)"};
+
+/* A byte count with an optional binary suffix: 1048576, 64K, 512M, 2G
+ * (K = 1024 bytes, and so on; k, m, g alike). */
+static int parse_bytes(const cli_command *cmd, const cli_option *opt, char *value)
+{
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = value[0] >= '0' && value[0] <= '9' ? strtoull(value, &end, 10) : 0;
+    if (!end || end == value || errno) return cli_bad_value(cmd, opt, value);
+    unsigned shift = 0;
+    switch (*end) {
+    case '\0': break;
+    case 'K': case 'k': shift = 10; break;
+    case 'M': case 'm': shift = 20; break;
+    case 'G': case 'g': shift = 30; break;
+    case 'T': case 't': shift = 40; break;
+    default: return cli_bad_value(cmd, opt, value);
+    }
+    if (shift && end[1] != '\0') return cli_bad_value(cmd, opt, value);
+    if (n == 0 || n > (unsigned long long)SIZE_MAX >> shift) return cli_bad_value(cmd, opt, value);
+    *(size_t *)opt->dest = (size_t)(n << shift);
+    return CLI_OK;
+}
+
+const cli_spec cli_opt_max_memory = {.name = "max-memory",
+                                     .kind = CLI_KIND_CUSTOM,
+                                     .metavar = "SIZE",
+                                     .parse = parse_bytes,
+                                     .accepts = "a byte count, optionally with K, M, G or T "
+                                                "(binary), e.g. 512M",
+                                     .help = "memory budget of persp, decoders and parsers\n"
+                                             "included, e.g. 512M or 2G (default: none)"};
 
 int cli_parse_or_usage(cli_command *cmd, int argc, char **argv,
                        void (*usage)(FILE *out, const cli_command *cmd))

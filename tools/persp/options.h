@@ -148,5 +148,6 @@ extern const cli_spec cli_opt_csv;       /* --csv (persp_report_format) */
 extern const cli_spec cli_opt_json;      /* --json (persp_report_format) */
 extern const cli_spec cli_opt_heatmap;   /* --heatmap DIR (const char *) */
 extern const cli_spec cli_opt_seed;      /* --seed N (uint64_t) */
+extern const cli_spec cli_opt_max_memory; /* --max-memory SIZE (size_t bytes; K, M, G, T) */
 
 #endif
