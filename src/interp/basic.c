@@ -68,27 +68,6 @@ PERSP_SIMD_CLONES static void exact_span(const persp_rational *r, const persp_me
     PERSP_OPS(ops, add, 6 + 3 * n);
 }
 
-PERSP_SIMD_CLONES void persp__exact_span_pair(const persp_rational *r, const persp_rational *w, int x0,
-                                              int y, int n, float *s1, float *s2, float *w1, float *w2)
-{
-    double px = x0 + 0.5, py = y + 0.5;
-    float U = (float)(r->a * px + r->b * py + r->c);
-    float V = (float)(r->d * px + r->e * py + r->f);
-    float Q = (float)(r->g * px + r->h * py + r->i);
-    float A = (float)(w->a * px + w->b * py + w->c);
-    float B = (float)(w->d * px + w->e * py + w->f);
-    float dU = (float)r->a, dV = (float)r->d, dQ = (float)r->g;
-    float dA = (float)w->a, dB = (float)w->d;
-    for (int k = 0; k < n; k++) {
-        float fk = (float)k;
-        float rq = 1.0f / (Q + fk * dQ);
-        s1[k] = (U + fk * dU) * rq;
-        s2[k] = (V + fk * dV) * rq;
-        w1[k] = (A + fk * dA) * rq;
-        w2[k] = (B + fk * dB) * rq;
-    }
-}
-
 const persp_method persp__method_affine = {
     .name = "affine",
     .params_help = "",

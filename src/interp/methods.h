@@ -29,8 +29,27 @@ static inline void persp__plane_through(const double vx[3], const double vy[3], 
  * texture coordinates and the perspective-correct barycentrics of one
  * triangle): the same values as two calls of its span, one reciprocal per
  * pixel. */
-void persp__exact_span_pair(const persp_rational *r, const persp_rational *w, int x0, int y, int n,
-                            float *s1, float *s2, float *w1, float *w2);
+static inline void persp__exact_span_pair(const persp_rational *r, const persp_rational *w, int x0, int y,
+                                          int n, float *s1, float *s2, float *w1, float *w2)
+{
+    /* Inline, so that it takes the instruction set of its caller's clone. */
+    double px = x0 + 0.5, py = y + 0.5;
+    float U = (float)(r->a * px + r->b * py + r->c);
+    float V = (float)(r->d * px + r->e * py + r->f);
+    float Q = (float)(r->g * px + r->h * py + r->i);
+    float A = (float)(w->a * px + w->b * py + w->c);
+    float B = (float)(w->d * px + w->e * py + w->f);
+    float dU = (float)r->a, dV = (float)r->d, dQ = (float)r->g;
+    float dA = (float)w->a, dB = (float)w->d;
+    for (int k = 0; k < n; k++) {
+        float fk = (float)k;
+        float rq = 1.0f / (Q + fk * dQ);
+        s1[k] = (U + fk * dU) * rq;
+        s2[k] = (V + fk * dV) * rq;
+        w1[k] = (A + fk * dA) * rq;
+        w2[k] = (B + fk * dB) * rq;
+    }
+}
 
 extern const persp_method persp__method_affine;
 extern const persp_method persp__method_exact;

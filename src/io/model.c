@@ -387,7 +387,10 @@ static void keep_text(model_io *io, const char *rel, const char *text, size_t si
 {
     if (io->nkept >= (int)(sizeof io->kept / sizeof io->kept[0])) return;
     char *copy = persp__alloc(io->ctx, size + 1);
-    if (!copy) return;
+    if (!copy) {
+        io->out_of_memory = 1;
+        return;
+    }
     memcpy(copy, text, size);
     copy[size] = '\0';
     snprintf(io->kept[io->nkept].name, sizeof io->kept[0].name, "%.255s", rel);

@@ -728,6 +728,8 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
         persp__shade_phong_lanes(ds, t, n, w1, w2, texel, out);
     else if (gouraud)
         persp__shade_gouraud_lanes(ds, t, n, w1, w2, texel, out);
+    if (ds->force_opaque)
+        for (int k = 0; k < n; k++) out[k] |= 0xff000000u;
     const float *dvals = invw ? q : z;
     for (int k = 0; k < n; k++) {
         if (!live[k]) continue;

@@ -72,7 +72,7 @@ static outcome run(const workload *w, int threads, fail_alloc *a)
     outcome o = {PERSP_OK, "", NULL};
     a->owner = pthread_self();
     persp_allocator al = {fa_alloc, fa_free, a};
-    persp_context_desc cd = {&al, threads};
+    persp_context_desc cd = {.allocator = &al, .threads = threads};
     persp_context *ctx = NULL;
     o.status = persp_context_create(&cd, &ctx);
     if (o.status != PERSP_OK) {
