@@ -294,6 +294,10 @@ typedef struct vertex_job {
     persp_mat4 mv, mvp;
     float nm[9];
     double gx, gy;
+    /* The colour, normal and eye position are read: 0 when the span is the
+     * texel and set-up skips the shading fields (setup_record's need), so
+     * the vertex stage computes only what clipping and set-up use. */
+    int shading;
 } vertex_job;
 
 static void vertex_task(void *user, int task, int worker)
@@ -308,15 +312,22 @@ static void vertex_task(void *user, int task, int worker)
     for (size_t i = a; i < b; i++) {
         const persp_vertex *v = &mesh->vertices[i];
         persp_vec4 p = {v->pos[0], v->pos[1], v->pos[2], 1.0f};
-        persp_vec4 cp = persp_mat4_apply(j->mvp, p), ep = persp_mat4_apply(j->mv, p);
+        persp_vec4 cp = persp_mat4_apply(j->mvp, p);
         persp_clipvert *o = &c->verts[i];
         o->clip[0] = cp.x, o->clip[1] = cp.y, o->clip[2] = cp.z, o->clip[3] = cp.w;
         o->attr[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
         o->attr[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
+        if (!j->shading) {
+            /* Clipping interpolates every attribute and the outcode checks
+             * them all for NaN, so the unread ones are zeros. */
+            for (int k = PERSP_A_R; k < PERSP_A_COUNT; k++) o->attr[k] = 0.0f;
+            continue;
+        }
         for (int k = 0; k < 4; k++) o->attr[PERSP_A_R + k] = v->color[k];
         for (int k = 0; k < 3; k++) o->attr[PERSP_A_BR + k] = v->color[k]; /* lit by Gouraud */
         for (int r = 0; r < 3; r++)
             o->attr[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
+        persp_vec4 ep = persp_mat4_apply(j->mv, p);
         o->attr[PERSP_A_EX] = ep.x, o->attr[PERSP_A_EY] = ep.y, o->attr[PERSP_A_EZ] = ep.z;
     }
     persp__shade_vertices(j->ds, c->verts + a, b - a);
@@ -447,6 +458,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
         persp__grow(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = &c->states[state]};
+    job.shading = !(job.ds->shade_is_texel && !f->capture);
     job.mv = persp_mat4_mul(*view, *model);
     job.mvp = persp_mat4_mul(*proj, job.mv);
     if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
