@@ -206,7 +206,7 @@ static inline uint32_t pack_channel(float c, int shift)
  * diffuse colour (d*) by it and adds the specular highlight (s*), itself
  * multiplied by the texel when the material uses the texture as specular
  * colour too; packed to RGBA8 like pack(). */
-PERSP_SIMD_CLONES static void combine_soa(const persp_draw_state *ds, int n, const float *dr,
+PERSP_SIMD_CLONES_WIDE static void combine_soa(const persp_draw_state *ds, int n, const float *dr,
                                           const float *dg, const float *db, const float *sr,
                                           const float *sg, const float *sb, const uint32_t *texel,
                                           uint32_t *out)
@@ -376,7 +376,7 @@ float persp__shade_light_side(const persp_tri *t)
  * texel path in one loop, the same operations in the same order (the
  * specular term of a Gouraud vertex colour is in the colour, so the
  * combine adds a zero specular: kept, as it turns −0 into +0). */
-PERSP_SIMD_CLONES static void gouraud_modulate(const persp_tri *t, int attr, int n, const float *b1,
+PERSP_SIMD_CLONES_WIDE static void gouraud_modulate(const persp_tri *t, int attr, int n, const float *b1,
                                                const float *b2, const uint32_t *texel, uint32_t *out)
 {
     const float r0 = t->vattr[0][attr], r1 = t->vattr[1][attr], r2 = t->vattr[2][attr];
