@@ -754,7 +754,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
 
 /* The rows ya..yb of a small triangle within the tile's columns x0..x1, in
  * batches of whole rows. */
-static void draw_small(span_ctx *sc, int ya, int yb, int x0, int x1)
+PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, int ya, int yb, int x0, int x1)
 {
     const persp_tri *t = sc->t;
     const int gouraud = !sc->ds->shade_is_texel;
