@@ -140,23 +140,34 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
 
 /* Makes room for one more triangle in the frame, drawing the batch first
  * when it is full. */
-static persp_status reserve_triangle(persp_frame *f)
+static size_t frame_batch_limit(const persp_frame *f)
+{
+    if (f->capture) return SIZE_MAX;
+    if (f->ctx->frame_batch) return f->ctx->frame_batch;
+    return PERSP_MIN(PERSP_FRAME_BATCH_MAX, PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(f->ctx));
+}
+
+/* Makes room for up to want more triangles in the frame, drawing the batch
+ * first when it is full; *room (may be NULL) receives how many fit in the
+ * batch now (at least 1). */
+static persp_status reserve_triangles(persp_frame *f, size_t want, size_t *room)
 {
     struct persp_render_cache *c = f->cache;
-    const size_t batch = f->ctx->frame_batch
-                             ? f->ctx->frame_batch
-                             : PERSP_MIN(PERSP_FRAME_BATCH_MAX,
-                                         PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(f->ctx));
-    if (!f->capture && f->tri_count >= batch) {
+    const size_t batch = frame_batch_limit(f);
+    if (f->tri_count >= batch) {
         persp_status st = persp__frame_flush(f);
         if (st != PERSP_OK) return st;
         f->tri_count = f->prep_count = 0;
     }
-    if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + 1, sizeof *c->tris) != PERSP_OK ||
-        persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + 1, sizeof *c->tiles) != PERSP_OK)
+    const size_t n = PERSP_MAX((size_t)1, PERSP_MIN(want, batch - f->tri_count));
+    if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + n, sizeof *c->tris) != PERSP_OK ||
+        persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + n, sizeof *c->tiles) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    if (room) *room = n;
     return PERSP_OK;
 }
+
+static persp_status reserve_triangle(persp_frame *f) { return reserve_triangles(f, 1, NULL); }
 
 /* Records the tiles of the frame's newest triangle (reserve_triangle made
  * room) and counts it in. */
@@ -435,10 +446,13 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
                                persp_status_string(st));
         for (int k = 0; k < tasks; k++) {
             const setup_slab *slab = &j->slabs[k];
-            for (size_t i = 0; i < slab->count; i++) {
-                if ((st = reserve_triangle(f)) != PERSP_OK) return st;
-                c->tris[f->tri_count] = slab->tris[i];
-                commit_triangle(f);
+            /* Whole runs of records at a time, as many as the batch holds. */
+            for (size_t i = 0; i < slab->count;) {
+                size_t room;
+                if ((st = reserve_triangles(f, slab->count - i, &room)) != PERSP_OK) return st;
+                memcpy(&c->tris[f->tri_count], &slab->tris[i], room * sizeof *c->tris);
+                for (size_t m = 0; m < room; m++) commit_triangle(f);
+                i += room;
             }
             const size_t end = PERSP_MIN(j->first + ((size_t)k + 1) * SETUP_CHUNK, ntri);
             if (slab->stop < end && (st = mesh_triangles(j, slab->stop, end, NULL)) != PERSP_OK) return st;
