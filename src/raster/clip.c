@@ -24,6 +24,8 @@ static double p_right(const persp_clipvert *v, double gx, double gy) { (void)gy;
 static double p_bottom(const persp_clipvert *v, double gx, double gy) { (void)gx; return gy * v->clip[3] + v->clip[1]; }
 static double p_top(const persp_clipvert *v, double gx, double gy) { (void)gx; return gy * v->clip[3] - v->clip[1]; }
 
+/* persp__clip_outcode evaluates the same expressions inline, bit p for
+ * planes[p]: keep the two in step. */
 static const plane_fn planes[] = {p_w, p_near, p_far, p_left, p_right, p_bottom, p_top};
 
 static void lerp(const persp_clipvert *a, const persp_clipvert *b, double t, persp_clipvert *o)
@@ -80,12 +82,21 @@ int persp__clip_triangle(const persp_clipvert in[3], double gx, double gy,
 
 unsigned persp__clip_outcode(const persp_clipvert *v, double gx, double gy)
 {
-    for (int k = 0; k < 4; k++)
-        if (!isfinite(v->clip[k])) return PERSP_CLIP_NONFINITE;
-    for (int k = 0; k < PERSP_A_COUNT; k++)
-        if (!isfinite(v->attr[k])) return PERSP_CLIP_NONFINITE;
+    /* x·0 is 0 for every finite x and NaN otherwise: one sum tests all
+     * nineteen values without a branch each. */
+    float probe = 0.0f;
+    for (int k = 0; k < 4; k++) probe += v->clip[k] * 0.0f;
+    for (int k = 0; k < PERSP_A_COUNT; k++) probe += v->attr[k] * 0.0f;
+    if (probe != 0.0f) return PERSP_CLIP_NONFINITE;
+    /* The planes' own expressions (p_w ... p_top), in the order of planes[]. */
+    const double x = v->clip[0], y = v->clip[1], z = v->clip[2], w = v->clip[3];
     unsigned code = 0;
-    for (size_t p = 0; p < sizeof planes / sizeof planes[0]; p++)
-        if (planes[p](v, gx, gy) < 0.0) code |= 1u << p;
+    code |= (unsigned)(w - W_EPSILON < 0.0) << 0;
+    code |= (unsigned)(z + w < 0.0) << 1;
+    code |= (unsigned)(w - z < 0.0) << 2;
+    code |= (unsigned)(gx * w + x < 0.0) << 3;
+    code |= (unsigned)(gx * w - x < 0.0) << 4;
+    code |= (unsigned)(gy * w + y < 0.0) << 5;
+    code |= (unsigned)(gy * w - y < 0.0) << 6;
     return code;
 }

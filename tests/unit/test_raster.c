@@ -309,6 +309,56 @@ static void test_row_walk_matches_row_range(void **state)
     }
 }
 
+/* Outcodes agree with the clipper (raster.h's contract): codes sharing a
+ * bit mean clipping leaves nothing, all-zero codes mean it returns the
+ * triangle unchanged, and a NaN or infinity anywhere gives
+ * PERSP_CLIP_NONFINITE alone and a rejected triangle. Vertices are drawn
+ * around each plane, on it, and with non-finite values in any field. */
+static void test_outcodes_agree_with_clipper(void **state)
+{
+    (void)state;
+    test_rng rng = {4242};
+    const double gx = 3.0, gy = 2.0;
+    int shared = 0, inside = 0, nonfinite = 0;
+    for (int n = 0; n < 20000; n++) {
+        persp_clipvert in[3];
+        unsigned code[3];
+        for (int k = 0; k < 3; k++) {
+            const float w = (float)test_rng_uniform(&rng, -0.5, 3.0);
+            in[k] = cv((float)test_rng_uniform(&rng, -4, 4) * w, (float)test_rng_uniform(&rng, -3, 3) * w,
+                       (float)test_rng_uniform(&rng, -1.3, 1.3) * w, w);
+            for (int a = 0; a < PERSP_A_COUNT; a++) in[k].attr[a] = (float)test_rng_uniform(&rng, -1, 1);
+            if (test_rng_next(&rng) % 11 == 0) in[k].clip[2] = -in[k].clip[3]; /* on the near plane */
+            if (test_rng_next(&rng) % 53 == 0) {
+                const float bad[] = {NAN, INFINITY, -INFINITY};
+                const float b = bad[test_rng_next(&rng) % 3];
+                const unsigned field = (unsigned)(test_rng_next(&rng) % (4 + PERSP_A_COUNT));
+                if (field < 4) in[k].clip[field] = b;
+                else in[k].attr[field - 4] = b;
+            }
+            code[k] = persp__clip_outcode(&in[k], gx, gy);
+        }
+        persp_clipvert out[PERSP_CLIP_MAX];
+        const int m = persp__clip_triangle(in, gx, gy, out);
+        const unsigned any = code[0] | code[1] | code[2];
+        if (any & PERSP_CLIP_NONFINITE) {
+            for (int k = 0; k < 3; k++)
+                if (code[k] & PERSP_CLIP_NONFINITE) assert_int_equal(code[k], PERSP_CLIP_NONFINITE);
+            assert_int_equal(m, 0);
+            nonfinite++;
+        } else if (code[0] & code[1] & code[2]) {
+            if (m != 0) fail_msg("triangle %d: codes %x %x %x share a bit, clipping left %d vertices", n,
+                                 code[0], code[1], code[2], m);
+            shared++;
+        } else if (!any) {
+            assert_int_equal(m, 3);
+            assert_memory_equal(in, out, sizeof in);
+            inside++;
+        }
+    }
+    assert_true(shared > 100 && inside > 100 && nonfinite > 100);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -316,7 +366,7 @@ int main(void)
         cmocka_unit_test(test_clip_near_plane), cmocka_unit_test(test_clip_rejects_nan_inf),
         cmocka_unit_test(test_clip_w_not_positive), cmocka_unit_test(test_clip_guard_band), cmocka_unit_test(test_setup_degenerate_and_cull),
         cmocka_unit_test(test_fill_rule_pixel_centres), cmocka_unit_test(test_watertight_random_mesh),
-        cmocka_unit_test(test_watertight_guard_band_fan), cmocka_unit_test(test_row_walk_matches_row_range),
+        cmocka_unit_test(test_watertight_guard_band_fan), cmocka_unit_test(test_row_walk_matches_row_range), cmocka_unit_test(test_outcodes_agree_with_clipper),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
