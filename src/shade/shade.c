@@ -599,10 +599,14 @@ static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, li
     combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
 }
 
-void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
-                              const float *w2, const uint32_t *texel, uint32_t *out)
+/* phong_normals with perspective-correct weights given (phong-pc); a clone
+ * per instruction set for its interpolation and normalisation loops (an
+ * exported function cannot carry the clones: their resolver would be
+ * exported with it). */
+PERSP_SIMD_CLONES_WIDE static void phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n,
+                                               const float *w1, const float *w2, const uint32_t *texel,
+                                               uint32_t *out)
 {
-    /* phong_normals with perspective-correct weights given (phong-pc). */
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
     const int lanes = span_lanes(n);
     memcpy(b1, w1, (size_t)n * sizeof *b1);
@@ -613,6 +617,12 @@ void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, in
     normalize_soa(lanes, g.nx, g.ny, g.nz);
     interp_soa(t, PERSP_A_EX, lanes, b1, b2, g.ex, g.ey, g.ez);
     light_span(ds, t, n, &g, texel, out);
+}
+
+void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
+                              const float *w2, const uint32_t *texel, uint32_t *out)
+{
+    phong_lanes(ds, t, n, w1, w2, texel, out);
 }
 
 /* Flat: one lighting evaluation per triangle. */
