@@ -1,8 +1,9 @@
 /* libFuzzer harness: PNG and JPEG decoding from memory
  * (persp_image_load_memory), the path every texture of a scene or model
- * takes. The context's allocator refuses any block over 1 MiB: images up
- * to 512x512 decode, larger ones reach the header checks against
- * PERSP_IMAGE_MAX_SIDE / _PIXELS and then the out-of-memory path, so the
+ * takes. The context's allocator refuses any block over 1 MiB: images of
+ * fewer than 2^18 pixels decode, larger ones reach the header checks
+ * against PERSP_IMAGE_MAX_SIDE / _PIXELS and then the out-of-memory path
+ * (libpng and libjpeg allocate with malloc, not through it), so the
  * fuzzer explores the size limits with small inputs instead of spending
  * its time allocating and decoding gigabytes. Checked besides crashes:
  * a decoded image has a size within the limits and a stride of 4 bytes a
