@@ -14,7 +14,10 @@
 # minimised with libFuzzer's -merge=1 into a fresh folder that starts with
 # the committed seeds whose names were given by hand (regression inputs are
 # kept whatever they cover) and receives the other inputs only where they
-# add coverage; that folder replaces tests/fuzz/corpus/NAME/. Prints per
+# add coverage; that folder replaces tests/fuzz/corpus/NAME/. Inputs that
+# contain the top folder of this checkout's absolute path are dropped from
+# it: the fuzzer learns the path of tests/fuzz/files/ from the comparisons
+# it watches, and a corpus must not name the machine it was made on. Prints per
 # harness: executions, seconds, coverage (edges, features), corpus size and
 # findings (crash, leak, timeout, out-of-memory reproducers). Exits non-zero
 # if any harness had a finding.
@@ -26,6 +29,7 @@ jobs=${FUZZ_JOBS:-$(nproc 2>/dev/null || echo 2)}
 nice_level=${FUZZ_NICE:-19}
 root=$(cd "$(dirname "$0")/.." && pwd)
 work_root="$build/fuzz-long"
+top="/$(cut -d/ -f2 <<<"$root")/"
 
 names=()
 for bin in "$build"/fuzz_*; do
@@ -84,6 +88,7 @@ for name in "${names[@]}"; do
     done
     nice -n "$nice_level" "$build/fuzz_$name" -merge=1 -rss_limit_mb=2048 -max_len=65536 \
         -timeout=30 -close_fd_mask=2 "$fresh" "$work/corpus" >"$work/merge.txt" 2>&1
+    grep -l -a -i -F -e "$top" -r "$fresh" | xargs -r rm -f
     if [ "$(ls "$fresh" | wc -l)" -gt 0 ]; then
         rm -rf "$root/tests/fuzz/corpus/$name"
         mkdir -p "$root/tests/fuzz/corpus/$name"
