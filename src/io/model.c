@@ -112,10 +112,53 @@ static int printable_line(const char *p, const char *end)
     return 1;
 }
 
+static uint32_t le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* Binary glTF declares lengths too: the 12-byte header (magic "glTF",
+ * version, total length), then for version 2 chunks of length, type and
+ * data (glTF 2.0 specification §4.4, "GLB File Format Specification"), for
+ * version 1 a content length and format before the JSON (KHR_binary_glTF).
+ * Assimp 5.2 allocates the JSON's declared length before comparing it with
+ * the file, so five bytes could ask for 4 GiB: every declared length must
+ * fit in the file. */
+static persp_status check_glb(persp_context *ctx, const char *display, const unsigned char *b,
+                              size_t size)
+{
+    if (size < 4 || memcmp(b, "glTF", 4) != 0) return PERSP_OK;
+    if (size < 12)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: truncated GLB header", display);
+    uint32_t version = le32(b + 4), length = le32(b + 8);
+    if (length > size)
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: truncated GLB: the header declares %u bytes, the file has %zu",
+                           display, (unsigned)length, size);
+    if (version == 1) {
+        if (size < 20 || le32(b + 12) > size - 20)
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: truncated GLB: the content is longer than the file", display);
+        return PERSP_OK;
+    }
+    for (size_t pos = 12; size - pos >= 8;) {
+        uint32_t len = le32(b + pos);
+        if (len > size - pos - 8)
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: truncated GLB: the chunk at byte %zu declares %u bytes, %zu "
+                               "remain",
+                               display, pos, (unsigned)len, size - pos - 8);
+        pos += 8 + (size_t)len;
+    }
+    return PERSP_OK;
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
     const char *end = buf + size, *p = buf;
+    persp_status gst = check_glb(ctx, display, (const unsigned char *)buf, size);
+    if (gst != PERSP_OK) return gst;
     if (has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
         if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
               (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))

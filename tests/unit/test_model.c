@@ -528,6 +528,24 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
     assert_non_null(strstr(persp_context_error(l.ctx), "5000 faces, more than the file holds"));
     unload(&l);
+    /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
+     * version 1: KHR_binary_glTF): refused before the reader allocates them */
+    static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
+                                         0x78, 0x03, 0x00, 0xff, 'J', 'S', 'O', 'N',
+                                         '{', '}', ' ', ' ', 0, 0, 0, 0};
+    static const unsigned char glb1[] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 24, 0, 0, 0,
+                                         0xff, 0xff, 0xff, 0x7f, 0, 0, 0, 0, '{', '}', ' ', ' '};
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, glb2, sizeof glb2, "big.glb", NULL, NULL, 0, &l.model);
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "big.glb: truncated GLB: the chunk at byte 12 declares 4278190968 bytes"));
+    unload(&l);
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, glb1, sizeof glb1, "v1.glb", NULL, NULL, 0, &l.model);
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "v1.glb: truncated GLB: the content"));
+    unload(&l);
     /* vertex budget: checked before persp allocates the mesh */
     begin(&l);
     const char *quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
