@@ -208,6 +208,13 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
             const char *q = elements[i] + 8;
             while (q < end && *q == ' ')
                 q++;
+            /* Assimp 5.2 reads the count of an element whose name it does
+             * not know from where the name starts, so a name of digits
+             * would be taken as a count this check never saw. */
+            if (q < end && isdigit((unsigned char)*q))
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s: PLY element %d: the name starts with a digit", display,
+                                   i + 1);
             int vertex = !strncmp(q, "vertex ", 7);
             while (q < end && *q != ' ' && *q != '\n')
                 q++;

@@ -528,6 +528,15 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
     assert_non_null(strstr(persp_context_error(l.ctx), "5000 faces, more than the file holds"));
     unload(&l);
+    /* a PLY element name of digits, which Assimp would read as the count
+     * (here 2^32 + 1, which it wraps to 1) */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement 4294967297x 1\nproperty float x\nend_header\n0\n",
+              "digits.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "digits.ply: PLY element 1: the name starts with a digit"));
+    unload(&l);
     /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
      * version 1: KHR_binary_glTF): refused before the reader allocates them */
     static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
