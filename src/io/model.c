@@ -204,6 +204,7 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
             return persp__fail(ctx, PERSP_ERR_FORMAT,
                                "%s: the PLY header has no element or no end_header line", display);
         size_t room = (size_t)(end - next_line(p, end));
+        unsigned long long vertices = 0;
         for (int i = 0; i < n; i++) {
             const char *q = elements[i] + 8;
             while (q < end && *q == ' ')
@@ -223,7 +224,14 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                 check_count(ctx, display, vertex ? "vertices" : "elements", count, room,
                             vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
             if (st != PERSP_OK) return st;
+            if (vertex) vertices += count;
         }
+        /* Nothing to draw without vertices, and Assimp 5.2's PLY loader,
+         * given faces or colours but no vertex element, sizes an array by
+         * a count that has wrapped below zero (34 GB). */
+        if (vertices == 0)
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the PLY header declares no vertices",
+                               display);
         return PERSP_OK;
     }
     /* OFF, COFF, NOFF, STOFF, ...: the counts follow the keyword, after

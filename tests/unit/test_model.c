@@ -537,6 +537,15 @@ static void test_errors_name_the_file(void **state)
     assert_non_null(strstr(persp_context_error(l.ctx),
                            "digits.ply: PLY element 1: the name starts with a digit"));
     unload(&l);
+    /* faces but no vertex element */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+              "end_header\n3 0 1 2\n",
+              "novert.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(
+        strstr(persp_context_error(l.ctx), "novert.ply: the PLY header declares no vertices"));
+    unload(&l);
     /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
      * version 1: KHR_binary_glTF): refused before the reader allocates them */
     static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
