@@ -54,8 +54,11 @@ run_one() {
     start=$(date +%s)
     # -close_fd_mask=2: the harnesses' own stderr (the CLI parser's
     # messages) is dropped; libFuzzer and the sanitizers keep reporting.
+    # -malloc_limit_mb: one allocation over 1 GiB from a small input is a
+    # finding (libFuzzer sees allocations through the sanitizer allocator,
+    # so only ASan builds enforce it).
     nice -n "$nice_level" "$build/fuzz_$name" -runs="$runs" -max_total_time="$max_time" \
-        -rss_limit_mb=2048 -max_len=65536 -timeout=30 -close_fd_mask=2 -print_final_stats=1 \
+        -rss_limit_mb=2048 -malloc_limit_mb=1024 -max_len=65536 -timeout=30 -close_fd_mask=2 -print_final_stats=1 \
         -artifact_prefix="$work/artifacts/" "$work/corpus" >"$work/log.txt" 2>&1
     echo $? >"$work/status"
     end=$(date +%s)
