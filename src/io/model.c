@@ -153,9 +153,55 @@ static persp_status check_glb(persp_context *ctx, const char *display, const uns
     return PERSP_OK;
 }
 
+/* A material library named like a URL ("mtllib abcde://") makes Assimp
+ * 5.2's OBJ reader erase a negative length from a string (found by the model
+ * fuzzer under ASan); persp resolves material libraries as relative files
+ * only, so such a name is refused before Assimp reads the file. Checked
+ * whatever the name's extension: Assimp also recognises OBJ by content. */
+static persp_status check_obj_mtllib(persp_context *ctx, const char *display, const char *buf,
+                                     size_t size)
+{
+    const char *end = buf + size;
+    size_t line = 1;
+    for (const char *p = buf; p < end; p = next_line(p, end), line++) {
+        while (p < end && (*p == ' ' || *p == '\t'))
+            p++;
+        if ((size_t)(end - p) < 7 || memcmp(p, "mtllib", 6) != 0 || (p[6] != ' ' && p[6] != '\t'))
+            continue;
+        for (const char *q = p + 6; q + 3 <= end && *q != '\n'; q++)
+            if (q[0] == ':' && q[1] == '/' && q[2] == '/')
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s:%zu: the material library is named like a URL, not a file",
+                                   display, line);
+    }
+    return PERSP_OK;
+}
+
+/* A .gltf or .glb file must be binary glTF or a JSON object (glTF 2.0 §3.1,
+ * §4.4). Content that is neither is refused by Assimp's glTF reader, and
+ * Assimp then offers the file to every reader by content, one of which in
+ * Assimp 5.2 reads past the end of its copy of the file (found by the model
+ * fuzzer under ASan with "l-geometrynodev "). */
+static persp_status check_gltf_kind(persp_context *ctx, const char *display, const char *buf,
+                                    size_t size)
+{
+    if (!has_ext(display, "gltf") && !has_ext(display, "glb")) return PERSP_OK;
+    if (size >= 4 && memcmp(buf, "glTF", 4) == 0) return PERSP_OK;
+    size_t i = 0;
+    while (i < size && isspace((unsigned char)buf[i]))
+        i++;
+    if (i < size && buf[i] == '{') return PERSP_OK;
+    return persp__fail(ctx, PERSP_ERR_FORMAT,
+                       "%s: not a glTF file (neither binary glTF nor a JSON object)", display);
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
+    persp_status kst = check_gltf_kind(ctx, display, buf, size);
+    if (kst != PERSP_OK) return kst;
+    persp_status ost = check_obj_mtllib(ctx, display, buf, size);
+    if (ost != PERSP_OK) return ost;
     const char *end = buf + size, *p = buf;
     persp_status gst = check_glb(ctx, display, (const unsigned char *)buf, size);
     if (gst != PERSP_OK) return gst;

@@ -546,6 +546,18 @@ static void test_errors_name_the_file(void **state)
     assert_non_null(
         strstr(persp_context_error(l.ctx), "novert.ply: the PLY header declares no vertices"));
     unload(&l);
+    /* a material library named like a URL, which Assimp's OBJ reader
+     * mishandles */
+    load_text(&l, "mtllib abcde://\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "url.obj");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "url.obj:1: the material library is named like a URL"));
+    unload(&l);
+    /* a .gltf that is neither JSON nor binary glTF */
+    load_text(&l, "l-geometrynodev ", "junk.gltf");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "junk.gltf: not a glTF file"));
+    unload(&l);
     /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
      * version 1: KHR_binary_glTF): refused before the reader allocates them */
     static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
