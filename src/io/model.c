@@ -23,6 +23,7 @@
 #include <assimp/scene.h>
 
 #include <ctype.h>
+#include <jansson.h>
 #include <dirent.h>
 #include <math.h>
 #include <pthread.h>
@@ -195,9 +196,49 @@ static persp_status check_gltf_kind(persp_context *ctx, const char *display, con
                        "%s: not a glTF file (neither binary glTF nor a JSON object)", display);
 }
 
+/* Assimp 5.2's glTF 2 reader takes an embedded image's format from the
+ * part of its mimeType after '/' without checking that there is one, and
+ * compares from a pointer just past NULL (SIGSEGV, found by the model
+ * fuzzer with "image9png"). The mimeType of an image is "image/jpeg" or
+ * "image/png" (glTF 2.0 §5.18), so one without '/' is refused. */
+static persp_status check_gltf_images(persp_context *ctx, const char *display, const char *buf,
+                                      size_t size)
+{
+    const unsigned char *b = (const unsigned char *)buf;
+    const char *json = NULL;
+    size_t len = 0;
+    if (size >= 20 && memcmp(b, "glTF", 4) == 0 && le32(b + 4) == 2 &&
+        memcmp(b + 16, "JSON", 4) == 0 && le32(b + 12) <= size - 20) {
+        json = buf + 20;
+        len = le32(b + 12);
+    } else if (has_ext(display, "gltf")) {
+        json = buf;
+        len = size;
+    }
+    if (!json) return PERSP_OK;
+    json_t *root = json_loadb(json, len, 0, NULL);
+    if (!root) return PERSP_OK; /* Assimp reports malformed JSON itself */
+    persp_status st = PERSP_OK;
+    size_t i;
+    json_t *image;
+    json_array_foreach(json_object_get(root, "images"), i, image) {
+        json_t *mime = json_object_get(image, "mimeType");
+        if (mime && (!json_is_string(mime) || !strchr(json_string_value(mime), '/'))) {
+            st = persp__fail(ctx, PERSP_ERR_FORMAT,
+                             "%s: image %zu: the mimeType is not a media type such as image/png",
+                             display, i);
+            break;
+        }
+    }
+    json_decref(root);
+    return st;
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
+    persp_status ist = check_gltf_images(ctx, display, buf, size);
+    if (ist != PERSP_OK) return ist;
     persp_status kst = check_gltf_kind(ctx, display, buf, size);
     if (kst != PERSP_OK) return kst;
     persp_status ost = check_obj_mtllib(ctx, display, buf, size);

@@ -558,6 +558,15 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
     assert_non_null(strstr(persp_context_error(l.ctx), "junk.gltf: not a glTF file"));
     unload(&l);
+    /* an embedded image whose mimeType has no '/', on which Assimp's glTF
+     * reader crashes */
+    load_text(&l,
+              "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"bufferView\": 0, "
+              "\"mimeType\": \"image9png\"}]}",
+              "mime.gltf");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "mime.gltf: image 0: the mimeType is not"));
+    unload(&l);
     /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
      * version 1: KHR_binary_glTF): refused before the reader allocates them */
     static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
