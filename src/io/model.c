@@ -162,14 +162,14 @@ static persp_status check_glb(persp_context *ctx, const char *display, const uns
 static persp_status check_obj_mtllib(persp_context *ctx, const char *display, const char *buf,
                                      size_t size)
 {
+    /* Every "mtllib", not only at line starts: Assimp's OBJ reader also ends
+     * a line at a NUL byte. */
     const char *end = buf + size;
     size_t line = 1;
-    for (const char *p = buf; p < end; p = next_line(p, end), line++) {
-        while (p < end && (*p == ' ' || *p == '\t'))
-            p++;
-        if ((size_t)(end - p) < 7 || memcmp(p, "mtllib", 6) != 0 || (p[6] != ' ' && p[6] != '\t'))
-            continue;
-        for (const char *q = p + 6; q + 3 <= end && *q != '\n'; q++)
+    for (const char *p = buf; p + 7 <= end; p++) {
+        if (*p == '\n') line++;
+        if (memcmp(p, "mtllib", 6) != 0 || (p[6] != ' ' && p[6] != '\t')) continue;
+        for (const char *q = p + 6; q + 3 <= end && *q != '\n' && *q != '\0'; q++)
             if (q[0] == ':' && q[1] == '/' && q[2] == '/')
                 return persp__fail(ctx, PERSP_ERR_FORMAT,
                                    "%s:%zu: the material library is named like a URL, not a file",

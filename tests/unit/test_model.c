@@ -553,6 +553,14 @@ static void test_errors_name_the_file(void **state)
     assert_non_null(strstr(persp_context_error(l.ctx),
                            "url.obj:1: the material library is named like a URL"));
     unload(&l);
+    /* the same after a NUL byte, which ends a line for Assimp's reader */
+    static const char nul_url[] = "usemtl p\0mtllib abcde://\n";
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, nul_url, sizeof nul_url - 1, "nul.obj", NULL, NULL, 0,
+                                    &l.model);
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "nul.obj:1: the material library is named"));
+    unload(&l);
     /* a .gltf that is neither JSON nor binary glTF */
     load_text(&l, "l-geometrynodev ", "junk.gltf");
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
