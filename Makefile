@@ -6,7 +6,12 @@
 #                        (build-tsan; scripts/tsan.sh fails on any report)
 #   make bench           the workload table of docs/PERFORMANCE.md against llvmpipe
 #                        (scripts/bench.sh; not part of the test suite)
-#   make fuzz            libFuzzer harnesses with clang (not part of the test suite)
+#   make fuzz            libFuzzer harnesses with clang, ASan + UBSan, 60 s each
+#                        (scripts/fuzz.sh; not part of the test suite)
+#   make fuzz-long       each harness to 10 M executions (FUZZ_RUNS, FUZZ_MAX_TIME: see
+#                        scripts/fuzz-long.sh) at nice 19, nproc at once, with a faster
+#                        build (-O2, UBSan only, build-fuzz-long/); then minimises each
+#                        corpus back into tests/fuzz/corpus/NAME/ and prints a summary
 #   make difftest        persp against Mesa llvmpipe on 2000 random scenes (SEEDS=A:B),
 #                        a summary per filter; failing scenes kept in out/difftest/
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -22,7 +27,7 @@ else
 BUILD ?= build
 endif
 
-.PHONY: all deps build demo test bench fuzz difftest clean format
+.PHONY: all deps build demo test bench fuzz fuzz-long difftest clean format
 
 all: build
 
@@ -60,8 +65,16 @@ fuzz:
 	@cmake --build build-fuzz -j $(JOBS)
 	@bash scripts/fuzz.sh build-fuzz
 
+fuzz-long:
+	@bash scripts/deps.sh --optional
+	@cmake -S . -B build-fuzz-long -DCMAKE_C_COMPILER=clang -DPERSP_FUZZ=ON \
+		-DPERSP_FUZZ_SANITIZERS=undefined -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+		-DPERSP_BUILD_TESTS=OFF -DPERSP_BUILD_CLI=OFF -DPERSP_BUILD_EXAMPLES=OFF >/dev/null
+	@cmake --build build-fuzz-long -j $(JOBS)
+	@bash scripts/fuzz-long.sh build-fuzz-long
+
 format:
 	@clang-format -i include/*.h src/*/*.[ch] tools/persp/*.[ch] tests/*/*.[ch]
 
 clean:
-	rm -rf build build-san build-tsan build-fuzz out
+	rm -rf build build-san build-tsan build-fuzz build-fuzz-long out

@@ -21,7 +21,7 @@ for bin in "$build"/fuzz_*; do
     fi
     found=$((found + 1))
     echo "== $name: ${seconds}s, corpus $work/corpus"
-    if ! "$bin" -max_total_time="$seconds" -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+    if ! "$bin" -max_total_time="$seconds" -rss_limit_mb=2048 -malloc_limit_mb=1024 -max_len=65536 -close_fd_mask=2 -print_final_stats=1 \
             -artifact_prefix="$work/artifacts/" "$work/corpus" >"$work/log.txt" 2>&1; then
         echo "!! $name failed; see $work/log.txt and $work/artifacts/"
         tail -n 30 "$work/log.txt"

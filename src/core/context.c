@@ -155,6 +155,15 @@ void persp_context_set_temp_file_handler(persp_context *ctx, persp_temp_file_fn 
     ctx->temp_user = fn ? user : NULL;
 }
 
+/* Details and warnings are one line each (persp.h): a file name, a method
+ * spec, a JSON key or a decoder's message given by the input may carry a
+ * line break. */
+static void one_line(char *s)
+{
+    for (; *s; s++)
+        if (*s == '\n' || *s == '\r') *s = ' ';
+}
+
 void persp__warn(persp_context *ctx, const char *fmt, ...)
 {
     if (!ctx || !ctx->warn || !fmt) return;
@@ -163,9 +172,7 @@ void persp__warn(persp_context *ctx, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    /* One line: a file name or a decoder's message may carry a newline. */
-    for (char *c = line; *c; c++)
-        if (*c == '\n' || *c == '\r') *c = ' ';
+    one_line(line);
     ctx->warn(ctx->warn_user, line);
 }
 
@@ -185,6 +192,7 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
             snprintf(ctx->error + len, sizeof ctx->error - len, " (%s)", detail);
             ctx->mem_refused = 0;
         }
+        one_line(ctx->error);
     }
     return status;
 }

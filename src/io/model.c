@@ -116,10 +116,141 @@ static int printable_line(const char *p, const char *end)
     return 1;
 }
 
+static uint32_t le32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+/* Binary glTF declares lengths too: the 12-byte header (magic "glTF",
+ * version, total length), then for version 2 chunks of length, type and
+ * data (glTF 2.0 specification §4.4, "GLB File Format Specification"), for
+ * version 1 a content length and format before the JSON (KHR_binary_glTF).
+ * Assimp 5.2 allocates the JSON's declared length before comparing it with
+ * the file, so five bytes could ask for 4 GiB: every declared length must
+ * fit in the file. */
+static persp_status check_glb(persp_context *ctx, const char *display, const unsigned char *b,
+                              size_t size)
+{
+    if (size < 4 || memcmp(b, "glTF", 4) != 0) return PERSP_OK;
+    if (size < 12)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: truncated GLB header", display);
+    uint32_t version = le32(b + 4), length = le32(b + 8);
+    if (length > size)
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: truncated GLB: the header declares %u bytes, the file has %zu",
+                           display, (unsigned)length, size);
+    if (version == 1) {
+        if (size < 20 || le32(b + 12) > size - 20)
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: truncated GLB: the content is longer than the file", display);
+        return PERSP_OK;
+    }
+    for (size_t pos = 12; size - pos >= 8;) {
+        uint32_t len = le32(b + pos);
+        if (len > size - pos - 8)
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: truncated GLB: the chunk at byte %zu declares %u bytes, %zu "
+                               "remain",
+                               display, pos, (unsigned)len, size - pos - 8);
+        pos += 8 + (size_t)len;
+    }
+    return PERSP_OK;
+}
+
+/* A material library named like a URL ("mtllib abcde://") makes Assimp
+ * 5.2's OBJ reader erase a negative length from a string (found by the model
+ * fuzzer under ASan); persp resolves material libraries as relative files
+ * only, so such a name is refused before Assimp reads the file. Checked
+ * whatever the name's extension: Assimp also recognises OBJ by content. */
+static persp_status check_obj_mtllib(persp_context *ctx, const char *display, const char *buf,
+                                     size_t size)
+{
+    /* Every "mtllib", not only at line starts: Assimp's OBJ reader also ends
+     * a line at a NUL byte. */
+    const char *end = buf + size;
+    size_t line = 1;
+    for (const char *p = buf; p + 7 <= end; p++) {
+        if (*p == '\n') line++;
+        if (memcmp(p, "mtllib", 6) != 0 || (p[6] != ' ' && p[6] != '\t')) continue;
+        for (const char *q = p + 6; q + 3 <= end && *q != '\n' && *q != '\0'; q++)
+            if (q[0] == ':' && q[1] == '/' && q[2] == '/')
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s:%zu: the material library is named like a URL, not a file",
+                                   display, line);
+    }
+    return PERSP_OK;
+}
+
+/* A .gltf or .glb file must be binary glTF or a JSON object (glTF 2.0 §3.1,
+ * §4.4). Content that is neither is refused by Assimp's glTF reader, and
+ * Assimp then offers the file to every reader by content, one of which in
+ * Assimp 5.2 reads past the end of its copy of the file (found by the model
+ * fuzzer under ASan with "l-geometrynodev "). */
+static persp_status check_gltf_kind(persp_context *ctx, const char *display, const char *buf,
+                                    size_t size)
+{
+    if (!has_ext(display, "gltf") && !has_ext(display, "glb")) return PERSP_OK;
+    if (size >= 4 && memcmp(buf, "glTF", 4) == 0) return PERSP_OK;
+    size_t i = 0;
+    while (i < size && isspace((unsigned char)buf[i]))
+        i++;
+    if (i < size && buf[i] == '{') return PERSP_OK;
+    return persp__fail(ctx, PERSP_ERR_FORMAT,
+                       "%s: not a glTF file (neither binary glTF nor a JSON object)", display);
+}
+
+/* Assimp 5.2's glTF 2 reader takes an embedded image's format from the
+ * part of its mimeType after '/' without checking that there is one, and
+ * compares from a pointer just past NULL (SIGSEGV, found by the model
+ * fuzzer with "image9png"). The mimeType of an image is "image/jpeg" or
+ * "image/png" (glTF 2.0 §5.18), so one without '/' is refused. */
+static persp_status check_gltf_images(persp_context *ctx, const char *display, const char *buf,
+                                      size_t size)
+{
+    const unsigned char *b = (const unsigned char *)buf;
+    const char *json = NULL;
+    size_t len = 0;
+    if (size >= 20 && memcmp(b, "glTF", 4) == 0 && le32(b + 4) == 2 &&
+        memcmp(b + 16, "JSON", 4) == 0 && le32(b + 12) <= size - 20) {
+        json = buf + 20;
+        len = le32(b + 12);
+    } else if (has_ext(display, "gltf") || has_ext(display, "glb")) {
+        json = buf;
+        len = size;
+    }
+    if (!json) return PERSP_OK;
+    /* Scanned as text, not parsed: Assimp's JSON reader accepts documents a
+     * strict parser refuses. */
+    const char *end = json + len;
+    size_t index = 0;
+    for (const char *p = json; p + 10 <= end; p++) {
+        if (memcmp(p, "\"mimeType\"", 10) != 0) continue;
+        const char *q = p + 10;
+        while (q < end && (isspace((unsigned char)*q) || *q == ':'))
+            q++;
+        const char *v = q < end && *q == '"' ? q + 1 : NULL;
+        const char *close = v ? memchr(v, '"', (size_t)(end - v)) : NULL;
+        if (!close || !memchr(v, '/', (size_t)(close - v)))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: image %zu: the mimeType is not a media type such as image/png",
+                               display, index);
+        index++;
+    }
+    return PERSP_OK;
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
+    persp_status ist = check_gltf_images(ctx, display, buf, size);
+    if (ist != PERSP_OK) return ist;
+    persp_status kst = check_gltf_kind(ctx, display, buf, size);
+    if (kst != PERSP_OK) return kst;
+    persp_status ost = check_obj_mtllib(ctx, display, buf, size);
+    if (ost != PERSP_OK) return ost;
     const char *end = buf + size, *p = buf;
+    persp_status gst = check_glb(ctx, display, (const unsigned char *)buf, size);
+    if (gst != PERSP_OK) return gst;
     if (has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
         if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
               (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))
@@ -165,10 +296,18 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
             return persp__fail(ctx, PERSP_ERR_FORMAT,
                                "%s: the PLY header has no element or no end_header line", display);
         size_t room = (size_t)(end - next_line(p, end));
+        unsigned long long vertices = 0;
         for (int i = 0; i < n; i++) {
             const char *q = elements[i] + 8;
             while (q < end && *q == ' ')
                 q++;
+            /* Assimp 5.2 reads the count of an element whose name it does
+             * not know from where the name starts, so a name of digits
+             * would be taken as a count this check never saw. */
+            if (q < end && isdigit((unsigned char)*q))
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s: PLY element %d: the name starts with a digit", display,
+                                   i + 1);
             int vertex = !strncmp(q, "vertex ", 7);
             while (q < end && *q != ' ' && *q != '\n')
                 q++;
@@ -177,7 +316,14 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                 check_count(ctx, display, vertex ? "vertices" : "elements", count, room,
                             vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
             if (st != PERSP_OK) return st;
+            if (vertex) vertices += count;
         }
+        /* Nothing to draw without vertices, and Assimp 5.2's PLY loader,
+         * given faces or colours but no vertex element, sizes an array by
+         * a count that has wrapped below zero (34 GB). */
+        if (vertices == 0)
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the PLY header declares no vertices",
+                               display);
         return PERSP_OK;
     }
     /* OFF, COFF, NOFF, STOFF, ...: the counts follow the keyword, after

@@ -528,6 +528,71 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
     assert_non_null(strstr(persp_context_error(l.ctx), "5000 faces, more than the file holds"));
     unload(&l);
+    /* a PLY element name of digits, which Assimp would read as the count
+     * (here 2^32 + 1, which it wraps to 1) */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement 4294967297x 1\nproperty float x\nend_header\n0\n",
+              "digits.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "digits.ply: PLY element 1: the name starts with a digit"));
+    unload(&l);
+    /* faces but no vertex element */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int vertex_indices\n"
+              "end_header\n3 0 1 2\n",
+              "novert.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(
+        strstr(persp_context_error(l.ctx), "novert.ply: the PLY header declares no vertices"));
+    unload(&l);
+    /* a material library named like a URL, which Assimp's OBJ reader
+     * mishandles */
+    load_text(&l, "mtllib abcde://\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "url.obj");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "url.obj:1: the material library is named like a URL"));
+    unload(&l);
+    /* the same after a NUL byte, which ends a line for Assimp's reader */
+    static const char nul_url[] = "usemtl p\0mtllib abcde://\n";
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, nul_url, sizeof nul_url - 1, "nul.obj", NULL, NULL, 0,
+                                    &l.model);
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "nul.obj:1: the material library is named"));
+    unload(&l);
+    /* a .gltf that is neither JSON nor binary glTF */
+    load_text(&l, "l-geometrynodev ", "junk.gltf");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "junk.gltf: not a glTF file"));
+    unload(&l);
+    /* an embedded image whose mimeType has no '/', on which Assimp's glTF
+     * reader crashes */
+    load_text(&l,
+              "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"bufferView\": 0, "
+              "\"mimeType\": \"image9png\"}]}",
+              "mime.gltf");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "mime.gltf: image 0: the mimeType is not"));
+    unload(&l);
+    /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
+     * version 1: KHR_binary_glTF): refused before the reader allocates them */
+    static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
+                                         0x78, 0x03, 0x00, 0xff, 'J', 'S', 'O', 'N',
+                                         '{', '}', ' ', ' ', 0, 0, 0, 0};
+    static const unsigned char glb1[] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 24, 0, 0, 0,
+                                         0xff, 0xff, 0xff, 0x7f, 0, 0, 0, 0, '{', '}', ' ', ' '};
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, glb2, sizeof glb2, "big.glb", NULL, NULL, 0, &l.model);
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "big.glb: truncated GLB: the chunk at byte 12 declares 4278190968 bytes"));
+    unload(&l);
+    begin(&l);
+    l.st = persp__model_load_memory(l.scene, glb1, sizeof glb1, "v1.glb", NULL, NULL, 0, &l.model);
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "v1.glb: truncated GLB: the content"));
+    unload(&l);
     /* vertex budget: checked before persp allocates the mesh */
     begin(&l);
     const char *quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";

@@ -32,17 +32,6 @@ static void usage(FILE *out)
                  "  persp --version        print the version\n");
 }
 
-int cli_error(int code, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("persp: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-    return code;
-}
-
 void cli_warning(void *user, const char *message)
 {
     (void)user;
@@ -59,82 +48,6 @@ int cli_status(persp_context *ctx, persp_status st, const char *what)
     if (detail && detail[0])
         return cli_error(CLI_FAIL, "%s: %s (%s)", what, detail, persp_status_string(st));
     return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
-}
-
-/* Plain decimal text only: strtol and strtod also take leading blanks, a
- * '+', hexadecimal and (strtod) "inf"/"nan" (C11 7.22.1.3-4), none of
- * which a user means in an option value. */
-static int decimal_syntax(const char *s, int fraction)
-{
-    if (!s) return 0;
-    if (*s == '-') s++;
-    int digits = 0;
-    for (; *s >= '0' && *s <= '9'; s++)
-        digits++;
-    if (fraction && *s == '.')
-        for (s++; *s >= '0' && *s <= '9'; s++)
-            digits++;
-    if (!digits) return 0;
-    if (fraction && (*s == 'e' || *s == 'E')) {
-        s++;
-        if (*s == '-' || *s == '+') s++;
-        if (*s < '0' || *s > '9') return 0;
-        while (*s >= '0' && *s <= '9')
-            s++;
-    }
-    return *s == '\0';
-}
-
-int cli_parse_int(const char *text, long lo, long hi, long *out)
-{
-    if (!decimal_syntax(text, 0)) return 0;
-    errno = 0;
-    char *end = NULL;
-    long v = strtol(text, &end, 10);
-    if (errno || *end != '\0' || v < lo || v > hi) return 0;
-    *out = v;
-    return 1;
-}
-
-int cli_parse_real(const char *text, double lo, double hi, double *out)
-{
-    if (!decimal_syntax(text, 1)) return 0;
-    char *end = NULL;
-    double v = strtod(text, &end);
-    if (*end != '\0' || !isfinite(v) || !(v >= lo && v <= hi)) return 0;
-    *out = v;
-    return 1;
-}
-
-int cli_parse_size(const char *text, int *w, int *h)
-{
-    if (!text) return 0;
-    const char *x = strchr(text, 'x');
-    if (!x || x == text) return 0;
-    char buf[32];
-    size_t len = (size_t)(x - text);
-    if (len >= sizeof buf) return 0;
-    memcpy(buf, text, len);
-    buf[len] = '\0';
-    long a, b;
-    if (!cli_parse_int(buf, 1, PERSP_IMAGE_MAX_SIDE, &a)) return 0;
-    if (!cli_parse_int(x + 1, 1, PERSP_IMAGE_MAX_SIDE, &b)) return 0;
-    if ((unsigned long)a * (unsigned long)b > PERSP_IMAGE_MAX_PIXELS) return 0;
-    *w = (int)a;
-    *h = (int)b;
-    return 1;
-}
-
-int cli_split_list(char *text, const char **list, size_t *n, size_t cap)
-{
-    for (char *p = text;;) {
-        char *comma = strchr(p, ',');
-        if (comma) *comma = '\0';
-        if (!*p || *n >= cap) return 0;
-        list[(*n)++] = p;
-        if (!comma) return 1;
-        p = comma + 1;
-    }
 }
 
 double cli_now(void)
