@@ -140,6 +140,8 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
 
 /* Makes room for one more triangle in the frame, drawing the batch first
  * when it is full. */
+static persp_status frame_flush_batch(persp_frame *f, int last);
+
 static size_t frame_batch_limit(const persp_frame *f)
 {
     if (f->capture) return SIZE_MAX;
@@ -155,7 +157,7 @@ static persp_status reserve_triangles(persp_frame *f, size_t want, size_t *room)
     struct persp_render_cache *c = f->cache;
     const size_t batch = frame_batch_limit(f);
     if (f->tri_count >= batch) {
-        persp_status st = persp__frame_flush(f);
+        persp_status st = frame_flush_batch(f, 0);
         if (st != PERSP_OK) return st;
         f->tri_count = f->prep_count = 0;
     }
@@ -476,7 +478,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         const int in_place = !f->capture && slots <= batch;
         if (in_place) {
             if (f->tri_count + slots > batch && f->tri_count > 0) {
-                if ((st = persp__frame_flush(f)) != PERSP_OK) return st;
+                if ((st = frame_flush_batch(f, 0)) != PERSP_OK) return st;
                 f->tri_count = f->prep_count = 0;
             }
             if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + slots, sizeof *c->tris) !=
@@ -1017,7 +1019,10 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
     add_ops(&c->worker_stats[worker].ops, &local.ops);
 }
 
-persp_status persp__frame_flush(persp_frame *f)
+persp_status persp__frame_flush(persp_frame *f) { return frame_flush_batch(f, 1); }
+
+/* Draws the batch of set-up triangles; last: the frame's final batch. */
+static persp_status frame_flush_batch(persp_frame *f, int last)
 {
     struct persp_render_cache *c = f->cache;
     persp_context *ctx = f->ctx;
@@ -1064,8 +1069,11 @@ persp_status persp__frame_flush(persp_frame *f)
                     sizeof *c->worker_stats) != PERSP_OK)
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     memset(c->worker_stats, 0, (size_t)workers * sizeof *c->worker_stats);
+    /* Streaming stores only for the last batch: an earlier batch's tiles are
+     * read back by the next batch that touches them, from the caches if
+     * they were written there. */
     tile_job job = {f, tiles_x, workers,
-                    (size_t)f->fb->width * (size_t)f->fb->height * 8u > PERSP_STREAM_BYTES};
+                    last && (size_t)f->fb->width * (size_t)f->fb->height * 8u > PERSP_STREAM_BYTES};
     persp_status st = persp__pool_run(ctx, (int)tiles, raster_tile, &job);
     if (st != PERSP_OK)
         return persp__fail(ctx, st, "render: cannot start worker threads: %s",
