@@ -173,12 +173,16 @@ static persp_status reserve_triangle(persp_frame *f) { return reserve_triangles(
 
 /* Records the tiles of the frame's newest triangle (reserve_triangle made
  * room) and counts it in. */
+static struct tri_tiles tiles_of(const persp_tri *t)
+{
+    return (struct tri_tiles){(uint16_t)(t->xmin / PERSP_TILE), (uint16_t)(t->xmax / PERSP_TILE),
+                              (uint16_t)(t->ymin / PERSP_TILE), (uint16_t)(t->ymax / PERSP_TILE)};
+}
+
 static void commit_triangle(persp_frame *f)
 {
     struct persp_render_cache *c = f->cache;
-    const persp_tri *t = &c->tris[f->tri_count];
-    c->tiles[f->tri_count] = (struct tri_tiles){(uint16_t)(t->xmin / PERSP_TILE), (uint16_t)(t->xmax / PERSP_TILE),
-                                                (uint16_t)(t->ymin / PERSP_TILE), (uint16_t)(t->ymax / PERSP_TILE)};
+    c->tiles[f->tri_count] = tiles_of(&c->tris[f->tri_count]);
     f->tri_count++;
 }
 
@@ -243,6 +247,7 @@ static void to_window(const persp_clipvert *v, double W, double H, double *x, do
  * records that the calling thread appends to the frame in order. */
 typedef struct setup_slab {
     persp_tri *tris;
+    struct tri_tiles *tiles; /* in place: the records' tile ranges, written with them; else NULL */
     size_t count, cap;
     size_t stop; /* first input triangle not processed (the slab ran out of room) */
 } setup_slab;
@@ -256,7 +261,11 @@ static persp_status sink_triangle(const tri_sink *s, const persp_winvert tv[3], 
 {
     if (!s->slab) return emit_triangle(s->f, tv, state, cull);
     const persp_draw_state *ds = &s->f->cache->states[state];
-    if (setup_record(s->f, ds, tv, state, cull, &s->slab->tris[s->slab->count])) s->slab->count++;
+    setup_slab *sl = s->slab;
+    if (setup_record(s->f, ds, tv, state, cull, &sl->tris[sl->count])) {
+        if (sl->tiles) sl->tiles[sl->count] = tiles_of(&sl->tris[sl->count]);
+        sl->count++;
+    }
     return PERSP_OK;
 }
 
@@ -490,6 +499,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         const size_t base = f->tri_count;
         for (int k = 0; k < tasks; k++) {
             c->slabs[k].tris = in_place ? c->tris + base + (size_t)k * SETUP_SLAB : c->slab_tris + (size_t)k * SETUP_SLAB;
+            c->slabs[k].tiles = in_place ? c->tiles + base + (size_t)k * SETUP_SLAB : NULL;
             c->slabs[k].cap = SETUP_SLAB;
         }
         st = persp__pool_run(f->ctx, tasks, setup_task, j);
@@ -503,9 +513,9 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
             if (copying) {
                 if ((st = append_slab(f, slab)) != PERSP_OK) return st;
             } else {
+                /* The records and their tile ranges are in place (the task
+                 * wrote both); the unused slots become gaps. */
                 const size_t region = base + (size_t)k * SETUP_SLAB;
-                f->tri_count = region;
-                for (size_t i = 0; i < slab->count; i++) commit_triangle(f);
                 for (size_t i = slab->count; i < SETUP_SLAB; i++)
                     c->tiles[region + i] = (struct tri_tiles){1, 0, 1, 0};
                 f->gap_count += SETUP_SLAB - slab->count;
@@ -517,6 +527,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
                         setup_slab *later = &j->slabs[m];
                         memcpy(c->slab_tris + (size_t)m * SETUP_SLAB, later->tris, later->count * sizeof *c->tris);
                         later->tris = c->slab_tris + (size_t)m * SETUP_SLAB;
+                        later->tiles = NULL;
                     }
                     copying = 1;
                 }

@@ -439,9 +439,8 @@ static void test_batches_bit_identical(void **state)
 /* The same with the depth test off, where the image shows the submission
  * order itself: thousands of overlapping triangles drawn with persp_draw,
  * last one wins at every pixel. */
-static void test_submission_order_kept(void **state)
+static void submission_order_kept(int cross_near)
 {
-    (void)state;
     enum { S = 96, NT = 40000 }; /* several set-up rounds on 4 threads (4 × SETUP_CHUNK and more) */
     persp_vertex *v = calloc(3 * NT, sizeof *v);
     uint32_t *idx = malloc(3 * NT * sizeof *idx);
@@ -455,6 +454,10 @@ static void test_submission_order_kept(void **state)
         for (int k = 0; k < 3; k++) v[i].color[k] = (float)((i / 3 * (k + 3)) % 251) / 250.0f;
         v[i].color[3] = 1.0f;
         idx[i] = (uint32_t)i;
+        /* Every triangle's first vertex in front of the near plane (z < −w):
+         * clipping turns each into two or more, so every set-up task's
+         * region overflows and the rest of its chunk is set up serially. */
+        if (cross_near && i % 3 == 0) v[i].pos[2] = -3.0f;
     }
     const size_t batches[] = {0, 5, 999};
     uint64_t ref = 0;
@@ -481,6 +484,13 @@ static void test_submission_order_kept(void **state)
         }
     free(v);
     free(idx);
+}
+
+static void test_submission_order_kept(void **state)
+{
+    (void)state;
+    submission_order_kept(0);
+    submission_order_kept(1);
 }
 
 int main(void)
