@@ -74,6 +74,22 @@ persp_context *test_context_threads(int threads)
     return ctx;
 }
 
+persp_framebuffer test_framebuffer(int w, int h)
+{
+    persp_framebuffer fb = {w, h, malloc((size_t)w * (size_t)h * 4), malloc((size_t)w * (size_t)h * sizeof(float))};
+    assert_non_null(fb.color);
+    assert_non_null(fb.depth);
+    return fb;
+}
+
+void test_framebuffer_free(persp_framebuffer *fb)
+{
+    free(fb->color);
+    free(fb->depth);
+    fb->color = NULL;
+    fb->depth = NULL;
+}
+
 test_diff test_image_compare(const persp_image *a, const persp_image *b, persp_image *diff)
 {
     test_diff d = {0, 0.0, INFINITY};

@@ -28,6 +28,11 @@ int test_tmpdir_remove(const char *dir);
 persp_context *test_context(void);
 /* A context drawing with the given number of threads. */
 persp_context *test_context_threads(int threads);
+/* A w×h framebuffer whose colour and depth come from malloc (the test fails
+ * if they cannot be had); test_framebuffer_free frees both (a NULL field is
+ * skipped, so a caller may take the colour buffer over). */
+persp_framebuffer test_framebuffer(int w, int h);
+void test_framebuffer_free(persp_framebuffer *fb);
 
 /* Golden images (docs/DESIGN.md, "Testing", layer 3). */
 typedef struct test_tolerance {

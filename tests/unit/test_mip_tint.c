@@ -25,11 +25,8 @@ static void test_floor_levels(void **state)
     assert_int_equal(persp_scene_builtin(ctx, "floor", &scene), PERSP_OK);
     assert_int_equal(persp_scene_tint_mip_levels(scene), PERSP_OK);
     const int w = 160, h = 120;
-    uint8_t *color = malloc((size_t)w * h * 4);
-    float *depth = malloc((size_t)w * h * sizeof(float));
-    assert_non_null(color);
-    assert_non_null(depth);
-    persp_framebuffer fb = {w, h, color, depth};
+    persp_framebuffer fb = test_framebuffer(w, h);
+    uint8_t *color = fb.color;
     persp_render_desc d;
     memset(&d, 0, sizeof d);
     d.filter = PERSP_FILTER_NEAREST_MIP_NEAREST;
@@ -53,8 +50,7 @@ static void test_floor_levels(void **state)
     assert_true(distinct >= 3);
     int far_level = level_of(color + ((size_t)(h / 2 - 3) * w + w / 2) * 4);
     assert_true(near_level >= 0 && far_level > near_level);
-    free(color);
-    free(depth);
+    test_framebuffer_free(&fb);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
 }

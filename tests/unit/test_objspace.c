@@ -209,17 +209,13 @@ static persp_status render_file(const char *path, int threads, int w, int h, per
     persp_context *ctx = test_context_threads(threads);
     persp_scene *scene = NULL;
     assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
-    uint8_t *color = malloc((size_t)w * h * 4);
-    float *depth = malloc((size_t)w * h * sizeof(float));
-    assert_non_null(color);
-    assert_non_null(depth);
-    persp_framebuffer fb = {w, h, color, depth};
+    persp_framebuffer fb = test_framebuffer(w, h);
     persp_render_desc d;
     memset(&d, 0, sizeof d);
     d.pipeline = PERSP_PIPELINE_OBJECT;
     d.shading = PERSP_SHADING_NONE;
     persp_status s = persp_render(ctx, scene, &d, &fb, stats);
-    free(color), free(depth);
+    test_framebuffer_free(&fb);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
     return s;
@@ -278,11 +274,7 @@ static void test_work_limit_refused(void **state)
     persp_scene *scene = NULL;
     assert_int_equal(persp_scene_builtin(ctx, "corridor", &scene), PERSP_OK);
     const int w = 320, h = 240;
-    uint8_t *color = malloc((size_t)w * h * 4);
-    float *depth = malloc((size_t)w * h * sizeof(float));
-    assert_non_null(color);
-    assert_non_null(depth);
-    persp_framebuffer fb = {w, h, color, depth};
+    persp_framebuffer fb = test_framebuffer(w, h);
     persp_render_desc d;
     memset(&d, 0, sizeof d);
     d.pipeline = PERSP_PIPELINE_OBJECT;
@@ -293,7 +285,7 @@ static void test_work_limit_refused(void **state)
     /* The default limit lets the same frame through. */
     ctx->objspace_max_work = 0.0;
     assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
-    free(color), free(depth);
+    test_framebuffer_free(&fb);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
 }

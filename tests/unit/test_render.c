@@ -28,20 +28,18 @@ static uint64_t render_hash_batched(const char *scene_name, const persp_render_d
     } else {
         assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
     }
-    uint8_t *color = malloc((size_t)w * h * 4);
-    float *depth = malloc((size_t)w * h * sizeof(float));
-    assert_non_null(color);
-    assert_non_null(depth);
-    persp_framebuffer fb = {w, h, color, depth};
+    persp_framebuffer fb = test_framebuffer(w, h);
     persp_render_stats st;
     persp_status s = persp_render(ctx, scene, d, &fb, &st);
     if (s != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
     assert_true(st.pixels_written > 0);
-    uint64_t hash = test_hash(color, (size_t)w * h * 4);
-    if (keep) *keep = color;
-    else free(color);
+    uint64_t hash = test_hash(fb.color, (size_t)w * h * 4);
     if (stats) *stats = st;
-    free(depth);
+    if (keep) {
+        *keep = fb.color;
+        fb.color = NULL;
+    }
+    test_framebuffer_free(&fb);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
     return hash;
@@ -74,18 +72,13 @@ static void test_small_triangles_as_spans(void **state)
                     assert_int_equal(persp_shading_parse(shadings[si], &d.shading), PERSP_OK);
                     d.depth_mode = dm ? PERSP_DEPTH_INVW : PERSP_DEPTH_Z;
                     enum { W = 256, H = 192 };
-                    uint8_t *color = malloc(W * H * 4);
-                    float *depth = malloc(W * H * sizeof(float));
-                    assert_non_null(color);
-                    assert_non_null(depth);
-                    persp_framebuffer fb = {W, H, color, depth};
+                    persp_framebuffer fb = test_framebuffer(W, H);
                     persp_render_stats st;
                     if (persp_render(ctx, scene, &d, &fb, &st) != PERSP_OK)
                         fail_msg("render: %s", persp_context_error(ctx));
                     assert_true(st.pixels_written > W * H / 4);
-                    h[span_only] = test_hash(color, W * H * 4);
-                    free(color);
-                    free(depth);
+                    h[span_only] = test_hash(fb.color, W * H * 4);
+                    test_framebuffer_free(&fb);
                     persp_scene_destroy(scene);
                     persp_context_destroy(ctx);
                 }
@@ -181,11 +174,7 @@ static void test_no_allocation_after_first_frame(void **state)
         persp_scene *scene = NULL;
         assert_int_equal(persp_scene_builtin(ctx, "corridor", &scene), PERSP_OK);
         const int w = 256, h = 192;
-        uint8_t *color = malloc((size_t)w * h * 4);
-        float *depth = malloc((size_t)w * h * sizeof(float));
-        assert_non_null(color);
-        assert_non_null(depth);
-        persp_framebuffer fb = {w, h, color, depth};
+        persp_framebuffer fb = test_framebuffer(w, h);
         persp_render_desc d;
         memset(&d, 0, sizeof d);
         d.filter = PERSP_FILTER_TRILINEAR;
@@ -197,8 +186,7 @@ static void test_no_allocation_after_first_frame(void **state)
         if (counter.allocs != first)
             fail_msg("%d thread(s): %ld allocations in frames after the first", threads,
                      counter.allocs - first);
-        free(color);
-        free(depth);
+        test_framebuffer_free(&fb);
         persp_scene_destroy(scene);
         persp_context_destroy(ctx);
     }
