@@ -79,6 +79,11 @@ typedef struct persp_draw_state {
      * [CS300-TexMap]'s "replace"), so the renderer may sample straight into the
      * destination. */
     int shade_is_texel;
+    /* Decided once when the frame takes the state (persp__frame_add_state,
+     * render.c): u, v and the shader's perspective-correct weights from one
+     * reciprocal per pixel (shade_batch), and small triangles drawn as rows
+     * packed into lanes (draw_small). */
+    int fuse_weights, small_lanes;
     int force_opaque; /* set every written alpha to 255 (persp_draw: the caller's texture and
                          vertex colours may carry alpha; scene textures are made opaque at load) */
     /* Span shader chosen from shading and texture environment. */

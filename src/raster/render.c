@@ -114,13 +114,26 @@ void persp__frame_clear(persp_frame *f, const uint8_t rgba[4])
     f->clear_pending = 1;
 }
 
+static int lane_filter(persp_filter filter);
+
 persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index)
 {
     struct persp_render_cache *c = f->cache;
     if (persp__grow(f->ctx, (void **)&c->states, &c->state_cap, f->state_count + 1,
                     sizeof *c->states) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    c->states[f->state_count] = *s;
+    persp_draw_state *ds = &c->states[f->state_count];
+    *ds = *s;
+    /* Both shortcuts give the values of the general path; they are left out
+     * where a method counts its operations or a capture reads the spans. */
+    const int exact = ds->method.m == &persp__method_exact && !f->count_ops;
+    const int pc = ds->shade_method.m == &persp__method_exact &&
+                   (ds->shading == PERSP_SHADING_GOURAUD_PC || ds->shading == PERSP_SHADING_PHONG_PC);
+    ds->fuse_weights = exact && pc;
+    ds->small_lanes = exact && !f->capture && !f->ctx->span_only && ds->tex &&
+                      lane_filter(ds->sampler.desc.filter) &&
+                      (ds->shade_is_texel || (pc && !(ds->shading == PERSP_SHADING_GOURAUD_PC &&
+                                                      ds->material.env == PERSP_TEXENV_REPLACE)));
     *index = (uint32_t)f->state_count++;
     return PERSP_OK;
 }
@@ -663,8 +676,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         sv = b->s2;
     } else if (!ds->tex && !f->capture && !sc->ops) {
         /* Untextured: nothing reads the texture coordinates. */
-    } else if (!sc->ops && ds->method.m == &persp__method_exact && ds->shade_method.m == &persp__method_exact &&
-               (ds->shading == PERSP_SHADING_GOURAUD_PC || ds->shading == PERSP_SHADING_PHONG_PC)) {
+    } else if (ds->fuse_weights) {
         /* Texture coordinates and the shader's perspective-correct weights
          * share 1/w: one reciprocal per pixel for both ([Romanyuk-PCF] §4.2
          * weights are Heckbert's rational form with other numerators). */
@@ -756,24 +768,24 @@ typedef struct lane_batch {
     int32_t idx[PERSP_SPAN_MAX];
 } lane_batch;
 
-static int lanes_apply(const persp_frame *f, const persp_draw_state *ds, const persp_tri *t)
+/* Filters whose footprint is each pixel's own (per-draw half of the
+ * condition: persp__frame_add_state sets small_lanes). */
+static int lane_filter(persp_filter filter)
 {
-    if (f->ctx->span_only || f->capture || f->count_ops || !ds->tex || ds->method.m != &persp__method_exact ||
-        t->prep != UINT32_MAX || t->xmax - t->xmin >= SMALL_TRI_WIDTH || t->ymax == t->ymin)
-        return 0;
-    switch (ds->sampler.desc.filter) {
+    switch (filter) {
     case PERSP_FILTER_NEAREST:
     case PERSP_FILTER_BILINEAR:
     case PERSP_FILTER_NEAREST_MIP_NEAREST:
     case PERSP_FILTER_BILINEAR_MIP_NEAREST:
     case PERSP_FILTER_NEAREST_MIP_LINEAR:
-    case PERSP_FILTER_TRILINEAR: break;
+    case PERSP_FILTER_TRILINEAR: return 1;
     default: return 0;
     }
-    if (ds->shade_is_texel) return 1;
-    if (ds->shade_method.m != &persp__method_exact) return 0;
-    return (ds->shading == PERSP_SHADING_GOURAUD_PC && ds->material.env != PERSP_TEXENV_REPLACE) ||
-           ds->shading == PERSP_SHADING_PHONG_PC;
+}
+
+static int lanes_apply(const persp_draw_state *ds, const persp_tri *t)
+{
+    return ds->small_lanes && t->prep == UINT32_MAX && t->xmax - t->xmin < SMALL_TRI_WIDTH && t->ymax != t->ymin;
 }
 
 PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
@@ -803,21 +815,21 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
     for (int k = 0; k < n; k++) any += live[k];
     sc->stats->fragments += (uint64_t)n;
     if (!any) return;
-    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX];
+    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX], rq[PERSP_SPAN_MAX];
     const float du = (float)t->rat.a, dv = (float)t->rat.d;
-    const int gouraud = !ds->shade_is_texel;
-    /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]. */
+    const int weights = !ds->shade_is_texel;
+    /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]; one for u, v and the
+     * weights, as persp__exact_span_pair. */
     for (int k = 0; k < n; k++) {
-        const float rq = 1.0f / q[k];
-        u[k] = (lb->u0[k] + lb->k[k] * du) * rq;
-        v[k] = (lb->v0[k] + lb->k[k] * dv) * rq;
+        rq[k] = 1.0f / q[k];
+        u[k] = (lb->u0[k] + lb->k[k] * du) * rq[k];
+        v[k] = (lb->v0[k] + lb->k[k] * dv) * rq[k];
     }
-    if (gouraud) {
+    if (weights) {
         const float da = (float)t->bary.a, db = (float)t->bary.d;
         for (int k = 0; k < n; k++) {
-            const float rq = 1.0f / q[k];
-            w1[k] = (lb->w10[k] + lb->k[k] * da) * rq;
-            w2[k] = (lb->w20[k] + lb->k[k] * db) * rq;
+            w1[k] = (lb->w10[k] + lb->k[k] * da) * rq[k];
+            w2[k] = (lb->w20[k] + lb->k[k] * db) * rq[k];
         }
     }
     uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
@@ -827,10 +839,10 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
         .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
         .poly_lambda = t->poly_lambda,
     };
-    persp__sample_span(&ds->sampler, &in, gouraud ? texel : out);
+    persp__sample_span(&ds->sampler, &in, weights ? texel : out);
     if (ds->shading == PERSP_SHADING_PHONG_PC)
         persp__shade_phong_lanes(ds, t, n, w1, w2, texel, out);
-    else if (gouraud)
+    else if (weights)
         persp__shade_gouraud_lanes(ds, t, n, w1, w2, texel, out);
     if (ds->force_opaque)
         for (int k = 0; k < n; k++) out[k] |= 0xff000000u;
@@ -848,7 +860,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
 PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, int ya, int yb, int x0, int x1)
 {
     const persp_tri *t = sc->t;
-    const int gouraud = !sc->ds->shade_is_texel;
+    const int weights = !sc->ds->shade_is_texel;
     lane_batch lb;
     lb.n = 0;
     persp_row_walk walk;
@@ -868,7 +880,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, int ya, int yb, int x0, i
         const float Q = (float)(t->rat.g * px + t->rat.h * py + t->rat.i);
         const float Z = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
         float A = 0.0f, B = 0.0f;
-        if (gouraud) {
+        if (weights) {
             A = (float)(t->bary.a * px + t->bary.b * py + t->bary.c);
             B = (float)(t->bary.d * px + t->bary.e * py + t->bary.f);
         }
@@ -1005,7 +1017,7 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             continue;
         }
         const int ya = PERSP_MAX(y0, t->ymin), yb = PERSP_MIN(y1, t->ymax);
-        if (lanes_apply(f, sc.ds, t)) {
+        if (lanes_apply(sc.ds, t)) {
             draw_small(&sc, ya, yb, x0, x1);
             continue;
         }
