@@ -2,15 +2,15 @@
 # persp view in a real X window (Xvfb), driven by a --script of input events:
 # the left method switched to affine, the divider dragged, the difference
 # overlay toggled, a flight and a camera-path replay, with screenshots checked
-# pixel by pixel. Skipped without xvfb-run or without the window build.
+# pixel by pixel. Skipped without Xvfb or without the window build.
 persp="$1"
 . "$(dirname "$0")/lib.sh"
 if "$persp" view --help | grep -q "has no window"; then
     echo "SKIP: view xvfb: persp was built without the window (SDL2 / Dear ImGui)"
     exit 0
 fi
-if ! command -v xvfb-run >/dev/null; then
-    echo "SKIP: view xvfb: xvfb-run not found (scripts/deps.sh installs xvfb)"
+if ! command -v Xvfb >/dev/null; then
+    echo "SKIP: view xvfb: Xvfb not found (scripts/deps.sh installs xvfb)"
     exit 0
 fi
 command -v python3 >/dev/null || { echo "SKIP: view xvfb: python3 not found"; exit 0; }
@@ -22,7 +22,31 @@ W=480 H=360
 # through SDL's renderer), whose allocations LeakSanitizer reports at exit
 # from modules persp does not own; the headless --play path, which loads
 # none of them, stays leak-checked in cli_test_view_play.
-xrun() { ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" xvfb-run -a -s "-screen 0 1024x768x24" "$@"; }
+# Each run gets its own server, which names its display itself (-displayfd)
+# once it accepts clients: no lock-file race between parallel tests, and no
+# xvfb-run, whose clean-up of its Xauthority folder fails now and then with
+# exit 5 whatever the program under test returned.
+xrun() {
+    local fd="$tmp/display.$BASHPID" xpid rc i
+    : >"$fd"
+    Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>"$fd" 2>>"$tmp/xvfb.log" &
+    xpid=$!
+    for ((i = 0; i < 200; i++)); do
+        [ -s "$fd" ] && break
+        kill -0 "$xpid" 2>/dev/null || break
+        sleep 0.05
+    done
+    if ! [ -s "$fd" ]; then
+        echo "Xvfb did not start: $(tail -n 3 "$tmp/xvfb.log")"
+        kill "$xpid" 2>/dev/null; wait "$xpid" 2>/dev/null
+        return 125
+    fi
+    DISPLAY=":$(head -n 1 "$fd")" \
+        ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" "$@"
+    rc=$?
+    kill "$xpid" 2>/dev/null; wait "$xpid" 2>/dev/null
+    return "$rc"
+}
 
 # The split with both sides exact, then the left side affine; the divider
 # dragged from the middle to a quarter; the overlay on (window read-back),
