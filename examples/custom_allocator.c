@@ -2,7 +2,8 @@
  * custom_allocator — route persp's memory through the program's allocator
  * (an arena, a tracking allocator, a budget), here one that counts.
  *
- *   custom_allocator [SCENE]      (default: cube)
+ *   custom_allocator [SCENE]      (a built-in scene, default cube, or a scene
+ *                                 or model file: a name with a / or a .)
  *
  * Everything persp allocates for a context — scenes, textures, images, the
  * per-frame buffers, the worker threads' state, libpng's memory — goes
@@ -24,6 +25,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* persp asks for 16-byte alignment. Each block starts with a header holding
  * its size (free() is not told the size); the header is 16 bytes, so the
@@ -99,7 +101,10 @@ static persp_status render_once(counting_allocator *counter, const char *scene_n
     persp_image image = {0};
 
     persp_status st = persp_context_create(&cdesc, &ctx);
-    if (st == PERSP_OK) st = persp_scene_builtin(ctx, scene_name, &scene);
+    /* A name with a '/' or a '.' is a scene or model file; else a built-in. */
+    if (st == PERSP_OK)
+        st = strpbrk(scene_name, "/.") ? persp_scene_load(ctx, scene_name, &scene)
+                                       : persp_scene_builtin(ctx, scene_name, &scene);
     if (st == PERSP_OK) st = persp_image_alloc(ctx, 320, 240, &image);
     float *depth = NULL;
     if (st == PERSP_OK) {
