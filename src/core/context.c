@@ -259,3 +259,14 @@ persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t nee
     *cap = ncap;
     return PERSP_OK;
 }
+
+persp_status persp__reserve(persp_context *ctx, void **ptr, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap) return PERSP_OK;
+    size_t bytes;
+    if (elem == 0 || !persp__size_mul(need, elem, &bytes)) return PERSP_ERR_TOO_LARGE;
+    persp__free(ctx, *ptr);
+    *ptr = persp__calloc(ctx, need, elem);
+    *cap = *ptr ? need : 0;
+    return *ptr ? PERSP_OK : PERSP_ERR_OUT_OF_MEMORY;
+}

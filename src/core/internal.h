@@ -97,6 +97,12 @@ void *persp__calloc(persp_context *ctx, size_t n, size_t size);
  * PERSP_ERR_OUT_OF_MEMORY when the allocator fails. Sets no error detail:
  * the caller knows what was being grown. */
 persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t need, size_t elem);
+/* persp__grow for arrays refilled whole each time they are used (a mesh's
+ * per-vertex caches): the contents are dropped, the old block is freed
+ * before the new one is allocated and exactly need elements (zero) are
+ * allocated, so that a mesh of a million vertices holds one copy of its
+ * caches, not up to two and a half. On failure *ptr is NULL and *cap 0. */
+persp_status persp__reserve(persp_context *ctx, void **ptr, size_t *cap, size_t need, size_t elem);
 
 /* Fails ctx (PERSP_ERR_FORMAT for an empty size, PERSP_ERR_TOO_LARGE above
  * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS) with name in the detail. */

@@ -28,9 +28,15 @@
  * it, with the same arithmetic emit_polygon applies to clipped vertices. */
 struct vert_win {
     double x, y, z, q;
-    int64_t X, Y; /* llround(x·256), llround(y·256): the setup's fixed point */
+    /* llround(x·256), llround(y·256): the setup's fixed point, set when
+     * code is 0. Inside the guard band |x|, |y| are at most the image side
+     * plus the guard band, 32 768 pixels, so 32 bits hold them; the record is then 48 bytes, not 56 (the
+     * per-vertex caches are most of a large mesh's render memory). */
+    int32_t X, Y;
     unsigned code; /* persp__clip_outcode */
 };
+_Static_assert((PERSP_IMAGE_MAX_SIDE + (long long)PERSP_GUARD_PIXELS) * PERSP_SUBPIXEL < INT32_MAX / 2,
+               "guard-band window coordinates fit the 32-bit fixed point");
 
 /* The tiles a set-up triangle covers, kept beside its record when it is
  * appended (and the record is in cache), so that binning reads 8 bytes per
@@ -308,7 +314,7 @@ static persp_status emit_polygon(const tri_sink *sk, const persp_clipvert *poly,
 static int quick_reject(const struct vert_win *a, const struct vert_win *b, const struct vert_win *c,
                         int cull, int width, int height)
 {
-    int64_t area = (b->X - a->X) * (c->Y - a->Y) - (c->X - a->X) * (b->Y - a->Y);
+    int64_t area = ((int64_t)b->X - a->X) * ((int64_t)c->Y - a->Y) - ((int64_t)c->X - a->X) * ((int64_t)b->Y - a->Y);
     if (area == 0 || (cull && area < 0)) return 1;
     int64_t minx = PERSP_MIN(a->X, PERSP_MIN(b->X, c->X)), maxx = PERSP_MAX(a->X, PERSP_MAX(b->X, c->X));
     int64_t miny = PERSP_MIN(a->Y, PERSP_MIN(b->Y, c->Y)), maxy = PERSP_MAX(a->Y, PERSP_MAX(b->Y, c->Y));
@@ -372,8 +378,8 @@ static void vertex_task(void *user, int task, int worker)
         w->code = persp__clip_outcode(&c->verts[i], j->gx, j->gy);
         if (w->code) continue;
         to_window(&c->verts[i], width, height, &w->x, &w->y, &w->z, &w->q);
-        w->X = (int64_t)llround(w->x * PERSP_SUBPIXEL);
-        w->Y = (int64_t)llround(w->y * PERSP_SUBPIXEL);
+        w->X = (int32_t)llround(w->x * PERSP_SUBPIXEL);
+        w->Y = (int32_t)llround(w->y * PERSP_SUBPIXEL);
     }
 }
 
@@ -477,6 +483,15 @@ static persp_status append_slab(persp_frame *f, const setup_slab *slab)
  * task's slab overflowed, the slabs after it are moved out to the scratch
  * slabs and appended by copying after the overflowing chunk's remainder,
  * which keeps the serial order. */
+static persp_status scratch_slabs(persp_frame *f, size_t tasks)
+{
+    struct persp_render_cache *c = f->cache;
+    if (persp__grow(f->ctx, (void **)&c->slab_tris, &c->slab_cap, tasks * SETUP_SLAB,
+                    sizeof *c->slab_tris) != PERSP_OK)
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+    return PERSP_OK;
+}
+
 static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers)
 {
     persp_frame *f = j->sink.f;
@@ -486,9 +501,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
     const size_t batch_slots = frame_batch_limit(f);
     const size_t tasks_max =
         PERSP_MAX((size_t)workers, PERSP_MIN((size_t)workers * 2, batch_slots / SETUP_SLAB));
-    if (persp__grow(f->ctx, (void **)&c->slab_tris, &c->slab_cap, tasks_max * SETUP_SLAB,
-                    sizeof *c->slab_tris) != PERSP_OK ||
-        persp__grow(f->ctx, (void **)&c->slabs, &c->slabs_cap, tasks_max, sizeof *c->slabs) != PERSP_OK)
+    if (persp__grow(f->ctx, (void **)&c->slabs, &c->slabs_cap, tasks_max, sizeof *c->slabs) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     j->slabs = c->slabs;
     const size_t batch = frame_batch_limit(f);
@@ -498,6 +511,10 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         const size_t slots = (size_t)tasks * SETUP_SLAB;
         persp_status st;
         const int in_place = !f->capture && slots <= batch;
+        /* The scratch slabs (a batch's worth of records: 13 MB with two
+         * workers) exist only once a round needs them: without in-place
+         * slabs, or when a slab overflowed (below). */
+        if (!in_place && scratch_slabs(f, tasks_max) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
         if (in_place) {
             if (f->tri_count + slots > batch && f->tri_count > 0) {
                 if ((st = frame_flush_batch(f, 0)) != PERSP_OK) return st;
@@ -536,6 +553,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
                 if (slab->stop < end && k + 1 < tasks) {
                     /* The later slabs leave the frame before the serial
                      * remainder of this chunk is appended after it. */
+                    if (scratch_slabs(f, tasks_max) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
                     for (int m = k + 1; m < tasks; m++) {
                         setup_slab *later = &j->slabs[m];
                         memcpy(c->slab_tris + (size_t)m * SETUP_SLAB, later->tris, later->count * sizeof *c->tris);
@@ -557,9 +575,9 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
 {
     struct persp_render_cache *c = f->cache;
     if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
-    if (persp__grow(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts) !=
+    if (persp__reserve(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts) !=
             PERSP_OK ||
-        persp__grow(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
+        persp__reserve(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = &c->states[state]};
     job.shading = !(job.ds->shade_is_texel && !f->capture);
