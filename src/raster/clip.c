@@ -82,14 +82,18 @@ int persp__clip_triangle(const persp_clipvert in[3], double gx, double gy,
 
 unsigned persp__clip_outcode(const persp_clipvert *v, double gx, double gy)
 {
+    return persp__clip_outcode_packed(v->clip, PERSP_A_COUNT, gx, gy);
+}
+
+unsigned persp__clip_outcode_packed(const float *v, int nattr, double gx, double gy)
+{
     /* x·0 is 0 for every finite x and NaN otherwise: one sum tests all
-     * nineteen values without a branch each. */
+     * values without a branch each. */
     float probe = 0.0f;
-    for (int k = 0; k < 4; k++) probe += v->clip[k] * 0.0f;
-    for (int k = 0; k < PERSP_A_COUNT; k++) probe += v->attr[k] * 0.0f;
+    for (int k = 0; k < 4 + nattr; k++) probe += v[k] * 0.0f;
     if (probe != 0.0f) return PERSP_CLIP_NONFINITE;
     /* The planes' own expressions (p_w ... p_top), in the order of planes[]. */
-    const double x = v->clip[0], y = v->clip[1], z = v->clip[2], w = v->clip[3];
+    const double x = v[0], y = v[1], z = v[2], w = v[3];
     unsigned code = 0;
     code |= (unsigned)(w - W_EPSILON < 0.0) << 0;
     code |= (unsigned)(z + w < 0.0) << 1;

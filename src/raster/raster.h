@@ -34,6 +34,9 @@ int persp__clip_triangle(const persp_clipvert in[3], double guard_x, double guar
  * passes clipping unchanged. */
 #define PERSP_CLIP_NONFINITE 0x100u
 unsigned persp__clip_outcode(const persp_clipvert *v, double guard_x, double guard_y);
+/* The same for a vertex packed as its clip position followed by its first
+ * nattr attributes (the render's per-vertex cache, render.c). */
+unsigned persp__clip_outcode_packed(const float *v, int nattr, double guard_x, double guard_y);
 
 /* A vertex after the perspective divide and viewport transform. */
 typedef struct persp_winvert {
@@ -51,7 +54,11 @@ int persp__setup_triangle(const persp_winvert v[3], int width, int height, int c
  * light_side, which only the span shaders and the analyses read; without
  * it those fields are left unwritten. persp__setup_triangle sets up all. */
 #define PERSP_SETUP_SHADING 1u
-#define PERSP_SETUP_ALL PERSP_SETUP_SHADING
+/* With PERSP_SETUP_SHADING: the back face's vertex colours (PERSP_A_BR..BB,
+ * which only Gouraud reads) are copied too; without it they are zero and
+ * only the attributes before them are read. */
+#define PERSP_SETUP_BACK_COLOURS 2u
+#define PERSP_SETUP_ALL (PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS)
 int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
                               persp_tri *t);
 

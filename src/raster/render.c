@@ -53,7 +53,10 @@ struct persp_render_cache {
     size_t tiles_cap;
     persp_method_prep *preps;
     size_t prep_cap;
-    persp_clipvert *verts;
+    /* Per vertex: its clip position and the first nattr attributes the
+     * draw reads (vertex_attrs), packed: 6 floats unlit, 16 lit per pixel,
+     * 19 for Gouraud, instead of a whole persp_clipvert each. */
+    float *verts;
     size_t vert_cap;
     struct vert_win *win; /* per vertex: window position and outcode */
     size_t win_cap;
@@ -205,6 +208,18 @@ static void commit_triangle(persp_frame *f)
     f->tri_count++;
 }
 
+/* How many attributes (from PERSP_A_U on) a draw reads: u and v when the
+ * span is the texel itself; the analyses' capture and the object-space
+ * pipeline read them all; Gouraud adds the back face's colours to what
+ * per-pixel lighting reads (colour, normal, eye position). */
+static int vertex_attrs(const persp_frame *f, const persp_draw_state *ds)
+{
+    if (ds->shade_is_texel && !f->capture) return PERSP_A_V + 1;
+    if (f->capture || ds->shading == PERSP_SHADING_GOURAUD || ds->shading == PERSP_SHADING_GOURAUD_PC)
+        return PERSP_A_COUNT;
+    return PERSP_A_BR;
+}
+
 /* The set-up record of one triangle with its texture scale and per-polygon
  * LOD; 0 if set-up refuses it. Touches nothing but *t (worker threads). */
 static int setup_record(const persp_frame *f, const persp_draw_state *ds, const persp_winvert tv[3],
@@ -212,7 +227,10 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
 {
     /* A span that is the texel itself reads no shading field; the
      * analyses' capture and the object-space pipeline read them all. */
-    const unsigned need = ds->shade_is_texel && !f->capture ? 0u : PERSP_SETUP_ALL;
+    const int nattr = vertex_attrs(f, ds);
+    const unsigned need = nattr <= PERSP_A_V + 1 ? 0u
+                          : nattr < PERSP_A_COUNT ? PERSP_SETUP_SHADING
+                                                  : PERSP_SETUP_ALL;
     if (!persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t)) return 0;
     t->state = state;
     if (ds->tex) {
@@ -253,13 +271,13 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uin
 }
 
 /* Perspective divide and viewport transform of a clip-space vertex. */
-static void to_window(const persp_clipvert *v, double W, double H, double *x, double *y, double *z,
+static void to_window(const float clip[4], double W, double H, double *x, double *y, double *z,
                       double *q)
 {
-    *q = 1.0 / (double)v->clip[3];
-    *x = ((double)v->clip[0] * *q + 1.0) * 0.5 * W;
-    *y = ((double)v->clip[1] * *q + 1.0) * 0.5 * H;
-    *z = ((double)v->clip[2] * *q + 1.0) * 0.5;
+    *q = 1.0 / (double)clip[3];
+    *x = ((double)clip[0] * *q + 1.0) * 0.5 * W;
+    *y = ((double)clip[1] * *q + 1.0) * 0.5 * H;
+    *z = ((double)clip[2] * *q + 1.0) * 0.5;
 }
 
 /* Where set-up triangles go: the frame (slab NULL), or a worker's slab of
@@ -296,7 +314,7 @@ static persp_status emit_polygon(const tri_sink *sk, const persp_clipvert *poly,
     const double W = f->fb->width, H = f->fb->height;
     persp_winvert wv[PERSP_CLIP_MAX];
     for (int i = 0; i < n; i++) {
-        to_window(&poly[i], W, H, &wv[i].x, &wv[i].y, &wv[i].z, &wv[i].q);
+        to_window(poly[i].clip, W, H, &wv[i].x, &wv[i].y, &wv[i].z, &wv[i].q);
         wv[i].attr = poly[i].attr;
     }
     for (int i = 1; i + 1 < n; i++) {
@@ -335,10 +353,9 @@ typedef struct vertex_job {
     persp_mat4 mv, mvp;
     float nm[9];
     double gx, gy;
-    /* The colour, normal and eye position are read: 0 when the span is the
-     * texel and set-up skips the shading fields (setup_record's need), so
-     * the vertex stage computes only what clipping and set-up use. */
-    int shading;
+    /* The attributes kept per vertex (vertex_attrs): the vertex stage
+     * computes only what clipping and set-up use. */
+    int nattr;
 } vertex_job;
 
 static void vertex_task(void *user, int task, int worker)
@@ -350,34 +367,35 @@ static void vertex_task(void *user, int task, int worker)
     const size_t a = (size_t)task * VERTEX_TASK;
     const size_t b = PERSP_MIN(a + VERTEX_TASK, mesh->vertex_count);
     const float *nm = j->nm, *uv = j->uv;
+    const size_t stride = 4 + (size_t)j->nattr;
     for (size_t i = a; i < b; i++) {
         const persp_vertex *v = &mesh->vertices[i];
         persp_vec4 p = {v->pos[0], v->pos[1], v->pos[2], 1.0f};
         persp_vec4 cp = persp_mat4_apply(j->mvp, p);
-        persp_clipvert *o = &c->verts[i];
-        o->clip[0] = cp.x, o->clip[1] = cp.y, o->clip[2] = cp.z, o->clip[3] = cp.w;
-        o->attr[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
-        o->attr[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
-        if (!j->shading) {
-            /* Clipping interpolates every attribute and the outcode checks
-             * them all for NaN, so the unread ones are zeros. */
-            for (int k = PERSP_A_R; k < PERSP_A_COUNT; k++) o->attr[k] = 0.0f;
-            continue;
-        }
-        for (int k = 0; k < 4; k++) o->attr[PERSP_A_R + k] = v->color[k];
-        for (int k = 0; k < 3; k++) o->attr[PERSP_A_BR + k] = v->color[k]; /* lit by Gouraud */
+        float *o = c->verts + i * stride, *at = o + 4;
+        o[0] = cp.x, o[1] = cp.y, o[2] = cp.z, o[3] = cp.w;
+        at[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
+        at[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
+        if (j->nattr <= PERSP_A_V + 1) continue;
+        for (int k = 0; k < 4; k++) at[PERSP_A_R + k] = v->color[k];
         for (int r = 0; r < 3; r++)
-            o->attr[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
+            at[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
         persp_vec4 ep = persp_mat4_apply(j->mv, p);
-        o->attr[PERSP_A_EX] = ep.x, o->attr[PERSP_A_EY] = ep.y, o->attr[PERSP_A_EZ] = ep.z;
+        at[PERSP_A_EX] = ep.x, at[PERSP_A_EY] = ep.y, at[PERSP_A_EZ] = ep.z;
+        if (j->nattr < PERSP_A_COUNT) continue;
+        for (int k = 0; k < 3; k++) at[PERSP_A_BR + k] = v->color[k]; /* lit by Gouraud */
     }
-    persp__shade_vertices(j->ds, c->verts + a, b - a);
+    /* Gouraud's full packing is exactly an array of persp_clipvert. */
+    _Static_assert(sizeof(persp_clipvert) == (4 + PERSP_A_COUNT) * sizeof(float), "packed clipvert");
+    if (j->nattr == PERSP_A_COUNT)
+        persp__shade_vertices(j->ds, (persp_clipvert *)(void *)(c->verts + a * stride), b - a);
     const int width = j->f->fb->width, height = j->f->fb->height;
     for (size_t i = a; i < b; i++) {
         struct vert_win *w = &c->win[i];
-        w->code = persp__clip_outcode(&c->verts[i], j->gx, j->gy);
+        const float *o = c->verts + i * stride;
+        w->code = persp__clip_outcode_packed(o, j->nattr, j->gx, j->gy);
         if (w->code) continue;
-        to_window(&c->verts[i], width, height, &w->x, &w->y, &w->z, &w->q);
+        to_window(o, width, height, &w->x, &w->y, &w->z, &w->q);
         w->X = (int32_t)llround(w->x * PERSP_SUBPIXEL);
         w->Y = (int32_t)llround(w->y * PERSP_SUBPIXEL);
     }
@@ -389,6 +407,7 @@ typedef struct tri_job {
     const persp_mesh *mesh;
     uint32_t state;
     int cull;
+    int nattr; /* the vertex cache's attributes per vertex (vertex_attrs) */
     double gx, gy;
     setup_slab *slabs;
     size_t first; /* first input triangle of the round */
@@ -404,6 +423,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
     const persp_mesh *mesh = j->mesh;
     const int width = f->fb->width, height = f->fb->height;
     tri_sink sk = {f, slab};
+    const int nattr = j->nattr;
+    const size_t stride = 4 + (size_t)nattr;
     for (size_t t = a; t < b; t++) {
         if (slab && slab->count + (PERSP_CLIP_MAX - 2) > slab->cap) {
             slab->stop = t;
@@ -419,11 +440,14 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
             persp_winvert tv[3];
             for (int k = 0; k < 3; k++) {
                 const struct vert_win *w = &c->win[ix[k]];
-                tv[k] = (persp_winvert){w->x, w->y, w->z, w->q, c->verts[ix[k]].attr};
+                tv[k] = (persp_winvert){w->x, w->y, w->z, w->q, c->verts + ix[k] * stride + 4};
             }
             st = sink_triangle(&sk, tv, j->state, j->cull);
         } else {
-            persp_clipvert in[3] = {c->verts[ix[0]], c->verts[ix[1]], c->verts[ix[2]]};
+            /* The attributes the draw does not read are clipped as zeros. */
+            persp_clipvert in[3];
+            memset(in, 0, sizeof in);
+            for (int k = 0; k < 3; k++) memcpy(&in[k], c->verts + ix[k] * stride, stride * sizeof(float));
             persp_clipvert poly[PERSP_CLIP_MAX];
             int n = persp__clip_triangle(in, j->gx, j->gy, poly);
             st = n >= 3 ? emit_polygon(&sk, poly, n, j->state, j->cull) : PERSP_OK;
@@ -575,12 +599,14 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
 {
     struct persp_render_cache *c = f->cache;
     if (mesh->vertex_count == 0 || mesh->index_count < 3) return PERSP_OK;
-    if (persp__reserve(f->ctx, (void **)&c->verts, &c->vert_cap, mesh->vertex_count, sizeof *c->verts) !=
-            PERSP_OK ||
+    const persp_draw_state *ds = &c->states[state];
+    const int nattr = vertex_attrs(f, ds);
+    size_t floats;
+    if (!persp__size_mul(mesh->vertex_count, 4 + (size_t)nattr, &floats) ||
+        persp__reserve(f->ctx, (void **)&c->verts, &c->vert_cap, floats, sizeof *c->verts) != PERSP_OK ||
         persp__reserve(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = &c->states[state]};
-    job.shading = !(job.ds->shade_is_texel && !f->capture);
+    vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = ds, .nattr = nattr};
     job.mv = persp_mat4_mul(*view, *model);
     job.mvp = persp_mat4_mul(*proj, job.mv);
     if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
@@ -599,7 +625,8 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
                                "mesh: index out of range in triangle %zu", t / 3);
     }
     const size_t ntri = mesh->index_count / 3;
-    tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .gx = job.gx, .gy = job.gy};
+    tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
+                  .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
     if (workers < 2 || job.ds->method.m->prepare || ntri < 4 * SETUP_CHUNK)
         return mesh_triangles(&tj, 0, ntri, NULL);

@@ -106,7 +106,9 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
         t->rat.s1v[i] = w->attr[PERSP_A_U];
         t->rat.s2v[i] = w->attr[PERSP_A_V];
         if (!shading) continue;
-        memcpy(t->vattr[i], w->attr, sizeof t->vattr[i]);
+        /* Without the back colours the rest stays zero (cleared above). */
+        memcpy(t->vattr[i], w->attr,
+               (need & PERSP_SETUP_BACK_COLOURS ? PERSP_A_COUNT : PERSP_A_BR) * sizeof t->vattr[i][0]);
         t->bary.vx[i] = vx[i];
         t->bary.vy[i] = vy[i];
         t->bary.qv[i] = q[i];
