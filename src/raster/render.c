@@ -27,11 +27,13 @@
 /* A vertex's window coordinates, computed once however many triangles share
  * it, with the same arithmetic emit_polygon applies to clipped vertices. */
 struct vert_win {
-    double x, y, z, q;
-    /* llround(x·256), llround(y·256): the setup's fixed point, set when
-     * code is 0. Inside the guard band |x|, |y| are at most the image side
-     * plus the guard band, 32 768 pixels, so 32 bits hold them; the record is then 48 bytes, not 56 (the
-     * per-vertex caches are most of a large mesh's render memory). */
+    double z, q;
+    /* llround(x·256), llround(y·256): the window position in the set-up's
+     * fixed point, set when code is 0, and all of it the set-up reads
+     * (X/256 rounds back to X exactly). Inside the guard band |x|, |y| are
+     * at most the image side plus the guard band, 32 768 pixels, so 32
+     * bits hold them; the record is then 32 bytes, not 56 (the per-vertex
+     * caches are most of a large mesh's render memory and traffic). */
     int32_t X, Y;
     unsigned code; /* persp__clip_outcode */
 };
@@ -395,9 +397,10 @@ static void vertex_task(void *user, int task, int worker)
         const float *o = c->verts + i * stride;
         w->code = persp__clip_outcode_packed(o, j->nattr, j->gx, j->gy);
         if (w->code) continue;
-        to_window(o, width, height, &w->x, &w->y, &w->z, &w->q);
-        w->X = (int32_t)llround(w->x * PERSP_SUBPIXEL);
-        w->Y = (int32_t)llround(w->y * PERSP_SUBPIXEL);
+        double x, y;
+        to_window(o, width, height, &x, &y, &w->z, &w->q);
+        w->X = (int32_t)llround(x * PERSP_SUBPIXEL);
+        w->Y = (int32_t)llround(y * PERSP_SUBPIXEL);
     }
 }
 
@@ -440,7 +443,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
             persp_winvert tv[3];
             for (int k = 0; k < 3; k++) {
                 const struct vert_win *w = &c->win[ix[k]];
-                tv[k] = (persp_winvert){w->x, w->y, w->z, w->q, c->verts + ix[k] * stride + 4};
+                tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
+                                        w->q, c->verts + ix[k] * stride + 4};
             }
             st = sink_triangle(&sk, tv, j->state, j->cull);
         } else {
