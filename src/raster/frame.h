@@ -15,6 +15,7 @@ typedef struct persp_frame {
     struct persp_render_cache *cache;
     size_t state_count, tri_count, prep_count;
     size_t gap_count; /* slots of tris that hold no triangle (render.c, slabs in place) */
+    size_t batch; /* records drawn at once without a capture (render.c, frame_batch_limit) */
     persp_render_stats stats;
     persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
     persp_mat4 proj;        /* projection of the scene's camera */

@@ -95,6 +95,19 @@ static void render_cache_free(persp_context *ctx)
     ctx->render_free = NULL;
 }
 
+/* Set-up triangles held before the tiles draw them. A frame with more is
+ * drawn in batches: each tile draws its triangles in submission order
+ * whatever the batches, so the image is the same. A batch is written by the
+ * set-up and read back by the tiles, so it is sized for the caches:
+ * PERSP_FRAME_BATCH_PER_WORKER records (~800 bytes each, 6.3 MiB) per
+ * worker thread. Against one batch of 65 536 (52 MiB, read back from
+ * memory) that took 20 % less CPU time on the 2M-triangle torus and 17 %
+ * on the 200k one (docs/PERFORMANCE.md), and memory stays bounded
+ * whatever the mesh. A capture refers to triangles by their index in the
+ * frame, so it takes one batch. */
+#define PERSP_FRAME_BATCH_PER_WORKER 8192u
+#define PERSP_FRAME_BATCH_MAX 65536u
+
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
                                 persp_frame *f)
 {
@@ -113,6 +126,9 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
     f->fb = fb;
     f->depth_mode = mode;
     f->cache = ctx->render;
+    f->batch = ctx->frame_batch ? ctx->frame_batch
+                                : PERSP_MIN(PERSP_FRAME_BATCH_MAX,
+                                            PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(ctx));
     return PERSP_OK;
 }
 
@@ -149,18 +165,6 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
     return PERSP_OK;
 }
 
-/* Set-up triangles held before the tiles draw them. A frame with more is
- * drawn in batches: each tile draws its triangles in submission order
- * whatever the batches, so the image is the same. A batch is written by the
- * set-up and read back by the tiles, so it is sized for the caches:
- * PERSP_FRAME_BATCH_PER_WORKER records (~800 bytes each, 6.3 MiB) per
- * worker thread. Against one batch of 65 536 (52 MiB, read back from
- * memory) that took 20 % less CPU time on the 2M-triangle torus and 17 %
- * on the 200k one (docs/PERFORMANCE.md), and memory stays bounded
- * whatever the mesh. A capture refers to triangles by their index in the
- * frame, so it takes one batch. */
-#define PERSP_FRAME_BATCH_PER_WORKER 8192u
-#define PERSP_FRAME_BATCH_MAX 65536u
 
 /* Makes room for one more triangle in the frame, drawing the batch first
  * when it is full. */
@@ -168,9 +172,7 @@ static persp_status frame_flush_batch(persp_frame *f, int last);
 
 static size_t frame_batch_limit(const persp_frame *f)
 {
-    if (f->capture) return SIZE_MAX;
-    if (f->ctx->frame_batch) return f->ctx->frame_batch;
-    return PERSP_MIN(PERSP_FRAME_BATCH_MAX, PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(f->ctx));
+    return f->capture ? SIZE_MAX : f->batch;
 }
 
 /* Makes room for up to want more triangles in the frame, drawing the batch
@@ -186,6 +188,10 @@ static persp_status reserve_triangles(persp_frame *f, size_t want, size_t *room)
         f->tri_count = f->prep_count = 0;
     }
     const size_t n = PERSP_MAX((size_t)1, PERSP_MIN(want, batch - f->tri_count));
+    if (f->tri_count + n <= c->tri_cap && f->tri_count + n <= c->tiles_cap) {
+        if (room) *room = n;
+        return PERSP_OK;
+    }
     if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + n, sizeof *c->tris) != PERSP_OK ||
         persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + n, sizeof *c->tiles) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
