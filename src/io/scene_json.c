@@ -363,6 +363,9 @@ static persp_status resolve_file(jctx *j, const char *rel, char *path, size_t si
     if (!rel[0]) return jfail(j, 0, PERSP_ERR_FORMAT, "expected a file name");
     if (!j->base_dir) return jfail(j, 0, PERSP_ERR_UNSUPPORTED, "file references are not allowed here");
     if (!persp__path_join(j->base_dir, rel, path, size)) return jfail(j, 0, PERSP_ERR_FORMAT, "file name too long");
+    /* This check of the name gives the message its line and key; the read
+     * that follows is confined again by its open (persp__open_inside), which
+     * is what decides, since a link can be swapped after this check. */
     if (persp__path_inside(j->scene->load_root, path) == 0) {
         char q[PERSP_QUOTE_BYTES];
         return jfail(j, 0, PERSP_ERR_IO, "'%s' is outside the folder the scene may read from (%s)",

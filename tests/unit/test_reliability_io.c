@@ -4,11 +4,14 @@
  * parameters, out-of-memory in the JSON parser, paletted PNGs with indices
  * past the palette, and opaque output for translucent textures.
  */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "support.h"
 
 #include "core/internal.h"
+#include "io/text.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -114,6 +117,77 @@ static void test_scene_reads_only_its_folder(void **state)
     persp_scene *s = NULL;
     assert_int_equal(persp_scene_load(ctx, scene, &s), PERSP_ERR_IO); /* the last, "up/..." */
     persp_context_destroy(ctx);
+}
+
+/* A confined read checks the file it opened, not only the name before the
+ * open: a link swapped between the two lands on a file whose identity
+ * differs from what the name resolves to afterwards, and is refused. A
+ * real race cannot be timed in a test; persp__fd_inside is the check the
+ * open makes, given a descriptor and a name as they stand after a swap. */
+static void test_open_inside_checks_the_file_opened(void **state)
+{
+    (void)state;
+    char root_dir[512], a[600], b[600], outside[512], link[600], missing[600];
+    path_in(root_dir, sizeof root_dir, "confined");
+    mkdir(root_dir, 0777);
+    char *root = realpath(root_dir, NULL);
+    assert_non_null(root);
+    snprintf(a, sizeof a, "%s/a.txt", root_dir);
+    snprintf(b, sizeof b, "%s/b.txt", root_dir);
+    snprintf(link, sizeof link, "%s/l.txt", root_dir);
+    snprintf(missing, sizeof missing, "%s/none.txt", root_dir);
+    path_in(outside, sizeof outside, "outside.txt");
+    write_text(a, "a");
+    write_text(b, "b");
+    write_text(outside, "secret");
+
+    /* An inside file opens; a link to outside and a missing file do not. */
+    int fd = persp__open_inside(root, a);
+    assert_true(fd >= 0);
+    assert_int_equal(persp__fd_inside(fd, root, a), 1);
+    /* The name now resolves to another inside file than the one opened. */
+    assert_int_equal(persp__fd_inside(fd, root, b), 0);
+    close(fd);
+    unlink(link);
+    assert_int_equal(symlink(outside, link), 0);
+    assert_int_equal(persp__open_inside(root, link), PERSP_OPEN_OUTSIDE);
+    errno = 0;
+    assert_int_equal(persp__open_inside(root, missing), -1);
+    assert_int_equal(errno, ENOENT);
+    fd = persp__open_inside(NULL, link); /* no root: any file */
+    assert_true(fd >= 0);
+    close(fd);
+
+    /* The swap: the link pointed outside when it was opened and points
+     * inside by the time it is checked. The name alone passes; the file
+     * opened does not. */
+    fd = open(link, O_RDONLY | O_CLOEXEC);
+    assert_true(fd >= 0);
+    assert_int_equal(unlink(link), 0);
+    assert_int_equal(symlink(a, link), 0);
+    assert_int_equal(persp__path_inside(root, link), 1);
+    assert_int_equal(persp__fd_inside(fd, root, link), 0);
+    close(fd);
+
+    /* Through the readers: the same refusal, as an I/O error saying so. */
+    persp_context *ctx = test_context();
+    char *data = NULL;
+    size_t size = 0;
+    assert_int_equal(persp__read_file_inside(ctx, root, a, &data, &size), PERSP_OK);
+    assert_int_equal(size, 1);
+    assert_int_equal(data[0], 'a');
+    persp__free(ctx, data);
+    assert_int_equal(unlink(link), 0);
+    assert_int_equal(symlink(outside, link), 0);
+    assert_int_equal(persp__read_file_inside(ctx, root, link, &data, &size), PERSP_ERR_IO);
+    assert_null(data);
+    assert_non_null(strstr(persp_context_error(ctx), "is outside the folder"));
+    assert_null(strstr(persp_context_error(ctx), "secret"));
+    persp_image img;
+    assert_int_equal(persp__image_load_inside(ctx, root, link, &img), PERSP_ERR_IO);
+    assert_non_null(strstr(persp_context_error(ctx), "is outside the folder"));
+    persp_context_destroy(ctx);
+    free(root);
 }
 
 typedef struct warnings {
@@ -405,6 +479,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scene_reads_only_its_folder),
         cmocka_unit_test(test_model_reads_only_its_folder),
+        cmocka_unit_test(test_open_inside_checks_the_file_opened),
         cmocka_unit_test(test_messages_escape_foreign_text),
         cmocka_unit_test(test_output_replaces_safely),
         cmocka_unit_test(test_method_specs_strict),
