@@ -1123,7 +1123,7 @@ static size_t syntax_string(const char *t, size_t n, size_t i, size_t *bad)
         }
         char e = t[i + 1];
         if (e != 'u') {
-            if (!strchr("\"\\/bfnrt", e)) {
+            if (e == '\0' || !strchr("\"\\/bfnrt", e)) { /* strchr finds the NUL too */
                 i++;
                 break;
             }

@@ -488,6 +488,18 @@ static void test_json_syntax_errors_stay_format(void **state)
         if (st != PERSP_ERR_FORMAT || !strstr(e, "invalid JSON"))
             fail_msg("'%s': %s (%s)", bad[i], e, persp_status_string(st));
     }
+    /* NUL bytes: after a backslash, and in place of a value. */
+    static const char nul_escape[] = "{\"a\": \"x\\\0\"}", nul_value[] = "{\"a\": \0}";
+    const char *const nul_texts[] = {nul_escape, nul_value};
+    const size_t nul_sizes[] = {sizeof nul_escape - 1, sizeof nul_value - 1};
+    for (size_t i = 0; i < 2; i++) {
+        persp_scene *sc = NULL;
+        persp_status st =
+            persp__scene_load_memory(ctx, nul_texts[i], nul_sizes[i], "nul.json", NULL, 0, &sc);
+        persp_scene_destroy(sc);
+        if (st != PERSP_ERR_FORMAT || !strstr(persp_context_error(ctx), "invalid JSON"))
+            fail_msg("NUL text %zu: %s (%s)", i, persp_context_error(ctx), persp_status_string(st));
+    }
     /* Valid text with what jansson checks apart from syntax. */
     persp_scene *s = NULL;
     static const char dup[] = "{\"objects\": [], \"objects\": []}";
