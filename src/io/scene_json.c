@@ -1284,10 +1284,11 @@ static size_t json_syntax_stop(const char *t, size_t n)
 }
 
 /* 1 when json_loadb failed on text because an allocation failed, whatever
- * its message says. jansson 2.14 (load.c) has three ways of failing for
- * memory: json_error_out_of_memory; an empty error text (an object, array,
- * member or the lexer's buffer not allocated: the parser returns NULL
- * without setting one); and a syntax error, because lex_scan_string makes
+ * its message says. jansson (2.11 and later) classifies errors, but its
+ * parser (2.14, load.c) shows a failed allocation in three ways:
+ * json_error_out_of_memory where it says so; an empty error text (an
+ * object, array, member or the lexer's buffer not allocated: the parser
+ * returns NULL without setting one); and a syntax error: lex_scan_string makes
  * a string whose copy it cannot allocate an invalid token, reported as
  * "invalid token" or "string or '}' expected" (json_error_invalid_syntax)
  * at the end of that string. A real syntax error is reported once the
