@@ -247,23 +247,28 @@ static persp_status write_png(rep *r, const char *name, const uint8_t *rgba, int
 static persp_status write_crop(rep *r, const char *name, const uint8_t *rgba, int w, int h)
 {
     int cw = w / 5, ch = h / 5, x0 = (w - cw) / 2, y0 = (h - ch) / 2, z = 4;
-    uint8_t *out = malloc((size_t)cw * (size_t)ch * (size_t)(z * z) * 4);
-    if (!out) return PERSP_ERR_OUT_OF_MEMORY;
+    /* From the context, so that its memory budget (--max-memory) counts it. */
+    uint8_t *out = persp__alloc(r->ctx, (size_t)cw * (size_t)ch * (size_t)(z * z) * 4);
+    if (!out) return persp__fail(r->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", name);
     for (int y = 0; y < ch * z; y++)
         for (int x = 0; x < cw * z; x++)
             memcpy(&out[((size_t)y * (size_t)(cw * z) + (size_t)x) * 4],
                    &rgba[((size_t)(y0 + y / z) * (size_t)w + (size_t)(x0 + x / z)) * 4], 4);
     persp_status st = write_png(r, name, out, cw * z, ch * z);
-    free(out);
+    persp__free(r->ctx, out);
     return st;
 }
 
 static persp_status render_all(rep *r)
 {
     size_t px = (size_t)r->w * (size_t)r->h;
-    uint8_t *color = malloc(px * 4);
-    float *depth = malloc(px * sizeof(float));
-    persp_status st = color && depth ? PERSP_OK : PERSP_ERR_OUT_OF_MEMORY;
+    /* From the context, so that its memory budget (--max-memory) counts them. */
+    uint8_t *color = persp__alloc(r->ctx, px * 4);
+    float *depth = color ? persp__alloc(r->ctx, px * sizeof(float)) : NULL;
+    persp_status st = color && depth ? PERSP_OK
+                                     : persp__fail(r->ctx, PERSP_ERR_OUT_OF_MEMORY,
+                                                   "framebuffer of %dx%d: out of memory", r->w,
+                                                   r->h);
     for (size_t i = 0; i < MAX_METHODS; i++)
         r->ms[i] = NAN;
     for (int s = 0; s < SCENES && st == PERSP_OK; s++) {
@@ -298,8 +303,8 @@ static persp_status render_all(rep *r)
         }
         persp_scene_destroy(scene);
     }
-    free(color);
-    free(depth);
+    persp__free(r->ctx, color);
+    persp__free(r->ctx, depth);
     return st;
 }
 

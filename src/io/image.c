@@ -478,6 +478,12 @@ persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_
 
 persp_status persp_image_load(persp_context *ctx, const char *path, persp_image *out)
 {
+    return persp__image_load_inside(ctx, NULL, path, out);
+}
+
+persp_status persp__image_load_inside(persp_context *ctx, const char *root, const char *path,
+                                      persp_image *out)
+{
     if (!ctx || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
     memset(out, 0, sizeof *out);
@@ -488,7 +494,7 @@ persp_status persp_image_load(persp_context *ctx, const char *path, persp_image 
         return persp__fail(ctx, PERSP_ERR_IO, "%s: is a directory, not an image file", path);
     char *data = NULL;
     size_t size = 0;
-    persp_status st = persp__read_file(ctx, path, &data, &size);
+    persp_status st = persp__read_file_inside(ctx, root, path, &data, &size);
     if (st != PERSP_OK) return st;
     st = persp_image_load_memory(ctx, data, size, path, out);
     persp__free(ctx, data);

@@ -597,7 +597,7 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
         int outside = 0;
         for (int k = 0; k < 4 && st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY; k++)
             if (find_candidate(io->base_dir, io->root, rel, k, path, sizeof path, &outside))
-                st = persp__read_file(io->ctx, path, &owned, &size);
+                st = persp__read_file_inside(io->ctx, io->root, path, &owned, &size);
         if (st == PERSP_ERR_OUT_OF_MEMORY) {
             io->out_of_memory = 1;
             return NULL;
@@ -1337,7 +1337,7 @@ persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_
     memset(out, 0, sizeof *out);
     char *data = NULL;
     size_t size = 0;
-    persp_status st = persp__read_file(scene->ctx, path, &data, &size);
+    persp_status st = persp__read_file_inside(scene->ctx, scene->load_root, path, &data, &size);
     if (st != PERSP_OK) return st;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);

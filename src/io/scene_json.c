@@ -12,6 +12,7 @@
 #include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -363,6 +364,9 @@ static persp_status resolve_file(jctx *j, const char *rel, char *path, size_t si
     if (!rel[0]) return jfail(j, 0, PERSP_ERR_FORMAT, "expected a file name");
     if (!j->base_dir) return jfail(j, 0, PERSP_ERR_UNSUPPORTED, "file references are not allowed here");
     if (!persp__path_join(j->base_dir, rel, path, size)) return jfail(j, 0, PERSP_ERR_FORMAT, "file name too long");
+    /* This check of the name gives the message its line and key; the read
+     * that follows is confined again by its open (persp__open_inside), which
+     * is what decides, since a link can be swapped after this check. */
     if (persp__path_inside(j->scene->load_root, path) == 0) {
         char q[PERSP_QUOTE_BYTES];
         return jfail(j, 0, PERSP_ERR_IO, "'%s' is outside the folder the scene may read from (%s)",
@@ -1075,6 +1079,234 @@ static size_t json_parse_bound(const char *t, size_t n)
     return b < (double)((size_t)-1 / 2) ? (size_t)b : (size_t)-1 / 2;
 }
 
+/* ------------------------------------------------ JSON syntax, allocation-free */
+
+/* Deepest nesting json_syntax_stop follows; beyond jansson's own limit
+ * (JSON_PARSER_MAX_DEPTH, 2048 in 2.14), where it stops parsing anyway. */
+#define JSON_CHECK_DEPTH 4096
+
+static int hex_digit(char c)
+{
+    return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F');
+}
+
+/* The value of the \uXXXX escape at t[i] (t[i] == '\\'), -1 when its four
+ * hex digits are not all there; *bad: the offset of the first that is not. */
+static long syntax_unicode(const char *t, size_t n, size_t i, size_t *bad)
+{
+    long v = 0;
+    for (size_t k = i + 2; k < i + 6; k++) {
+        if (k >= n || !hex_digit(t[k])) {
+            *bad = k < n ? k : n;
+            return -1;
+        }
+        char c = t[k];
+        v = v * 16 + (c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10);
+    }
+    return v;
+}
+
+/* The end of the string token at t[i] (a '"'), or SIZE_MAX with *bad at the
+ * first byte no JSON string can continue with (n: the text ended). The
+ * rules are RFC 8259 §7 with jansson 2.14's own (load.c, lex_scan_string):
+ * no control byte below 0x20, a UTF-16 surrogate only as a high-low pair. */
+static size_t syntax_string(const char *t, size_t n, size_t i, size_t *bad)
+{
+    for (i++; i < n; i++) {
+        unsigned char c = (unsigned char)t[i];
+        if (c == '"') return i + 1;
+        if (c < 0x20) break;
+        if (c != '\\') continue;
+        if (i + 1 >= n) {
+            i = n;
+            break;
+        }
+        char e = t[i + 1];
+        if (e != 'u') {
+            if (e == '\0' || !strchr("\"\\/bfnrt", e)) { /* strchr finds the NUL too */
+                i++;
+                break;
+            }
+            i++;
+            continue;
+        }
+        long v = syntax_unicode(t, n, i, bad);
+        if (v < 0) return SIZE_MAX;
+        if (v >= 0xdc00 && v <= 0xdfff) break; /* a low surrogate first */
+        if (v >= 0xd800 && v <= 0xdbff) {
+            size_t low = i + 6;
+            if (low >= n || t[low] != '\\' || low + 1 >= n || t[low + 1] != 'u') {
+                i = low < n ? low : n;
+                break;
+            }
+            long w = syntax_unicode(t, n, low, bad);
+            if (w < 0) return SIZE_MAX;
+            if (w < 0xdc00 || w > 0xdfff) {
+                i = low;
+                break;
+            }
+            i = low;
+        }
+        i += 5;
+    }
+    *bad = i < n ? i : n;
+    return SIZE_MAX;
+}
+
+/* The end of the number at t[i] (RFC 8259 §6), or SIZE_MAX with *bad. */
+static size_t syntax_number(const char *t, size_t n, size_t i, size_t *bad)
+{
+#define DIGIT(k) ((k) < n && t[k] >= '0' && t[k] <= '9')
+    if (i < n && t[i] == '-') i++;
+    if (i < n && t[i] == '0')
+        i++;
+    else if (DIGIT(i))
+        while (DIGIT(i)) i++;
+    else
+        goto bad;
+    if (i < n && t[i] == '.') {
+        if (!DIGIT(i + 1)) {
+            i++;
+            goto bad;
+        }
+        for (i++; DIGIT(i);) i++;
+    }
+    if (i < n && (t[i] == 'e' || t[i] == 'E')) {
+        i++;
+        if (i < n && (t[i] == '+' || t[i] == '-')) i++;
+        if (!DIGIT(i)) goto bad;
+        while (DIGIT(i)) i++;
+    }
+    return i;
+bad:
+    *bad = i < n ? i : n;
+    return SIZE_MAX;
+#undef DIGIT
+}
+
+/* jansson 2.14 takes back the byte after a number or a literal
+ * (lex_unget_unsave) by stepping back in its one-character buffer, which
+ * reads a NUL there as empty: a NUL right after such a token is skipped,
+ * and not counted in the error position either. 1 when t[*i] is one (and
+ * steps over it). */
+static size_t swallowed_nul(const char *t, size_t n, size_t *i)
+{
+    if (*i >= n || t[*i] != '\0') return 0;
+    (*i)++;
+    return 1;
+}
+
+/* Where text t stops being a JSON text that jansson (with neither
+ * JSON_DECODE_ANY nor JSON_DISABLE_EOF_CHECK) accepts as far as syntax goes:
+ * the offset of the first byte that no valid text continues with (n when it
+ * ends too early), SIZE_MAX when all of it is valid. Needs no memory but a
+ * bit per level of nesting, so it still answers when the allocator does
+ * not: see load_json for why it is asked. Limits of numbers, duplicate keys,
+ * UTF-8 and \u0000 are not checked (jansson reports those under their own
+ * error codes). The offset is counted as jansson counts its position,
+ * without the NUL bytes it skips (swallowed_nul). */
+static size_t json_syntax_stop(const char *t, size_t n)
+{
+    unsigned char in_object[JSON_CHECK_DEPTH / 8];
+    size_t depth = 0, i = 0, bad = n, lost = 0;
+    enum { VALUE, VALUE_OR_CLOSE, KEY, KEY_OR_CLOSE, COLON, NEXT } expect = VALUE;
+    for (;;) {
+        while (i < n && (t[i] == ' ' || t[i] == '\t' || t[i] == '\n' || t[i] == '\r'))
+            i++;
+        if (i >= n) return n - lost;
+        char c = t[i];
+        int closed = 0;
+        if (depth == 0 && c != '{' && c != '[') return i - lost; /* jansson: '[' or '{' expected */
+        if (expect == VALUE || expect == VALUE_OR_CLOSE) {
+            if (c == ']' && expect == VALUE_OR_CLOSE) {
+                closed = 1;
+            } else if (c == '{' || c == '[') {
+                if (depth == JSON_CHECK_DEPTH) return i - lost;
+                unsigned char bit = (unsigned char)(1u << (depth % 8));
+                if (c == '{')
+                    in_object[depth / 8] |= bit;
+                else
+                    in_object[depth / 8] &= (unsigned char)~bit;
+                depth++;
+                expect = c == '{' ? KEY_OR_CLOSE : VALUE_OR_CLOSE;
+                i++;
+                continue;
+            } else if (c == '"') {
+                if ((i = syntax_string(t, n, i, &bad)) == SIZE_MAX) return bad - lost;
+            } else if (c == '-' || (c >= '0' && c <= '9')) {
+                if ((i = syntax_number(t, n, i, &bad)) == SIZE_MAX) return bad - lost;
+                lost += swallowed_nul(t, n, &i);
+            } else {
+                const char *word = c == 't' ? "true" : c == 'f' ? "false" : c == 'n' ? "null" : "";
+                size_t k = 0;
+                while (word[k] && i + k < n && t[i + k] == word[k])
+                    k++;
+                if (!word[0] || word[k]) return (i + k < n ? i + k : n) - lost;
+                i += k;
+                lost += swallowed_nul(t, n, &i);
+            }
+        } else if (expect == KEY || expect == KEY_OR_CLOSE) {
+            if (c == '}' && expect == KEY_OR_CLOSE) {
+                closed = 1;
+            } else {
+                if (c != '"') return i - lost;
+                if ((i = syntax_string(t, n, i, &bad)) == SIZE_MAX) return bad - lost;
+                expect = COLON;
+                continue;
+            }
+        } else if (expect == COLON) {
+            if (c != ':') return i - lost;
+            expect = VALUE;
+            i++;
+            continue;
+        } else { /* NEXT: after a member or element */
+            int object = (in_object[(depth - 1) / 8] >> ((depth - 1) % 8)) & 1;
+            if (c == ',') {
+                expect = object ? KEY : VALUE;
+                i++;
+                continue;
+            }
+            if (c != (object ? '}' : ']')) return i - lost;
+            closed = 1;
+        }
+        if (closed) {
+            depth--;
+            i++;
+        }
+        if (depth == 0) {
+            /* The top value is complete: only white space may follow. */
+            while (i < n && (t[i] == ' ' || t[i] == '\t' || t[i] == '\n' || t[i] == '\r'))
+                i++;
+            return i < n ? i - lost : SIZE_MAX;
+        }
+        expect = NEXT;
+    }
+}
+
+/* 1 when json_loadb failed on text because an allocation failed, whatever
+ * its message says. jansson (2.11 and later) classifies errors, but its
+ * parser (2.14, load.c) shows a failed allocation in three ways:
+ * json_error_out_of_memory where it says so; an empty error text (an
+ * object, array, member or the lexer's buffer not allocated: the parser
+ * returns NULL without setting one); and a syntax error: lex_scan_string makes
+ * a string whose copy it cannot allocate an invalid token, reported as
+ * "invalid token" or "string or '}' expected" (json_error_invalid_syntax)
+ * at the end of that string. A real syntax error is reported once the
+ * parser has read the byte at fault, so it never stops before where
+ * json_syntax_stop finds the first bad byte; a syntax error reported
+ * before that point, or on text without one, is the allocation's. The
+ * per-call hooks that would say so directly do not exist:
+ * json_set_alloc_funcs is process-wide (jansson's "Custom memory
+ * allocation" docs), so persp leaves it to the program. */
+static int json_parse_ran_out(const char *text, size_t size, const json_error_t *err)
+{
+    enum json_error_code code = json_error_code(err);
+    if (code == json_error_out_of_memory || !err->text[0]) return 1;
+    if (code != json_error_invalid_syntax) return 0;
+    size_t stop = json_syntax_stop(text, size);
+    return stop == SIZE_MAX || (err->position >= 0 && stop > (size_t)err->position);
+}
+
 static persp_status load_json(persp_context *ctx, const char *data, size_t size, const char *name,
                               const char *base_dir, const char *allowed, size_t max_vertices,
                               persp_scene **out)
@@ -1097,11 +1329,7 @@ static persp_status load_json(persp_context *ctx, const char *data, size_t size,
     if (rst != PERSP_OK) return rst;
     json_t *root = json_loadb(j.text, size, JSON_REJECT_DUPLICATES, &err);
     if (!root) persp__mem_release(ctx, parse_bytes);
-    /* jansson (2.11 and later) classifies its errors: an allocation failure
-     * is json_error_out_of_memory, not a fault of the file. */
-    /* A failure before the lexer exists (its buffer's allocation) leaves
-     * the error text empty: nothing else does. */
-    if (!root && (json_error_code(&err) == json_error_out_of_memory || !err.text[0]))
+    if (!root && json_parse_ran_out(j.text, size, &err))
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory parsing the JSON",
                            j.name);
     if (!root) {

@@ -1,6 +1,7 @@
 /* Texture files shared by the objects and materials of one scene load. */
 #include "core/internal.h"
 #include "io/model.h"
+#include "io/text.h"
 
 #include <string.h>
 
@@ -16,7 +17,10 @@ persp_status persp__texcache_load(persp_scene *scene, persp_texcache *cache, con
             }
     persp_image img;
     memset(&img, 0, sizeof img);
-    persp_status st = persp_image_load(ctx, path, &img);
+    /* Confined by the open itself (persp__open_inside): the scene's or
+     * model's earlier check of the name does not cover a link swapped
+     * before this read. */
+    persp_status st = persp__image_load_inside(ctx, scene->load_root, path, &img);
     if (st != PERSP_OK) return st;
     persp__image_set_opaque(&img);
     persp_texture *tex = NULL;

@@ -1,21 +1,21 @@
 /* Loader helpers: file reading and paths. */
-#define _XOPEN_SOURCE 700 /* fileno, realpath */
+#define _XOPEN_SOURCE 700 /* fileno, fdopen, realpath, O_CLOEXEC */
 #include "io/text.h"
 
 #include "core/internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
-persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size)
+/* Reads the open stream f (closed here) of the file path into a buffer. */
+static persp_status read_stream(persp_context *ctx, FILE *f, const char *path, char **data,
+                                size_t *size)
 {
-    *data = NULL;
-    *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     /* fopen succeeds on a folder (POSIX open() with O_RDONLY), whose "size"
      * then reads as LONG_MAX: say what it is instead. */
     struct stat sb;
@@ -58,6 +58,38 @@ persp_status persp__read_file(persp_context *ctx, const char *path, char **data,
     return PERSP_OK;
 }
 
+persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    return read_stream(ctx, f, path, data, size);
+}
+
+persp_status persp__read_file_inside(persp_context *ctx, const char *root, const char *path,
+                                     char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    int fd = persp__open_inside(root, path);
+    if (fd == PERSP_OPEN_OUTSIDE) {
+        char q[PERSP_QUOTE_BYTES];
+        return persp__fail(ctx, PERSP_ERR_IO,
+                           "'%s' is outside the folder it may be read from (%s), or was replaced "
+                           "while being opened",
+                           persp__quote(path, strlen(path), q, sizeof q), root);
+    }
+    if (fd < 0) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int e = errno;
+        close(fd);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(e));
+    }
+    return read_stream(ctx, f, path, data, size);
+}
+
 void persp__path_dir(const char *path, char *out, size_t size)
 {
     if (size == 0) return;
@@ -98,19 +130,56 @@ persp_status persp__path_root(persp_context *ctx, const char *path, char *out, s
     return PERSP_OK;
 }
 
+/* 1 when the resolved name real lies in root or below. "/" as the root
+ * allows everything under it; otherwise the next byte after the prefix must
+ * end the name or start a component, so that /a/bc is not inside /a/b. */
+static int real_under(const char *root, const char *real)
+{
+    size_t n = strlen(root);
+    return !strncmp(real, root, n) &&
+           (real[n] == '\0' || real[n] == '/' || (n > 0 && root[n - 1] == '/'));
+}
+
 int persp__path_inside(const char *root, const char *path)
 {
     if (!root) return 1;
     /* realpath resolves every link and "..", so what is compared is where
-     * the open will actually land (POSIX realpath()). */
+     * an open at this moment would land (POSIX realpath()). */
     char *real = realpath(path, NULL);
     if (!real) return -1;
-    size_t n = strlen(root);
-    /* "/" as the root allows everything under it; otherwise the next byte
-     * after the prefix must end the name or start a component, so that
-     * /a/bc is not inside /a/b. */
-    int inside = !strncmp(real, root, n) &&
-                 (real[n] == '\0' || real[n] == '/' || (n > 0 && root[n - 1] == '/'));
+    int inside = real_under(root, real);
     free(real);
     return inside;
+}
+
+int persp__fd_inside(int fd, const char *root, const char *path)
+{
+    struct stat opened, named;
+    if (fstat(fd, &opened) != 0) return -1;
+    char *real = realpath(path, NULL);
+    if (!real) return -1;
+    /* A file is identified by st_dev and st_ino together (POSIX
+     * <sys/stat.h>): the same pair means the open landed on the very file
+     * that the resolved name, checked against root, names now. */
+    int same = stat(real, &named) == 0 && named.st_dev == opened.st_dev &&
+               named.st_ino == opened.st_ino;
+    int inside = same && (!root || real_under(root, real));
+    free(real);
+    return inside;
+}
+
+int persp__open_inside(const char *root, const char *path)
+{
+    /* Opened first, checked second: a check before the open would let a
+     * link swapped in between send the open elsewhere. What is read is the
+     * file behind this descriptor, so it is the one that must lie in root.
+     * O_CLOEXEC keeps it from leaking into a child a threaded caller
+     * starts meanwhile (POSIX open()). */
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || !root) return fd;
+    if (persp__fd_inside(fd, root, path) != 1) {
+        close(fd);
+        return PERSP_OPEN_OUTSIDE;
+    }
+    return fd;
 }

@@ -26,9 +26,30 @@ int persp__path_join(const char *dir, const char *rel, char *out, size_t size);
 persp_status persp__path_root(persp_context *ctx, const char *path, char *out, size_t size);
 /* 1 when the existing file path, resolved, lies in root or below (NULL
  * root: anywhere), 0 when it lies elsewhere, -1 when it cannot be resolved
- * (missing), in which case opening it fails on its own. The check and the
- * later open are two steps: a link swapped in between is not caught. */
+ * (missing). A check of the name only: it words early messages, while what
+ * is read must come from persp__open_inside, which checks the file opened. */
 int persp__path_inside(const char *root, const char *path);
+
+/* persp__open_inside's answer for a file refused as outside root. */
+#define PERSP_OPEN_OUTSIDE (-2)
+/* Opens path read-only (O_RDONLY | O_CLOEXEC) and keeps it only when the
+ * file opened is the one path resolves to (realpath) and that lies in root
+ * or below; NULL root: any file. The descriptor (caller closes), -1 when
+ * the open fails (errno says why), PERSP_OPEN_OUTSIDE when the file lies
+ * elsewhere or path no longer names the file opened (a link swapped after
+ * the open). */
+int persp__open_inside(const char *root, const char *path);
+/* The check of persp__open_inside on an open descriptor: 1 when fd is the
+ * file that path resolves to and that lies in root or below (NULL root:
+ * anywhere), 0 otherwise, -1 when fd or path cannot be examined. */
+int persp__fd_inside(int fd, const char *root, const char *path);
+/* persp__read_file through persp__open_inside: PERSP_ERR_IO, saying so,
+ * for a file refused as outside root. */
+persp_status persp__read_file_inside(persp_context *ctx, const char *root, const char *path,
+                                     char **data, size_t *size);
+/* persp_image_load of a file read through persp__read_file_inside. */
+persp_status persp__image_load_inside(persp_context *ctx, const char *root, const char *path,
+                                      persp_image *out);
 /* The last path component, for short error prefixes. */
 const char *persp__path_base(const char *path);
 

@@ -2,7 +2,8 @@
 # --max-memory: a render over the budget fails (exit 1) before drawing, with
 # a message naming what needed how much, and leaves no output file; a
 # budget with room renders the same image as no budget; bad sizes are usage
-# errors. Model files are refused before Assimp imports them.
+# errors. Model files are refused before Assimp imports them. accuracy and
+# report follow the same rules.
 set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
@@ -18,6 +19,43 @@ expect 2 "bad --max-memory '5X'" -- "$persp" render --max-memory 5X -o "$tmp/x.p
 expect 2 "bad --max-memory '0'" -- "$persp" render --max-memory 0 -o "$tmp/x.png"
 expect 2 "bad --max-memory '99999999999T'" -- "$persp" render --max-memory 99999999999T -o "$tmp/x.png"
 expect 0 "--max-memory SIZE" -- "$persp" render --help
+
+# accuracy (methods, --filter, --shading) and report take the same option:
+# refused under a tiny budget with exit 1 and nothing written, the same
+# output as without a budget where there is room (timings aside).
+acc=(accuracy --case paper-quad --method affine,exact --triangles 2 --json)
+expect 1 "accuracy: out of memory .*over the memory budget of 1024 bytes" -- \
+    "$persp" "${acc[@]}" --max-memory 1K -o "$tmp/acc.json"
+[ ! -e "$tmp/acc.json" ] && ok || bad "a refused accuracy run left $tmp/acc.json"
+expect 0 "" -- "$persp" "${acc[@]}" --max-memory 64M -o "$tmp/acc_b.json"
+expect 0 "" -- "$persp" "${acc[@]}" -o "$tmp/acc_c.json"
+cmp -s "$tmp/acc_b.json" "$tmp/acc_c.json" && ok || bad "the budget changed accuracy's JSON"
+filt=(accuracy --filter bilinear,trilinear --case floor --size 32x24 --samples 2 --repeats 1 --json)
+expect 1 "accuracy --filter: .*over the memory budget of 64.0 KiB" -- \
+    "$persp" "${filt[@]}" --max-memory 64K -o "$tmp/filt.json"
+[ ! -e "$tmp/filt.json" ] && ok || bad "a refused accuracy --filter run left $tmp/filt.json"
+expect 0 "" -- "$persp" "${filt[@]}" --max-memory 64M -o "$tmp/filt_b.json"
+expect 0 "" -- "$persp" "${filt[@]}" -o "$tmp/filt_c.json"
+untimed() { sed -E 's/"(ms|ns_px)": [0-9.e+-]+/"\1": T/g' "$1"; }
+[ "$(untimed "$tmp/filt_b.json")" = "$(untimed "$tmp/filt_c.json")" ] && ok ||
+    bad "the budget changed accuracy --filter's JSON"
+shad=(accuracy --shading --triangles 2 --size 64x48)
+expect 1 "accuracy --shading: .*over the memory budget of 64.0 KiB" -- \
+    "$persp" "${shad[@]}" --max-memory 64K -o "$tmp/shad.txt"
+[ ! -e "$tmp/shad.txt" ] && ok || bad "a refused accuracy --shading run left $tmp/shad.txt"
+expect 0 "" -- "$persp" "${shad[@]}" --max-memory 64M -o "$tmp/shad_b.txt"
+expect 0 "" -- "$persp" "${shad[@]}" -o "$tmp/shad_c.txt"
+cmp -s "$tmp/shad_b.txt" "$tmp/shad_c.txt" && ok || bad "the budget changed accuracy --shading's report"
+# report: the same with room is checked in cli_test_report (it runs the page).
+expect 1 "report: .*over the memory budget of 64.0 KiB" -- \
+    "$persp" report --quick --max-memory 64K -o "$tmp/rep"
+[ -z "$(find "$tmp/rep" -type f 2>/dev/null)" ] && ok || bad "a refused report wrote $(find "$tmp/rep" -type f)"
+expect 2 "bad --max-memory '5X'" -- "$persp" accuracy --max-memory 5X
+expect 2 "bad --max-memory '0'" -- "$persp" report --max-memory 0 -o "$tmp/rep"
+for help in "accuracy --help" "accuracy --filter --help" "accuracy --shading --help" "report --help"; do
+    # shellcheck disable=SC2086
+    expect 0 "--max-memory SIZE" -- "$persp" $help
+done
 
 if command -v python3 >/dev/null; then
     python3 "$root/scripts/gen_grid.py" 50 100 "$tmp/grid.obj"

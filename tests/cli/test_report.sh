@@ -13,6 +13,16 @@ expect 2 "unknown option" -- "$persp" report -o "$tmp/x" --bogus
 start=$(date +%s)
 "$persp" report --quick -o "$tmp/r" 2>"$tmp/log" || bad "report --quick failed: $(cat "$tmp/log")"
 echo "report --quick took $(($(date +%s) - start)) s"
+# --max-memory with room: the same page data and images (timings aside).
+"$persp" report --quick --max-memory 256M -o "$tmp/rb" 2>"$tmp/log_b" ||
+    bad "report --quick --max-memory 256M failed: $(cat "$tmp/log_b")"
+same=1
+for f in $(cd "$tmp/r" && find . -type f \( -name '*.png' -o -name accuracy.json -o -name '*.svg' \) | sort); do
+    cmp -s "$tmp/r/$f" "$tmp/rb/$f" || { same=0; echo "differs with --max-memory: $f"; }
+done
+[ "$(sed -E 's/"(ms|ns_px)": [0-9.e+-]+//g' "$tmp/r/filter.json")" = \
+  "$(sed -E 's/"(ms|ns_px)": [0-9.e+-]+//g' "$tmp/rb/filter.json")" ] || { same=0; echo "filter.json differs"; }
+[ "$same" = 1 ] && ok || bad "the memory budget changed the report"
 page="$tmp/r/index.html"
 [ -s "$page" ] && ok || bad "no index.html"
 grep -q "^report: method accuracy" "$tmp/log" && grep -q "^report: wrote" "$tmp/log" && ok ||

@@ -89,6 +89,33 @@ printf 'key F1\nfrobnicate 3\n' >"$tmp/bad.txt"
 expect 1 "bad.txt:2: cannot read 'frobnicate 3'" -- xrun "$persp" view corridor \
     --size 64x48 --script "$tmp/bad.txt"
 
+# A signal while a screenshot is written. SDL makes SIGINT/SIGTERM its quit
+# event, so the image is finished and the window closes; where SDL installs
+# no handlers (SDL_NO_SIGNAL_HANDLERS=1), the CLI's remove the temporary file
+# and the process dies of the signal, as render does.
+sig_window() { # sig_window SIGNAL FILE -- view arguments...
+    local sig="$1" file="$2"; shift 3
+    "$persp" view "$@" & local pid=$!
+    for _ in $(seq 1 3000); do compgen -G "$file.tmp-*" >/dev/null && break; sleep 0.01; done
+    if ! compgen -G "$file.tmp-*" >/dev/null; then wait "$pid"; echo "$sig: no temporary file seen"; return 1; fi
+    sleep 0.05
+    kill -"$sig" "$pid"; wait "$pid"; local rc=$?
+    if compgen -G "$file.tmp-*" >/dev/null; then echo "$sig: left $(ls "$file".tmp-*)"; return 1; fi
+    echo "exit $rc"
+    [ -e "$file" ] && echo "written"
+    return 0
+}
+mkdir -p "$tmp/sig"
+printf 'settle\nimage %s\n' "$tmp/sig/big.png" >"$tmp/sig.txt"
+SDL_NO_SIGNAL_HANDLERS=1 expect 0 "^exit 143$" -- \
+    xrun sig_window TERM "$tmp/sig/big.png" -- corridor --size 2048x2048 --script "$tmp/sig.txt" -q
+[ ! -e "$tmp/sig/big.png" ] && ok || bad "a screenshot killed by SIGTERM was left"
+rm -f "$tmp/sig/"*
+expect 0 "^written$" -- xrun sig_window INT "$tmp/sig/big.png" -- corridor --size 2048x2048 \
+    --script "$tmp/sig.txt" -q
+[ "$(head -c 4 "$tmp/sig/big.png" | od -An -c | tr -d ' ')" = '211PNG' ] && ok ||
+    bad "the screenshot finished after SIGINT is no PNG"
+
 python3 - "$tmp" "$W" "$H" <<'PY' && ok || bad "pixel checks of the screenshots"
 import struct, sys, zlib
 

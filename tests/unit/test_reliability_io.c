@@ -4,11 +4,15 @@
  * parameters, out-of-memory in the JSON parser, paletted PNGs with indices
  * past the palette, and opaque output for translucent textures.
  */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "support.h"
 
 #include "core/internal.h"
+#include "io/model.h"
+#include "io/text.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -114,6 +118,77 @@ static void test_scene_reads_only_its_folder(void **state)
     persp_scene *s = NULL;
     assert_int_equal(persp_scene_load(ctx, scene, &s), PERSP_ERR_IO); /* the last, "up/..." */
     persp_context_destroy(ctx);
+}
+
+/* A confined read checks the file it opened, not only the name before the
+ * open: a link swapped between the two lands on a file whose identity
+ * differs from what the name resolves to afterwards, and is refused. A
+ * real race cannot be timed in a test; persp__fd_inside is the check the
+ * open makes, given a descriptor and a name as they stand after a swap. */
+static void test_open_inside_checks_the_file_opened(void **state)
+{
+    (void)state;
+    char root_dir[512], a[600], b[600], outside[512], link[600], missing[600];
+    path_in(root_dir, sizeof root_dir, "confined");
+    mkdir(root_dir, 0777);
+    char *root = realpath(root_dir, NULL);
+    assert_non_null(root);
+    snprintf(a, sizeof a, "%s/a.txt", root_dir);
+    snprintf(b, sizeof b, "%s/b.txt", root_dir);
+    snprintf(link, sizeof link, "%s/l.txt", root_dir);
+    snprintf(missing, sizeof missing, "%s/none.txt", root_dir);
+    path_in(outside, sizeof outside, "outside.txt");
+    write_text(a, "a");
+    write_text(b, "b");
+    write_text(outside, "secret");
+
+    /* An inside file opens; a link to outside and a missing file do not. */
+    int fd = persp__open_inside(root, a);
+    assert_true(fd >= 0);
+    assert_int_equal(persp__fd_inside(fd, root, a), 1);
+    /* The name now resolves to another inside file than the one opened. */
+    assert_int_equal(persp__fd_inside(fd, root, b), 0);
+    close(fd);
+    unlink(link);
+    assert_int_equal(symlink(outside, link), 0);
+    assert_int_equal(persp__open_inside(root, link), PERSP_OPEN_OUTSIDE);
+    errno = 0;
+    assert_int_equal(persp__open_inside(root, missing), -1);
+    assert_int_equal(errno, ENOENT);
+    fd = persp__open_inside(NULL, link); /* no root: any file */
+    assert_true(fd >= 0);
+    close(fd);
+
+    /* The swap: the link pointed outside when it was opened and points
+     * inside by the time it is checked. The name alone passes; the file
+     * opened does not. */
+    fd = open(link, O_RDONLY | O_CLOEXEC);
+    assert_true(fd >= 0);
+    assert_int_equal(unlink(link), 0);
+    assert_int_equal(symlink(a, link), 0);
+    assert_int_equal(persp__path_inside(root, link), 1);
+    assert_int_equal(persp__fd_inside(fd, root, link), 0);
+    close(fd);
+
+    /* Through the readers: the same refusal, as an I/O error saying so. */
+    persp_context *ctx = test_context();
+    char *data = NULL;
+    size_t size = 0;
+    assert_int_equal(persp__read_file_inside(ctx, root, a, &data, &size), PERSP_OK);
+    assert_int_equal(size, 1);
+    assert_int_equal(data[0], 'a');
+    persp__free(ctx, data);
+    assert_int_equal(unlink(link), 0);
+    assert_int_equal(symlink(outside, link), 0);
+    assert_int_equal(persp__read_file_inside(ctx, root, link, &data, &size), PERSP_ERR_IO);
+    assert_null(data);
+    assert_non_null(strstr(persp_context_error(ctx), "is outside the folder"));
+    assert_null(strstr(persp_context_error(ctx), "secret"));
+    persp_image img;
+    assert_int_equal(persp__image_load_inside(ctx, root, link, &img), PERSP_ERR_IO);
+    assert_non_null(strstr(persp_context_error(ctx), "is outside the folder"));
+    persp_context_destroy(ctx);
+    free(root);
 }
 
 typedef struct warnings {
@@ -297,7 +372,9 @@ static void test_filter_taps_message(void **state)
     persp_context_destroy(ctx);
 }
 
-/* jansson's allocation failure is reported as one, not as malformed JSON. */
+/* jansson's allocation failure is reported as one, not as malformed JSON:
+ * also where jansson itself reports it as a syntax error (a string token
+ * whose copy it cannot allocate, lex_scan_string). */
 static int json_allocs_left;
 static void *failing_malloc(size_t n)
 {
@@ -305,35 +382,130 @@ static void *failing_malloc(size_t n)
     return malloc(n);
 }
 
+/* Loads text as a scene with jansson's allocations after the first allow
+ * failing. */
+static persp_status load_json_failing(persp_context *ctx, const char *text, int allow)
+{
+    json_set_alloc_funcs(failing_malloc, free);
+    json_allocs_left = allow;
+    persp_scene *s = NULL;
+    persp_status st = persp__scene_load_memory(ctx, text, strlen(text), "oom.json", NULL, 0, &s);
+    json_set_alloc_funcs(malloc, free);
+    persp_scene_destroy(s);
+    return st;
+}
+
 static void test_json_out_of_memory(void **state)
 {
     (void)state;
     persp_context *ctx = test_context();
-    char scene[512];
-    path_in(scene, sizeof scene, "oom.json");
-    write_text(scene, "{\"objects\": [{\"mesh\": \"plane\"}]}");
-    /* Every allocation in turn fails, until the parse needs no more. */
-    persp_status st = PERSP_ERR_OUT_OF_MEMORY;
-    int failures = 0;
-    for (int allow = 0; allow < 100 && st != PERSP_OK; allow++) {
-        json_set_alloc_funcs(failing_malloc, free);
-        json_allocs_left = allow;
-        persp_scene *s = NULL;
-        st = persp_scene_load(ctx, scene, &s);
-        json_set_alloc_funcs(malloc, free);
-        persp_scene_destroy(s);
-        if (st == PERSP_OK) break;
-        const char *e = persp_context_error(ctx);
-        /* jansson's lexer turns a failed string allocation into a syntax
-         * error (lex_scan_string returns an invalid token): those cannot be
-         * told apart from a bad file. Every other failure is memory. */
-        int lexer_string = strstr(e, "invalid JSON") && strstr(e, "near '\"");
-        if (!lexer_string && (st != PERSP_ERR_OUT_OF_MEMORY || !strstr(e, "out of memory")))
-            fail_msg("allocation %d failing: %s (%s)", allow, e, persp_status_string(st));
-        if (!lexer_string) failures++;
+    /* Strings as keys and values, one longer than the lexer's first buffer
+     * (16 bytes, jansson's STRBUFFER_MIN_SIZE), nested objects and arrays. */
+    static const char *const scenes[] = {
+        "{\"objects\": [{\"mesh\": \"plane\"}]}",
+        "{\"materials\": {\"a_material_named_at_length\": {\"ambient\": [0.5, 0.5, 0.5]}},\n"
+        " \"objects\": [{\"mesh\": \"plane\", \"material\": \"a_material_named_at_length\"}]}",
+    };
+    for (size_t k = 0; k < sizeof scenes / sizeof scenes[0]; k++) {
+        /* Every allocation in turn fails, until the parse needs no more. */
+        persp_status st = PERSP_ERR_OUT_OF_MEMORY;
+        int failures = 0;
+        for (int allow = 0; allow < 200 && st != PERSP_OK; allow++) {
+            st = load_json_failing(ctx, scenes[k], allow);
+            if (st == PERSP_OK) break;
+            const char *e = persp_context_error(ctx);
+            if (st != PERSP_ERR_OUT_OF_MEMORY || !strstr(e, "out of memory"))
+                fail_msg("scene %zu, allocation %d failing: %s (%s)", k, allow, e,
+                         persp_status_string(st));
+            failures++;
+        }
+        assert_int_equal(st, PERSP_OK);
+        assert_true(failures >= 10); /* the lexer's buffer, strings, objects, arrays, keys */
     }
-    assert_int_equal(st, PERSP_OK);
-    assert_true(failures >= 5); /* the lexer's buffer, objects, arrays, keys */
+
+    /* A file with a real syntax error: out of memory while the failure
+     * comes before the error, the error itself once jansson reaches it. */
+    static const char bad[] = "{\"objects\": [{\"mesh\": \"plane\"},\n {\"mesh\": \"plane\"} {}]}";
+    int oom = 0, format = 0;
+    for (int allow = 0; allow < 200; allow++) {
+        persp_status st = load_json_failing(ctx, bad, allow);
+        const char *e = persp_context_error(ctx);
+        if (st == PERSP_ERR_OUT_OF_MEMORY) {
+            assert_true(format == 0); /* no memory failure after the error is reached */
+            oom++;
+            continue;
+        }
+        assert_int_equal(st, PERSP_ERR_FORMAT);
+        if (!strstr(e, "oom.json:2:") || !strstr(e, "invalid JSON")) fail_msg("%d: %s", allow, e);
+        format++;
+    }
+    assert_true(oom >= 5);
+    assert_true(format > 0);
+    persp_context_destroy(ctx);
+}
+
+/* Files jansson refuses as syntax errors stay syntax errors: the check that
+ * tells them from a failed allocation finds a bad byte no later than
+ * jansson stops. */
+static void test_json_syntax_errors_stay_format(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    static const char *const bad[] = {
+        "",                                  /* nothing */
+        "\"objects\"",                       /* not an object or array */
+        "{\"a\" \"b\"}",                     /* no colon */
+        "{\"a\": 1 \"b\": 2}",               /* no comma */
+        "{\"a\": [1,]}",                     /* a comma before ']' */
+        "{\"a\": 01}",                       /* a leading zero */
+        "{\"a\": 1.}",                       /* no digit after '.' */
+        "{\"a\": -}",                        /* no digit after '-' */
+        "{\"a\": 1e+}",                      /* no exponent digit */
+        "{\"a\": tru}",                      /* a short literal */
+        "{\"a\": truex}",                    /* a long one */
+        "{\"a\": nul}",
+        "{\"a\": \"x\\q\"}",                 /* a bad escape */
+        "{\"a\": \"x\\u12\"}",               /* a short \u escape */
+        "{\"a\": \"\\udc00\"}",              /* a low surrogate alone */
+        "{\"a\": \"\\ud800\"}",              /* a high one alone */
+        "{\"a\": \"\\ud800\\u0041\"}",       /* followed by no low one */
+        "{\"a\": \"tab\there\"}",            /* a control byte */
+        "{\"a\": \"x\"}}",                   /* text after the end */
+        "{\"a\": [1, 2}",                    /* the wrong bracket */
+        "{\"a\": @}",                        /* a stray byte */
+        "{\"a\":",                           /* the end too early */
+        "{\"a\": \"open",                    /* a string never closed */
+        "{\"a\": \"x\"\"b\": 1}",            /* a string right after a string */
+        "{1: 2}",                            /* a number as a key */
+        "[\"\\ud83d\\ude00\", \"\\ud83d\"]", /* a pair, then a high one alone */
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        persp_scene *s = NULL;
+        persp_status st =
+            persp__scene_load_memory(ctx, bad[i], strlen(bad[i]), "bad.json", NULL, 0, &s);
+        persp_scene_destroy(s);
+        const char *e = persp_context_error(ctx);
+        if (st != PERSP_ERR_FORMAT || !strstr(e, "invalid JSON"))
+            fail_msg("'%s': %s (%s)", bad[i], e, persp_status_string(st));
+    }
+    /* NUL bytes: after a backslash, and in place of a value. */
+    static const char nul_escape[] = "{\"a\": \"x\\\0\"}", nul_value[] = "{\"a\": \0}";
+    const char *const nul_texts[] = {nul_escape, nul_value};
+    const size_t nul_sizes[] = {sizeof nul_escape - 1, sizeof nul_value - 1};
+    for (size_t i = 0; i < 2; i++) {
+        persp_scene *sc = NULL;
+        persp_status st =
+            persp__scene_load_memory(ctx, nul_texts[i], nul_sizes[i], "nul.json", NULL, 0, &sc);
+        persp_scene_destroy(sc);
+        if (st != PERSP_ERR_FORMAT || !strstr(persp_context_error(ctx), "invalid JSON"))
+            fail_msg("NUL text %zu: %s (%s)", i, persp_context_error(ctx), persp_status_string(st));
+    }
+    /* Valid text with what jansson checks apart from syntax. */
+    persp_scene *s = NULL;
+    static const char dup[] = "{\"objects\": [], \"objects\": []}";
+    assert_int_equal(persp__scene_load_memory(ctx, dup, strlen(dup), "d.json", NULL, 0, &s),
+                     PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(ctx), "duplicate"));
     persp_context_destroy(ctx);
 }
 
@@ -405,11 +577,13 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_scene_reads_only_its_folder),
         cmocka_unit_test(test_model_reads_only_its_folder),
+        cmocka_unit_test(test_open_inside_checks_the_file_opened),
         cmocka_unit_test(test_messages_escape_foreign_text),
         cmocka_unit_test(test_output_replaces_safely),
         cmocka_unit_test(test_method_specs_strict),
         cmocka_unit_test(test_filter_taps_message),
         cmocka_unit_test(test_json_out_of_memory),
+        cmocka_unit_test(test_json_syntax_errors_stay_format),
         cmocka_unit_test(test_palette_index_past_palette),
         cmocka_unit_test(test_draw_output_opaque),
     };

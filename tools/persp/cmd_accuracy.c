@@ -156,6 +156,7 @@ int cmd_accuracy(int argc, char **argv)
     shard_opt shard = {0, 0};
     persp_accuracy_desc desc;
     memset(&desc, 0, sizeof desc);
+    size_t max_memory = 0;
     cli_option opts[] = {
         CLI_OPT(opt_method_list, &method_list),
         CLI_OPT(opt_case, &case_list),
@@ -171,6 +172,7 @@ int cmd_accuracy(int argc, char **argv)
                      "write one PNG per method and case with the per-pixel\n"
                      "error in texels on a logarithmic colour scale"),
         CLI_OPT(opt_shard, &shard),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(opt_filter_mode, &filter_mode),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
@@ -206,7 +208,8 @@ int cmd_accuracy(int argc, char **argv)
     desc.case_count = ncases;
 
     persp_context *ctx = NULL;
-    persp_status st = persp_context_create(NULL, &ctx);
+    persp_context_desc cd = {.max_memory = max_memory};
+    persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     cli_output out;

@@ -70,6 +70,7 @@ int cmd_accuracy_filter(int argc, char **argv)
     persp_filter_accuracy_desc d;
     memset(&d, 0, sizeof d);
     int threads = 1;
+    size_t max_memory = 0;
     cli_option opts[] = {
         CLI_OPT(opt_filters, &filter_list),
         CLI_OPT(opt_case, &case_list),
@@ -77,6 +78,7 @@ int cmd_accuracy_filter(int argc, char **argv)
         CLI_OPT(opt_samples, &d.samples),
         CLI_OPT(opt_repeats, &d.repeats),
         CLI_OPT(cli_opt_threads, &threads),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT_HELP(cli_opt_lod, &d.lod_mode, "level of detail per pixel or per polygon"),
         CLI_OPT(cli_opt_lod_bias, &d.lod_bias),
         CLI_OPT_HELP(cli_opt_heatmap, &d.heatmap_dir,
@@ -122,7 +124,7 @@ int cmd_accuracy_filter(int argc, char **argv)
     d.cases = cases;
     d.case_count = nc;
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.threads = threads};
+    persp_context_desc cd = {.threads = threads, .max_memory = max_memory};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);

@@ -43,6 +43,7 @@ int cmd_accuracy_shading(int argc, char **argv)
     memset(&desc, 0, sizeof desc);
     cli_size size = {0, 0};
     const char *output = NULL;
+    size_t max_memory = 0;
     cli_option opts[] = {
         CLI_OPT(cli_opt_seed, &desc.seed),
         CLI_OPT(opt_triangles, &desc.triangles),
@@ -51,6 +52,7 @@ int cmd_accuracy_shading(int argc, char **argv)
         CLI_OPT_HELP(cli_opt_size, &size,
                      "lit-scene image size (default: the scene's, else 640x480)"),
         CLI_OPT(opt_svg, &desc.svg_path),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT_HELP(cli_opt_output, &output,
                      "write the report to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
@@ -71,7 +73,8 @@ int cmd_accuracy_shading(int argc, char **argv)
     /* The figures are written last: a path that cannot be is known now. */
     if ((rc = cli_check_output("accuracy --shading", "--svg", desc.svg_path)) != CLI_OK) return rc;
     persp_context *ctx = NULL;
-    persp_status st = persp_context_create(NULL, &ctx);
+    persp_context_desc cd = {.max_memory = max_memory};
+    persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy --shading: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     cli_output out;

@@ -6,7 +6,7 @@
 
 static void report_usage(FILE *out, const cli_command *cmd)
 {
-    fprintf(out, "usage: persp report -o DIR [--quick] [--from DIR]\n\n"
+    fprintf(out, "usage: persp report -o DIR [--quick] [--from DIR] [--max-memory SIZE]\n\n"
                  "Measures every texture-coordinate method, shading mode and filter and writes\n"
                  "DIR/index.html: tables and SVG plots of the errors by depth ratio, the\n"
                  "sources' claims with their verdicts, every method's images with zoomed\n"
@@ -41,10 +41,12 @@ int cmd_report(int argc, char **argv)
 {
     const char *output = NULL, *from = NULL;
     int quick = 0;
+    size_t max_memory = 0;
     cli_option opts[] = {
         CLI_OPT_HELP(cli_opt_output, &output, "folder for index.html and its files (created)"),
         CLI_OPT(opt_quick, &quick),
         CLI_OPT(opt_from, &from),
+        CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
     cli_command cmd = {
@@ -71,7 +73,8 @@ int cmd_report(int argc, char **argv)
     desc.git_commit = commit[0] ? commit : NULL;
     desc.log = stderr;
     persp_context *ctx = NULL;
-    persp_status st = persp_context_create(NULL, &ctx);
+    persp_context_desc cd = {.max_memory = max_memory};
+    persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "report: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     double t0 = cli_now();

@@ -308,10 +308,12 @@ int cmd_view(int argc, char **argv)
             ctx,   scene,  tinted,      coords,  scene_name,
             left,  right,  layout,      divider, heat_max,
             width, height, threads,     frames,  record ? record : "camera-path.json",
-            NULL,  output, window_shot, script,  quiet};
+            NULL,  output, window_shot, script,  quiet,
+            cli_temp_file, cli_install_signal_handlers};
         /* SDL turns SIGINT/SIGTERM into its quit event, so that the window
          * closes cleanly, but only where the signal has its default action
-         * (SDL_INIT_EVENTS, SDL_HINT_NO_SIGNAL_HANDLERS): hand them back. */
+         * (SDL_INIT_EVENTS, SDL_HINT_NO_SIGNAL_HANDLERS): hand them back.
+         * Where SDL then takes neither, the window puts ours back. */
         cli_restore_signal_handlers();
         rc = view_window_run(&a);
     }

@@ -28,6 +28,13 @@ typedef struct view_window_args {
     const char *window_shot; /* with frames: the last frame, panels included, as PNG */
     const char *script;      /* input actions to replay (docs/VIEWER.md); NULL: none */
     int quiet;
+    /* Told of the temporary file of each PNG the window writes
+     * (persp_context_set_temp_file_handler), so that the CLI's signal
+     * handlers remove it as they do for render; NULL: nobody is. */
+    persp_temp_file_fn temp_file;
+    /* Installs those handlers; called once SDL is set up where SDL took
+     * SIGINT and SIGTERM for its quit event; NULL: left as they are. */
+    void (*install_signal_handlers)(void);
 } view_window_args;
 
 /* CLI exit code (0 ok, 1 failure). */

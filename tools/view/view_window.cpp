@@ -14,6 +14,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -1241,6 +1242,17 @@ extern "C" int view_window_run(const view_window_args *args)
         return 1;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "0");
+    /* SDL installs its own SIGINT/SIGTERM handlers (the quit event, so a
+     * screenshot being written is finished before the window closes) unless
+     * SDL_HINT_NO_SIGNAL_HANDLERS is set; then the signals would kill the
+     * process in the middle of a write and leave its temporary file. There
+     * the CLI's handlers come back, which remove it (POSIX sigaction()
+     * with a NULL act only reads the action). */
+    struct sigaction on_int, on_term;
+    if (args->install_signal_handlers && sigaction(SIGINT, nullptr, &on_int) == 0 &&
+        sigaction(SIGTERM, nullptr, &on_term) == 0 && on_int.sa_handler == SIG_DFL &&
+        on_term.sa_handler == SIG_DFL)
+        args->install_signal_handlers();
     state s;
     s.args = args;
     char title[256];
@@ -1297,7 +1309,9 @@ extern "C" int view_window_run(const view_window_args *args)
         s.wk.lock = SDL_CreateMutex();
         s.wk.wake = SDL_CreateCond();
         s.wk.done = SDL_CreateCond();
-        if (persp_context_create(nullptr, &s.ui_ctx) != PERSP_OK || !s.wk.lock || !s.wk.wake ||
+        if (persp_context_create(nullptr, &s.ui_ctx) == PERSP_OK && args->temp_file)
+            persp_context_set_temp_file_handler(s.ui_ctx, args->temp_file, nullptr);
+        if (!s.ui_ctx || !s.wk.lock || !s.wk.wake ||
             !s.wk.done || !(s.wk.thread = SDL_CreateThread(worker_main, "persp render", &s.wk))) {
             fprintf(stderr, "persp: view: cannot start the render thread: %s\n", SDL_GetError());
         } else {
