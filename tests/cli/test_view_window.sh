@@ -8,6 +8,10 @@ if "$persp" view --help | grep -q "has no window"; then
     expect 1 "built without the window" -- "$persp" view cube --frames 1
     exit 0
 fi
+# No display and no driver asked for: SDL would fall back to its offscreen
+# driver and the window would run invisibly until killed; it is refused.
+expect 1 "cannot open a window" -- env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER \
+    SDL_AUDIODRIVER=dummy timeout 20 "$persp" view cube --frames 1
 export SDL_VIDEODRIVER=dummy SDL_AUDIODRIVER=dummy
 expect 0 "" -- "$persp" view cube --frames 3 --size 320x240 -q
 for layout in single split diff; do

@@ -1241,6 +1241,21 @@ extern "C" int view_window_run(const view_window_args *args)
                 SDL_GetError(), getenv("SDL_VIDEODRIVER") ? getenv("SDL_VIDEODRIVER") : "unset");
         return 1;
     }
+    /* Without a display SDL 2 falls back to its offscreen driver by itself,
+     * and the window then runs invisibly until killed. Those drivers are
+     * for a caller who asks for them (SDL_VIDEODRIVER, as the tests do). */
+    const char *driver = SDL_GetCurrentVideoDriver();
+    const char *asked = getenv("SDL_VIDEODRIVER");
+    if (driver && (!asked || !asked[0]) && (!strcmp(driver, "offscreen") || !strcmp(driver, "dummy"))) {
+        const char *display = getenv("DISPLAY");
+        fprintf(stderr,
+                "persp: view: cannot open a window: no display could be opened (DISPLAY=%s); "
+                "--play renders camera paths without one, SDL_VIDEODRIVER=offscreen runs the "
+                "window invisibly\n",
+                display && display[0] ? display : "unset");
+        SDL_Quit();
+        return 1;
+    }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "0");
     /* SDL installs its own SIGINT/SIGTERM handlers (the quit event, so a
      * screenshot being written is finished before the window closes) unless
