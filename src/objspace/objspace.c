@@ -441,11 +441,15 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
     size_t cap_n = 0, n = 0;
     os_piece *pcs = NULL;
     const persp_tri *tris = persp__frame_tris(f);
+    size_t kept = 0;
     *split = 0;
     for (size_t ti = 0; ti < f->tri_count; ti++) {
         const persp_tri *t = &tris[ti];
         const persp_draw_state *ds = persp__frame_state(f, t->state);
-        if (!objspace_applies(ds)) continue;
+        if (!objspace_applies(ds)) {
+            kept++;
+            continue;
+        }
         tri_setup ts;
         memset(&ts, 0, sizeof ts);
         if (!triangle_setup(f, cap->width, cap->height, t, &ts)) continue;
@@ -474,6 +478,14 @@ static persp_status build_pieces(persp_frame *f, const persp_capture *cap, os_pi
         }
         if (made > 1) (*split)++;
     }
+    /* Said rather than left to be noticed: a lit model (models default to
+     * phong) would otherwise come out exactly as the screen pipeline draws
+     * it, with "0 pieces" as the only hint. */
+    if (kept)
+        persp__warn(ctx,
+                    "object-space pipeline: %zu of %zu triangles are lit or untextured and keep the "
+                    "screen pipeline's colour (it applies to textured draws with shading none)",
+                    kept, f->tri_count);
     /* An explicit bound on the walk (docs/RELIABILITY.md): refused before
      * any sample is walked rather than running for minutes. */
     double work = 0.0;

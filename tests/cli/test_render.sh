@@ -20,6 +20,11 @@ expect 0 "1024x768, method exact, filter bilinear" -- "$persp" render corridor -
 expect 0 "64x48" -- "$persp" render floor --size 64x48 --depth invw -o "$tmp/f.png"
 expect 0 "method affine" -- "$persp" render cube --method affine --size 40x30 --threads 3 -o "$tmp/k.png"
 expect 0 "" -- "$persp" render corridor --size 32x24 --pipeline object -q -o "$tmp/o.png"
+# Lit draws keep the screen pipeline's colour, and the user is told so.
+expect 0 "warning: object-space pipeline: 6 of 6 triangles are lit or untextured" -- \
+    "$persp" render cube --size 32x24 --pipeline object --shading phong -o "$tmp/o.png"
+out=$("$persp" render corridor --size 32x24 --pipeline object -o "$tmp/o.png" 2>&1)
+grep -q "warning" <<<"$out" && bad "unlit textured corridor warned: $out" || ok
 [ -s "$tmp/o.png" ] && ok || bad "object-space render wrote nothing"
 
 expect 2 "unknown option '--bogus'" -- "$persp" render --bogus
