@@ -186,7 +186,8 @@ static persp_status check_obj_mtllib(persp_context *ctx, const char *display, co
 static persp_status check_gltf_kind(persp_context *ctx, const char *display, const char *buf,
                                     size_t size)
 {
-    if (!persp__model_has_ext(display, "gltf") && !persp__model_has_ext(display, "glb")) return PERSP_OK;
+    if (!persp__model_has_ext(display, "gltf") && !persp__model_has_ext(display, "glb"))
+        return PERSP_OK;
     if (size >= 4 && memcmp(buf, "glTF", 4) == 0) return PERSP_OK;
     size_t i = 0;
     while (i < size && isspace((unsigned char)buf[i]))
@@ -585,7 +586,8 @@ persp_status persp__model_read_ref(persp_context *ctx, const char *base_dir, con
         if (find_candidate(base_dir, root, rel, k, path, sizeof path, &outside))
             st = persp__read_file(ctx, path, data, size);
     if (st != PERSP_OK)
-        *why = outside ? "outside the folder the model may read from" : "no such file or unreadable";
+        *why =
+            outside ? "outside the folder the model may read from" : "no such file or unreadable";
     return st;
 }
 
@@ -659,8 +661,10 @@ static void file_close(struct aiFileIO *fio, struct aiFile *f)
 void persp__model_set_colours(persp_material *m, const float *kd, const float *ks,
                               const float *ka, float shininess)
 {
-    if (kd && finite3(kd[0], kd[1], kd[2])) m->diffuse[0] = kd[0], m->diffuse[1] = kd[1], m->diffuse[2] = kd[2];
-    if (ks && finite3(ks[0], ks[1], ks[2])) m->specular[0] = ks[0], m->specular[1] = ks[1], m->specular[2] = ks[2];
+    if (kd && finite3(kd[0], kd[1], kd[2]))
+        m->diffuse[0] = kd[0], m->diffuse[1] = kd[1], m->diffuse[2] = kd[2];
+    if (ks && finite3(ks[0], ks[1], ks[2]))
+        m->specular[0] = ks[0], m->specular[1] = ks[1], m->specular[2] = ks[2];
     /* Black ambient is what most exporters write when they mean none;
      * persp's default keeps unlit sides from going black. */
     if (ka && finite3(ka[0], ka[1], ka[2]) && (ka[0] > 0 || ka[1] > 0 || ka[2] > 0))
@@ -686,7 +690,8 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
     char qr[PERSP_QUOTE_BYTES];
     persp__quote(rel, strlen(rel), qr, sizeof qr);
     if (!r->base_dir) {
-        persp__warn(r->scene->ctx, "%s: material '%s': texture '%s' not read (no folder to read it from)",
+        persp__warn(r->scene->ctx,
+                    "%s: material '%s': texture '%s' not read (no folder to read it from)",
                     r->display, qm, qr);
         return -1;
     }
@@ -707,7 +712,8 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
             r->out_of_memory = 1;
             return -1;
         }
-        if (st != PERSP_OK && k == 0) snprintf(why, sizeof why, "%s", persp_context_error(r->scene->ctx));
+        if (st != PERSP_OK && k == 0)
+            snprintf(why, sizeof why, "%s", persp_context_error(r->scene->ctx));
     }
     if (st != PERSP_OK) {
         /* The texture's name usually sits in a material library, not in the
@@ -717,7 +723,8 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
             r->where(r->where_user, rel, at, sizeof at);
         else
             snprintf(at, sizeof at, "%s", r->display);
-        if (outside && !why[0]) snprintf(why, sizeof why, "outside the folder the model may read from");
+        if (outside && !why[0])
+            snprintf(why, sizeof why, "outside the folder the model may read from");
         persp__warn(r->scene->ctx,
                     "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
                     at, qm, qr, why[0] ? why : "bad path");
@@ -725,7 +732,6 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
     }
     return index;
 }
-
 
 persp_status persp__model_add_part(persp_scene *scene, persp_model *o, size_t *cap, int mesh,
                                    int material, const persp_mat4 *xf, const char *display)
@@ -1097,7 +1103,8 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
 
 static persp_status add_part(importer *im, int mesh, int material, const persp_mat4 *xf)
 {
-    return persp__model_add_part(im->scene, im->out, &im->part_cap, mesh, material, xf, im->display);
+    return persp__model_add_part(im->scene, im->out, &im->part_cap, mesh, material, xf,
+                                 im->display);
 }
 
 static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 parent, int depth)
@@ -1227,7 +1234,8 @@ static int is_obj(const char *name, const char *data, size_t size)
     const char *base = persp__path_base(name);
     const char *dot = strrchr(base, '.');
     if (dot && dot[1] && aiIsExtensionSupported(dot)) return 0;
-    static const char *const words[] = {"mtllib", "usemtl", "v ", "vt ", "vn ", "o ", "g ", "s ", "f "};
+    static const char *const words[] = {"mtllib", "usemtl", "v ", "vt ", "vn ",
+                                        "o ",      "g ",      "s ", "f "};
     size_t n = size < 200 ? size : 200;
     for (size_t i = 0; i < n; i++) {
         if (i > 0 && data[i - 1] != '\n' && data[i - 1] != '\r') continue;

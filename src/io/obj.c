@@ -51,9 +51,9 @@ typedef struct obj_lines {
     char *buf;           /* a file's window of cap bytes: at most OBJ_CHUNK + OBJ_LINE_MAX */
     size_t cap, len, pos;
     int eof;
-    int skip_lf;  /* a CR ended the window: a following LF belongs to it */
-    size_t line;  /* number of the next physical line */
-    char *join;   /* a line continued with '\' (allocated when first met) */
+    int skip_lf;         /* a CR ended the window: a following LF belongs to it */
+    size_t line;         /* number of the next physical line */
+    char *join;          /* a line continued with '\' (allocated when first met) */
     persp_status status; /* of the failure when a call returned -1 */
 } obj_lines;
 
@@ -77,7 +77,8 @@ static int refill(obj_lines *l)
          * hold a line of the longest length taken and a chunk. */
         char *wide = persp__alloc(l->ctx, OBJ_CHUNK + OBJ_LINE_MAX);
         if (!wide) {
-            l->status = persp__fail(l->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", l->display);
+            l->status =
+                persp__fail(l->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", l->display);
             return -1;
         }
         memcpy(wide, l->buf, l->len);
@@ -375,23 +376,23 @@ typedef struct obj_reader {
     const obj_mat *where_mat;
 
     /* the run being read (pass 2) */
-    int open;          /* a run is being read */
-    int run_mat;       /* material record, -1: the default material */
-    int file_normals;  /* the run keeps the file's normals */
-    uint32_t *idx;     /* 3 per triangle: tuple index (| OWNER_BIT) */
+    int open;         /* a run is being read */
+    int run_mat;      /* material record, -1: the default material */
+    int file_normals; /* the run keeps the file's normals */
+    uint32_t *idx;    /* 3 per triangle: tuple index (| OWNER_BIT) */
     size_t nidx;
-    uint32_t *tuples;  /* 3 per distinct corner: v, vt, vn (NO_INDEX: none) */
+    uint32_t *tuples; /* 3 per distinct corner: v, vt, vn (NO_INDEX: none) */
     size_t ntuples, tuples_cap;
-    uint32_t *table;   /* hash of tuples: index + 1, 0 empty */
+    uint32_t *table; /* hash of tuples: index + 1, 0 empty */
     size_t table_cap;
-    int area;          /* a triangle with area was seen */
+    int area; /* a triangle with area was seen */
 
     /* scratch for one polygon, max_poly corners */
-    uint32_t *poly;    /* tuple index of each corner */
-    uint32_t *poly_v;  /* position index of each corner */
-    int *tri;          /* 3 per triangle of the polygon, corner numbers */
-    int *link;         /* ear clipping: next corner, then previous */
-    float *flat;       /* ear clipping: 2D corners */
+    uint32_t *poly;   /* tuple index of each corner */
+    uint32_t *poly_v; /* position index of each corner */
+    int *tri;         /* 3 per triangle of the polygon, corner numbers */
+    int *link;        /* ear clipping: next corner, then previous */
+    float *flat;      /* ear clipping: 2D corners */
     unsigned char *seen;
 
     /* generated normals */
@@ -399,7 +400,7 @@ typedef struct obj_reader {
     uint32_t *group_of; /* per canonical position: group in the run, NO_INDEX */
     uint32_t *ctable;   /* hash of the positions read: index + 1, 0 empty */
     size_t ctable_cap;
-    size_t idx_cap;     /* entries of idx (from pass 1) */
+    size_t idx_cap; /* entries of idx (from pass 1) */
 } obj_reader;
 
 static persp_status oom(obj_reader *r)
@@ -420,8 +421,9 @@ static persp_status line_error(obj_reader *r, size_t line, const char *what, con
 
 static persp_status too_large(obj_reader *r)
 {
-    return persp__fail(r->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %zu vertices or %u triangle corners",
-                       r->display, r->max_vertices, PERSP_SCENE_MAX_INDICES);
+    return persp__fail(r->ctx, PERSP_ERR_TOO_LARGE,
+                       "%s: more than %zu vertices or %u triangle corners", r->display,
+                       r->max_vertices, PERSP_SCENE_MAX_INDICES);
 }
 
 /* ------------------------------------------------------------- materials */
@@ -491,10 +493,9 @@ static void mtl_map(const char *p, const char *e, int *clamp, const char **s, co
     static const struct {
         const char *name;
         int args; /* -1: up to three numbers */
-    } opts[] = {{"-blendu", 1}, {"-blendv", 1}, {"-bm", 1},      {"-boost", 1},
-                {"-cc", 1},     {"-clamp", 1},  {"-imfchan", 1}, {"-mm", 2},
-                {"-o", -1},     {"-s", -1},     {"-t", -1},      {"-texres", 1},
-                {"-type", 1}};
+    } opts[] = {{"-blendu", 1}, {"-blendv", 1},  {"-bm", 1},  {"-boost", 1}, {"-cc", 1},
+                {"-clamp", 1},  {"-imfchan", 1}, {"-mm", 2},  {"-o", -1},    {"-s", -1},
+                {"-t", -1},     {"-texres", 1},  {"-type", 1}};
     *clamp = 0;
     for (p = skip_blanks(p, e); p < e && *p == '-'; p = skip_blanks(p, e)) {
         const char *q = token_end(p, e);
@@ -565,8 +566,9 @@ static persp_status read_mtl(obj_reader *r, const char *libname, const char *tex
          * refused, as Assimp's reader refused it; the library's text is not
          * quoted (it is another file than the model). */
         if (bad) {
-            st = persp__fail(r->ctx, PERSP_ERR_FORMAT, "%s (via %s:%zu): malformed number after '%.*s'",
-                             r->display, r->pool + lib, at, (int)PERSP_MIN(q - p, 16), p);
+            st = persp__fail(r->ctx, PERSP_ERR_FORMAT,
+                             "%s (via %s:%zu): malformed number after '%.*s'", r->display,
+                             r->pool + lib, at, (int)PERSP_MIN(q - p, 16), p);
             break;
         }
     }
@@ -622,8 +624,8 @@ static persp_status mtllib(obj_reader *r, const char *p, const char *e, size_t l
     if (s == t) return PERSP_OK;
     for (const char *c = s; c + 3 <= t; c++)
         if (c[0] == ':' && c[1] == '/' && c[2] == '/')
-            return line_error(r, line, "the material library is named like a URL, not a file",
-                              NULL, NULL);
+            return line_error(r, line, "the material library is named like a URL, not a file", NULL,
+                              NULL);
     const char *why = "no such file or unreadable";
     int loaded = 0, any = 0;
     persp_status st = load_library(r, s, (size_t)(t - s), &why, &loaded);
@@ -787,7 +789,8 @@ static void canon_add(obj_reader *r, size_t i)
         p[k] = r->pos[3 * i + (size_t)k] == 0.0f ? 0.0f : r->pos[3 * i + (size_t)k];
     uint32_t b[3];
     memcpy(b, p, sizeof b);
-    uint64_t h = ((uint64_t)b[0] * 0x9e3779b97f4a7c15ull) ^ ((uint64_t)b[1] * 0xc2b2ae3d27d4eb4full) ^
+    uint64_t h = ((uint64_t)b[0] * 0x9e3779b97f4a7c15ull) ^
+                 ((uint64_t)b[1] * 0xc2b2ae3d27d4eb4full) ^
                  ((uint64_t)b[2] * 0x165667b19e3779f9ull);
     h ^= h >> 29;
     r->group_of[i] = NO_INDEX;
@@ -813,6 +816,18 @@ typedef struct extra {
     float n[3];
 } extra;
 
+typedef struct group_key {
+    float d;        /* along Assimp's SpatialSort direction */
+    uint32_t group; /* of corners at one position */
+    uint32_t pos;   /* that position */
+} group_key;
+
+static int by_distance(const void *a, const void *b)
+{
+    float x = ((const group_key *)a)->d, y = ((const group_key *)b)->d;
+    return (x > y) - (x < y);
+}
+
 /* Normals as Assimp's GenVertexNormals step made them with a crease
  * angle: each polygon corner's normal is the sum of the face normals of the
  * polygon corners at its position whose face turns less than the crease
@@ -825,100 +840,141 @@ static persp_status generate_normals(obj_reader *r, persp_mesh *mesh)
     const float limit = cosf(PERSP_MODEL_CREASE_DEG * 0.0174532925f);
     float *fn = persp__alloc(r->ctx, (ntri ? ntri : 1) * 3 * sizeof *fn);
     float *first = persp__alloc(r->ctx, (U ? U : 1) * 3 * sizeof *first);
-    uint32_t *off = NULL, *list = NULL;
+    uint32_t *off = NULL, *list = NULL, *near = NULL;
+    group_key *keys = NULL;
     extra *extras = NULL;
     uint32_t *xtable = NULL;
-    size_t nextra = 0, extras_cap = 0, xcap = 0;
-    size_t groups = 0, owners = 0;
+    size_t nextra = 0, extras_cap = 0, xcap = 0, near_cap = 0;
+    size_t groups = 0;
     if (!fn || !first) goto nomem;
     for (size_t t = 0; t < ntri; t++) {
         const float *p[3];
         for (int k = 0; k < 3; k++)
-            p[k] = r->pos + 3 * (size_t)r->tuples[3 * (size_t)(r->idx[3 * t + (size_t)k] & ~OWNER_BIT)];
+            p[k] = r->pos +
+                   3 * (size_t)r->tuples[3 * (size_t)(r->idx[3 * t + (size_t)k] & ~OWNER_BIT)];
         face_normal(p[0], p[1], p[2], fn + 3 * t);
     }
-    /* Corners grouped by position (canonical), counting only the corner
-     * that stands for each polygon corner. */
+    /* Corners grouped by position (canonical); the groups sorted along one
+     * direction, so that the groups within eps of one are found by a short
+     * scan, as Assimp's SpatialSort finds them. eps is Assimp's: 1e-4 of
+     * the run's bounding box diagonal. */
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t u = 0; u < U; u++) {
         uint32_t c = r->canon[r->tuples[3 * u]];
         if (r->group_of[c] == NO_INDEX) r->group_of[c] = (uint32_t)groups++;
-    }
-    off = persp__calloc(r->ctx, groups + 2, sizeof *off);
-    for (size_t c = 0; c < r->nidx; c++)
-        owners += (r->idx[c] & OWNER_BIT) != 0;
-    list = persp__alloc(r->ctx, (owners ? owners : 1) * sizeof *list);
-    if (!off || !list) goto nomem;
-    for (size_t c = 0; c < r->nidx; c++)
-        if (r->idx[c] & OWNER_BIT) {
-            uint32_t g = r->group_of[r->canon[r->tuples[3 * (size_t)(r->idx[c] & ~OWNER_BIT)]]];
-            off[g + 2]++;
+        for (int k = 0; k < 3; k++) {
+            float v = r->pos[3 * (size_t)c + (size_t)k];
+            lo[k] = fminf(lo[k], v), hi[k] = fmaxf(hi[k], v);
         }
+    }
+    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
+    const float eps = sqrtf(dx * dx + dy * dy + dz * dz) * 1e-4f;
+    off = persp__calloc(r->ctx, groups + 2, sizeof *off);
+    list = persp__alloc(r->ctx, (r->nidx ? r->nidx : 1) * sizeof *list);
+    keys = persp__alloc(r->ctx, (groups ? groups : 1) * sizeof *keys);
+    if (!off || !list || !keys) goto nomem;
+    for (size_t u = 0; u < U; u++) {
+        uint32_t c = r->canon[r->tuples[3 * u]], g = r->group_of[c];
+        const float *p = r->pos + 3 * (size_t)c;
+        keys[g].d = 0.8523f * p[0] + 0.34321f * p[1] + 0.5736f * p[2];
+        keys[g].group = g;
+        keys[g].pos = c;
+    }
+    qsort(keys, groups, sizeof *keys, by_distance);
+    for (size_t c = 0; c < r->nidx; c++)
+        off[r->group_of[r->canon[r->tuples[3 * (size_t)(r->idx[c] & ~OWNER_BIT)]]] + 2]++;
     for (size_t g = 0; g < groups; g++)
         off[g + 2] += off[g + 1];
     for (size_t c = 0; c < r->nidx; c++)
-        if (r->idx[c] & OWNER_BIT) {
-            uint32_t g = r->group_of[r->canon[r->tuples[3 * (size_t)(r->idx[c] & ~OWNER_BIT)]]];
-            list[off[g + 1]++] = (uint32_t)c;
-        }
+        list[off[r->group_of[r->canon[r->tuples[3 * (size_t)(r->idx[c] & ~OWNER_BIT)]]] + 1]++] =
+            (uint32_t)c;
     /* off[g] .. off[g + 1] now spans group g. */
     for (size_t u = 0; u < 3 * U; u++)
         first[u] = NAN;
-    for (size_t c = 0; c < r->nidx; c++) {
-        uint32_t t = r->idx[c] & ~OWNER_BIT;
-        uint32_t g = r->group_of[r->canon[r->tuples[3 * (size_t)t]]];
-        const float *own = fn + 3 * (c / 3);
-        float sum[3] = {0, 0, 0};
+    for (size_t i = 0; i < groups; i++) {
+        const float *p = r->pos + 3 * (size_t)keys[i].pos;
+        size_t nnear = 0;
+        for (size_t j = i + 1; j-- > 0;) {
+            if (j < i && !(keys[i].d - keys[j].d < eps)) break;
+            const float *q = r->pos + 3 * (size_t)keys[j].pos;
+            float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
+            if (j != i && !(ex * ex + ey * ey + ez * ez < eps * eps)) continue;
+            if (persp__grow(r->ctx, (void **)&near, &near_cap, nnear + 1, sizeof *near) != PERSP_OK)
+                goto nomem;
+            near[nnear++] = keys[j].group;
+        }
+        for (size_t j = i + 1; j < groups && keys[j].d - keys[i].d < eps; j++) {
+            const float *q = r->pos + 3 * (size_t)keys[j].pos;
+            float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
+            if (!(ex * ex + ey * ey + ez * ez < eps * eps)) continue;
+            if (persp__grow(r->ctx, (void **)&near, &near_cap, nnear + 1, sizeof *near) != PERSP_OK)
+                goto nomem;
+            near[nnear++] = keys[j].group;
+        }
+        const uint32_t g = keys[i].group;
         for (uint32_t k = off[g]; k < off[g + 1]; k++) {
-            const float *o = fn + 3 * (list[k] / 3);
-            if (list[k] == c || o[0] * own[0] + o[1] * own[1] + o[2] * own[2] >= limit)
-                sum[0] += o[0], sum[1] += o[1], sum[2] += o[2];
-        }
-        normalize_safe(sum);
-        float *f = first + 3 * (size_t)t;
-        uint32_t vid = t;
-        if (isnan(f[0])) {
-            memcpy(f, sum, sizeof sum);
-        } else if (memcmp(f, sum, sizeof sum) != 0) {
-            /* Another normal at this tuple: a vertex of its own, found again
-             * through a small hash of (tuple, normal). */
-            if (nextra * 2 >= xcap) {
-                size_t ncap = xcap ? 2 * xcap : 64;
-                uint32_t *nt = persp__calloc(r->ctx, ncap, sizeof *nt);
-                if (!nt) goto nomem;
-                for (size_t i = 0; i < nextra; i++) {
-                    uint32_t hb[3];
-                    memcpy(hb, extras[i].n, sizeof hb);
-                    size_t s = (size_t)((extras[i].tuple * 2654435761u) ^ hb[0] ^ (hb[1] * 31u) ^ (hb[2] * 131u)) & (ncap - 1);
-                    while (nt[s])
-                        s = (s + 1) & (ncap - 1);
-                    nt[s] = (uint32_t)i + 1;
+            const size_t c = list[k];
+            uint32_t t = r->idx[c] & ~OWNER_BIT;
+            const float *own = fn + 3 * (c / 3);
+            float sum[3] = {0, 0, 0};
+            /* Only the corner standing for each polygon corner counts. */
+            for (size_t h = 0; h < nnear; h++)
+                for (uint32_t m = off[near[h]]; m < off[near[h] + 1]; m++) {
+                    if (!(r->idx[list[m]] & OWNER_BIT)) continue;
+                    const float *o = fn + 3 * (list[m] / 3);
+                    if (list[m] == c || o[0] * own[0] + o[1] * own[1] + o[2] * own[2] >= limit)
+                        sum[0] += o[0], sum[1] += o[1], sum[2] += o[2];
                 }
-                persp__free(r->ctx, xtable);
-                xtable = nt;
-                xcap = ncap;
+            normalize_safe(sum);
+            float *f = first + 3 * (size_t)t;
+            uint32_t vid = t;
+            if (isnan(f[0])) {
+                memcpy(f, sum, sizeof sum);
+            } else if (memcmp(f, sum, sizeof sum) != 0) {
+                /* Another normal at this tuple: a vertex of its own, found again
+                 * through a small hash of (tuple, normal). */
+                if (nextra * 2 >= xcap) {
+                    size_t ncap = xcap ? 2 * xcap : 64;
+                    uint32_t *nt = persp__calloc(r->ctx, ncap, sizeof *nt);
+                    if (!nt) goto nomem;
+                    for (size_t x = 0; x < nextra; x++) {
+                        uint32_t hb[3];
+                        memcpy(hb, extras[x].n, sizeof hb);
+                        size_t s = (size_t)((extras[x].tuple * 2654435761u) ^ hb[0] ^
+                                            (hb[1] * 31u) ^ (hb[2] * 131u)) &
+                                   (ncap - 1);
+                        while (nt[s])
+                            s = (s + 1) & (ncap - 1);
+                        nt[s] = (uint32_t)x + 1;
+                    }
+                    persp__free(r->ctx, xtable);
+                    xtable = nt;
+                    xcap = ncap;
+                }
+                uint32_t hb[3];
+                memcpy(hb, sum, sizeof hb);
+                size_t s = (size_t)((t * 2654435761u) ^ hb[0] ^ (hb[1] * 31u) ^ (hb[2] * 131u)) &
+                           (xcap - 1);
+                for (;; s = (s + 1) & (xcap - 1)) {
+                    if (!xtable[s]) {
+                        if (persp__grow(r->ctx, (void **)&extras, &extras_cap, nextra + 1,
+                                        sizeof *extras) != PERSP_OK)
+                            goto nomem;
+                        extras[nextra].tuple = t;
+                        memcpy(extras[nextra].n, sum, sizeof sum);
+                        xtable[s] = (uint32_t)++nextra;
+                        vid = (uint32_t)(U + nextra - 1);
+                        break;
+                    }
+                    const extra *x = &extras[xtable[s] - 1];
+                    if (x->tuple == t && !memcmp(x->n, sum, sizeof sum)) {
+                        vid = (uint32_t)(U + xtable[s] - 1);
+                        break;
+                    }
+                }
             }
-            uint32_t hb[3];
-            memcpy(hb, sum, sizeof hb);
-            size_t s = (size_t)((t * 2654435761u) ^ hb[0] ^ (hb[1] * 31u) ^ (hb[2] * 131u)) & (xcap - 1);
-            for (;; s = (s + 1) & (xcap - 1)) {
-                if (!xtable[s]) {
-                    if (persp__grow(r->ctx, (void **)&extras, &extras_cap, nextra + 1,
-                                    sizeof *extras) != PERSP_OK)
-                        goto nomem;
-                    extras[nextra].tuple = t;
-                    memcpy(extras[nextra].n, sum, sizeof sum);
-                    xtable[s] = (uint32_t)++nextra;
-                    vid = (uint32_t)(U + nextra - 1);
-                    break;
-                }
-                const extra *x = &extras[xtable[s] - 1];
-                if (x->tuple == t && !memcmp(x->n, sum, sizeof sum)) {
-                    vid = (uint32_t)(U + xtable[s] - 1);
-                    break;
-                }
-            }
+            r->idx[c] = vid | (r->idx[c] & OWNER_BIT);
         }
-        r->idx[c] = vid | (r->idx[c] & OWNER_BIT);
     }
     for (size_t u = 0; u < U; u++)
         r->group_of[r->canon[r->tuples[3 * u]]] = NO_INDEX;
@@ -926,7 +982,10 @@ static persp_status generate_normals(obj_reader *r, persp_mesh *mesh)
     persp__free(r->ctx, off);
     persp__free(r->ctx, list);
     persp__free(r->ctx, xtable);
-    fn = NULL, off = list = xtable = NULL;
+    persp__free(r->ctx, near);
+    persp__free(r->ctx, keys);
+    fn = NULL, off = list = xtable = near = NULL;
+    keys = NULL;
     if (U + nextra > PERSP_SCENE_MAX_VERTICES || U + nextra > r->max_vertices - r->vertices_used) {
         persp__free(r->ctx, first);
         persp__free(r->ctx, extras);
@@ -952,6 +1011,8 @@ nomem:
     persp__free(r->ctx, list);
     persp__free(r->ctx, xtable);
     persp__free(r->ctx, extras);
+    persp__free(r->ctx, near);
+    persp__free(r->ctx, keys);
     return oom(r);
 }
 
@@ -1124,7 +1185,8 @@ static void clip_ears(obj_reader *r, int n)
     }
     /* Newell's normal; dropping its largest axis keeps the polygon's area,
      * the sign keeps its winding counter-clockwise in the plane. */
-    int ax = fabsf(nx) > fabsf(ny) ? (fabsf(nx) > fabsf(nz) ? 0 : 2) : (fabsf(ny) > fabsf(nz) ? 1 : 2);
+    int ax =
+        fabsf(nx) > fabsf(ny) ? (fabsf(nx) > fabsf(nz) ? 0 : 2) : (fabsf(ny) > fabsf(nz) ? 1 : 2);
     int u = (ax + 1) % 3, v = (ax + 2) % 3;
     float sign = (ax == 0 ? nx : ax == 1 ? ny : nz) < 0 ? -1.0f : 1.0f;
     int *next = r->link, *prev = r->link + n;
@@ -1262,7 +1324,8 @@ static persp_status face(obj_reader *r, const char *p, const char *e, size_t lin
             run->normals = 2;
         return PERSP_OK;
     }
-    if (n > r->max_poly) return line_error(r, line, "the file changed while it was read", NULL, NULL);
+    if (n > r->max_poly)
+        return line_error(r, line, "the file changed while it was read", NULL, NULL);
     if (r->split || !r->open) {
         if (r->run >= r->nruns)
             return line_error(r, line, "the file changed while it was read", NULL, NULL);
@@ -1329,7 +1392,8 @@ static persp_status vertex(obj_reader *r, const char *p, const char *e, size_t l
     }
     if (!isfinite(v[0]) || !isfinite(v[1]) || !isfinite(v[2]))
         return line_error(r, line, "a vertex position is not finite", NULL, NULL);
-    if (r->iv >= r->nv) return line_error(r, line, "the file changed while it was read", NULL, NULL);
+    if (r->iv >= r->nv)
+        return line_error(r, line, "the file changed while it was read", NULL, NULL);
     memcpy(r->pos + 3 * r->iv, v, 3 * sizeof *v);
     if (r->canon) canon_add(r, r->iv);
     if (r->col) {
@@ -1341,8 +1405,8 @@ static persp_status vertex(obj_reader *r, const char *p, const char *e, size_t l
     return PERSP_OK;
 }
 
-static persp_status numbers(obj_reader *r, const char *p, const char *e, size_t line, int lo, int hi,
-                            const char *what, float *v)
+static persp_status numbers(obj_reader *r, const char *p, const char *e, size_t line, int lo,
+                            int hi, const char *what, float *v)
 {
     int n = 0;
     for (p = skip_blanks(p, e); p < e; p = skip_blanks(p, e)) {
@@ -1370,7 +1434,8 @@ static persp_status statement(obj_reader *r, const char *s, const char *e, size_
             r->nvt++;
             return PERSP_OK;
         }
-        if ((st = numbers(r, q, e, line, 1, 3, "expected 1 to 3 numbers after 'vt'", v)) != PERSP_OK)
+        if ((st = numbers(r, q, e, line, 1, 3, "expected 1 to 3 numbers after 'vt'", v)) !=
+            PERSP_OK)
             return st;
         if (r->ivt >= r->nvt)
             return line_error(r, line, "the file changed while it was read", NULL, NULL);
@@ -1456,8 +1521,9 @@ static persp_status open_file(persp_context *ctx, const char *path, FILE **out, 
 static void free_reader(obj_reader *r)
 {
     free_run(r);
-    void *blocks[] = {r->runs, r->pos, r->col, r->tc, r->nrm, r->mats, r->pool, r->poly,
-                      r->poly_v, r->tri, r->link, r->flat, r->seen, r->canon, r->group_of, r->ctable};
+    void *blocks[] = {r->runs, r->pos,   r->col,      r->tc,    r->nrm,  r->mats,
+                      r->pool, r->poly,  r->poly_v,   r->tri,   r->link, r->flat,
+                      r->seen, r->canon, r->group_of, r->ctable};
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; i++)
         persp__free(r->ctx, blocks[i]);
 }

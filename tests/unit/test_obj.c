@@ -255,7 +255,8 @@ static void test_errors_with_lines(void **state)
     expect_error(text, "nan.obj", PERSP_ERR_FORMAT, "nan.obj:4: a vertex position is not finite");
     snprintf(text, sizeof text, "%sv 1e39 0 0\nf 1 2 3\n", tri);
     expect_error(text, "inf.obj", PERSP_ERR_FORMAT, "inf.obj:4: a vertex position is not finite");
-    expect_error("v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj", PERSP_ERR_FORMAT, "w.obj:1: a vertex with w = 0");
+    expect_error("v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "w.obj", PERSP_ERR_FORMAT,
+                 "w.obj:1: a vertex with w = 0");
     expect_error("v 0 0 0\nv 1 0 0\nf 1 2\nl 1 2\n", "two.obj", PERSP_ERR_FORMAT,
                  "two.obj: the model has no triangles to draw");
     /* A line longer than the cap is refused with its number. */
@@ -290,9 +291,10 @@ static void test_materials_and_map_options(void **state)
     assert_int_equal(persp_image_write_png(ctx, path, &img), PERSP_OK);
     persp_image_free(ctx, &img);
     persp_context_destroy(ctx);
-    write_text("a b.mtl", "newmtl shiny red\nKd 1 0 0\nKs 0.5\nKa 0 0 0\nNs 5000\nd 0.5\nTr 0.5\n"
-                          "illum 2\nmap_Kd -clamp on -s 1 1 1 -o 0 0 -bm 0.5 -blendu off my wall.png\n"
-                          "newmtl plain\nKa 0.3 0.3 0.3\n");
+    write_text("a b.mtl",
+               "newmtl shiny red\nKd 1 0 0\nKs 0.5\nKa 0 0 0\nNs 5000\nd 0.5\nTr 0.5\n"
+               "illum 2\nmap_Kd -clamp on -s 1 1 1 -o 0 0 -bm 0.5 -blendu off my wall.png\n"
+               "newmtl plain\nKa 0.3 0.3 0.3\n");
     write_text("c.mtl", "newmtl other\nKd 0 0 1\nmap_Kd missing.png\n");
     /* mtllib naming a file with a space, then two libraries on one line;
      * usemtl runs: red, red again (no new run), plain, an unknown name,
@@ -328,7 +330,8 @@ static void test_materials_and_map_options(void **state)
     /* warnings: the missing library (with the OBJ's line) and the missing
      * texture (with the library's line) */
     assert_int_equal(l.warn.count, 2);
-    assert_non_null(strstr(l.warn.last, "m.obj (via c.mtl:3): material 'other': cannot load texture 'missing.png'"));
+    assert_non_null(strstr(
+        l.warn.last, "m.obj (via c.mtl:3): material 'other': cannot load texture 'missing.png'"));
     unload(&l);
     test_tmpdir_remove(tmpdir);
 }
@@ -415,8 +418,8 @@ static void test_chunked_file(void **state)
     (void)state;
     assert_int_equal(test_tmpdir_make(tmpdir, sizeof tmpdir, "obj"), 0);
     const size_t chunk = (size_t)1 << 20;
-    write_split("across.obj", chunk - 5);  /* "v 0.25 ..." spans the chunk's end */
-    write_split("crlf.obj", chunk + 1);    /* CR the chunk's last byte, LF the next */
+    write_split("across.obj", chunk - 5); /* "v 0.25 ..." spans the chunk's end */
+    write_split("crlf.obj", chunk + 1);   /* CR the chunk's last byte, LF the next */
     const char *names[] = {"across.obj", "crlf.obj"};
     for (int i = 0; i < 2; i++) {
         char path[1024];
