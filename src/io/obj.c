@@ -122,6 +122,15 @@ static int lines_rewind(obj_lines *l, const char *data, size_t size)
         l->eof = 1;
     }
     if (l->len - l->pos >= 3 && !memcmp(l->text + l->pos, "\xef\xbb\xbf", 3)) l->pos += 3;
+    /* UTF-16 text (its byte-order mark) would read as lines cut at every
+     * NUL: refused by name instead. */
+    if (l->len - l->pos >= 2 && (!memcmp(l->text + l->pos, "\xfe\xff", 2) ||
+                                 !memcmp(l->text + l->pos, "\xff\xfe", 2))) {
+        l->status = persp__fail(l->ctx, PERSP_ERR_FORMAT,
+                                "%s: UTF-16 text; OBJ and MTL files are read as UTF-8 or ASCII",
+                                l->display);
+        return -1;
+    }
     return 0;
 }
 
