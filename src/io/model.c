@@ -1,7 +1,8 @@
 /*
- * Models through Assimp's C API: every format Assimp reads (OBJ/MTL, glTF
- * 2.0 and GLB, PLY, STL, FBX, COLLADA, 3DS, ...) becomes persp meshes,
- * materials and textures.
+ * Models through Assimp's C API: every format Assimp reads (glTF 2.0 and
+ * GLB, PLY, STL, FBX, COLLADA, 3DS, ...) becomes persp meshes, materials
+ * and textures. OBJ/MTL goes to persp's own reader (src/io/obj.c), which
+ * shares the texture, colour, part and file helpers defined here.
  *
  * Assimp reads the model through persp's own file callbacks: the main file
  * is served from memory (so that loading from a file and from memory take
