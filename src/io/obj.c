@@ -37,6 +37,8 @@
  * where one changes). */
 #define OBJ_NAME_MAX 1024
 #define NO_INDEX UINT32_MAX
+/* Largest polygon cut by ear clipping (see emit_polygon). */
+#define OBJ_EAR_MAX 256
 /* Bit 31 of a corner's tuple index marks the corner that stands for its
  * polygon corner in the normals (see emit_polygon). */
 #define OWNER_BIT 0x80000000u
@@ -532,7 +534,7 @@ static persp_status read_mtl(obj_reader *r, const char *libname, const char *tex
     obj_lines l;
     memset(&l, 0, sizeof l);
     l.ctx = r->ctx;
-    l.display = r->pool + lib;
+    l.display = libname; /* not the pool, which moves as it grows */
     if (lines_rewind(&l, text, size) != 0) return l.status;
     int cur = -1;
     const char *s, *e;
@@ -1278,8 +1280,13 @@ static void emit_polygon(obj_reader *r, int n)
         }
         r->tri[0] = start, r->tri[1] = (start + 1) % 4, r->tri[2] = (start + 2) % 4;
         r->tri[3] = start, r->tri[4] = (start + 2) % 4, r->tri[5] = (start + 3) % 4;
-    } else {
+    } else if (n <= OBJ_EAR_MAX) {
         clip_ears(r, n);
+    } else {
+        /* Ear clipping takes up to n^3 steps: beyond OBJ_EAR_MAX corners a
+         * polygon (a disc's cap, convex) is cut as a fan. */
+        for (int t = 0; t < ntri; t++)
+            r->tri[3 * t] = 0, r->tri[3 * t + 1] = t + 1, r->tri[3 * t + 2] = t + 2;
     }
     memset(r->seen, 0, (size_t)n);
     size_t base = r->nidx;

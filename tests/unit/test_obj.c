@@ -196,6 +196,23 @@ static void test_negative_indices_and_polygons(void **state)
     m = mesh_of(&l, 0);
     assert_true(fabs(xy_area(m) - 1.25) < 1e-6);
     unload(&l);
+    /* A disc of 300 corners, past the ear clipping's limit: a fan of 298
+     * triangles covering it. */
+    static char disc[300 * 40 + 4000];
+    int n = 0;
+    for (int i = 0; i < 300; i++) {
+        double a = 2 * 3.14159265358979 * i / 300;
+        n += snprintf(disc + n, sizeof disc - (size_t)n, "v %.6f %.6f 0\n", cos(a), sin(a));
+    }
+    n += snprintf(disc + n, sizeof disc - (size_t)n, "f");
+    for (int i = 1; i <= 300; i++)
+        n += snprintf(disc + n, sizeof disc - (size_t)n, " %d", i);
+    snprintf(disc + n, sizeof disc - (size_t)n, "\n");
+    load_text(&l, disc, "disc.obj");
+    m = mesh_of(&l, 0);
+    assert_int_equal(m->index_count, 3 * 298);
+    assert_true(fabs(xy_area(m) - 150 * sin(2 * 3.14159265358979 / 300)) < 1e-4);
+    unload(&l);
     /* A ring: an outline and a hole joined by a cut (two corners at each
      * end of the cut), as Assimp's concave_polygon.obj: area 16 - 4. */
     load_text(&l,
