@@ -3,11 +3,12 @@
  *
  * Two passes over the text, line by line: the first counts (vertices,
  * texture coordinates, normals, and per mesh its triangles and face
- * corners) and reads the material libraries, the second parses into arrays
- * allocated once at their final size. A file is read in chunks of
- * OBJ_CHUNK bytes, never whole, so a model costs what its mesh costs
- * (docs/RELIABILITY.md, "Bounded resources"); nothing is allocated per line
- * or per face.
+ * corners) and reads the material libraries, the second parses into
+ * attribute and index arrays allocated once at their final size (only the
+ * list of a run's distinct corners grows, by doubling). A file is read in
+ * chunks of OBJ_CHUNK bytes, never whole, so a model costs what its mesh
+ * costs (docs/RELIABILITY.md, "Bounded resources"); nothing is allocated
+ * per line or per face.
  *
  * The results follow what Assimp 5.2 made of the same files, so that images
  * stay as they were: one mesh per run of faces between a change of group,
@@ -1081,7 +1082,7 @@ static persp_status close_run(obj_reader *r)
     return persp__model_add_part(r->scene, r->out, &r->part_cap, mi, material, &id, r->display);
 }
 
-static persp_status open_run(obj_reader *r, size_t line)
+static persp_status open_run(obj_reader *r)
 {
     persp_status st = close_run(r);
     if (st != PERSP_OK) return st;
@@ -1108,7 +1109,6 @@ static persp_status open_run(obj_reader *r, size_t line)
     }
     r->table_cap = cap;
     r->open = 1;
-    (void)line;
     return PERSP_OK;
 }
 
@@ -1345,7 +1345,7 @@ static persp_status face(obj_reader *r, const char *p, const char *e, size_t lin
     if (r->split || !r->open) {
         if (r->run >= r->nruns)
             return line_error(r, line, "the file changed while it was read", NULL, NULL);
-        if ((st = open_run(r, line)) != PERSP_OK) return st;
+        if ((st = open_run(r)) != PERSP_OK) return st;
         r->run++;
         r->split = 0;
     }
