@@ -399,6 +399,34 @@ static void test_generated_normals(void **state)
     const float apex[3] = {0, 0.176327f, 0};
     assert_non_null(find_normal(m, apex, 0, 1, 0));
     unload(&l);
+    /* A polygon corner counts once in its neighbours' normals, however
+     * many of the polygon's triangles hold it (Assimp kept one vertex per
+     * polygon corner): at the origin, the quad's +z and the triangle's
+     * normal (35 degrees away) weigh the same. */
+    load_text(&l,
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv -1 0 0.5\nv 0 -1 0.5\nf 1 2 3 4\nf 1 5 6\n",
+              "weights.obj");
+    m = mesh_of(&l, 0);
+    const float origin[3] = {0, 0, 0};
+    const double k = 1 / sqrt(1.5), len = sqrt(2 * (0.5 * k) * (0.5 * k) + (1 + k) * (1 + k));
+    if (!find_normal(m, origin, (float)(0.5 * k / len), (float)(0.5 * k / len),
+                     (float)((1 + k) / len)))
+        fail_msg("the quad's corner counted more than once");
+    unload(&l);
+    /* Positions closer than 1e-4 of the run's box diagonal smooth
+     * together (Assimp's epsilon): the roof's two faces meet at y = 1 and
+     * y = 1.00001; the corners there tilt between the faces. */
+    load_text(&l,
+              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 1.00001 0\nv 1 1.00001 0\n"
+              "v 0 2 0.36\nv 1 2 0.36\nf 1 2 3 4\nf 5 6 8 7\n",
+              "near.obj");
+    m = mesh_of(&l, 0);
+    int tilted = 0;
+    for (size_t i = 0; i < m->vertex_count; i++)
+        if (m->vertices[i].pos[1] > 0.5f && m->vertices[i].pos[1] < 1.5f)
+            tilted += m->vertices[i].normal[1] < -0.05f && m->vertices[i].normal[1] > -0.3f;
+    assert_int_equal(tilted, 4);
+    unload(&l);
     /* The file's normals when every corner has one; all made afresh when
      * one is zero. */
     load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0.6 0 0.8\nf 1//1 2//1 3//1\n", "given.obj");
