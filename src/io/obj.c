@@ -38,6 +38,8 @@
  * where one changes). */
 #define OBJ_NAME_MAX 1024
 #define NO_INDEX UINT32_MAX
+/* Different mtllib statements read (see mtllib). */
+#define OBJ_LIBS_MAX 64
 /* Largest polygon cut by ear clipping (see emit_polygon). */
 #define OBJ_EAR_MAX 256
 /* Bit 31 of a corner's tuple index marks the corner that stands for its
@@ -127,8 +129,8 @@ static int lines_rewind(obj_lines *l, const char *data, size_t size)
     if (l->len - l->pos >= 3 && !memcmp(l->text + l->pos, "\xef\xbb\xbf", 3)) l->pos += 3;
     /* UTF-16 text (its byte-order mark) would read as lines cut at every
      * NUL: refused by name instead. */
-    if (l->len - l->pos >= 2 && (!memcmp(l->text + l->pos, "\xfe\xff", 2) ||
-                                 !memcmp(l->text + l->pos, "\xff\xfe", 2))) {
+    if (l->len - l->pos >= 2 &&
+        (!memcmp(l->text + l->pos, "\xfe\xff", 2) || !memcmp(l->text + l->pos, "\xff\xfe", 2))) {
         l->status = persp__fail(l->ctx, PERSP_ERR_FORMAT,
                                 "%s: UTF-16 text; OBJ and MTL files are read as UTF-8 or ASCII",
                                 l->display);
@@ -385,6 +387,10 @@ typedef struct obj_reader {
     char *pool;
     size_t pool_len, pool_cap;
     int default_material; /* scene material for faces without one, -1 not yet */
+    struct {
+        size_t name, len; /* in the name pool */
+    } libs[OBJ_LIBS_MAX]; /* mtllib statements read */
+    int nlibs;
     const obj_mat *where_mat;
 
     /* the run being read (pass 2) */
@@ -638,9 +644,26 @@ static persp_status mtllib(obj_reader *r, const char *p, const char *e, size_t l
         if (c[0] == ':' && c[1] == '/' && c[2] == '/')
             return line_error(r, line, "the material library is named like a URL, not a file", NULL,
                               NULL);
+    /* A statement repeated (some exporters write one per group) is read
+     * once; past OBJ_LIBS_MAX different ones the rest are passed over, so
+     * that a file of mtllib lines cannot make thousands of folder scans. */
+    size_t n = (size_t)(t - s);
+    for (int i = 0; i < r->nlibs; i++)
+        if (r->libs[i].len == n && !memcmp(r->pool + r->libs[i].name, s, n)) return PERSP_OK;
+    if (r->nlibs == OBJ_LIBS_MAX) {
+        persp__warn(r->ctx,
+                    "%s:%zu: more than %d material library statements; the rest are passed over",
+                    r->display, line, OBJ_LIBS_MAX);
+        r->nlibs++;
+        return PERSP_OK;
+    }
+    if (r->nlibs > OBJ_LIBS_MAX) return PERSP_OK;
+    persp_status st = pool_add(r, s, n, &r->libs[r->nlibs].name);
+    if (st != PERSP_OK) return st;
+    r->libs[r->nlibs++].len = n;
     const char *why = "no such file or unreadable";
     int loaded = 0, any = 0;
-    persp_status st = load_library(r, s, (size_t)(t - s), &why, &loaded);
+    st = load_library(r, s, n, &why, &loaded);
     if (st != PERSP_OK) return st;
     if (loaded) return PERSP_OK;
     if (token_end(s, t) == t) {

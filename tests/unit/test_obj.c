@@ -320,7 +320,7 @@ static void test_materials_and_map_options(void **state)
                         "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
                         "f 1 2 3\nusemtl shiny red\nf 1/1 2/2 3/3\nusemtl shiny red\nf 1 2 3\n"
                         "usemtl plain\nf 1 2 3\nusemtl nowhere\nf 1 2 3\nusemtl other\nf 1 2 3\n"
-                        "g second\nf 1 2 3\n");
+                        "g second\nmtllib c.mtl gone.mtl\nf 1 2 3\n");
     tmp_path(path, sizeof path, "m.obj");
     loaded l;
     load_path(&l, path);
@@ -344,8 +344,9 @@ static void test_materials_and_map_options(void **state)
     assert_true(fabsf(material_of(&l, 3)->diffuse[0] - 0.6f) < 1e-6f);
     assert_true(material_of(&l, 4)->diffuse[2] == 1.0f && material_of(&l, 4)->texture == -1);
     assert_true(material_of(&l, 5)->diffuse[2] == 1.0f); /* the group keeps the material */
-    /* warnings: the missing library (with the OBJ's line) and the missing
-     * texture (with the library's line) */
+    /* warnings: the missing library (with the OBJ's line; the repeated
+     * statement is read once) and the missing texture (with the library's
+     * line) */
     assert_int_equal(l.warn.count, 2);
     assert_non_null(strstr(
         l.warn.last, "m.obj (via c.mtl:3): material 'other': cannot load texture 'missing.png'"));
