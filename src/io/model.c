@@ -1,7 +1,8 @@
 /*
- * Models through Assimp's C API: every format Assimp reads (OBJ/MTL, glTF
- * 2.0 and GLB, PLY, STL, FBX, COLLADA, 3DS, ...) becomes persp meshes,
- * materials and textures.
+ * Models through Assimp's C API: every format Assimp reads (glTF 2.0 and
+ * GLB, PLY, STL, FBX, COLLADA, 3DS, ...) becomes persp meshes, materials
+ * and textures. OBJ/MTL goes to persp's own reader (src/io/obj.c), which
+ * shares the texture, colour, part and file helpers defined here.
  *
  * Assimp reads the model through persp's own file callbacks: the main file
  * is served from memory (so that loading from a file and from memory take
@@ -13,6 +14,7 @@
  */
 #include "core/internal.h"
 #include "io/model.h"
+#include "io/obj.h"
 #include "io/text.h"
 
 #include <assimp/cfileio.h>
@@ -31,17 +33,13 @@
 #include <string.h>
 #include <strings.h>
 
-/* Faces meeting at more than this angle keep separate normals where the
- * file has none: cube edges stay sharp, tessellated curves come out smooth. */
-#define MODEL_CREASE_DEG 80.0f
-
 /* Assimp's C API keeps the last error message in a process-wide string;
  * imports are serialised so that each reads its own. */
 static pthread_mutex_t import_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* ---------------------------------------------------------- text cleanup */
 
-static int has_ext(const char *name, const char *ext)
+int persp__model_has_ext(const char *name, const char *ext)
 {
     const char *dot = strrchr(name, '.');
     const char *slash = strrchr(name, '/');
@@ -63,7 +61,7 @@ static int finite3(float x, float y, float z)
  * classic Mac line endings (CR only). */
 static int is_line_text(const char *name)
 {
-    return has_ext(name, "obj") || has_ext(name, "mtl");
+    return persp__model_has_ext(name, "obj") || persp__model_has_ext(name, "mtl");
 }
 
 /* Drops a byte-order mark and turns lone CRs into LFs, in place; returns the
@@ -189,7 +187,8 @@ static persp_status check_obj_mtllib(persp_context *ctx, const char *display, co
 static persp_status check_gltf_kind(persp_context *ctx, const char *display, const char *buf,
                                     size_t size)
 {
-    if (!has_ext(display, "gltf") && !has_ext(display, "glb")) return PERSP_OK;
+    if (!persp__model_has_ext(display, "gltf") && !persp__model_has_ext(display, "glb"))
+        return PERSP_OK;
     if (size >= 4 && memcmp(buf, "glTF", 4) == 0) return PERSP_OK;
     size_t i = 0;
     while (i < size && isspace((unsigned char)buf[i]))
@@ -214,7 +213,7 @@ static persp_status check_gltf_images(persp_context *ctx, const char *display, c
         memcmp(b + 16, "JSON", 4) == 0 && le32(b + 12) <= size - 20) {
         json = buf + 20;
         len = le32(b + 12);
-    } else if (has_ext(display, "gltf") || has_ext(display, "glb")) {
+    } else if (persp__model_has_ext(display, "gltf") || persp__model_has_ext(display, "glb")) {
         json = buf;
         len = size;
     }
@@ -251,7 +250,7 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
     const char *end = buf + size, *p = buf;
     persp_status gst = check_glb(ctx, display, (const unsigned char *)buf, size);
     if (gst != PERSP_OK) return gst;
-    if (has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
+    if (persp__model_has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
         if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
               (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))
             return persp__fail(ctx, PERSP_ERR_FORMAT,
@@ -423,7 +422,7 @@ static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin or
 }
 
 /* Windows separators and "./" prefixes as real models have them. */
-static void clean_rel(const char *in, char *out, size_t size)
+void persp__model_clean_rel(const char *in, char *out, size_t size)
 {
     size_t n = 0;
     for (; *in && n + 1 < size; in++)
@@ -576,6 +575,23 @@ static int find_candidate(const char *base_dir, const char *root, const char *re
     return in != 0;
 }
 
+persp_status persp__model_read_ref(persp_context *ctx, const char *base_dir, const char *root,
+                                   const char *rel, char **data, size_t *size, const char **why)
+{
+    char path[PERSP_PATH_MAX];
+    persp_status st = PERSP_ERR_IO;
+    int outside = 0;
+    *data = NULL;
+    *size = 0;
+    for (int k = 0; k < 4 && st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY; k++)
+        if (find_candidate(base_dir, root, rel, k, path, sizeof path, &outside))
+            st = persp__read_file_inside(ctx, root, path, data, size);
+    if (st != PERSP_OK)
+        *why =
+            outside ? "outside the folder the model may read from" : "no such file or unreadable";
+    return st;
+}
+
 static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const char *mode)
 {
     model_io *io = (model_io *)(void *)fio->UserData;
@@ -587,29 +603,25 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
         data = io->data;
         size = io->size;
     } else {
-        char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
-        clean_rel(name, rel, sizeof rel);
+        char rel[PERSP_PATH_MAX];
+        persp__model_clean_rel(name, rel, sizeof rel);
         if (!io->base_dir) {
             warn_missing(io, rel, "no folder to read it from");
             return NULL;
         }
-        persp_status st = PERSP_ERR_IO;
-        int outside = 0;
-        for (int k = 0; k < 4 && st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY; k++)
-            if (find_candidate(io->base_dir, io->root, rel, k, path, sizeof path, &outside))
-                st = persp__read_file_inside(io->ctx, io->root, path, &owned, &size);
+        const char *why = NULL;
+        persp_status st =
+            persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, &size, &why);
         if (st == PERSP_ERR_OUT_OF_MEMORY) {
             io->out_of_memory = 1;
             return NULL;
         }
         if (st != PERSP_OK) {
-            warn_missing(io, rel,
-                         outside ? "outside the folder the model may read from"
-                                 : "no such file or unreadable");
+            warn_missing(io, rel, why);
             return NULL;
         }
         io->others = 1;
-        if (is_line_text(rel) || has_ext(rel, "gltf")) {
+        if (is_line_text(rel) || persp__model_has_ext(rel, "gltf")) {
             size = normalise_text(owned, size, is_line_text(rel));
             keep_text(io, rel, owned, size);
         }
@@ -647,6 +659,120 @@ static void file_close(struct aiFileIO *fio, struct aiFile *f)
     persp__free(io->ctx, f);
 }
 
+void persp__model_set_colours(persp_material *m, const float *kd, const float *ks,
+                              const float *ka, float shininess)
+{
+    if (kd && finite3(kd[0], kd[1], kd[2]))
+        m->diffuse[0] = kd[0], m->diffuse[1] = kd[1], m->diffuse[2] = kd[2];
+    if (ks && finite3(ks[0], ks[1], ks[2]))
+        m->specular[0] = ks[0], m->specular[1] = ks[1], m->specular[2] = ks[2];
+    /* Black ambient is what most exporters write when they mean none;
+     * persp's default keeps unlit sides from going black. */
+    if (ka && finite3(ka[0], ka[1], ka[2]) && (ka[0] > 0 || ka[1] > 0 || ka[2] > 0))
+        m->ambient[0] = ka[0], m->ambient[1] = ka[1], m->ambient[2] = ka[2];
+    if (isfinite(shininess) && shininess > 0) m->shininess = fminf(shininess, 1000.0f);
+    for (int k = 0; k < 3; k++) {
+        m->diffuse[k] = fminf(fmaxf(m->diffuse[k], 0.0f), 1000.0f);
+        m->specular[k] = fminf(fmaxf(m->specular[k], 0.0f), 1000.0f);
+        m->ambient[k] = fminf(fmaxf(m->ambient[k], 0.0f), 1000.0f);
+    }
+}
+
+/* The scene texture for a texture file a material names, or -1 with a
+ * warning: the candidates of persp__model_read_ref, each inside the load
+ * root, decoded once per load (the cache). */
+int persp__model_texture_file(persp_model_refs *r, const char *material, const char *file)
+{
+    int index = -1;
+    char qm[PERSP_QUOTE_BYTES];
+    persp__quote(material, strlen(material), qm, sizeof qm);
+    char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
+    persp__model_clean_rel(file, rel, sizeof rel);
+    char qr[PERSP_QUOTE_BYTES];
+    persp__quote(rel, strlen(rel), qr, sizeof qr);
+    if (!r->base_dir) {
+        persp__warn(r->scene->ctx,
+                    "%s: material '%s': texture '%s' not read (no folder to read it from)",
+                    r->display, qm, qr);
+        return -1;
+    }
+    persp_status st = PERSP_ERR_IO;
+    char why[PERSP_ERRMSG_BYTES] = "";
+    int outside = 0;
+    for (int k = 0; k < 4 && st != PERSP_OK; k++) {
+        /* A missing first candidate still reports why (the open's error). */
+        if (k == 0 ? !candidate(r->base_dir, rel, k, path, sizeof path)
+                   : !find_candidate(r->base_dir, r->root, rel, k, path, sizeof path, &outside))
+            continue;
+        if (k == 0 && persp__path_inside(r->root, path) == 0) {
+            outside = 1;
+            continue;
+        }
+        st = persp__texcache_load(r->scene, r->cache, path, &index);
+        if (st == PERSP_ERR_OUT_OF_MEMORY) {
+            r->out_of_memory = 1;
+            return -1;
+        }
+        if (st != PERSP_OK && k == 0)
+            snprintf(why, sizeof why, "%s", persp_context_error(r->scene->ctx));
+    }
+    if (st != PERSP_OK) {
+        /* The texture's name usually sits in a material library, not in the
+         * model's own text: the line is given only where it is found. */
+        char at[PERSP_PATH_MAX + 32];
+        if (r->where)
+            r->where(r->where_user, rel, at, sizeof at);
+        else
+            snprintf(at, sizeof at, "%s", r->display);
+        if (outside && !why[0])
+            snprintf(why, sizeof why, "outside the folder the model may read from");
+        persp__warn(r->scene->ctx,
+                    "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
+                    at, qm, qr, why[0] ? why : "bad path");
+        return -1;
+    }
+    return index;
+}
+
+persp_status persp__model_add_part(persp_scene *scene, persp_model *o, size_t *cap, int mesh,
+                                   int material, const persp_mat4 *xf, const char *display)
+{
+    if (o->part_count >= PERSP_SCENE_MAX_OBJECTS)
+        return persp__fail(scene->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %d mesh instances",
+                           display, PERSP_SCENE_MAX_OBJECTS);
+    if (persp__grow(scene->ctx, (void **)&o->parts, cap, o->part_count + 1, sizeof *o->parts) !=
+        PERSP_OK)
+        return persp__fail(scene->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
+    persp_model_part *p = &o->parts[o->part_count++];
+    p->mesh = mesh;
+    p->material = material;
+    p->transform = *xf;
+    const persp_mesh *pm = &scene->meshes[mesh];
+    for (size_t i = 0; i < pm->vertex_count; i++) {
+        const float *q = pm->vertices[i].pos;
+        persp_vec4 w = persp_mat4_apply(*xf, (persp_vec4){q[0], q[1], q[2], 1.0f});
+        float x = w.x, y = w.y, z = w.z;
+        if (w.w != 0.0f && w.w != 1.0f) x /= w.w, y /= w.w, z /= w.w;
+        if (!finite3(x, y, z)) continue;
+        const float v[3] = {x, y, z};
+        for (int k = 0; k < 3; k++) {
+            if (v[k] < o->bbox_min[k]) o->bbox_min[k] = v[k];
+            if (v[k] > o->bbox_max[k]) o->bbox_max[k] = v[k];
+        }
+    }
+    return PERSP_OK;
+}
+
+int persp__model_triangle_has_area(const float *a, const float *b, const float *c)
+{
+    double ux = (double)b[0] - a[0], uy = (double)b[1] - a[1], uz = (double)b[2] - a[2];
+    double vx = (double)c[0] - a[0], vy = (double)c[1] - a[1], vz = (double)c[2] - a[2];
+    double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
+    double cross2 = cx * cx + cy * cy + cz * cz;
+    double lens2 = (ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz);
+    return cross2 > 1e-12 * lens2 && cross2 > 0.0;
+}
+
 /* ------------------------------------------------------------- conversion */
 
 typedef struct importer {
@@ -662,8 +788,14 @@ typedef struct importer {
     int *embedded_index; /* per aiTexture: scene texture, -1 not yet, -2 failed */
     persp_model *out;
     size_t part_cap;
-    int out_of_memory; /* a texture could not be loaded for want of memory */
+    persp_model_refs refs; /* texture files */
+    int out_of_memory;     /* a texture could not be loaded for want of memory */
 } importer;
+
+static void where_io(const void *user, const char *rel, char *out, size_t cap)
+{
+    where((const model_io *)user, rel, out, cap);
+}
 
 static persp_mat4 to_mat4(const struct aiMatrix4x4 *a)
 {
@@ -876,7 +1008,6 @@ static persp_status embedded_texture(importer *im, unsigned index, int *out)
 /* The scene texture for a material's texture path, or -1 with a warning. */
 static int material_texture(importer *im, const char *material, const char *file)
 {
-    int index = -1;
     const struct aiTexture *const *texs = (const struct aiTexture *const *)im->ai->mTextures;
     long emb = -1;
     if (file[0] == '*') {
@@ -910,45 +1041,8 @@ static int material_texture(importer *im, const char *material, const char *file
         }
         return *slot >= 0 ? *slot : -1;
     }
-    char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
-    clean_rel(file, rel, sizeof rel);
-    char qr[PERSP_QUOTE_BYTES];
-    persp__quote(rel, strlen(rel), qr, sizeof qr);
-    if (!im->base_dir) {
-        persp__warn(im->ctx, "%s: material '%s': texture '%s' not read (no folder to read it from)",
-                    im->display, qm, qr);
-        return -1;
-    }
-    persp_status st = PERSP_ERR_IO;
-    char why[PERSP_ERRMSG_BYTES] = "";
-    int outside = 0;
-    for (int k = 0; k < 4 && st != PERSP_OK; k++) {
-        /* A missing first candidate still reports why (the open's error). */
-        if (k == 0 ? !candidate(im->base_dir, rel, k, path, sizeof path)
-                   : !find_candidate(im->base_dir, im->root, rel, k, path, sizeof path, &outside))
-            continue;
-        if (k == 0 && persp__path_inside(im->root, path) == 0) {
-            outside = 1;
-            continue;
-        }
-        st = persp__texcache_load(im->scene, im->cache, path, &index);
-        if (st == PERSP_ERR_OUT_OF_MEMORY) {
-            im->out_of_memory = 1;
-            return -1;
-        }
-        if (st != PERSP_OK && k == 0) snprintf(why, sizeof why, "%s", persp_context_error(im->ctx));
-    }
-    if (st != PERSP_OK) {
-        /* The texture's name usually sits in a material library, not in the
-         * model's own text: the line is given only where it is found. */
-        char at[PERSP_PATH_MAX + 32];
-        where(im->io, rel, at, sizeof at);
-        if (outside && !why[0]) snprintf(why, sizeof why, "outside the folder the model may read from");
-        persp__warn(im->ctx,
-                    "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
-                    at, qm, qr, why[0] ? why : "bad path");
-        return -1;
-    }
+    int index = persp__model_texture_file(&im->refs, material, file);
+    if (im->refs.out_of_memory) im->out_of_memory = 1;
     return index;
 }
 
@@ -976,27 +1070,18 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
     /* Assimp's stand-in for geometry without a material: persp's default. */
     if (strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0) {
         struct aiColor4D c;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS &&
-            finite3(c.r, c.g, c.b))
-            m.diffuse[0] = c.r, m.diffuse[1] = c.g, m.diffuse[2] = c.b;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS &&
-            finite3(c.r, c.g, c.b))
-            m.specular[0] = c.r, m.specular[1] = c.g, m.specular[2] = c.b;
-        /* Black ambient is what most exporters write when they mean none;
-         * persp's default keeps unlit sides from going black. */
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == aiReturn_SUCCESS &&
-            finite3(c.r, c.g, c.b) && (c.r > 0 || c.g > 0 || c.b > 0))
-            m.ambient[0] = c.r, m.ambient[1] = c.g, m.ambient[2] = c.b;
-        float shin = 0;
+        float kd[3], ks[3], ka[3], shin = 0;
+        int has_kd = aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS;
+        if (has_kd) kd[0] = c.r, kd[1] = c.g, kd[2] = c.b;
+        int has_ks = aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS;
+        if (has_ks) ks[0] = c.r, ks[1] = c.g, ks[2] = c.b;
+        int has_ka = aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == aiReturn_SUCCESS;
+        if (has_ka) ka[0] = c.r, ka[1] = c.g, ka[2] = c.b;
         unsigned one = 1;
-        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) == aiReturn_SUCCESS &&
-            isfinite(shin) && shin > 0)
-            m.shininess = fminf(shin, 1000.0f);
-        for (int k = 0; k < 3; k++) {
-            m.diffuse[k] = fminf(fmaxf(m.diffuse[k], 0.0f), 1000.0f);
-            m.specular[k] = fminf(fmaxf(m.specular[k], 0.0f), 1000.0f);
-            m.ambient[k] = fminf(fmaxf(m.ambient[k], 0.0f), 1000.0f);
-        }
+        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) != aiReturn_SUCCESS)
+            shin = 0;
+        persp__model_set_colours(&m, has_kd ? kd : NULL, has_ks ? ks : NULL, has_ka ? ka : NULL,
+                                 shin);
         struct aiString file;
         enum aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
         enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
@@ -1019,31 +1104,8 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
 
 static persp_status add_part(importer *im, int mesh, int material, const persp_mat4 *xf)
 {
-    persp_model *o = im->out;
-    if (o->part_count >= PERSP_SCENE_MAX_OBJECTS)
-        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %d mesh instances",
-                           im->display, PERSP_SCENE_MAX_OBJECTS);
-    if (persp__grow(im->ctx, (void **)&o->parts, &im->part_cap, o->part_count + 1,
-                    sizeof *o->parts) != PERSP_OK)
-        return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
-    persp_model_part *p = &o->parts[o->part_count++];
-    p->mesh = mesh;
-    p->material = material;
-    p->transform = *xf;
-    const persp_mesh *pm = &im->scene->meshes[mesh];
-    for (size_t i = 0; i < pm->vertex_count; i++) {
-        const float *q = pm->vertices[i].pos;
-        persp_vec4 w = persp_mat4_apply(*xf, (persp_vec4){q[0], q[1], q[2], 1.0f});
-        float x = w.x, y = w.y, z = w.z;
-        if (w.w != 0.0f && w.w != 1.0f) x /= w.w, y /= w.w, z /= w.w;
-        if (!finite3(x, y, z)) continue;
-        const float v[3] = {x, y, z};
-        for (int k = 0; k < 3; k++) {
-            if (v[k] < o->bbox_min[k]) o->bbox_min[k] = v[k];
-            if (v[k] > o->bbox_max[k]) o->bbox_max[k] = v[k];
-        }
-    }
-    return PERSP_OK;
+    return persp__model_add_part(im->scene, im->out, &im->part_cap, mesh, material, xf,
+                                 im->display);
 }
 
 static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 parent, int depth)
@@ -1114,15 +1176,12 @@ static int face_has_area(const struct aiMesh *m, const struct aiFace *f)
 {
     if (f->mNumIndices < 3) return 0;
     const struct aiVector3D a = m->mVertices[f->mIndices[0]];
+    const float pa[3] = {a.x, a.y, a.z};
     for (unsigned i = 1; i + 1 < f->mNumIndices; i++) {
         const struct aiVector3D b = m->mVertices[f->mIndices[i]];
         const struct aiVector3D c = m->mVertices[f->mIndices[i + 1]];
-        double ux = (double)b.x - a.x, uy = (double)b.y - a.y, uz = (double)b.z - a.z;
-        double vx = (double)c.x - a.x, vy = (double)c.y - a.y, vz = (double)c.z - a.z;
-        double cx = uy * vz - uz * vy, cy = uz * vx - ux * vz, cz = ux * vy - uy * vx;
-        double cross2 = cx * cx + cy * cy + cz * cz;
-        double lens2 = (ux * ux + uy * uy + uz * uz) * (vx * vx + vy * vy + vz * vz);
-        if (cross2 > 1e-12 * lens2 && cross2 > 0.0) return 1;
+        const float pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
+        if (persp__model_triangle_has_area(pa, pb, pc)) return 1;
     }
     return 0;
 }
@@ -1161,6 +1220,34 @@ void persp__model_free(persp_context *ctx, persp_model *model)
     memset(model, 0, sizeof *model);
 }
 
+int persp__model_streams(const char *path)
+{
+    return persp__model_has_ext(path, "obj");
+}
+
+/* Whether persp's OBJ reader takes the model: a .obj name, or a name
+ * without an extension Assimp reads whose first 200 bytes hold an OBJ
+ * statement at a line start (the content test of Assimp's OBJ reader,
+ * which took such files before). */
+static int is_obj(const char *name, const char *data, size_t size)
+{
+    if (persp__model_has_ext(name, "obj")) return 1;
+    const char *base = persp__path_base(name);
+    const char *dot = strrchr(base, '.');
+    if (dot && dot[1] && aiIsExtensionSupported(dot)) return 0;
+    static const char *const words[] = {"mtllib", "usemtl", "v ", "vt ", "vn ",
+                                        "o ",      "g ",      "s ", "f "};
+    size_t n = size < 200 ? size : 200;
+    for (size_t i = 0; i < n; i++) {
+        if (i > 0 && data[i - 1] != '\n' && data[i - 1] != '\r') continue;
+        for (size_t w = 0; w < sizeof words / sizeof words[0]; w++) {
+            size_t len = strlen(words[w]);
+            if (i + len <= size && !memcmp(data + i, words[w], len)) return 1;
+        }
+    }
+    return 0;
+}
+
 /* persp__model_load_memory on buf, size + 1 bytes from the context's
  * allocator with buf[size] = '\0', which it modifies and frees: a file's
  * text is then held once, not read and copied (docs/RELIABILITY.md). */
@@ -1171,11 +1258,17 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     persp_context *ctx = scene->ctx;
     memset(out, 0, sizeof *out);
     const char *display = name ? name : "<model>";
+    if (is_obj(display, buf, size)) {
+        persp_status ost =
+            persp__obj_load(scene, buf, size, name, base_dir, cache, max_vertices, out);
+        persp__free(ctx, buf);
+        return ost;
+    }
     /* Assimp picks the reader by the name's extension and then the content;
      * a name without a usable one still gets the content sniffed. */
     const char *main_name = persp__path_base(display);
     if (!main_name[0]) main_name = "model";
-    if (is_line_text(main_name) || has_ext(main_name, "gltf"))
+    if (is_line_text(main_name) || persp__model_has_ext(main_name, "gltf"))
         size = normalise_text(buf, size, is_line_text(main_name));
 
     persp_status cst = check_declared_counts(ctx, display, buf, size);
@@ -1214,7 +1307,7 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
         persp__free(ctx, buf);
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
     }
-    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, MODEL_CREASE_DEG);
+    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, PERSP_MODEL_CREASE_DEG);
     aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE,
                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     /* Read and validated first, then prepared (prepare_scene) for the
@@ -1282,6 +1375,13 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     im.cache = cache;
     im.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
     im.out = out;
+    im.refs.scene = scene;
+    im.refs.cache = cache;
+    im.refs.display = display;
+    im.refs.base_dir = base_dir;
+    im.refs.root = scene->load_root;
+    im.refs.where = where_io;
+    im.refs.where_user = &io;
     for (int k = 0; k < 3; k++)
         out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
     persp_status st = PERSP_OK;
@@ -1321,6 +1421,10 @@ persp_status persp__model_load_memory(persp_scene *scene, const void *data, size
 {
     if (!scene || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
+    /* persp's OBJ reader parses the caller's buffer in place. */
+    if (is_obj(name ? name : "<model>", data, size))
+        return persp__obj_load(scene, size ? data : "", size, name, base_dir, cache, max_vertices,
+                               out);
     char *buf = persp__alloc(scene->ctx, size + 1);
     if (!buf)
         return persp__fail(scene->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory",
@@ -1335,18 +1439,22 @@ persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_
 {
     if (!scene || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
     memset(out, 0, sizeof *out);
+    char dir[PERSP_PATH_MAX];
+    persp__path_dir(path, dir, sizeof dir);
+    /* An OBJ file is streamed, never held whole (docs/RELIABILITY.md). */
+    if (persp__model_streams(path))
+        return persp__obj_load(scene, NULL, 0, path, dir[0] ? dir : "./", cache, max_vertices,
+                               out);
     char *data = NULL;
     size_t size = 0;
     persp_status st = persp__read_file_inside(scene->ctx, scene->load_root, path, &data, &size);
     if (st != PERSP_OK) return st;
-    char dir[PERSP_PATH_MAX];
-    persp__path_dir(path, dir, sizeof dir);
     return load_owned(scene, data, size, path, dir[0] ? dir : "./", cache, max_vertices, out);
 }
 
 int persp__model_is_model(const char *path, const char *data, size_t size)
 {
-    if (has_ext(path, "json")) return 0;
+    if (persp__model_has_ext(path, "json")) return 0;
     const char *dot = strrchr(path, '.');
     const char *slash = strrchr(path, '/');
     if (dot && (!slash || dot > slash) && dot[1] && aiIsExtensionSupported(dot)) return 1;
@@ -1383,7 +1491,8 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
     memset(&cache, 0, sizeof cache);
     persp_model model;
     s->load_root = root;
-    st = load_owned(s, data, size, name, base_dir, &cache, 0, &model);
+    st = data ? load_owned(s, data, size, name, base_dir, &cache, 0, &model)
+              : persp__obj_load(s, NULL, 0, name, base_dir, &cache, 0, &model);
     s->load_root = NULL;
     persp__texcache_free(ctx, &cache);
     for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {

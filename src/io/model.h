@@ -1,5 +1,6 @@
 /*
- * Model import (Assimp) and the JSON scene loader (internal entry points).
+ * Model import (persp's OBJ reader, Assimp for the rest) and the JSON scene
+ * loader (internal entry points).
  * Errors go to the context as one line naming the file; problems that are
  * worked around (a missing material library or texture) go to the
  * context's warning handler.
@@ -55,6 +56,10 @@ persp_status persp__model_load_file(persp_scene *scene, const char *path, persp_
                                     size_t max_vertices, persp_model *out);
 void persp__model_free(persp_context *ctx, persp_model *model);
 
+/* 1 when a model file is streamed rather than read whole (OBJ, by the
+ * name): persp__scene_from_model then takes no data. */
+int persp__model_streams(const char *path);
+
 /* 1 when path names a model rather than a JSON scene: an extension Assimp
  * reads other than .json, or (data given) content that is not a JSON
  * object. */
@@ -62,7 +67,8 @@ int persp__model_is_model(const char *path, const char *data, size_t size);
 
 /* A scene showing a model: the default camera and light rig
  * (docs/SCENES.md, "Models without a scene file"). Takes data, a buffer
- * from persp__read_file (NUL-terminated, size + 1 bytes), and frees it.
+ * from persp__read_file (NUL-terminated, size + 1 bytes), and frees it;
+ * data NULL: name is an OBJ file to stream (persp__model_streams).
  * root: the folder the model's references must stay in, NULL: anywhere. */
 persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
                                      const char *base_dir, const char *root, persp_scene **out);
@@ -74,5 +80,48 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
 persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size_t size,
                                       const char *name, const char *base_dir, size_t max_vertices,
                                       persp_scene **out);
+
+/* ------------------------------------------ shared by model.c and obj.c */
+
+/* Faces meeting at more than this angle keep separate normals where the
+ * file has none: cube edges stay sharp, tessellated curves come out smooth. */
+#define PERSP_MODEL_CREASE_DEG 80.0f
+
+/* 1 when name ends in "." ext, in any case (ext in lower case). */
+int persp__model_has_ext(const char *name, const char *ext);
+/* Windows separators and "./" prefixes of a name a model gives. */
+void persp__model_clean_rel(const char *in, char *out, size_t size);
+/* Reads a file a model names (rel, cleaned): relative to base_dir, then its
+ * last part next to the model, then both in any case, each only inside root
+ * (NULL: anywhere). On failure other than PERSP_ERR_OUT_OF_MEMORY, *why
+ * says why for a warning. */
+persp_status persp__model_read_ref(persp_context *ctx, const char *base_dir, const char *root,
+                                   const char *rel, char **data, size_t *size, const char **why);
+
+/* What a model's texture files are resolved with. */
+typedef struct persp_model_refs {
+    persp_scene *scene;
+    persp_texcache *cache;
+    const char *display, *base_dir, *root;
+    /* Writes where the user finds the name rel ("a.obj (via b.mtl:3)");
+     * NULL: the model's name. */
+    void (*where)(const void *user, const char *rel, char *out, size_t cap);
+    const void *where_user;
+    int out_of_memory; /* set when a texture was refused for want of memory */
+} persp_model_refs;
+
+/* The scene texture of a texture file a material names, or -1 after a
+ * warning (the material is drawn untextured). */
+int persp__model_texture_file(persp_model_refs *refs, const char *material, const char *file);
+/* A model material's colours onto m (persp__material_default): each given
+ * (non-NULL) finite colour, ambient only when not black, shininess when
+ * positive (at most 1000), all clamped to [0, 1000]. */
+void persp__model_set_colours(persp_material *m, const float *kd, const float *ks,
+                              const float *ka, float shininess);
+/* Appends a part and grows out's bounding box by its transformed vertices. */
+persp_status persp__model_add_part(persp_scene *scene, persp_model *out, size_t *cap, int mesh,
+                                   int material, const persp_mat4 *xf, const char *display);
+/* 1 when the triangle spans an area, relative to its edges' lengths. */
+int persp__model_triangle_has_area(const float *a, const float *b, const float *c);
 
 #endif

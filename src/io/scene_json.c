@@ -1374,7 +1374,9 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     const int restricted = !desc || desc->any_folder != PERSP_TOGGLE_ON;
     char *data = NULL;
     size_t size = 0;
-    persp_status st = persp__read_file(ctx, path, &data, &size);
+    /* An OBJ model is streamed by its reader, not read whole here. */
+    const int stream = persp__model_streams(path);
+    persp_status st = stream ? PERSP_OK : persp__read_file(ctx, path, &data, &size);
     if (st == PERSP_OK && restricted) st = persp__path_root(ctx, path, root, sizeof root);
     if (st != PERSP_OK) {
         persp__free(ctx, data);
@@ -1383,7 +1385,7 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     const char *allowed = restricted ? root : NULL;
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
-    if (persp__model_is_model(path, data, size))
+    if (stream || persp__model_is_model(path, data, size))
         return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, out);
     st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, out);
     persp__free(ctx, data);

@@ -12,9 +12,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* Reads the open stream f (closed here) of the file path into a buffer. */
-static persp_status read_stream(persp_context *ctx, FILE *f, const char *path, char **data,
-                                size_t *size)
+/* The size of the open stream f of the file path, positioned at its start;
+ * f is closed on failure. */
+static persp_status stream_size(persp_context *ctx, FILE *f, const char *path, size_t *size)
 {
     /* fopen succeeds on a folder (POSIX open() with O_RDONLY), whose "size"
      * then reads as LONG_MAX: say what it is instead. */
@@ -23,8 +23,8 @@ static persp_status read_stream(persp_context *ctx, FILE *f, const char *path, c
         fclose(f);
         return persp__fail(ctx, PERSP_ERR_IO, "%s: is a directory, not a file", path);
     }
-    /* The size is taken from the stream itself so that the limit is checked
-     * before the buffer exists. */
+    /* The size is taken from the stream itself so that limits are checked
+     * before any buffer exists. */
     if (fseek(f, 0, SEEK_END) != 0) {
         fclose(f);
         return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot seek (not a regular file?)", path);
@@ -34,12 +34,20 @@ static persp_status read_stream(persp_context *ctx, FILE *f, const char *path, c
         fclose(f);
         return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot determine the file size", path);
     }
-    if ((unsigned long)end > PERSP_TEXT_MAX_BYTES) {
+    *size = (size_t)end;
+    return PERSP_OK;
+}
+
+/* Reads the open stream f (closed here) of the file path, n bytes, into a
+ * buffer. */
+static persp_status read_stream(persp_context *ctx, FILE *f, const char *path, size_t n, char **data,
+                                size_t *size)
+{
+    if (n > PERSP_TEXT_MAX_BYTES) {
         fclose(f);
-        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "%s: %ld bytes exceeds the limit of %zu",
-                                  path, end, (size_t)PERSP_TEXT_MAX_BYTES);
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "%s: %zu bytes exceeds the limit of %zu", path,
+                           n, (size_t)PERSP_TEXT_MAX_BYTES);
     }
-    size_t n = (size_t)end;
     char *buf = persp__alloc(ctx, n + 1);
     if (!buf) {
         fclose(f);
@@ -64,13 +72,15 @@ persp_status persp__read_file(persp_context *ctx, const char *path, char **data,
     *size = 0;
     FILE *f = fopen(path, "rb");
     if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    return read_stream(ctx, f, path, data, size);
+    size_t n = 0;
+    persp_status st = stream_size(ctx, f, path, &n);
+    return st == PERSP_OK ? read_stream(ctx, f, path, n, data, size) : st;
 }
 
-persp_status persp__read_file_inside(persp_context *ctx, const char *root, const char *path,
-                                     char **data, size_t *size)
+persp_status persp__open_stream_inside(persp_context *ctx, const char *root, const char *path,
+                                       FILE **out, size_t *size)
 {
-    *data = NULL;
+    *out = NULL;
     *size = 0;
     int fd = persp__open_inside(root, path);
     if (fd == PERSP_OPEN_OUTSIDE) {
@@ -87,7 +97,20 @@ persp_status persp__read_file_inside(persp_context *ctx, const char *root, const
         close(fd);
         return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(e));
     }
-    return read_stream(ctx, f, path, data, size);
+    persp_status st = stream_size(ctx, f, path, size);
+    if (st == PERSP_OK) *out = f;
+    return st;
+}
+
+persp_status persp__read_file_inside(persp_context *ctx, const char *root, const char *path,
+                                     char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    FILE *f = NULL;
+    size_t n = 0;
+    persp_status st = persp__open_stream_inside(ctx, root, path, &f, &n);
+    return st == PERSP_OK ? read_stream(ctx, f, path, n, data, size) : st;
 }
 
 void persp__path_dir(const char *path, char *out, size_t size)

@@ -8,6 +8,7 @@
 #include "persp.h"
 
 #include <stddef.h>
+#include <stdio.h>
 
 /* Largest text file a loader reads (checked before allocating). */
 #define PERSP_TEXT_MAX_BYTES ((size_t)512 * 1024 * 1024)
@@ -47,6 +48,11 @@ int persp__fd_inside(int fd, const char *root, const char *path);
  * for a file refused as outside root. */
 persp_status persp__read_file_inside(persp_context *ctx, const char *root, const char *path,
                                      char **data, size_t *size);
+/* Opens path through persp__open_inside for a reader that streams it (read
+ * more than once): *out positioned at the start, *size its length; a folder
+ * or a stream that cannot seek is refused. The caller closes *out. */
+persp_status persp__open_stream_inside(persp_context *ctx, const char *root, const char *path,
+                                       FILE **out, size_t *size);
 /* persp_image_load of a file read through persp__read_file_inside. */
 persp_status persp__image_load_inside(persp_context *ctx, const char *root, const char *path,
                                       persp_image *out);

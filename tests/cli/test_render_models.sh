@@ -36,7 +36,7 @@ expect 0 "^bench .*box.obj 32x24" -- "$persp" bench "$m/box.obj" --size 32x24 --
 # a missing texture: one warning naming model and texture, drawn untextured
 rm "$m/tex/wall.png"
 out=$("$persp" render "$m/box.obj" --size 64x48 -o "$tmp/untex.png" 2>&1); rc=$?
-if [ "$rc" -eq 0 ] && [ -s "$tmp/untex.png" ] && [ "$(grep -c 'persp: warning: .*box.obj: .*tex/wall.png' <<<"$out")" -eq 1 ] \
+if [ "$rc" -eq 0 ] && [ -s "$tmp/untex.png" ] && [ "$(grep -c 'persp: warning: .*box.obj (via box.mtl:4): .*tex/wall.png' <<<"$out")" -eq 1 ] \
     && grep -q "untextured" <<<"$out"
 then ok; else bad "missing texture: rc $rc: $out"; fi
 

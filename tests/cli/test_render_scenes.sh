@@ -37,10 +37,10 @@ printf '{"objects": [{"mesh": "cube"}], "lights": [{"type": "point", "position":
 reject 1 "vec.json:1:.*lights\[0\].position: expected an array of 3 numbers" "$tmp/s/vec.json"
 printf '{"objects": [{"mesh": "m.obj"}]}' >"$tmp/s/obj.json"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n' >"$tmp/s/m.obj"
-reject 1 "m.obj: cannot import the model: OBJ: vertex index out of range" "$tmp/s/obj.json"
+reject 1 "m.obj:4: vertex index 4 out of range" "$tmp/s/obj.json"
 printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$tmp/s/m.obj"
 printf 'newmtl a\nKd 1 x 1\n' >"$tmp/s/m.mtl"
-reject 1 "m.obj: cannot import the model: Cannot parse string \"x\" as a real number" "$tmp/s/obj.json"
+reject 1 "m.obj \\(via m.mtl:2\\): malformed number after 'Kd'" "$tmp/s/obj.json"
 printf '{"objects": [{"mesh": "cube"}]' >"$tmp/s/trunc.json"
 reject 1 "trunc.json:1:.*invalid JSON" "$tmp/s/trunc.json"
 expect_out=$("$persp" render "$src/scenes/room.json" --shading glossy -o "$tmp/never.png" 2>&1); rc=$?

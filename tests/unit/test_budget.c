@@ -248,7 +248,9 @@ static void test_decoders_over_budget(void **state)
 
 /* What persp holds to load and render a grid model is proportional to the
  * model: at most three times its vertex and index arrays, plus the two
- * framebuffers, the file's text and a batch of triangle records. */
+ * framebuffers and a batch of triangle records. The file's text is not
+ * held (the OBJ reader streams it in chunks): the bound leaves it out, and
+ * fails when the file is read whole (2.3 MB here). */
 static void test_grid_memory_proportional(void **state)
 {
     (void)state;
@@ -280,6 +282,7 @@ static void test_grid_memory_proportional(void **state)
     ctx->frame_batch = batch;
     persp_scene *scene = NULL;
     assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    size_t load_peak = t.peak, loaded = t.live;
     size_t data = 0, vertices = 0;
     for (size_t i = 0; i < persp_scene_object_count(scene); i++) {
         persp_scene_object o;
@@ -300,9 +303,16 @@ static void test_grid_memory_proportional(void **state)
     assert_int_equal(st.triangles_in, (uint64_t)cols * rows * 2);
     size_t frame = 2 * ((size_t)w * h * 4 + 128);
     size_t records = 2 * batch * (sizeof(persp_tri) + sizeof(persp_method_prep));
-    size_t bound = 3 * data + frame + (size_t)file_bytes + records;
-    print_message("grid %dx%d: vertex and index data %zu, file %ld, peak %zu bytes (bound %zu)\n",
-                  cols, rows, data, file_bytes, t.peak, bound);
+    /* Fixed costs that do not grow with the model: the context, the scene's
+     * tables, materials and lights. */
+    const size_t fixed = 64 * 1024;
+    size_t bound = 3 * data + frame + records + fixed;
+    /* Loading alone (the reader's arrays, its 1 MiB window, the mesh) stays
+     * within three times the mesh: the 2.3 MB file read whole would not. */
+    assert_true(load_peak <= 3 * data);
+    print_message("grid %dx%d: vertex and index data %zu, file %ld; loaded %zu, load peak %zu, "
+                  "peak %zu bytes (bound %zu)\n",
+                  cols, rows, data, file_bytes, loaded, load_peak, t.peak, bound);
     assert_true(t.peak <= bound);
     persp_image_free(ctx, &depth);
     persp_image_free(ctx, &color);

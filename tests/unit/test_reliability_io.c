@@ -187,6 +187,16 @@ static void test_open_inside_checks_the_file_opened(void **state)
     persp_image img;
     assert_int_equal(persp__image_load_inside(ctx, root, link, &img), PERSP_ERR_IO);
     assert_non_null(strstr(persp_context_error(ctx), "is outside the folder"));
+    /* The streaming open of the OBJ reader too. */
+    FILE *stream = NULL;
+    assert_int_equal(persp__open_stream_inside(ctx, root, link, &stream, &size), PERSP_ERR_IO);
+    assert_null(stream);
+    assert_non_null(strstr(persp_context_error(ctx), "is outside the folder"));
+    assert_int_equal(persp__open_stream_inside(ctx, root, a, &stream, &size), PERSP_OK);
+    assert_non_null(stream);
+    assert_int_equal(size, 1);
+    assert_int_equal(fgetc(stream), 'a');
+    fclose(stream);
     persp_context_destroy(ctx);
     free(root);
 }

@@ -238,7 +238,7 @@ static void test_files(void **state)
     write_text(dir, "bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
     write_text(dir, "s.json", "{\"objects\": [{\"mesh\": \"bad.obj\"}]}");
     assert_int_equal(persp_scene_load(ctx, path, &s), PERSP_ERR_FORMAT);
-    assert_non_null(strstr(persp_context_error(ctx), "bad.obj: cannot import the model: OBJ: vertex index out of range"));
+    assert_non_null(strstr(persp_context_error(ctx), "bad.obj:3: vertex index 3 out of range"));
     assert_null(s);
     write_text(dir, "s.json", "{\"objects\": [{\"mesh\": \"none.obj\"}]}");
     assert_int_equal(persp_scene_load(ctx, path, &s), PERSP_ERR_IO);
