@@ -203,20 +203,46 @@ static persp_status check_gltf_kind(persp_context *ctx, const char *display, con
  * compares from a pointer just past NULL (SIGSEGV, found by the model
  * fuzzer with "image9png"). The mimeType of an image is "image/jpeg" or
  * "image/png" (glTF 2.0 §5.18), so one without '/' is refused. */
+/* The JSON of a glTF file: all of a .gltf, the JSON chunk of a binary one
+ * (glTF 2.0 §4.4); NULL for other files. */
+static const char *gltf_json(const char *display, const char *buf, size_t size, size_t *len)
+{
+    const unsigned char *b = (const unsigned char *)buf;
+    if (size >= 20 && memcmp(b, "glTF", 4) == 0 && le32(b + 4) == 2 &&
+        memcmp(b + 16, "JSON", 4) == 0 && le32(b + 12) <= size - 20) {
+        *len = le32(b + 12);
+        return buf + 20;
+    }
+    if (persp__model_has_ext(display, "gltf") || persp__model_has_ext(display, "glb")) {
+        *len = size;
+        return buf;
+    }
+    return NULL;
+}
+
+/* A texture transform the file asks for and persp does not apply (see the
+ * post-processing steps in load_owned) is said, not silently dropped. */
+static void warn_gltf_extensions(persp_context *ctx, const char *display, const char *buf,
+                                 size_t size)
+{
+    static const char ext[] = "\"KHR_texture_transform\"";
+    size_t len = 0;
+    const char *json = gltf_json(display, buf, size, &len);
+    for (const char *p = json; p && p + sizeof ext - 1 <= json + len; p++)
+        if (!memcmp(p, ext, sizeof ext - 1)) {
+            persp__warn(ctx,
+                        "%s: KHR_texture_transform is not applied; textures are placed by the "
+                        "coordinates as stored",
+                        display);
+            return;
+        }
+}
+
 static persp_status check_gltf_images(persp_context *ctx, const char *display, const char *buf,
                                       size_t size)
 {
-    const unsigned char *b = (const unsigned char *)buf;
-    const char *json = NULL;
     size_t len = 0;
-    if (size >= 20 && memcmp(b, "glTF", 4) == 0 && le32(b + 4) == 2 &&
-        memcmp(b + 16, "JSON", 4) == 0 && le32(b + 12) <= size - 20) {
-        json = buf + 20;
-        len = le32(b + 12);
-    } else if (persp__model_has_ext(display, "gltf") || persp__model_has_ext(display, "glb")) {
-        json = buf;
-        len = size;
-    }
+    const char *json = gltf_json(display, buf, size, &len);
     if (!json) return PERSP_OK;
     /* Scanned as text, not parsed: Assimp's JSON reader accepts documents a
      * strict parser refuses. */
@@ -243,6 +269,7 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
 {
     persp_status ist = check_gltf_images(ctx, display, buf, size);
     if (ist != PERSP_OK) return ist;
+    warn_gltf_extensions(ctx, display, buf, size);
     persp_status kst = check_gltf_kind(ctx, display, buf, size);
     if (kst != PERSP_OK) return kst;
     persp_status ost = check_obj_mtllib(ctx, display, buf, size);
@@ -1314,7 +1341,14 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
      * post-processing steps. A scene they would fail on is refused before
      * them: Assimp 5.2 crashes releasing a scene whose post-processing
      * failed. */
-    unsigned steps = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType;
+    /* GenUVCoords turns a texture projected by the file's mapping (sphere,
+     * cylinder, box, plane: LightWave and others) into coordinates per
+     * vertex; without it such a texture was drawn as one texel's colour.
+     * TransformUVCoords is left out: Assimp 5.2 scales glTF's
+     * KHR_texture_transform about the texture's centre, not its origin as
+     * the extension says (a scale of 2 gave u in [-0.5, 1.5]). */
+    unsigned steps = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType |
+                     aiProcess_GenUVCoords;
     int regen_normals = 0;
     char why[256] = "";
     const char *wrong = NULL;

@@ -59,5 +59,16 @@ reject "^persp: .*bad.ply: cannot import the model: " "$m/bad.ply"
 printf 'glTF\002\000\000\000\377\377\000\000 not a binary glTF' >"$m/noise.glb"
 reject "^persp: .*noise.glb: truncated GLB: the header declares 65535 bytes" "$m/noise.glb"
 
+# A texture the file projects (LightWave's spherical mapping, no texture
+# coordinates in the file) is drawn as the picture, not as one texel's
+# colour: checked on Debian's assimp-testmodels when they are installed.
+lwo=/usr/share/assimp/models/LWO/LWO2/MappingModes/earth_spherical_y.lwo
+if [ -r "$lwo" ]; then
+    expect 0 "" -- "$persp" render "$lwo" --size 64x48 --shading none --any-folder -o "$tmp/earth.png"
+    colours=$(PYTHONPATH="$(dirname "$0")" python3 -c \
+        'import sys; from png_rows import png; print(len({p for r in png(sys.argv[1])[2] for p in r}))' \
+        "$tmp/earth.png")
+    [ "${colours:-0}" -gt 100 ] && ok || bad "projected texture: $colours colours in earth.png"
+fi
 echo "render models: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

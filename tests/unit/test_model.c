@@ -348,6 +348,47 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
     unload(&l);
 }
 
+/* glTF's KHR_texture_transform is not applied (Assimp 5.2 scales about the
+ * texture's centre, not its origin): the coordinates stay as stored and a
+ * warning says so. */
+static void test_gltf_texture_transform_warned(void **state)
+{
+    (void)state;
+    char path[1024];
+    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char plain[8192], scaled[8400];
+    size_t n = fread(plain, 1, sizeof plain - 1, f);
+    fclose(f);
+    plain[n] = '\0';
+    const char *key = "\"baseColorTexture\": {";
+    const char *at = strstr(plain, key);
+    assert_non_null(at);
+    size_t head = (size_t)(at - plain) + strlen(key);
+    snprintf(scaled, sizeof scaled,
+             "{\"extensionsUsed\": [\"KHR_texture_transform\"],%.*s"
+             "\"extensions\": {\"KHR_texture_transform\": {\"scale\": [2, 1]}},%s",
+             (int)(head - 1), plain + 1, plain + head);
+    loaded l;
+    load_text(&l, plain, "plain.gltf");
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 0);
+    float plain_u = 0.0f;
+    for (size_t i = 0; i < mesh_of(&l, 0)->vertex_count; i++)
+        plain_u = fmaxf(plain_u, mesh_of(&l, 0)->vertices[i].uv[0]);
+    unload(&l);
+    load_text(&l, scaled, "scaled.gltf");
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 1);
+    assert_non_null(strstr(l.warn.last, "scaled.gltf: KHR_texture_transform is not applied"));
+    float scaled_u = 0.0f;
+    for (size_t i = 0; i < mesh_of(&l, 0)->vertex_count; i++)
+        scaled_u = fmaxf(scaled_u, mesh_of(&l, 0)->vertices[i].uv[0]);
+    unload(&l);
+    assert_true(plain_u == 1.0f && scaled_u == 1.0f);
+}
+
 /* Binary glTF with the image in the binary chunk, COLLADA and ASCII FBX
  * with a node transform (FBX also with a material), binary STL. */
 static void test_more_formats(void **state)
@@ -650,6 +691,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_quad_from_memory),
+        cmocka_unit_test(test_gltf_texture_transform_warned),
         cmocka_unit_test(test_obj_indices_colours_polygons),
         cmocka_unit_test(test_obj_smooth_normals_when_missing),
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
