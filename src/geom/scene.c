@@ -67,6 +67,11 @@ persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
         persp__mesh_free(s->ctx, mesh);
         return st;
     }
+    mesh->colored = 0;
+    for (size_t i = 0; i < mesh->vertex_count && !mesh->colored; i++) {
+        const float *c = mesh->vertices[i].color;
+        mesh->colored = !(c[0] == 1.0f && c[1] == 1.0f && c[2] == 1.0f);
+    }
     s->meshes[s->mesh_count] = *mesh;
     memset(mesh, 0, sizeof *mesh);
     if (index) *index = (int)s->mesh_count;

@@ -20,6 +20,7 @@ typedef struct persp_mesh {
     uint32_t *indices; /* triangles, 3 per face, counter-clockwise = front */
     size_t vertex_count, index_count;
     int has_normals;   /* 0: normals were computed by persp */
+    int colored;       /* some vertex colour is not white (persp__scene_add_mesh) */
 } persp_mesh;
 
 typedef enum persp_texenv {

@@ -84,6 +84,11 @@ typedef struct persp_draw_state {
      * reciprocal per pixel (shade_batch), and small triangles drawn as rows
      * packed into lanes (draw_small). */
     int fuse_weights, small_lanes;
+    /* The mesh's vertex colours multiply the material's ambient and diffuse
+     * colours of lit modes (as glColorMaterial(GL_AMBIENT_AND_DIFFUSE)
+     * does, and glTF's COLOR_0 the base colour); set only when some vertex
+     * colour is not white, so other draws skip the per-pixel products. */
+    int color_material;
     int force_opaque; /* set every written alpha to 255 (persp_draw: the caller's texture and
                          vertex colours may carry alpha; scene textures are made opaque at load) */
     /* Span shader chosen from shading and texture environment. */

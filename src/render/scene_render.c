@@ -122,6 +122,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
             st = persp__sampler_init(&ds.sampler, ds.tex, &sd);
             if (st != PERSP_OK) return persp__fail(ctx, st, "render: bad sampler settings");
         }
+        ds.color_material = scene->meshes[o->mesh].colored;
         st = persp__shade_resolve(ctx, &ds);
         if (st != PERSP_OK) return st;
         uint32_t si;
@@ -261,7 +262,7 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     uint32_t si;
     st = persp__frame_add_state(&f, &ds, &si);
     if (st != PERSP_OK) return st;
-    persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1};
+    persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1, 0};
     persp_mat4 id = persp_mat4_identity();
     st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL, desc->cull_backfaces == PERSP_TOGGLE_ON);
     if (st != PERSP_OK) return st;

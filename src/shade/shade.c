@@ -107,6 +107,8 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
 typedef struct lit_span {
     float nx[PERSP_SPAN_MAX], ny[PERSP_SPAN_MAX], nz[PERSP_SPAN_MAX];
     float ex[PERSP_SPAN_MAX], ey[PERSP_SPAN_MAX], ez[PERSP_SPAN_MAX];
+    /* The vertex colour, perspective-correct, when ds->color_material. */
+    float cr[PERSP_SPAN_MAX], cg[PERSP_SPAN_MAX], cb[PERSP_SPAN_MAX];
 } lit_span;
 
 /* Lighting loops run over whole vectors of 16 lanes: the spans of small
@@ -524,6 +526,7 @@ PERSP_SIMD_CLONES static void phong_normals(const persp_draw_state *ds, const pe
         for (int k = b->n; k < lanes; k++) b1[k] = b2[k] = 0.0f;
     }
     interp_soa(t, PERSP_A_EX, lanes, b1, b2, g->ex, g->ey, g->ez);
+    if (ds->color_material) interp_soa(t, PERSP_A_R, lanes, b1, b2, g->cr, g->cg, g->cb);
 }
 
 /* Spherical-angular normals along the span (§4.3). The end normals are
@@ -535,8 +538,8 @@ static void slerp_normals(const persp_draw_state *ds, const persp_tri *t, const 
 {
     float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
     bary_exact(t, b, b1, b2);
-    (void)ds;
     interp_soa(t, PERSP_A_EX, b->n, b1, b2, g->ex, g->ey, g->ez);
+    if (ds->color_material) interp_soa(t, PERSP_A_R, b->n, b1, b2, g->cr, g->cg, g->cb);
     if (b->px || b->n < 2) {
         interp_soa(t, PERSP_A_NX, b->n, b1, b2, g->nx, g->ny, g->nz);
         normalize_soa(b->n, g->nx, g->ny, g->nz);
@@ -596,6 +599,8 @@ static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, li
     float c[6][PERSP_SPAN_MAX];
     pad_lit_span(g, n);
     light_soa(ds, t->light_side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
+    if (ds->color_material)
+        for (int k = 0; k < n; k++) c[0][k] *= g->cr[k], c[1][k] *= g->cg[k], c[2][k] *= g->cb[k];
     combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
 }
 
@@ -616,6 +621,7 @@ PERSP_SIMD_CLONES_WIDE static void phong_lanes(const persp_draw_state *ds, const
     interp_soa(t, PERSP_A_NX, lanes, b1, b2, g.nx, g.ny, g.nz);
     normalize_soa(lanes, g.nx, g.ny, g.nz);
     interp_soa(t, PERSP_A_EX, lanes, b1, b2, g.ex, g.ey, g.ez);
+    if (ds->color_material) interp_soa(t, PERSP_A_R, lanes, b1, b2, g.cr, g.cg, g.cb);
     light_span(ds, t, n, &g, texel, out);
 }
 
@@ -635,6 +641,10 @@ static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const per
     flat_normals(t, 1, &g);
     const float f[3] = {g.nx[0], g.ny[0], g.nz[0]}, c[3] = {g.ex[0], g.ey[0], g.ez[0]};
     light_point(ds, f, c, f[0] * c[0] + f[1] * c[1] + f[2] * c[2] > 0.0f ? -1.0f : 1.0f, diff, spec);
+    /* One colour per face as one normal: the corners' mean. */
+    if (ds->color_material)
+        for (int k = 0; k < 3; k++)
+            diff[k] *= (t->vattr[0][PERSP_A_R + k] + t->vattr[1][PERSP_A_R + k] + t->vattr[2][PERSP_A_R + k]) / 3.0f;
     float d[6][PERSP_SPAN_MAX];
     for (int k = 0; k < b->n; k++) {
         d[0][k] = diff[0], d[1][k] = diff[1], d[2][k] = diff[2];
@@ -742,8 +752,15 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
             g.ex[k] = at[PERSP_A_EX], g.ey[k] = at[PERSP_A_EY], g.ez[k] = at[PERSP_A_EZ];
         }
         pad_lit_span(&g, m);
+        if (ds->color_material)
+            for (int k = 0; k < m; k++) {
+                const float *at = v[a + (size_t)k].attr;
+                g.cr[k] = at[PERSP_A_R], g.cg[k] = at[PERSP_A_G], g.cb[k] = at[PERSP_A_B];
+            }
         for (int side = 0; side < 2; side++) {
             light_soa(ds, side ? -1.0f : 1.0f, m, &g, d[0], d[1], d[2], d[3], d[4], d[5]);
+            if (ds->color_material)
+                for (int k = 0; k < m; k++) d[0][k] *= g.cr[k], d[1][k] *= g.cg[k], d[2][k] *= g.cb[k];
             const int base = side ? PERSP_A_BR : PERSP_A_R;
             for (int k = 0; k < m; k++) {
                 float *at = v[a + (size_t)k].attr;

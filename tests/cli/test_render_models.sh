@@ -70,5 +70,25 @@ if [ -r "$lwo" ]; then
         "$tmp/earth.png")
     [ "${colours:-0}" -gt 100 ] && ok || bad "projected texture: $colours colours in earth.png"
 fi
+# Vertex colours tint lit shading as they do unlit (ambient and diffuse
+# times the colour, glColorMaterial's rule): a red-vertex quad lit white is
+# red in every lit mode; the same quad with white vertices is grey.
+quad='v -1 -1 0 R\nv 1 -1 0 R\nv 1 1 0 R\nv -1 1 0 R\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\n'
+printf "${quad//R/1 0 0}" >"$m/red.obj"
+printf "${quad//R/1 1 1}" >"$m/white.obj"
+for shading in phong phong-pc gouraud gouraud-pc flat phong-slerp; do
+    for c in red white; do
+        "$persp" render "$m/$c.obj" --size 32x24 --shading "$shading" -o "$tmp/$c-$shading.png" -q
+    done
+    verdict=$(PYTHONPATH="$(dirname "$0")" python3 -c '
+import sys
+from png_rows import png
+def centre(path):
+    return png(path)[2][12][16]
+r, w = centre(sys.argv[1]), centre(sys.argv[2])
+print("ok" if r[0] > 40 and r[1] <= 8 and r[2] <= 8 and w[0] == w[1] == w[2] and w[0] > 40
+      else "red %s white %s" % (r, w))' "$tmp/red-$shading.png" "$tmp/white-$shading.png")
+    [ "$verdict" = ok ] && ok || bad "vertex colours under $shading: $verdict"
+done
 echo "render models: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
