@@ -967,14 +967,17 @@ static persp_status parse_object(jctx *j, json_t *o)
     int sub = json_is_object(v);
     if (sub) push_key(j, "file");
     st = resolve_file(j, file, path, sizeof path);
+    persp_model res;
+    size_t before = j->scene->mesh_count;
+    if (st == PERSP_OK)
+        st = persp__model_load_file(j->scene, path, &j->cache, j->max_vertices - j->vertices, &res);
+    /* A model that cannot be opened is pointed at in the scene, as a
+     * missing texture is; the model's own errors name its file and line. */
+    if (st == PERSP_ERR_IO && strncmp(persp_context_error(j->ctx), j->name, strlen(j->name)) != 0)
+        st = jwrap(j, st);
     if (sub) pop(j);
     pop(j);
     if (st != PERSP_OK) return st;
-    persp_model res;
-    size_t before = j->scene->mesh_count;
-    if ((st = persp__model_load_file(j->scene, path, &j->cache, j->max_vertices - j->vertices,
-                                     &res)) != PERSP_OK)
-        return st;
     for (size_t i = before; i < j->scene->mesh_count && st == PERSP_OK; i++) {
         push_key(j, "mesh");
         st = count_vertices(j, j->scene->meshes[i].vertex_count);

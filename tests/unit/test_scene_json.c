@@ -243,6 +243,8 @@ static void test_files(void **state)
     write_text(dir, "s.json", "{\"objects\": [{\"mesh\": \"none.obj\"}]}");
     assert_int_equal(persp_scene_load(ctx, path, &s), PERSP_ERR_IO);
     assert_non_null(strstr(persp_context_error(ctx), "none.obj: cannot open"));
+    /* pointed at in the scene, as a missing texture is */
+    assert_non_null(strstr(persp_context_error(ctx), "s.json:1:23: objects[0].mesh: "));
     write_text(dir, "s.json", "{\"materials\": {\"m\": {\"texture\": \"missing.png\"}}, \"objects\": []}");
     assert_int_equal(persp_scene_load(ctx, path, &s), PERSP_ERR_IO);
     assert_non_null(strstr(persp_context_error(ctx), "s.json:1:33: materials.m.texture: "));
