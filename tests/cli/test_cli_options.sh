@@ -138,6 +138,9 @@ expect 0 "" -- "$persp" render corridor --size 64x64 -q -o "$tmp/c.png"
 [ "$(sig "$tmp/c.png" 8)" = "$png_sig" ] && ok || bad "-o x.png is not a PNG"
 expect 0 "" -- "$persp" render corridor --size 64x64 -q --quality 30 -o "$tmp/c30.jpg"
 [ "$(wc -c <"$tmp/c30.jpg")" -lt "$(wc -c <"$tmp/c.jpg")" ] && ok || bad "--quality 30 is not smaller than the default"
+expect 0 "warning: --quality applies to JPEG output only" -- \
+    "$persp" render corridor --size 16x16 --quality 30 -o "$tmp/q.png"
+expect 0 "-o, --output DIR" -- "$persp" report --help
 # Loads back close to the PNG: a square facing the camera that fills a 90°
 # view shows its texture texel for pixel, so rendering it with --texture
 # turns an image file into a PNG of the same pixels.

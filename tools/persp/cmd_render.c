@@ -113,6 +113,8 @@ int cmd_render(int argc, char **argv)
     }
     persp_image_write_desc wd = {PERSP_IMAGE_FORMAT_DEFAULT, quality};
     if ((rc = output_format(output, format, &wd.format)) != CLI_OK) return rc;
+    if (cli_given(&cmd, &cli_opt_quality) && wd.format != PERSP_IMAGE_FORMAT_JPEG)
+        cli_warning(NULL, "--quality applies to JPEG output only; the PNG is lossless");
     int to_stdout = output && !strcmp(output, "-");
     /* A path that cannot be written fails now, not after the render. */
     if ((rc = cli_check_output("render", "-o", output)) != CLI_OK) return rc;

@@ -43,7 +43,7 @@ int cmd_report(int argc, char **argv)
     int quick = 0;
     size_t max_memory = 0;
     cli_option opts[] = {
-        CLI_OPT_HELP(cli_opt_output, &output, "folder for index.html and its files (created)"),
+        CLI_OPT_HELP(cli_opt_output_dir, &output, "folder for index.html and its files (created)"),
         CLI_OPT(opt_quick, &quick),
         CLI_OPT(opt_from, &from),
         CLI_OPT(cli_opt_max_memory, &max_memory),

@@ -11,9 +11,9 @@ static void view_usage(FILE *out, const cli_command *cmd)
 {
     fprintf(out, "usage: persp view [SCENE] [options]\n\n"
                  "An interactive window comparing two render configurations side by side\n"
-                 "(SCENE: a built-in scene or a JSON scene file, default corridor). With\n"
-                 "--play it renders a recorded camera path to PNG frames instead, without\n"
-                 "a window. Controls: docs/VIEWER.md.\n\n"
+                 "(SCENE: a built-in scene, a JSON scene file or a model file, default\n"
+                 "corridor). With --play it renders a recorded camera path to PNG frames\n"
+                 "instead, without a window. Controls: docs/VIEWER.md.\n\n"
                  "options:\n");
     cli_print_options(out, cmd);
 #ifndef PERSP_HAVE_VIEWER

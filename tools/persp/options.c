@@ -417,6 +417,11 @@ const cli_spec cli_opt_output = {.name = "output",
                                  .kind = CLI_KIND_STRING,
                                  .metavar = "FILE",
                                  .help = "where to write; - for standard output"};
+const cli_spec cli_opt_output_dir = {.name = "output",
+                                     .short_name = 'o',
+                                     .kind = CLI_KIND_STRING,
+                                     .metavar = "DIR",
+                                     .help = "the folder to write into"};
 const cli_spec cli_opt_quiet = {
     .name = "quiet", .short_name = 'q', .kind = CLI_KIND_FLAG, .help = "print nothing on success"};
 const cli_spec cli_opt_method = {

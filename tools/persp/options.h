@@ -124,7 +124,9 @@ int cli_parse_list(const cli_command *cmd, const cli_option *opt, char *value);
 
 /* The shared options. */
 extern const cli_spec cli_opt_help;     /* -h, --help */
-extern const cli_spec cli_opt_output;   /* -o, --output FILE (const char *; "-": standard output) */
+extern const cli_spec cli_opt_output;
+/* -o / --output naming a folder a command creates (report). */
+extern const cli_spec cli_opt_output_dir;   /* -o, --output FILE (const char *; "-": standard output) */
 extern const cli_spec cli_opt_quiet;    /* -q, --quiet (int) */
 extern const cli_spec cli_opt_method;   /* --method M (const char *, checked) */
 extern const cli_spec cli_opt_filter;   /* --filter F (cli_filter) */
