@@ -1394,6 +1394,13 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
                                "%s: cannot import the model or a file it names (Assimp's "
                                "message withheld: it may quote that file)",
                                display);
+        /* Assimp 5.2's words when no reader takes the file: a format it
+         * does not read, not a malformed file of one it does. */
+        if (!strncmp(why, "No suitable reader found", 24))
+            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                               "%s: not a model format persp reads (OBJ, or one Assimp reads: "
+                               "glTF, PLY, STL, FBX, COLLADA, 3DS, ...)",
+                               display);
         char q[PERSP_QUOTE_BYTES * 2];
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: cannot import the model: %s", display,
                            why[0] ? persp__quote(why, strlen(why), q, sizeof q)

@@ -559,9 +559,10 @@ static void test_errors_name_the_file(void **state)
     assert_non_null(strstr(e, "lines.obj"));
     assert_null(strchr(e, '\n'));
     unload(&l);
+    /* a file no reader takes: an unsupported format, not a malformed one */
     load_text(&l, "\x01\x02 this is not a model \x03", "junk.xyz");
-    assert_int_equal(l.st, PERSP_ERR_FORMAT);
-    assert_non_null(strstr(persp_context_error(l.ctx), "junk.xyz: cannot import the model"));
+    assert_int_equal(l.st, PERSP_ERR_UNSUPPORTED);
+    assert_non_null(strstr(persp_context_error(l.ctx), "junk.xyz: not a model format persp reads"));
     unload(&l);
     load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "range.obj");
     assert_int_not_equal(l.st, PERSP_OK);
