@@ -1310,6 +1310,18 @@ static int json_parse_ran_out(const char *text, size_t size, const json_error_t 
     return stop == SIZE_MAX || (err->position >= 0 && stop > (size_t)err->position);
 }
 
+/* Whether jansson stopped at a closing bracket that follows a comma, the
+ * trailing comma that JavaScript and many editors allow and JSON does not
+ * (RFC 8259 §4, §5). position: jansson's, just past the bracket. */
+static int trailing_comma(const char *text, size_t size, int position)
+{
+    if (position < 1 || (size_t)position > size) return 0;
+    size_t i = (size_t)position - 1;
+    if (text[i] != '}' && text[i] != ']') return 0;
+    while (i > 0 && strchr(" \t\r\n", text[i - 1])) i--;
+    return i > 0 && text[i - 1] == ',';
+}
+
 static persp_status load_json(persp_context *ctx, const char *data, size_t size, const char *name,
                               const char *base_dir, const char *allowed, size_t max_vertices,
                               persp_scene **out)
@@ -1337,8 +1349,11 @@ static persp_status load_json(persp_context *ctx, const char *data, size_t size,
                            j.name);
     if (!root) {
         char q[PERSP_QUOTE_BYTES * 2];
-        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: invalid JSON: %s", j.name, err.line,
-                           err.column, persp__quote(err.text, strlen(err.text), q, sizeof q));
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: invalid JSON: %s%s", j.name, err.line,
+                           err.column, persp__quote(err.text, strlen(err.text), q, sizeof q),
+                           trailing_comma(j.text, size, err.position)
+                               ? " (a comma before the closing bracket: JSON allows none)"
+                               : "");
     }
     persp_status st = persp__scene_new(ctx, &j.scene);
     if (st == PERSP_OK) {
