@@ -389,7 +389,12 @@ typedef struct model_io {
     size_t size;
     const char *base_dir; /* NULL: no other files */
     const char *root;     /* references must resolve inside it; NULL: anywhere */
-    char missing[8][256]; /* already warned about */
+    char missing[8][256]; /* already noted */
+    /* "where: cannot read 'name' (why)" of each file the import could not
+     * read: warnings once the import succeeds, the error if it fails for
+     * want of one (a glTF buffer), which Assimp itself words as "could not
+     * open" after persp had said it goes on without it. */
+    char notes[8][PERSP_ERRMSG_BYTES];
     int nmissing;
     int others;           /* files other than the main one were opened */
     /* Text files the model named (material libraries, glTF), kept until the
@@ -586,12 +591,13 @@ static void warn_missing(model_io *io, const char *rel, const char *why)
     if (is_guess(io, rel)) return;
     for (int i = 0; i < io->nmissing; i++)
         if (!strcmp(io->missing[i], rel)) return;
-    if (io->nmissing < (int)(sizeof io->missing / sizeof io->missing[0]))
-        snprintf(io->missing[io->nmissing++], sizeof io->missing[0], "%.255s", rel);
+    if (io->nmissing >= (int)(sizeof io->missing / sizeof io->missing[0])) return;
+    snprintf(io->missing[io->nmissing], sizeof io->missing[0], "%.255s", rel);
     char at[PERSP_PATH_MAX + 32], q[PERSP_QUOTE_BYTES];
     where(io, rel, at, sizeof at);
-    persp__warn(io->ctx, "%s: cannot read '%s' (%s); going on without it", at,
-                persp__quote(rel, strlen(rel), q, sizeof q), why);
+    snprintf(io->notes[io->nmissing], sizeof io->notes[0], "%.300s: cannot read '%s' (%.64s)", at,
+             persp__quote(rel, strlen(rel), q, sizeof q), why);
+    io->nmissing++;
 }
 
 /* The first of the candidate paths of rel that exists inside root. 1 when
@@ -1383,6 +1389,11 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
         persp__mem_release(ctx, import_bytes);
     }
     if (wrong) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, wrong);
+    if (!ai && io.nmissing)
+        return persp__fail(ctx, PERSP_ERR_IO, "%s, which the model cannot be imported without",
+                           io.notes[0]);
+    for (int i = 0; ai && i < io.nmissing; i++)
+        persp__warn(ctx, "%s; going on without it", io.notes[i]);
     if (!ai) {
         why[strcspn(why, "\r\n")] = '\0';
         /* Assimp's message may quote the text it choked on; once another

@@ -351,6 +351,39 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
 /* glTF's KHR_texture_transform is not applied (Assimp 5.2 scales about the
  * texture's centre, not its origin): the coordinates stay as stored and a
  * warning says so. */
+/* A file the import cannot do without (a glTF buffer) is the error itself,
+ * named with the line that names it, not a warning that persp goes on
+ * without it followed by Assimp's "could not open". */
+static void test_gltf_missing_buffer(void **state)
+{
+    (void)state;
+    char path[1024];
+    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    static char text[8192], edited[8192];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    const char *uri = strstr(text, "\"data:application/octet-stream");
+    assert_non_null(uri);
+    const char *close = strchr(uri + 1, '"');
+    snprintf(edited, sizeof edited, "%.*s\"gone.bin\"%s", (int)(uri - text), text, close + 1);
+    make_tmp();
+    write_text("b.gltf", edited);
+    tmp_path(path, sizeof path, "b.gltf");
+    loaded l;
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_ERR_IO);
+    const char *e = persp_context_error(l.ctx);
+    assert_non_null(strstr(e, "b.gltf:"));
+    assert_non_null(strstr(e, "cannot read 'gone.bin'"));
+    assert_non_null(strstr(e, "which the model cannot be imported without"));
+    assert_int_equal(l.warn.count, 0);
+    unload(&l);
+    remove_tmp();
+}
+
 static void test_gltf_texture_transform_warned(void **state)
 {
     (void)state;
@@ -706,6 +739,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_quad_from_memory),
         cmocka_unit_test(test_gltf_texture_transform_warned),
+        cmocka_unit_test(test_gltf_missing_buffer),
         cmocka_unit_test(test_obj_indices_colours_polygons),
         cmocka_unit_test(test_obj_smooth_normals_when_missing),
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
