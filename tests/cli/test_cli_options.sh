@@ -18,52 +18,19 @@ jpeg_sig=ffd8ff
 have_python=0
 command -v python3 >/dev/null && have_python=1
 cat >"$tmp/png.py" <<'PY'
-import struct, sys, zlib
-
-def load(path):
-    d = open(path, 'rb').read()
-    assert d[:8] == b'\x89PNG\r\n\x1a\n', path + ': no PNG signature'
-    pos, idat, w, h = 8, b'', None, None
-    while pos < len(d):
-        n, t = struct.unpack('>I4s', d[pos:pos + 8])
-        body = d[pos + 8:pos + 8 + n]
-        pos += 12 + n
-        if t == b'IHDR':
-            w, h, depth, ctype, _, _, interlace = struct.unpack('>IIBBBBB', body)
-            assert depth == 8 and ctype == 6 and interlace == 0, 'not 8-bit RGBA'
-        elif t == b'IDAT':
-            idat += body
-        elif t == b'IEND':
-            break
-    raw, stride = zlib.decompress(idat), 4 * w
-    rows, prev, i = [], bytearray(stride), 0
-    for _ in range(h):
-        f, line = raw[i], bytearray(raw[i + 1:i + 1 + stride])
-        i += 1 + stride
-        for x in range(stride):
-            a = line[x - 4] if x >= 4 else 0
-            b = prev[x]
-            c = prev[x - 4] if x >= 4 else 0
-            if f == 1: line[x] = (line[x] + a) & 255
-            elif f == 2: line[x] = (line[x] + b) & 255
-            elif f == 3: line[x] = (line[x] + (a + b) // 2) & 255
-            elif f == 4:
-                p = a + b - c
-                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-        rows.append(bytes(line))
-        prev = line
-    return w, h, rows
+import sys
+from png_rows import png
 
 if sys.argv[1] == 'size':
-    w, h, _ = load(sys.argv[2])
+    w, h, _ = png(sys.argv[2])
     print('%dx%d' % (w, h))
 else:  # diff A B: largest and mean RGB difference
-    (w, h, a), (w2, h2, b) = load(sys.argv[2]), load(sys.argv[3])
+    (w, h, a), (w2, h2, b) = png(sys.argv[2]), png(sys.argv[3])
     assert (w, h) == (w2, h2), 'sizes differ'
-    d = [abs(a[y][x] - b[y][x]) for y in range(h) for x in range(4 * w) if x % 4 != 3]
+    d = [abs(p[c] - q[c]) for ra, rb in zip(a, b) for p, q in zip(ra, rb) for c in range(3)]
     print('%d %.3f' % (max(d), sum(d) / len(d)))
 PY
+export PYTHONPATH="$(cd "$(dirname "$0")" && pwd)"
 
 # ------------------------------------------------------------ --opt=value
 expect 0 "32x24, method affine, filter nearest, shading none, depth 1/w, 2 threads" -- \

@@ -70,45 +70,15 @@ else
     timeout 120 "$browser" "${flags[@]}" --hide-scrollbars --screenshot="$tmp/shot.png" --window-size=1280,2000 \
         "file://$page" >/dev/null 2>"$tmp/console" || bad "chromium --screenshot failed: $(tail -5 "$tmp/console")"
     # Not blank: many distinct colours and a spread of brightness.
-    python3 - "$tmp/shot.png" <<'PY' && ok || bad "screenshot is blank or unreadable"
-import struct, sys, zlib
-data = open(sys.argv[1], "rb").read()
-assert data[:8] == b"\x89PNG\r\n\x1a\n"
-pos, idat, w = 8, b"", 0
-while pos < len(data):
-    n, kind = struct.unpack(">I4s", data[pos:pos + 8])
-    body = data[pos + 8:pos + 8 + n]
-    if kind == b"IHDR":
-        w, h, depth, ctype = struct.unpack(">IIBB", body[:10])
-        bpp = {2: 3, 6: 4}[ctype]
-        assert depth == 8
-    elif kind == b"IDAT":
-        idat += body
-    pos += 12 + n
-raw = zlib.decompress(idat)
-stride = w * bpp
-prev = bytearray(stride)
+    PYTHONPATH="$(dirname "$0")" python3 - "$tmp/shot.png" <<'PY' && ok || bad "screenshot is blank or unreadable"
+import sys
+from png_rows import png
+w, h, rows = png(sys.argv[1])
 colours, lum = set(), []
-for y in range(h):
-    f = raw[y * (stride + 1)]
-    line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-    for i in range(stride):
-        a = line[i - bpp] if i >= bpp else 0
-        b = prev[i]
-        c = prev[i - bpp] if i >= bpp else 0
-        if f == 1: line[i] = (line[i] + a) & 255
-        elif f == 2: line[i] = (line[i] + b) & 255
-        elif f == 3: line[i] = (line[i] + (a + b) // 2) & 255
-        elif f == 4:
-            p = a + b - c
-            pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-            line[i] = (line[i] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
-    prev = line
-    if y % 8 == 0:
-        for x in range(0, w, 8):
-            px = bytes(line[x * bpp:x * bpp + 3])
-            colours.add(px)
-            lum.append(sum(px))
+for y in range(0, h, 8):
+    for x in range(0, w, 8):
+        colours.add(rows[y][x])
+        lum.append(sum(rows[y][x]))
 mean = sum(lum) / len(lum)
 var = sum((v - mean) ** 2 for v in lum) / len(lum)
 print("screenshot: %dx%d, %d colours, brightness sd %.1f" % (w, h, len(colours), var ** 0.5))

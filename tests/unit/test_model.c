@@ -2,7 +2,7 @@
  * glTF with embedded buffers and textures, PLY and STL, node transforms,
  * warnings and fallbacks for missing files, errors naming the file, and
  * scenes built around a bare model. */
-#include "support.h"
+#include "model_load.h"
 
 #include "core/internal.h"
 #include "geom/scene.h"
@@ -15,66 +15,6 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-typedef struct warnings {
-    int count;
-    char last[512];
-} warnings;
-
-static void on_warning(void *user, const char *message)
-{
-    warnings *w = user;
-    w->count++;
-    if (getenv("PERSP_TEST_VERBOSE")) fprintf(stderr, "warning: %s\n", message);
-    snprintf(w->last, sizeof w->last, "%s", message);
-}
-
-typedef struct loaded {
-    persp_context *ctx;
-    persp_scene *scene;
-    persp_model model;
-    persp_status st;
-    warnings warn;
-} loaded;
-
-static void begin(loaded *l)
-{
-    memset(l, 0, sizeof *l);
-    l->ctx = test_context();
-    persp_context_set_warning_handler(l->ctx, on_warning, &l->warn);
-    assert_int_equal(persp__scene_new(l->ctx, &l->scene), PERSP_OK);
-}
-
-static void load_text(loaded *l, const char *text, const char *name)
-{
-    begin(l);
-    l->st = persp__model_load_memory(l->scene, text, strlen(text), name, NULL, NULL, 0, &l->model);
-}
-
-static void load_path(loaded *l, const char *path)
-{
-    begin(l);
-    l->st = persp__model_load_file(l->scene, path, NULL, 0, &l->model);
-}
-
-static void unload(loaded *l)
-{
-    persp__model_free(l->ctx, &l->model);
-    persp_scene_destroy(l->scene);
-    persp_context_destroy(l->ctx);
-}
-
-static const persp_mesh *mesh_of(const loaded *l, size_t part)
-{
-    assert_int_equal(l->st, PERSP_OK);
-    assert_true(l->model.part_count > part);
-    return &l->scene->meshes[l->model.parts[part].mesh];
-}
-
-static const persp_material *material_of(const loaded *l, size_t part)
-{
-    return &l->scene->materials[l->model.parts[part].material];
-}
 
 static char tmpdir[64];
 
@@ -348,9 +288,18 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
     unload(&l);
 }
 
-/* glTF's KHR_texture_transform is not applied (Assimp 5.2 scales about the
- * texture's centre, not its origin): the coordinates stay as stored and a
- * warning says so. */
+/* The text of tests/data/models/embedded.gltf, for tests that edit it. */
+static void embedded_gltf(char *text, size_t size)
+{
+    char path[1024];
+    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    size_t n = fread(text, 1, size - 1, f);
+    fclose(f);
+    text[n] = '\0';
+}
+
 /* A file the import cannot do without (a glTF buffer) is the error itself,
  * named with the line that names it, not a warning that persp goes on
  * without it followed by Assimp's "could not open". */
@@ -358,13 +307,8 @@ static void test_gltf_missing_buffer(void **state)
 {
     (void)state;
     char path[1024];
-    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
     static char text[8192], edited[8192];
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
+    embedded_gltf(text, sizeof text);
     const char *uri = strstr(text, "\"data:application/octet-stream");
     assert_non_null(uri);
     const char *close = strchr(uri + 1, '"');
@@ -384,17 +328,28 @@ static void test_gltf_missing_buffer(void **state)
     remove_tmp();
 }
 
+/* The largest u of the first mesh of the model in text. */
+static float max_u(const char *text, const char *name, int warnings, const char *warning)
+{
+    loaded l;
+    load_text(&l, text, name);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, warnings);
+    if (warning) assert_non_null(strstr(l.warn.last, warning));
+    float u = -INFINITY;
+    for (size_t i = 0; i < mesh_of(&l, 0)->vertex_count; i++) u = fmaxf(u, mesh_of(&l, 0)->vertices[i].uv[0]);
+    unload(&l);
+    return u;
+}
+
+/* glTF's KHR_texture_transform is not applied (Assimp 5.2 scales about the
+ * texture's centre, not its origin): the coordinates stay as stored and a
+ * warning says so. */
 static void test_gltf_texture_transform_warned(void **state)
 {
     (void)state;
-    char path[1024];
-    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
     static char plain[8192], scaled[8400];
-    size_t n = fread(plain, 1, sizeof plain - 1, f);
-    fclose(f);
-    plain[n] = '\0';
+    embedded_gltf(plain, sizeof plain);
     const char *key = "\"baseColorTexture\": {";
     const char *at = strstr(plain, key);
     assert_non_null(at);
@@ -403,22 +358,8 @@ static void test_gltf_texture_transform_warned(void **state)
              "{\"extensionsUsed\": [\"KHR_texture_transform\"],%.*s"
              "\"extensions\": {\"KHR_texture_transform\": {\"scale\": [2, 1]}},%s",
              (int)(head - 1), plain + 1, plain + head);
-    loaded l;
-    load_text(&l, plain, "plain.gltf");
-    assert_int_equal(l.st, PERSP_OK);
-    assert_int_equal(l.warn.count, 0);
-    float plain_u = 0.0f;
-    for (size_t i = 0; i < mesh_of(&l, 0)->vertex_count; i++)
-        plain_u = fmaxf(plain_u, mesh_of(&l, 0)->vertices[i].uv[0]);
-    unload(&l);
-    load_text(&l, scaled, "scaled.gltf");
-    assert_int_equal(l.st, PERSP_OK);
-    assert_int_equal(l.warn.count, 1);
-    assert_non_null(strstr(l.warn.last, "scaled.gltf: KHR_texture_transform is not applied"));
-    float scaled_u = 0.0f;
-    for (size_t i = 0; i < mesh_of(&l, 0)->vertex_count; i++)
-        scaled_u = fmaxf(scaled_u, mesh_of(&l, 0)->vertices[i].uv[0]);
-    unload(&l);
+    const float plain_u = max_u(plain, "plain.gltf", 0, NULL);
+    const float scaled_u = max_u(scaled, "scaled.gltf", 1, "scaled.gltf: KHR_texture_transform is not applied");
     assert_true(plain_u == 1.0f && scaled_u == 1.0f);
 }
 
