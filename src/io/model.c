@@ -356,10 +356,15 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
         return PERSP_OK;
     }
     /* OFF, COFF, NOFF, STOFF, ...: the counts follow the keyword, after
-     * comment lines */
+     * comment lines. The keyword is optional (as the format has it, and
+     * Assimp 5.2's reader then takes the counts from the first line), so a
+     * .off file without one is held to the same check: "6666666666660 1 0"
+     * as its first line took 10 GB (found by the model fuzzer). */
     while (p < end && isalpha((unsigned char)*p))
         p++;
-    if (p - buf < 3 || p - buf > 8 || strncmp(p - 3, "OFF", 3) != 0) return PERSP_OK;
+    const int keyword = p - buf >= 3 && p - buf <= 8 && strncmp(p - 3, "OFF", 3) == 0;
+    if (!keyword && !persp__model_has_ext(display, "off")) return PERSP_OK;
+    if (!keyword) p = buf;
     unsigned long long counts[2] = {0, 0};
     for (int k = 0; k < 2 && p < end;) {
         while (p < end && isspace((unsigned char)*p))
@@ -368,6 +373,8 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
             p = next_line(p, end);
             continue;
         }
+        if (p < end && (*p == '-' || *p == '+'))
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: an OFF count has a sign", display);
         if (p >= end || !isdigit((unsigned char)*p)) break;
         counts[k++] = strtoull(p, (char **)&p, 10);
     }

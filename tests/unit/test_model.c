@@ -557,6 +557,19 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
     assert_non_null(strstr(persp_context_error(l.ctx), "5000 faces, more than the file holds"));
     unload(&l);
+    /* the OFF keyword is optional: the first line then holds the counts
+     * (6666666666660 vertices took Assimp 10 GB), and a count has no sign */
+    load_text(&l, "6666666666660 1 0\n0 0 0\n", "nokey.off");
+    assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
+    assert_non_null(strstr(persp_context_error(l.ctx), "nokey.off: the header declares 6666666666660 vertices"));
+    unload(&l);
+    load_text(&l, "OFF -3 1 0\n0 0 0\n", "sign.off");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "sign.off: an OFF count has a sign"));
+    unload(&l);
+    load_text(&l, "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "plain.off");
+    assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    unload(&l);
     /* a PLY element name of digits, which Assimp would read as the count
      * (here 2^32 + 1, which it wraps to 1) */
     load_text(&l,
