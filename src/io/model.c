@@ -1234,6 +1234,23 @@ static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
     int any = 0, area = 0;
     for (unsigned i = 0; i < ai->mNumMeshes; i++) {
         struct aiMesh *m = ai->mMeshes[i]; /* the scene is this import's own */
+        /* Faces without corners pass Assimp 5.2's validation and then break
+         * its post-processing: Triangulate asserts, SortByPType crashed the
+         * process (SIGBUS, a 288-byte PLY found by the model fuzzer). They
+         * are moved behind the others and left out of the count. Moved by
+         * swapping, so that every index array is still owned by exactly
+         * one face when Assimp frees the whole array. */
+        unsigned kept = 0;
+        for (unsigned f = 0; f < m->mNumFaces; f++) {
+            if (m->mFaces[f].mNumIndices == 0) continue;
+            if (f != kept) {
+                struct aiFace t = m->mFaces[kept];
+                m->mFaces[kept] = m->mFaces[f];
+                m->mFaces[f] = t;
+            }
+            kept++;
+        }
+        m->mNumFaces = kept;
         unsigned types = 0;
         for (unsigned f = 0; f < m->mNumFaces; f++) {
             unsigned n = m->mFaces[f].mNumIndices;

@@ -570,6 +570,15 @@ static void test_errors_name_the_file(void **state)
     load_text(&l, "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "plain.off");
     assert_int_equal(mesh_of(&l, 0)->index_count, 3);
     unload(&l);
+    /* faces without corners, which pass Assimp's validation and crashed
+     * its post-processing (SIGBUS), are left out */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 4\nproperty list uchar int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n0\n3 0 1 2\n0\n1 0\n",
+              "empty.ply");
+    assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    unload(&l);
     /* a PLY element name of digits, which Assimp would read as the count
      * (here 2^32 + 1, which it wraps to 1) */
     load_text(&l,
