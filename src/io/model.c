@@ -264,6 +264,62 @@ static persp_status check_gltf_images(persp_context *ctx, const char *display, c
     return PERSP_OK;
 }
 
+/* The body of an ASCII PLY walked as its header lays it out (each element's
+ * instances, each property one value or a count and that many values):
+ * Assimp 5.2 sizes a list by its count as read, whatever the count's
+ * declared type, so a count larger than the values left in the file (a
+ * "666666666666666" where a uchar belongs took 15 GB, found by the model
+ * fuzzer) is refused here. elements: the header's element lines; body: the
+ * end_header line. */
+static persp_status check_ply_lists(persp_context *ctx, const char *display,
+                                    const char *const *elements, int n, const char *body,
+                                    const char *end)
+{
+    const char *p = next_line(body, end);
+    for (int i = 0; i < n && p < end; i++) {
+        /* the element's count, then its properties up to the next element */
+        const char *q = elements[i] + 8;
+        while (q < end && *q == ' ')
+            q++;
+        while (q < end && *q != ' ' && *q != '\n')
+            q++;
+        unsigned long long count = strtoull(q, NULL, 10);
+        int list[64], nprops = 0;
+        const char *stop = i + 1 < n ? elements[i + 1] : body;
+        for (const char *l = next_line(elements[i], end); l < stop && nprops < 64;
+             l = next_line(l, end))
+            if (!strncmp(l, "property ", 9)) list[nprops++] = !strncmp(l, "property list ", 14);
+        /* Assimp reads an ASCII instance from one line (PLY::DOM). */
+        for (unsigned long long e = 0; e < count && p < end; e++, p = next_line(p, end)) {
+            const char *eol = memchr(p, '\n', (size_t)(end - p));
+            if (!eol) eol = end;
+            const char *c = p;
+            for (int k = 0; k < nprops && c < eol; k++) {
+                while (c < eol && isspace((unsigned char)*c))
+                    c++;
+                const char *t = c;
+                while (c < eol && !isspace((unsigned char)*c))
+                    c++;
+                if (!list[k]) continue;
+                unsigned long long values = isdigit((unsigned char)*t) ? strtoull(t, NULL, 10) : 0;
+                /* each value takes a character and a separator at least */
+                if (values > (unsigned long long)(eol - c + 1) / 2)
+                    return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                       "%s: a PLY list of element %d declares %llu values, more "
+                                       "than its line holds",
+                                       display, i + 1, values);
+                for (unsigned long long v = 0; v < values && c < eol; v++) {
+                    while (c < eol && isspace((unsigned char)*c))
+                        c++;
+                    while (c < eol && !isspace((unsigned char)*c))
+                        c++;
+                }
+            }
+        }
+    }
+    return PERSP_OK;
+}
+
 static persp_status check_declared_counts(persp_context *ctx, const char *display, const char *buf,
                                           size_t size)
 {
@@ -346,6 +402,10 @@ static persp_status check_declared_counts(persp_context *ctx, const char *displa
                             vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
             if (st != PERSP_OK) return st;
             if (vertex) vertices += count;
+        }
+        if (!strncmp(buf + 4, "format ascii", 12) || strstr(buf, "\nformat ascii")) {
+            persp_status lst = check_ply_lists(ctx, display, elements, n, p, end);
+            if (lst != PERSP_OK) return lst;
         }
         /* Nothing to draw without vertices, and Assimp 5.2's PLY loader,
          * given faces or colours but no vertex element, sizes an array by

@@ -570,6 +570,17 @@ static void test_errors_name_the_file(void **state)
     load_text(&l, "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "plain.off");
     assert_int_equal(mesh_of(&l, 0)->index_count, 3);
     unload(&l);
+    /* an ASCII list count beyond its line (Assimp sized the list by it:
+     * 15 GB for a count of fifteen 6s) */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+              "end_header\n0 0 0\n1 0 0\n0 1 0\n666666666666666 0 1 2\n",
+              "list.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx),
+                           "list.ply: a PLY list of element 2 declares 666666666666666 values"));
+    unload(&l);
     /* faces without corners, which pass Assimp's validation and crashed
      * its post-processing (SIGBUS), are left out */
     load_text(&l,
