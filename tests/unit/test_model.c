@@ -581,6 +581,45 @@ static void test_errors_name_the_file(void **state)
     assert_non_null(strstr(persp_context_error(l.ctx),
                            "list.ply: a PLY list of element 2 declares 666666666666666 values"));
     unload(&l);
+    /* the same in a binary PLY, little- and big-endian (16.8 and 8.4 GB
+     * in Assimp); a valid one still loads */
+    {
+        static const char head[] =
+            "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+            "property float y\nproperty float z\nelement face 1\n"
+            "property list int int vertex_indices\nend_header\n";
+        unsigned char file[sizeof head - 1 + 36 + 16];
+        memcpy(file, head, sizeof head - 1);
+        unsigned char *body = file + sizeof head - 1;
+        const float xyz[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+        memcpy(body, xyz, sizeof xyz); /* this machine is little-endian, as the header says */
+        const int32_t face[4] = {3, 0, 1, 2};
+        memcpy(body + 36, face, sizeof face);
+        load_bytes(&l, (const char *)file, sizeof file, "bin.ply");
+        assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+        unload(&l);
+        const int32_t huge = 0x7fffffff;
+        memcpy(body + 36, &huge, 4);
+        load_bytes(&l, (const char *)file, sizeof file, "huge.ply");
+        assert_int_equal(l.st, PERSP_ERR_FORMAT);
+        assert_non_null(strstr(persp_context_error(l.ctx),
+                               "huge.ply: a PLY list of element 2 declares 2147483647 values"));
+        unload(&l);
+        /* big-endian: the count's bytes 40 00 00 00 read as 2^30 */
+        static const char head_be[] =
+            "ply\nformat binary_big_endian 1.0\nelement vertex 3\nproperty float x\n"
+            "property float y\nproperty float z\nelement face 1\n"
+            "property list int int vertex_indices\nend_header\n";
+        unsigned char file_be[sizeof head_be - 1 + 36 + 16];
+        memcpy(file_be, head_be, sizeof head_be - 1);
+        memset(file_be + sizeof head_be - 1, 0, 52);
+        file_be[sizeof head_be - 1 + 36] = 0x40;
+        load_bytes(&l, (const char *)file_be, sizeof file_be, "be.ply");
+        assert_int_equal(l.st, PERSP_ERR_FORMAT);
+        assert_non_null(strstr(persp_context_error(l.ctx),
+                               "be.ply: a PLY list of element 2 declares 1073741824 values"));
+        unload(&l);
+    }
     /* faces without corners, which pass Assimp's validation and crashed
      * its post-processing (SIGBUS), are left out */
     load_text(&l,
