@@ -124,4 +124,11 @@ persp_status persp__model_add_part(persp_scene *scene, persp_model *out, size_t 
 /* 1 when the triangle spans an area, relative to its edges' lengths. */
 int persp__model_triangle_has_area(const float *a, const float *b, const float *c);
 
+/* The checks a model file must pass before Assimp reads it
+ * (src/io/model_check.c): PERSP_ERR_FORMAT or PERSP_ERR_TOO_LARGE with the
+ * detail set, or PERSP_OK (possibly after a warning). buf: the file's
+ * bytes, text normalised; display: its name in messages. */
+persp_status persp__model_check(persp_context *ctx, const char *display, const char *buf,
+                                size_t size);
+
 #endif
