@@ -15,6 +15,8 @@
 static int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 static int64_t ceil_div(int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
 
+/* Boxes of at most this many pixel centres are tested for coverage at set-up. */
+#define SMALL_BOX_PIXELS 9
 #define COORD_LIMIT ((double)(1 << 22)) /* |window coordinate| in pixels, far beyond the guard band */
 
 int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int cull, persp_tri *t)
@@ -65,6 +67,37 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
     if (by1 > height - 1) by1 = height - 1;
     if (bx0 > bx1 || by0 > by1) return 0;
 
+    int64_t ea[3], eb[3], ec[3];
+    for (int k = 0; k < 3; k++) {
+        int i = k, j = (k + 1) % 3;
+        int64_t dx = x[j] - x[i], dy = y[j] - y[i];
+        ea[k] = -dy;
+        eb[k] = dx;
+        ec[k] = -(ea[k] * x[i] + eb[k] * y[i]);
+        /* Top-left rule in y-up window space for a counter-clockwise
+         * triangle: a left edge runs downwards, a top edge runs towards -x.
+         * Pixels exactly on other edges belong to the neighbour. */
+        int top_left = dy < 0 || (dy == 0 && dx < 0);
+        if (!top_left) ec[k] -= 1;
+    }
+    /* A triangle of a few pixels' box often covers no pixel centre at all
+     * (on the 2M-triangle torus, about two pixels per triangle, a third of
+     * those set up); testing the few centres with the edge functions the
+     * rasterizer uses drops exactly those, before the planes are fitted
+     * and the record is binned and walked. */
+    if ((bx1 - bx0 + 1) * (by1 - by0 + 1) <= SMALL_BOX_PIXELS) {
+        int covered = 0;
+        for (int64_t py = by0; py <= by1 && !covered; py++) {
+            const int64_t Yc = py * PERSP_SUBPIXEL + half;
+            for (int64_t px = bx0; px <= bx1 && !covered; px++) {
+                const int64_t Xc = px * PERSP_SUBPIXEL + half;
+                covered = ea[0] * Xc + eb[0] * Yc + ec[0] >= 0 && ea[1] * Xc + eb[1] * Yc + ec[1] >= 0 &&
+                          ea[2] * Xc + eb[2] * Yc + ec[2] >= 0;
+            }
+        }
+        if (!covered) return 0;
+    }
+
     const int shading = (need & PERSP_SETUP_SHADING) != 0;
     /* Without the shading fields (bary, lb1, lb2, vattr, light_side) the
      * record is written field by field: clearing all of it would cost as
@@ -72,18 +105,7 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
     if (shading) memset(t, 0, sizeof *t);
     t->backfacing = back;
     t->xmin = (int)bx0, t->xmax = (int)bx1, t->ymin = (int)by0, t->ymax = (int)by1;
-    for (int k = 0; k < 3; k++) {
-        int i = k, j = (k + 1) % 3;
-        int64_t dx = x[j] - x[i], dy = y[j] - y[i];
-        t->ea[k] = -dy;
-        t->eb[k] = dx;
-        t->ec[k] = -(t->ea[k] * x[i] + t->eb[k] * y[i]);
-        /* Top-left rule in y-up window space for a counter-clockwise
-         * triangle: a left edge runs downwards, a top edge runs towards -x.
-         * Pixels exactly on other edges belong to the neighbour. */
-        int top_left = dy < 0 || (dy == 0 && dx < 0);
-        if (!top_left) t->ec[k] -= 1;
-    }
+    for (int k = 0; k < 3; k++) t->ea[k] = ea[k], t->eb[k] = eb[k], t->ec[k] = ec[k];
 
     double vx[3], vy[3], q[3], zz[3], uq[3], vq[3], b1[3], b2[3];
     /* Unrolled, so that the per-vertex values stay in registers: stored
