@@ -816,11 +816,28 @@ static void sink(void *user, const persp_frag_batch *b) { shade_batch(user, b); 
  * the fastest for every shading (20k: 4–6 %, 2k: 7–9 % less CPU than 32). */
 #define SMALL_TRI_WIDTH 64
 
+/* Lanes of one batch may come from several consecutive small triangles
+ * of the tile (segments), all of one draw state: a triangle of a pixel or
+ * two fills a sixteenth of a batch, and the sampler and the write-back
+ * cost the same for a full one (on the 2M torus, 1.5 pixels per drawn
+ * triangle). The per-lane values are the row start plus k·step, computed
+ * when the lane is filled by the operations shade_lanes used to apply. No
+ * two lanes of a batch are the same pixel (the tile's busy bitmap), so the
+ * depth tests of a batch cannot see one another and the order of
+ * submission is kept. */
+#define LANE_GROUP 16
+_Static_assert(PERSP_TILE == 64, "a tile row of the busy bitmap is one 64-bit word");
 typedef struct lane_batch {
-    int n;
-    float u0[PERSP_SPAN_MAX], v0[PERSP_SPAN_MAX], q0[PERSP_SPAN_MAX], z0[PERSP_SPAN_MAX];
-    float w10[PERSP_SPAN_MAX], w20[PERSP_SPAN_MAX], k[PERSP_SPAN_MAX];
-    int32_t idx[PERSP_SPAN_MAX];
+    int n, nseg;
+    int row0, row1; /* the tile rows its lanes lie in */
+    const persp_draw_state *ds;
+    /* LANE_GROUP lanes of slack: draw_small fills whole groups. */
+    float q[PERSP_SPAN_MAX + LANE_GROUP], z[PERSP_SPAN_MAX + LANE_GROUP];   /* 1/w and depth */
+    float un[PERSP_SPAN_MAX + LANE_GROUP], vn[PERSP_SPAN_MAX + LANE_GROUP]; /* u/w, v/w */
+    float an[PERSP_SPAN_MAX + LANE_GROUP], bn[PERSP_SPAN_MAX + LANE_GROUP]; /* the weights' numerators (lit) */
+    int32_t idx[PERSP_SPAN_MAX + LANE_GROUP]; /* pixel in the tile: row·PERSP_TILE + column */
+    int seg_start[PERSP_SPAN_MAX + 1];
+    const persp_tri *seg_tri[PERSP_SPAN_MAX];
 } lane_batch;
 
 /* Filters whose footprint is each pixel's own (per-draw half of the
@@ -840,25 +857,22 @@ static int lane_filter(persp_filter filter)
 
 static int lanes_apply(const persp_draw_state *ds, const persp_tri *t)
 {
-    return ds->small_lanes && t->prep == UINT32_MAX && t->xmax - t->xmin < SMALL_TRI_WIDTH && t->ymax != t->ymin;
+    return ds->small_lanes && t->prep == UINT32_MAX && t->xmax - t->xmin < SMALL_TRI_WIDTH;
 }
 
-PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
+PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t *busy)
 {
     const persp_frame *f = sc->f;
-    const persp_tri *t = sc->t;
-    const persp_draw_state *ds = sc->ds;
+    const persp_draw_state *ds = lb->ds;
     const int n = lb->n;
     const int invw = f->depth_mode == PERSP_DEPTH_INVW;
     float *depth = sc->depth;
     uint32_t *color = sc->color;
-    float q[PERSP_SPAN_MAX], z[PERSP_SPAN_MAX];
+    const float *q = lb->q, *z = lb->z;
     int32_t live[PERSP_SPAN_MAX];
-    const float dq = (float)t->rat.g, dz = (float)t->zp[0];
-    for (int k = 0; k < n; k++) {
-        q[k] = lb->q0[k] + lb->k[k] * dq;
-        z[k] = lb->z0[k] + lb->k[k] * dz;
-    }
+    /* The bitmap holds this batch's pixels only. */
+    memset(busy + lb->row0, 0, (size_t)(lb->row1 - lb->row0 + 1) * sizeof *busy);
+    lb->n = 0;
     if (!ds->depth_test) {
         for (int k = 0; k < n; k++) live[k] = 1;
     } else if (invw) {
@@ -871,34 +885,51 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
     sc->stats->fragments += (uint64_t)n;
     if (!any) return;
     float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX], rq[PERSP_SPAN_MAX];
-    const float du = (float)t->rat.a, dv = (float)t->rat.d;
     const int weights = !ds->shade_is_texel;
     /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]; one for u, v and the
      * weights, as persp__exact_span_pair. */
     for (int k = 0; k < n; k++) {
         rq[k] = 1.0f / q[k];
-        u[k] = (lb->u0[k] + lb->k[k] * du) * rq[k];
-        v[k] = (lb->v0[k] + lb->k[k] * dv) * rq[k];
+        u[k] = lb->un[k] * rq[k];
+        v[k] = lb->vn[k] * rq[k];
     }
-    if (weights) {
-        const float da = (float)t->bary.a, db = (float)t->bary.d;
+    if (weights)
         for (int k = 0; k < n; k++) {
-            w1[k] = (lb->w10[k] + lb->k[k] * da) * rq[k];
-            w2[k] = (lb->w20[k] + lb->k[k] * db) * rq[k];
+            w1[k] = lb->an[k] * rq[k];
+            w2[k] = lb->bn[k] * rq[k];
         }
-    }
     uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
-    persp_tex_span_in in = {
-        .n = n, .u = u, .v = v, .q = q,
-        .a = (float)t->rat.a, .b = (float)t->rat.b, .d = (float)t->rat.d,
-        .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
-        .poly_lambda = t->poly_lambda,
-    };
-    persp__sample_span(&ds->sampler, &in, weights ? texel : out);
-    if (ds->shading == PERSP_SHADING_PHONG_PC)
-        persp__shade_phong_lanes(ds, t, n, w1, w2, texel, out);
-    else if (weights)
-        persp__shade_gouraud_lanes(ds, t, n, w1, w2, texel, out);
+    uint32_t *tx = weights ? texel : out;
+    /* A filter without a level of detail reads no triangle's derivatives:
+     * one call for every segment. */
+    const int one_call = !persp__sampler_needs_lod(&ds->sampler);
+    for (int s = 0; s < lb->nseg; s++) {
+        const persp_tri *t = lb->seg_tri[s];
+        const int s0 = one_call ? 0 : lb->seg_start[s];
+        const int m = (one_call ? n : lb->seg_start[s + 1]) - s0;
+        persp_tex_span_in in = {
+            .n = m, .u = u + s0, .v = v + s0, .q = q + s0,
+            .a = (float)t->rat.a, .b = (float)t->rat.b, .d = (float)t->rat.d,
+            .e = (float)t->rat.e, .g = (float)t->rat.g, .h = (float)t->rat.h,
+            .poly_lambda = t->poly_lambda,
+        };
+        persp__sample_span(&ds->sampler, &in, tx + s0);
+        if (one_call) break;
+    }
+    if (weights)
+        for (int s = 0; s < lb->nseg; s++) {
+            const persp_tri *t = lb->seg_tri[s];
+            const int s0 = lb->seg_start[s], m = lb->seg_start[s + 1] - s0;
+            /* Lighting is most of a lit lane's cost: a segment hidden
+             * behind the depth buffer (overdraw) is not lit. */
+            int seg_live = 0;
+            for (int k = s0; k < s0 + m; k++) seg_live |= live[k];
+            if (!seg_live) continue;
+            if (ds->shading == PERSP_SHADING_PHONG_PC)
+                persp__shade_phong_lanes(ds, t, m, w1 + s0, w2 + s0, texel + s0, out + s0);
+            else
+                persp__shade_gouraud_lanes(ds, t, m, w1 + s0, w2 + s0, texel + s0, out + s0);
+        }
     if (ds->force_opaque)
         for (int k = 0; k < n; k++) out[k] |= 0xff000000u;
     const float *dvals = invw ? q : z;
@@ -910,24 +941,44 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, const lane_batch *lb)
     sc->stats->pixels_written += (uint64_t)any;
 }
 
-/* The rows ya..yb of a small triangle within the tile's columns x0..x1, in
- * batches of whole rows. */
-PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, int ya, int yb, int x0, int x1)
+/* The rows ya..yb of a small triangle within the tile's columns x0..x1,
+ * added to the tile's lane batch in whole rows; the batch is shaded first
+ * when a row would overfill it or repeat one of its pixels. */
+PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t *busy, int ya, int yb,
+                                         int x0, int x1)
 {
     const persp_tri *t = sc->t;
     const int weights = !sc->ds->shade_is_texel;
-    lane_batch lb;
-    lb.n = 0;
+    const float dq = (float)t->rat.g, dz = (float)t->zp[0];
+    const float du = (float)t->rat.a, dv = (float)t->rat.d;
+    const float da = weights ? (float)t->bary.a : 0.0f, db = weights ? (float)t->bary.d : 0.0f;
+    /* A triangle that may not fit the batch's room starts a batch of its
+     * own rather than being split over two: each segment is lit apart,
+     * padded to whole vectors. */
+    const int box = (yb - ya + 1) * (PERSP_MIN(x1, t->xmax) - PERSP_MAX(x0, t->xmin) + 1);
+    if (lb->n && lb->n + box > PERSP_SPAN_MAX) shade_lanes(sc, lb, busy);
     persp_row_walk walk;
     persp__row_walk_init(&walk, t, ya, x0, x1);
     for (int y = ya; y <= yb; y++) {
         int lo, hi;
         if (!persp__row_walk_next(&walk, &lo, &hi)) continue;
         const int len = hi - lo + 1;
-        if (lb.n + len > PERSP_SPAN_MAX && lb.n) {
-            shade_lanes(sc, &lb);
-            lb.n = 0;
+        const int32_t base = (y - sc->oy) * PERSP_TILE + (lo - sc->ox);
+        /* PERSP_TILE is 64: the row's pixels are bits of one word. */
+        const uint64_t mask = (len == 64 ? ~0ull : (1ull << len) - 1) << (base & 63);
+        if (lb->n + len > PERSP_SPAN_MAX || (busy[base >> 6] & mask)) shade_lanes(sc, lb, busy);
+        if (lb->n == 0) {
+            lb->nseg = 0;
+            lb->ds = sc->ds;
+            lb->row0 = lb->row1 = base >> 6;
         }
+        lb->row0 = PERSP_MIN(lb->row0, base >> 6);
+        lb->row1 = PERSP_MAX(lb->row1, base >> 6);
+        if (lb->nseg == 0 || lb->seg_tri[lb->nseg - 1] != t) {
+            lb->seg_start[lb->nseg] = lb->n;
+            lb->seg_tri[lb->nseg++] = t;
+        }
+        busy[base >> 6] |= mask;
         /* The row's start values as shade_batch and exact_span compute them. */
         const double px = lo + 0.5, py = y + 0.5;
         const float U = (float)(t->rat.a * px + t->rat.b * py + t->rat.c);
@@ -939,17 +990,27 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, int ya, int yb, int x0, i
             A = (float)(t->bary.a * px + t->bary.b * py + t->bary.c);
             B = (float)(t->bary.d * px + t->bary.e * py + t->bary.f);
         }
-        const int32_t base = (y - sc->oy) * PERSP_TILE + (lo - sc->ox);
-        for (int k = 0; k < len; k++) {
-            const int i = lb.n + k;
-            lb.u0[i] = U, lb.v0[i] = V, lb.q0[i] = Q, lb.z0[i] = Z;
-            lb.w10[i] = A, lb.w20[i] = B;
-            lb.k[i] = (float)k;
-            lb.idx[i] = base + k;
-        }
-        lb.n += len;
+        float *lq = lb->q + lb->n, *lz = lb->z + lb->n, *lu = lb->un + lb->n, *lv = lb->vn + lb->n;
+        float *la = lb->an + lb->n, *lbb = lb->bn + lb->n;
+        int32_t *li = lb->idx + lb->n;
+        /* Whole groups of 16 lanes, the last running into the slack past
+         * the row's end, so that the loop has no scalar remainder (rows
+         * are a few pixels long). */
+        for (int k0 = 0; k0 < len; k0 += LANE_GROUP)
+            for (int j = 0; j < LANE_GROUP; j++) {
+                const int k = k0 + j;
+                const float fk = (float)k;
+                lq[k] = Q + fk * dq;
+                lz[k] = Z + fk * dz;
+                lu[k] = U + fk * du;
+                lv[k] = V + fk * dv;
+                la[k] = A + fk * da;
+                lbb[k] = B + fk * db;
+                li[k] = base + k;
+            }
+        lb->n += len;
+        lb->seg_start[lb->nseg] = lb->n;
     }
-    if (lb.n) shade_lanes(sc, &lb);
 }
 
 typedef struct area_tri {
@@ -1040,6 +1101,11 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
     memset(&local, 0, sizeof local);
     span_ctx sc = {.f = f, .stats = &local, .ops = f->count_ops ? &local.ops : NULL,
                    .color = tcolor, .depth = tdepth, .ox = x0, .oy = y0};
+    lane_batch lb;
+    lb.n = lb.nseg = 0;
+    lb.ds = NULL;
+    uint64_t busy[PERSP_TILE * PERSP_TILE / 64];
+    memset(busy, 0, sizeof busy);
     const uint32_t *items = c->bin_items + c->bin_start[tile];
     const uint32_t nitems = c->bin_count[tile];
     for (uint32_t k = 0; k < nitems; k++) {
@@ -1064,6 +1130,8 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
         sc.prep = t->prep != UINT32_MAX ? &c->preps[t->prep] : NULL;
         sc.tri_index = (int32_t)items[k];
         const persp_method *m = sc.ds->method.m;
+        const int lanes = lanes_apply(sc.ds, t);
+        if (lb.n && (!lanes || lb.ds != sc.ds)) shade_lanes(&sc, &lb, busy);
         if (m->traverse) {
             area_tri at = {t, x0, x1};
             persp_traverse_area area = {x0, PERSP_MAX(y0, t->ymin), x1, PERSP_MIN(y1, t->ymax),
@@ -1072,8 +1140,8 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             continue;
         }
         const int ya = PERSP_MAX(y0, t->ymin), yb = PERSP_MIN(y1, t->ymax);
-        if (lanes_apply(sc.ds, t)) {
-            draw_small(&sc, ya, yb, x0, x1);
+        if (lanes) {
+            draw_small(&sc, &lb, busy, ya, yb, x0, x1);
             continue;
         }
         persp_row_walk walk;
@@ -1085,6 +1153,7 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             shade_batch(&sc, &b);
         }
     }
+    if (lb.n) shade_lanes(&sc, &lb, busy);
     for (int y = 0; y < th; y++) {
         write_row(fcolor + (size_t)(y0 + y) * W + x0, tcolor + y * PERSP_TILE, tw, job->stream);
         write_row(fdepth + (size_t)(y0 + y) * W + x0, tdepth + y * PERSP_TILE, tw, job->stream);
