@@ -11,8 +11,9 @@
 #include <math.h>
 #include <string.h>
 
-/* Smallest w kept: a point with w below it lies at or behind the eye. */
-#define W_EPSILON 1e-6
+/* Smallest w kept (PERSP_CLIP_W_EPSILON): a point with w below it lies at
+ * or behind the eye. */
+#define W_EPSILON PERSP_CLIP_W_EPSILON
 
 typedef double (*plane_fn)(const persp_clipvert *v, double gx, double gy);
 
@@ -92,15 +93,5 @@ unsigned persp__clip_outcode_packed(const float *v, int nattr, double gx, double
     float probe = 0.0f;
     for (int k = 0; k < 4 + nattr; k++) probe += v[k] * 0.0f;
     if (probe != 0.0f) return PERSP_CLIP_NONFINITE;
-    /* The planes' own expressions (p_w ... p_top), in the order of planes[]. */
-    const double x = v[0], y = v[1], z = v[2], w = v[3];
-    unsigned code = 0;
-    code |= (unsigned)(w - W_EPSILON < 0.0) << 0;
-    code |= (unsigned)(z + w < 0.0) << 1;
-    code |= (unsigned)(w - z < 0.0) << 2;
-    code |= (unsigned)(gx * w + x < 0.0) << 3;
-    code |= (unsigned)(gx * w - x < 0.0) << 4;
-    code |= (unsigned)(gy * w + y < 0.0) << 5;
-    code |= (unsigned)(gy * w - y < 0.0) << 6;
-    return code;
+    return persp__clip_outcode_pos(v[0], v[1], v[2], v[3], gx, gy);
 }

@@ -38,6 +38,24 @@ unsigned persp__clip_outcode(const persp_clipvert *v, double guard_x, double gua
  * nattr attributes (the render's per-vertex cache, render.c). */
 unsigned persp__clip_outcode_packed(const float *v, int nattr, double guard_x, double guard_y);
 
+/* The position's part of the outcode (the vertex's values known finite):
+ * the planes' own expressions of clip.c (p_w ... p_top), in the order of
+ * its planes[]. Inline, so that the render's vertex stage computes it for
+ * several vertices at once. */
+#define PERSP_CLIP_W_EPSILON 1e-6
+static inline unsigned persp__clip_outcode_pos(double x, double y, double z, double w, double gx, double gy)
+{
+    unsigned code = 0;
+    code |= (unsigned)(w - PERSP_CLIP_W_EPSILON < 0.0) << 0;
+    code |= (unsigned)(z + w < 0.0) << 1;
+    code |= (unsigned)(w - z < 0.0) << 2;
+    code |= (unsigned)(gx * w + x < 0.0) << 3;
+    code |= (unsigned)(gx * w - x < 0.0) << 4;
+    code |= (unsigned)(gy * w + y < 0.0) << 5;
+    code |= (unsigned)(gy * w - y < 0.0) << 6;
+    return code;
+}
+
 /* A vertex after the perspective divide and viewport transform. */
 typedef struct persp_winvert {
     double x, y, z; /* window coordinates, depth in [0,1] */
