@@ -199,11 +199,36 @@ static persp_status check_gltf_images(persp_context *ctx, const char *display, c
  * "666666666666666" where a uchar belongs took 15 GB, found by the model
  * fuzzer) is refused here. elements: the header's element lines; body: the
  * end_header line. */
+/* The line splitting of Assimp 5.2's ASCII PLY body (IOStreamBuffer's
+ * getNextLine): '\r', '\n', '\0' and '\f' all end a line, and a line that
+ * starts at one of them is skipped up to and past the next '\n', whatever
+ * lies between. Walking the body by '\n' alone lost step with the reader:
+ * 350 bytes with a '\f' before "666666629333" took 7.5 GB as a list of
+ * 946 698 453 values (the count wraps to 32 bits; found by the model
+ * fuzzer). Returns the line's start; *eol its end, where the next call
+ * starts. */
+static int ply_line_end(char c) { return c == '\r' || c == '\n' || c == '\0' || c == '\f'; }
+
+static const char *ply_body_line(const char *p, const char *end, const char **eol)
+{
+    if (p < end && ply_line_end(*p)) {
+        while (p < end && *p != '\n')
+            p++;
+        if (p < end) p++;
+    }
+    const char *e = p;
+    while (e < end && !ply_line_end(*e))
+        e++;
+    *eol = e;
+    return p;
+}
+
 static persp_status check_ply_lists(persp_context *ctx, const char *display,
                                     const char *const *elements, int n, const char *body,
                                     const char *end)
 {
-    const char *p = next_line(body, end);
+    /* after end_header and the one line-end byte the header reader takes */
+    const char *p = body + 10 < end ? body + 11 : end;
     for (int i = 0; i < n && p < end; i++) {
         /* the element's count, then its properties up to the next element */
         const char *q = elements[i] + 8;
@@ -218,10 +243,10 @@ static persp_status check_ply_lists(persp_context *ctx, const char *display,
              l = next_line(l, end))
             if (!strncmp(l, "property ", 9)) list[nprops++] = !strncmp(l, "property list ", 14);
         /* Assimp reads an ASCII instance from one line (PLY::DOM). */
-        for (unsigned long long e = 0; e < count && p < end; e++, p = next_line(p, end)) {
-            const char *eol = memchr(p, '\n', (size_t)(end - p));
-            if (!eol) eol = end;
-            const char *c = p;
+        for (unsigned long long e = 0; e < count && p < end; e++) {
+            const char *eol;
+            const char *c = ply_body_line(p, end, &eol);
+            p = eol < end ? eol + 1 : end;
             for (int k = 0; k < nprops && c < eol; k++) {
                 while (c < eol && isspace((unsigned char)*c))
                     c++;
@@ -393,6 +418,14 @@ persp_status persp__model_check(persp_context *ctx, const char *display, const c
             if (bad) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%zu: %s", display, line, bad);
             if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
         }
+        /* Header lines end as '\n' reads them here only when no other byte
+         * Assimp's reader takes for a line end (ply_line_end) is among them. */
+        for (const char *h = buf; h < p; h++)
+            if ((*h == '\r' && h + 1 < p && h[1] != '\n') || *h == '\0' || *h == '\f')
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s: the PLY header holds a carriage return, form feed or NUL "
+                                   "byte inside a line",
+                                   display);
         const char *after = p + 10;
         if (p >= end || n == 0 ||
             !(after < end &&
