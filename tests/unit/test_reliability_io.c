@@ -454,6 +454,55 @@ static void test_json_out_of_memory(void **state)
     persp_context_destroy(ctx);
 }
 
+/* One allocation of jansson fails and the rest succeed: the lexer drops
+ * the byte its token buffer could not grow for (lex_save ignores the
+ * failure), and the parse succeeds with a shortened key, string or number.
+ * Each such load must still say out of memory, never give a scene with
+ * other values or an unrelated error. */
+static int json_fail_at;
+static void *failing_once_malloc(size_t n)
+{
+    return json_fail_at-- == 0 ? NULL : malloc(n);
+}
+
+static void test_json_dropped_byte(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    /* A dropped digit changes each number's magnitude, a dropped letter
+     * the material's name (then an unknown material). */
+    static const char text[] =
+        "{\"camera\": {\"position\": [1234567890123456789.5, 2, 3], \"target\": [0, 1234567890123456789, 0]},\n"
+        " \"materials\": {\"a_material_named_at_great_length_x\": {\"shininess\": 20}},\n"
+        " \"objects\": [{\"mesh\": \"plane\", \"material\": \"a_material_named_at_great_length_x\"}]}";
+    persp_scene *ref = NULL;
+    assert_int_equal(persp__scene_load_memory(ctx, text, strlen(text), "ref.json", NULL, 0, &ref), PERSP_OK);
+    int oom = 0, ok = 0;
+    for (int at = 0; at < 400 && ok < 3; at++) {
+        json_set_alloc_funcs(failing_once_malloc, free);
+        json_fail_at = at;
+        persp_scene *s = NULL;
+        persp_status st = persp__scene_load_memory(ctx, text, strlen(text), "once.json", NULL, 0, &s);
+        json_set_alloc_funcs(malloc, free);
+        if (st == PERSP_OK) {
+            /* all of it: the failing call came after the parse, or none failed */
+            assert_true(s->camera.eye.x == ref->camera.eye.x);
+            assert_true(s->camera.target.y == ref->camera.target.y);
+            ok++;
+        } else if (st == PERSP_ERR_OUT_OF_MEMORY) {
+            assert_non_null(strstr(persp_context_error(ctx), "out of memory"));
+            oom++;
+        } else {
+            fail_msg("allocation %d failing: %s (%s)", at, persp_context_error(ctx), persp_status_string(st));
+        }
+        persp_scene_destroy(s);
+    }
+    assert_true(oom >= 10);
+    assert_true(ok > 0);
+    persp_scene_destroy(ref);
+    persp_context_destroy(ctx);
+}
+
 /* Files jansson refuses as syntax errors stay syntax errors: the check that
  * tells them from a failed allocation finds a bad byte no later than
  * jansson stops. */
@@ -593,6 +642,7 @@ int main(void)
         cmocka_unit_test(test_method_specs_strict),
         cmocka_unit_test(test_filter_taps_message),
         cmocka_unit_test(test_json_out_of_memory),
+        cmocka_unit_test(test_json_dropped_byte),
         cmocka_unit_test(test_json_syntax_errors_stay_format),
         cmocka_unit_test(test_palette_index_past_palette),
         cmocka_unit_test(test_draw_output_opaque),
