@@ -445,6 +445,27 @@ persp_status persp__model_check(persp_context *ctx, const char *display, const c
                 return persp__fail(ctx, PERSP_ERR_FORMAT,
                                    "%s: PLY element %d: the name starts with a digit", display,
                                    i + 1);
+            /* A second element of a name: Assimp 5.2's PLY loader sizes
+             * the vertex array by the first "vertex" element and writes
+             * the instances of every one into it (a heap overflow, found
+             * by the model fuzzer; it corrupted the heap unseen until a
+             * later import freed). The format gives every element its
+             * own name. */
+            const char *name_end = q;
+            while (name_end < end && *name_end != ' ' && *name_end != '\t' && *name_end != '\n' &&
+                   *name_end != '\r')
+                name_end++;
+            for (int k = 0; k < i; k++) {
+                const char *o = elements[k] + 8;
+                while (o < end && *o == ' ')
+                    o++;
+                const size_t len = (size_t)(name_end - q);
+                if ((size_t)(end - o) > len && !strncmp(o, q, len) &&
+                    (o[len] == ' ' || o[len] == '\t' || o[len] == '\n' || o[len] == '\r'))
+                    return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                       "%s: PLY elements %d and %d have the same name '%.*s'",
+                                       display, k + 1, i + 1, (int)PERSP_MIN(len, (size_t)40), q);
+            }
             int vertex = !strncmp(q, "vertex ", 7);
             while (q < end && *q != ' ' && *q != '\n')
                 q++;

@@ -609,6 +609,16 @@ static void test_errors_name_the_file(void **state)
               "crlf.ply");
     assert_int_equal(mesh_of(&l, 0)->index_count, 3);
     unload(&l);
+    /* two elements named vertex: Assimp wrote the second's three vertices
+     * into the array it sized for the first's one (heap overflow) */
+    load_text(&l,
+              "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+              "property float z\nelement vertex 3\nproperty float x\nproperty float y\n"
+              "property float z\nend_header\n0 0 0\n0 0 0\n1 0 0\n0 1 0\n",
+              "twice.ply");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "twice.ply: PLY elements 1 and 2 have the same name 'vertex'"));
+    unload(&l);
     /* a header line holding another byte Assimp ends lines at */
     load_text(&l,
               "ply\nformat ascii 1.0\nelement vertex 3\fproperty float x\nproperty float y\n"
