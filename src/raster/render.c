@@ -979,7 +979,13 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
         persp__sample_span(&ds->sampler, &in, tx + s0);
         if (one_call) break;
     }
-    if (weights)
+    /* One triangle: phong_lanes pads its loops to whole vectors, which
+     * segments cannot. */
+    if (weights && ds->shading == PERSP_SHADING_PHONG_PC && lb->nseg == 1)
+        persp__shade_phong_lanes(ds, lb->seg_tri[0], n, w1, w2, texel, out);
+    else if (weights && ds->shading == PERSP_SHADING_PHONG_PC)
+        persp__shade_phong_segments(ds, lb->nseg, lb->seg_start, lb->seg_tri, live, w1, w2, texel, out);
+    else if (weights)
         for (int s = 0; s < lb->nseg; s++) {
             const persp_tri *t = lb->seg_tri[s];
             const int s0 = lb->seg_start[s], m = lb->seg_start[s + 1] - s0;
@@ -988,10 +994,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
             int seg_live = 0;
             for (int k = s0; k < s0 + m; k++) seg_live |= live[k];
             if (!seg_live) continue;
-            if (ds->shading == PERSP_SHADING_PHONG_PC)
-                persp__shade_phong_lanes(ds, t, m, w1 + s0, w2 + s0, texel + s0, out + s0);
-            else
-                persp__shade_gouraud_lanes(ds, t, m, w1 + s0, w2 + s0, texel + s0, out + s0);
+            persp__shade_gouraud_lanes(ds, t, m, w1 + s0, w2 + s0, texel + s0, out + s0);
         }
     if (ds->force_opaque)
         for (int k = 0; k < n; k++) out[k] |= 0xff000000u;

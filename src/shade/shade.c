@@ -166,7 +166,7 @@ light_add(const persp_material *m, const persp_eye_light *l, const int direction
 
 /* Ambient + diffuse (d*) and specular (s*) light per pixel: Blinn–Phong,
  * light_point's arithmetic with its branches turned into selects. */
-PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, float side, int n, const lit_span *g,
+PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, const float *side, int n, const lit_span *g,
                                         float *restrict dr, float *restrict dg, float *restrict db,
                                         float *restrict sr, float *restrict sg, float *restrict sb)
 {
@@ -178,7 +178,7 @@ PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, float s
                 a2 = L->ambient[2] * m->ambient[2];
     n = span_lanes(n);
     for (int k = 0; k < n; k++) {
-        nx[k] = side * g->nx[k], ny[k] = side * g->ny[k], nz[k] = side * g->nz[k];
+        nx[k] = side[k] * g->nx[k], ny[k] = side[k] * g->ny[k], nz[k] = side[k] * g->nz[k];
         float ex = g->ex[k], ey = g->ey[k], ez = g->ez[k];
         float vlen = sqrtf(ex * ex + ey * ey + ez * ez);
         float inv = -1.0f / (vlen > 0.0f ? vlen : 1.0f);
@@ -593,15 +593,25 @@ int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const p
     return 1;
 }
 
-static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, lit_span *g,
-                       const uint32_t *texel, uint32_t *out)
+/* Lights, colours and combines lanes [0, n) whose sides (persp_tri.light_side
+ * of each lane's triangle) are given per lane, for all span_lanes(n). */
+static void light_lanes(const persp_draw_state *ds, const float *side, int n, lit_span *g,
+                        const uint32_t *texel, uint32_t *out)
 {
     float c[6][PERSP_SPAN_MAX];
     pad_lit_span(g, n);
-    light_soa(ds, t->light_side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
+    light_soa(ds, side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
     if (ds->color_material)
         for (int k = 0; k < n; k++) c[0][k] *= g->cr[k], c[1][k] *= g->cg[k], c[2][k] *= g->cb[k];
     combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
+}
+
+static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, lit_span *g,
+                       const uint32_t *texel, uint32_t *out)
+{
+    float side[PERSP_SPAN_MAX];
+    for (int k = 0; k < span_lanes(n); k++) side[k] = t->light_side;
+    light_lanes(ds, side, n, g, texel, out);
 }
 
 /* phong_normals with perspective-correct weights given (phong-pc); a clone
@@ -629,6 +639,71 @@ void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, in
                               const float *w2, const uint32_t *texel, uint32_t *out)
 {
     phong_lanes(ds, t, n, w1, w2, texel, out);
+}
+
+/* phong_lanes for a batch whose lanes come from several triangles
+ * (segments): each segment's attributes are interpolated into its lanes,
+ * then the whole batch is normalised and lit at once, so that a segment
+ * of one or two pixels does not light a vector of 16 by itself (on the
+ * 2M-triangle torus lighting was a fifth of a frame, mostly padding). The
+ * same operations per lane as phong_lanes. */
+PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
+                                                  const persp_tri *const *seg_tri, const int32_t *live,
+                                                  const float *w1, const float *w2, const uint32_t *texel,
+                                                  uint32_t *out)
+{
+    const int all = seg_start[nseg];
+    lit_span g, c;
+    float side[PERSP_SPAN_MAX], cside[PERSP_SPAN_MAX];
+    for (int s = 0; s < nseg; s++) {
+        const persp_tri *t = seg_tri[s];
+        const int s0 = seg_start[s], m = seg_start[s + 1] - s0;
+        interp_soa(t, PERSP_A_NX, m, w1 + s0, w2 + s0, g.nx + s0, g.ny + s0, g.nz + s0);
+        interp_soa(t, PERSP_A_EX, m, w1 + s0, w2 + s0, g.ex + s0, g.ey + s0, g.ez + s0);
+        if (ds->color_material) interp_soa(t, PERSP_A_R, m, w1 + s0, w2 + s0, g.cr + s0, g.cg + s0, g.cb + s0);
+        for (int k = s0; k < s0 + m; k++) side[k] = t->light_side;
+    }
+    /* Only the lanes the depth test passed are lit, packed together
+     * (overdraw leaves much of a batch of the soup hidden), when that
+     * saves a whole vector of lanes. */
+    int nlive = 0;
+    for (int k = 0; k < all; k++) nlive += live[k] != 0;
+    if (span_lanes(nlive) == span_lanes(all)) {
+        const int lanes = span_lanes(all);
+        for (int k = all; k < lanes; k++) {
+            g.nx[k] = g.ny[k] = g.nz[k] = 0.0f;
+            side[k] = 1.0f;
+        }
+        normalize_soa(lanes, g.nx, g.ny, g.nz);
+        light_lanes(ds, side, all, &g, texel, out);
+        return;
+    }
+    int at[PERSP_SPAN_MAX], n = 0;
+    uint32_t ctex[PERSP_SPAN_MAX], cout[PERSP_SPAN_MAX];
+    for (int k = 0; k < all; k++) {
+        if (!live[k]) continue;
+        c.nx[n] = g.nx[k], c.ny[n] = g.ny[k], c.nz[n] = g.nz[k];
+        c.ex[n] = g.ex[k], c.ey[n] = g.ey[k], c.ez[n] = g.ez[k];
+        c.cr[n] = g.cr[k], c.cg[n] = g.cg[k], c.cb[n] = g.cb[k];
+        cside[n] = side[k];
+        ctex[n] = texel[k];
+        at[n++] = k;
+    }
+    const int lanes = span_lanes(n);
+    for (int k = n; k < lanes; k++) {
+        c.nx[k] = c.ny[k] = c.nz[k] = 0.0f;
+        cside[k] = 1.0f;
+    }
+    normalize_soa(lanes, c.nx, c.ny, c.nz);
+    light_lanes(ds, cside, n, &c, ctex, cout);
+    for (int j = 0; j < n; j++) out[at[j]] = cout[j];
+}
+
+void persp__shade_phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
+                                 const persp_tri *const *seg_tri, const int32_t *live, const float *w1,
+                                 const float *w2, const uint32_t *texel, uint32_t *out)
+{
+    phong_segments(ds, nseg, seg_start, seg_tri, live, w1, w2, texel, out);
 }
 
 /* Flat: one lighting evaluation per triangle. */
@@ -758,7 +833,9 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
                 g.cr[k] = at[PERSP_A_R], g.cg[k] = at[PERSP_A_G], g.cb[k] = at[PERSP_A_B];
             }
         for (int side = 0; side < 2; side++) {
-            light_soa(ds, side ? -1.0f : 1.0f, m, &g, d[0], d[1], d[2], d[3], d[4], d[5]);
+            float sides[PERSP_SPAN_MAX];
+            for (int k = 0; k < span_lanes(m); k++) sides[k] = side ? -1.0f : 1.0f;
+            light_soa(ds, sides, m, &g, d[0], d[1], d[2], d[3], d[4], d[5]);
             if (ds->color_material)
                 for (int k = 0; k < m; k++) d[0][k] *= g.cr[k], d[1][k] *= g.cg[k], d[2][k] *= g.cb[k];
             const int base = side ? PERSP_A_BR : PERSP_A_R;
