@@ -189,6 +189,21 @@ static persp_status check_gltf_images(persp_context *ctx, const char *display, c
                                display, index);
         index++;
     }
+    /* An embedded image's data URI gives the mimeType the same way
+     * (RFC 2397: data:[<mediatype>][;base64],<data>), and Assimp then
+     * searches for '/' past the media type into the data: without one
+     * anywhere, the same SIGSEGV ("data:image\xd9png;base64,...", found by
+     * the model fuzzer). A media type, when present, is type/subtype. */
+    for (const char *p = json; p + 6 <= end; p++) {
+        if (memcmp(p, "\"data:", 6) != 0) continue;
+        const char *m = p + 6, *e = m;
+        while (e < end && *e != ';' && *e != ',' && *e != '"')
+            e++;
+        if (e > m && !memchr(m, '/', (size_t)(e - m)))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: a data URI's media type is not a type/subtype such as image/png",
+                               display);
+    }
     return PERSP_OK;
 }
 

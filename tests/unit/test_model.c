@@ -722,6 +722,21 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
     assert_non_null(strstr(persp_context_error(l.ctx), "mime.gltf: image 0: the mimeType is not"));
     unload(&l);
+    /* the same media type in an image's data URI (Assimp searched for '/'
+     * on into the data and crashed without one); one with '/' loads on */
+    load_text(&l,
+              "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"uri\": "
+              "\"data:image\\u00d9png;base64,iVBORw0KGgo=\"}]}",
+              "datauri.gltf");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    assert_non_null(strstr(persp_context_error(l.ctx), "datauri.gltf: a data URI's media type is not"));
+    unload(&l);
+    load_text(&l,
+              "{\"asset\": {\"version\": \"2.0\"}, \"images\": [{\"uri\": "
+              "\"data:imagepng;base64,iVBORw0KGgo=\"}]}",
+              "datauri2.gltf");
+    assert_int_equal(l.st, PERSP_ERR_FORMAT);
+    unload(&l);
     /* binary glTF whose declared lengths exceed the file (glTF 2.0 §4.4;
      * version 1: KHR_binary_glTF): refused before the reader allocates them */
     static const unsigned char glb2[] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 28, 0, 0, 0,
