@@ -1039,8 +1039,11 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
     snprintf(path, sizeof path, "%s/img", desc->dir);
     char heatdir[1200];
     snprintf(heatdir, sizeof heatdir, "%s/heat", desc->dir);
-    if (!make_dir(desc->dir) || !make_dir(path) || !make_dir(heatdir))
-        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
+    /* The folder that could not be made is named, the report's own first. */
+    const char *dirs[3] = {desc->dir, path, heatdir};
+    for (int k = 0; k < 3; k++)
+        if (!make_dir(dirs[k]))
+            return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create the folder: %s", dirs[k], strerror(errno));
     persp_accuracy_result *acc = NULL;
     persp_status st;
     if (desc->from_dir) {

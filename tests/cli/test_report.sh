@@ -9,6 +9,8 @@ persp="$1"
 expect 0 "usage: persp report" -- "$persp" report --help
 expect 2 "-o DIR is required" -- "$persp" report --quick
 expect 2 "unknown option" -- "$persp" report -o "$tmp/x" --bogus
+# The folder that cannot be made is the one named.
+expect 1 "$tmp/none/r: cannot create the folder" -- "$persp" report --quick -o "$tmp/none/r"
 
 start=$(date +%s)
 "$persp" report --quick -o "$tmp/r" 2>"$tmp/log" || bad "report --quick failed: $(cat "$tmp/log")"
