@@ -440,7 +440,12 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
     persp_status st = PERSP_ERR_IO;
     char why[PERSP_ERRMSG_BYTES] = "";
     int outside = 0;
-    for (int k = 0; k < 4 && st != PERSP_OK; k++) {
+    /* "C:/..." (after persp__model_clean_rel): an absolute path of the
+     * machine the model was made on, which joined to the model's folder
+     * names nothing; only its last part is looked for. */
+    const int drive = isalpha((unsigned char)rel[0]) && rel[1] == ':' && rel[2] == '/';
+    const char *base = persp__path_base(rel);
+    for (int k = drive ? 1 : 0; k < 4 && st != PERSP_OK; k++) {
         /* A missing first candidate still reports why (the open's error). */
         if (k == 0 ? !candidate(r->base_dir, rel, k, path, sizeof path)
                    : !find_candidate(r->base_dir, r->root, rel, k, path, sizeof path, &outside))
@@ -467,6 +472,12 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
             snprintf(at, sizeof at, "%s", r->display);
         if (outside && !why[0])
             snprintf(why, sizeof why, "outside the folder the model may read from");
+        char qb[PERSP_QUOTE_BYTES];
+        persp__quote(base, strlen(base), qb, sizeof qb);
+        if (drive && !why[0])
+            snprintf(why, sizeof why, "a Windows path; no '%s' beside the model either", qb);
+        else if (base != rel && !outside && strlen(why) + strlen(qb) + 40 < sizeof why)
+            snprintf(why + strlen(why), sizeof why - strlen(why), "; no '%s' beside the model either", qb);
         persp__warn(r->scene->ctx,
                     "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",
                     at, qm, qr, why[0] ? why : "bad path");

@@ -289,6 +289,40 @@ static void test_materials_and_map_options(void **state)
     test_tmpdir_remove(tmpdir);
 }
 
+/* A texture named by a Windows absolute path (the exporter's machine):
+ * only its last part is looked for, beside the model, and the warning says
+ * so when it is not there either. */
+static void test_windows_texture_path(void **state)
+{
+    (void)state;
+    assert_int_equal(test_tmpdir_make(tmpdir, sizeof tmpdir, "obj"), 0);
+    write_text("w.mtl", "newmtl a\nmap_Kd C:\\Users\\me\\tex\\wood.png\n");
+    write_text("w.obj", "mtllib w.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                        "usemtl a\nf 1/1 2/2 3/3\n");
+    char path[1024];
+    tmp_path(path, sizeof path, "w.obj");
+    loaded l;
+    load_path(&l, path);
+    assert_true(material_of(&l, 0)->texture == -1);
+    assert_non_null(strstr(l.warn.last, "cannot load texture 'C:/Users/me/tex/wood.png' (a Windows path; "
+                                        "no 'wood.png' beside the model either)"));
+    unload(&l);
+    persp_context *ctx = test_context();
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, 2, 2, &img), PERSP_OK);
+    memset(img.pixels, 90, (size_t)img.stride * 2);
+    char png[1024];
+    tmp_path(png, sizeof png, "wood.png");
+    assert_int_equal(persp_image_write_png(ctx, png, &img), PERSP_OK);
+    persp_image_free(ctx, &img);
+    persp_context_destroy(ctx);
+    load_path(&l, path);
+    assert_true(material_of(&l, 0)->texture >= 0);
+    assert_int_equal(l.warn.count, 0);
+    unload(&l);
+    test_tmpdir_remove(tmpdir);
+}
+
 static const persp_vertex *find_normal(const persp_mesh *m, const float *pos, float nx, float ny,
                                        float nz)
 {
@@ -435,6 +469,7 @@ int main(void)
         cmocka_unit_test(test_line_ends_bom_and_continuation),
         cmocka_unit_test(test_errors_with_lines),
         cmocka_unit_test(test_materials_and_map_options),
+        cmocka_unit_test(test_windows_texture_path),
         cmocka_unit_test(test_generated_normals),
         cmocka_unit_test(test_chunked_file),
     };
