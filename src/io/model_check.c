@@ -514,11 +514,24 @@ persp_status persp__model_check(persp_context *ctx, const char *display, const c
      * Assimp 5.2's reader then takes the counts from the first line), so a
      * .off file without one is held to the same check: "6666666666660 1 0"
      * as its first line took 10 GB (found by the model fuzzer). */
+    /* Assimp converts a text file to UTF-8 before its readers see it,
+     * dropping a UTF-8 byte-order mark and re-encoding UTF-16 and UTF-32:
+     * the counts are read after the mark ("\xef\xbb\xbf777777777777 ..."
+     * took 4.6 GB, found by the model fuzzer), and an OFF file in UTF-16 or
+     * UTF-32, which this check would have to decode first, is refused. */
+    const char *text = buf;
+    if (size >= 3 && !memcmp(buf, "\xef\xbb\xbf", 3)) text = buf + 3;
+    const int wide = size >= 2 && (!memcmp(buf, "\xff\xfe", 2) || !memcmp(buf, "\xfe\xff", 2) ||
+                                   (size >= 4 && !memcmp(buf, "\0\0\xfe\xff", 4)));
+    p = text;
     while (p < end && isalpha((unsigned char)*p))
         p++;
-    const int keyword = p - buf >= 3 && p - buf <= 8 && strncmp(p - 3, "OFF", 3) == 0;
+    const int keyword = p - text >= 3 && p - text <= 8 && strncmp(p - 3, "OFF", 3) == 0;
     if (!keyword && !persp__model_has_ext(display, "off")) return PERSP_OK;
-    if (!keyword) p = buf;
+    if (wide)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: an OFF file in UTF-16 or UTF-32 (persp reads ASCII or UTF-8)",
+                           display);
+    if (!keyword) p = text;
     unsigned long long counts[2] = {0, 0};
     for (int k = 0; k < 2 && p < end;) {
         while (p < end && isspace((unsigned char)*p))
