@@ -647,6 +647,21 @@ void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, in
  * of one or two pixels does not light a vector of 16 by itself (on the
  * 2M-triangle torus lighting was a fifth of a frame, mostly padding). The
  * same operations per lane as phong_lanes. */
+/* Lanes [0, n) with interpolated normals: pads them to whole vectors,
+ * normalises the normals and lights them. */
+static inline __attribute__((always_inline)) void normalize_and_light(const persp_draw_state *ds, float *side,
+                                                                      int n, lit_span *g, const uint32_t *texel,
+                                                                      uint32_t *out)
+{
+    const int lanes = span_lanes(n);
+    for (int k = n; k < lanes; k++) {
+        g->nx[k] = g->ny[k] = g->nz[k] = 0.0f;
+        side[k] = 1.0f;
+    }
+    normalize_soa(lanes, g->nx, g->ny, g->nz);
+    light_lanes(ds, side, n, g, texel, out);
+}
+
 PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
                                                   const persp_tri *const *seg_tri, const int32_t *live,
                                                   const float *w1, const float *w2, const uint32_t *texel,
@@ -669,13 +684,7 @@ PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, in
     int nlive = 0;
     for (int k = 0; k < all; k++) nlive += live[k] != 0;
     if (span_lanes(nlive) == span_lanes(all)) {
-        const int lanes = span_lanes(all);
-        for (int k = all; k < lanes; k++) {
-            g.nx[k] = g.ny[k] = g.nz[k] = 0.0f;
-            side[k] = 1.0f;
-        }
-        normalize_soa(lanes, g.nx, g.ny, g.nz);
-        light_lanes(ds, side, all, &g, texel, out);
+        normalize_and_light(ds, side, all, &g, texel, out);
         return;
     }
     int at[PERSP_SPAN_MAX], n = 0;
@@ -689,13 +698,7 @@ PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, in
         ctex[n] = texel[k];
         at[n++] = k;
     }
-    const int lanes = span_lanes(n);
-    for (int k = n; k < lanes; k++) {
-        c.nx[k] = c.ny[k] = c.nz[k] = 0.0f;
-        cside[k] = 1.0f;
-    }
-    normalize_soa(lanes, c.nx, c.ny, c.nz);
-    light_lanes(ds, cside, n, &c, ctex, cout);
+    normalize_and_light(ds, cside, n, &c, ctex, cout);
     for (int j = 0; j < n; j++) out[at[j]] = cout[j];
 }
 
