@@ -647,7 +647,8 @@ static persp_status mtllib(obj_reader *r, const char *p, const char *e, size_t l
      * once; past OBJ_LIBS_MAX different ones the rest are passed over, so
      * that a file of mtllib lines cannot make thousands of folder scans. */
     size_t n = (size_t)(t - s);
-    for (int i = 0; i < r->nlibs; i++)
+    /* nlibs counts one past OBJ_LIBS_MAX once the rest are passed over. */
+    for (int i = 0; i < r->nlibs && i < OBJ_LIBS_MAX; i++)
         if (r->libs[i].len == n && !memcmp(r->pool + r->libs[i].name, s, n)) return PERSP_OK;
     if (r->nlibs == OBJ_LIBS_MAX) {
         persp__warn(r->ctx,

@@ -289,6 +289,25 @@ static void test_materials_and_map_options(void **state)
     test_tmpdir_remove(tmpdir);
 }
 
+/* More material libraries than the reader keeps: the rest are passed over
+ * with one warning, and a later statement, new or repeated, reads nothing
+ * past the libraries kept (an out-of-bounds read, found by the model
+ * fuzzer). */
+static void test_many_material_libraries(void **state)
+{
+    (void)state;
+    char text[8192];
+    size_t n = 0;
+    for (int i = 0; i < 70; i++) n += (size_t)snprintf(text + n, sizeof text - n, "mtllib lib%02d.mtl\n", i);
+    n += (size_t)snprintf(text + n, sizeof text - n, "mtllib lib03.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    assert_true(n < sizeof text);
+    loaded l;
+    load_text(&l, text, "libs.obj");
+    assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    assert_non_null(strstr(l.warn.last, "more than 64 material library statements"));
+    unload(&l);
+}
+
 /* A texture named by a Windows absolute path (the exporter's machine):
  * only its last part is looked for, beside the model, and the warning says
  * so when it is not there either. */
@@ -470,6 +489,7 @@ int main(void)
         cmocka_unit_test(test_errors_with_lines),
         cmocka_unit_test(test_materials_and_map_options),
         cmocka_unit_test(test_windows_texture_path),
+        cmocka_unit_test(test_many_material_libraries),
         cmocka_unit_test(test_generated_normals),
         cmocka_unit_test(test_chunked_file),
     };
