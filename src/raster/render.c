@@ -923,11 +923,44 @@ static int lanes_apply(const persp_draw_state *ds, const persp_tri *t)
     return ds->small_lanes && t->prep == UINT32_MAX && t->xmax - t->xmin < SMALL_TRI_WIDTH;
 }
 
+/* Moves the lanes that passed the depth test to the front of the batch,
+ * in order, and renumbers the segments (dropping those left empty); every
+ * later stage then works on live lanes only. Under overdraw most lanes of a
+ * batch are hidden (the soup: about 60 %), and sampling and lighting them
+ * cost as much as live ones. Each lane's values were computed
+ * when it was filled, so moving them changes no bit. Returns the live
+ * count; live[] is all ones after. */
+static int pack_live(lane_batch *lb, int n, int32_t *live)
+{
+    int m = 0, nseg = 0;
+    for (int s = 0; s < lb->nseg; s++) {
+        const int start = m, end = s + 1 < lb->nseg ? lb->seg_start[s + 1] : n;
+        for (int k = lb->seg_start[s]; k < end; k++) {
+            lb->q[m] = lb->q[k];
+            lb->z[m] = lb->z[k];
+            lb->un[m] = lb->un[k];
+            lb->vn[m] = lb->vn[k];
+            lb->an[m] = lb->an[k];
+            lb->bn[m] = lb->bn[k];
+            lb->idx[m] = lb->idx[k];
+            m += live[k];
+        }
+        if (m > start) {
+            lb->seg_start[nseg] = start;
+            lb->seg_tri[nseg++] = lb->seg_tri[s];
+        }
+    }
+    lb->nseg = nseg;
+    lb->seg_start[nseg] = m;
+    for (int k = 0; k < m; k++) live[k] = 1;
+    return m;
+}
+
 PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t *busy)
 {
     const persp_frame *f = sc->f;
     const persp_draw_state *ds = lb->ds;
-    const int n = lb->n;
+    int n = lb->n;
     const int invw = f->depth_mode == PERSP_DEPTH_INVW;
     float *depth = sc->depth;
     uint32_t *color = sc->color;
@@ -947,6 +980,9 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     for (int k = 0; k < n; k++) any += live[k];
     sc->stats->fragments += (uint64_t)n;
     if (!any) return;
+    /* Unlit, a hidden lane costs about what packing costs (soup: +6 % CPU
+     * when packed); lit, it costs its lighting too (phong-pc −10 %). */
+    if (any < n && !ds->shade_is_texel) n = pack_live(lb, n, live);
     float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX], rq[PERSP_SPAN_MAX];
     const int weights = !ds->shade_is_texel;
     /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]; one for u, v and the

@@ -91,8 +91,11 @@ static void test_small_triangles_as_spans(void **state)
     /* The soup: triangles of one tile overlap, so consecutive small
      * triangles that share a lane batch often cover the same pixel, which
      * the batch must not hold twice (the depth tests would not see each
-     * other). */
-    for (size_t si = 0; si < sizeof shadings / sizeof *shadings; si++) {
+     * other); lit, the lanes that fail the depth test are packed out
+     * before sampling, and a filter with a level of detail samples each
+     * packed segment with its own triangle's derivatives. */
+    for (size_t si = 0; si < 2 * sizeof shadings / sizeof *shadings; si++) {
+        const char *filter = si % 2 ? "trilinear" : "bilinear";
         uint64_t h[2];
         for (int span_only = 0; span_only < 2; span_only++) {
             persp_context *ctx = test_context_threads(2);
@@ -103,7 +106,8 @@ static void test_small_triangles_as_spans(void **state)
             assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
             persp_render_desc d;
             memset(&d, 0, sizeof d);
-            assert_int_equal(persp_shading_parse(shadings[si], &d.shading), PERSP_OK);
+            assert_int_equal(persp_shading_parse(shadings[si / 2], &d.shading), PERSP_OK);
+            assert_int_equal(persp_filter_parse(filter, &d.filter, NULL), PERSP_OK);
             enum { W = 256, H = 192 };
             persp_framebuffer fb = test_framebuffer(W, H);
             persp_render_stats st;
@@ -116,8 +120,8 @@ static void test_small_triangles_as_spans(void **state)
             persp_context_destroy(ctx);
         }
         if (h[0] != h[1])
-            fail_msg("soup, %s: packed %016llx, spans %016llx", shadings[si], (unsigned long long)h[0],
-                     (unsigned long long)h[1]);
+            fail_msg("soup, %s, %s: packed %016llx, spans %016llx", shadings[si / 2], filter,
+                     (unsigned long long)h[0], (unsigned long long)h[1]);
     }
 }
 
