@@ -16,6 +16,8 @@ typedef struct persp_frame {
     size_t state_count, tri_count, prep_count;
     size_t gap_count; /* slots of tris that hold no triangle (render.c, slabs in place) */
     size_t batch; /* records drawn at once without a capture (render.c, frame_batch_limit) */
+    size_t batch_base; /* batch before adapting to how spread the last one was (render.c) */
+    int batch_adapt;
     persp_render_stats stats;
     persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
     persp_mat4 proj;        /* projection of the scene's camera */
