@@ -459,6 +459,24 @@ static void test_batches_bit_identical(void **state)
     }
 }
 
+/* The default batches adapt to how spread the last batch was (render.c,
+ * PERSP_FRAME_BATCH_PER_WORKER): the 200k-triangle soup at 1024×768
+ * touches every tile in each batch, so its batches after the first are
+ * doubled; the image must be the one of a single batch. */
+static void test_adaptive_batches_bit_identical(void **state)
+{
+    (void)state;
+    enum { W = 1024, H = 768 };
+    persp_render_stats st[2];
+    const uint64_t adaptive = render_hash_batched("scenes/bench/soup-200k.json", NULL, 1, 0, W, H, NULL, &st[0]);
+    const uint64_t one = render_hash_batched("scenes/bench/soup-200k.json", NULL, 1, (size_t)-1, W, H, NULL, &st[1]);
+    assert_true(st[0].triangles_drawn > 3 * 16384); /* several batches, doubled or not */
+    assert_int_equal(st[0].pixels_written, st[1].pixels_written);
+    if (adaptive != one)
+        fail_msg("soup: adaptive batches %016llx, one batch %016llx", (unsigned long long)adaptive,
+                 (unsigned long long)one);
+}
+
 /* The same with the depth test off, where the image shows the submission
  * order itself: thousands of overlapping triangles drawn with persp_draw,
  * last one wins at every pixel. */
@@ -525,6 +543,7 @@ int main(void)
         cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_batches_bit_identical),
+        cmocka_unit_test(test_adaptive_batches_bit_identical),
         cmocka_unit_test(test_submission_order_kept),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
