@@ -885,9 +885,14 @@ static void sink(void *user, const persp_frag_batch *b) { shade_batch(user, b); 
  * (not the window or EWA filters, nor a custom traversal), and shading
  * that is the texel, perspective-correct Gouraud modulating it, or
  * perspective-correct Phong (whose lighting runs across lanes anyway). */
-/* Narrower than a tile: measured against 16 and 32 on the tori, 64 was
- * the fastest for every shading (20k: 4–6 %, 2k: 7–9 % less CPU than 32). */
-#define SMALL_TRI_WIDTH 64
+/* Measured on the tori: 64 against 16 and 32 (20k: 4–6 %, 2k: 7–9 % less
+ * CPU than 32); once lane batches took several triangles (items 37–41 of
+ * docs/PERFORMANCE.md), 128 against 64 (2k: unlit −6 %, gouraud-pc −6 %,
+ * phong-pc −12 %; 256 or no limit gained no more). A triangle wider than
+ * that has long rows, which spans draw in place: every triangle on lanes
+ * cost the corridor 19 % (bilinear), and so did lanes for every triangle
+ * narrower than the tile it is drawn in (its long diagonal edges). */
+#define SMALL_TRI_WIDTH 128
 
 /* Lanes of one batch may come from several consecutive small triangles
  * of the tile (segments), all of one draw state: a triangle of a pixel or
