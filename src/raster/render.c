@@ -910,12 +910,12 @@ typedef struct lane_batch {
     int row0, row1; /* the tile rows its lanes lie in */
     const persp_draw_state *ds;
     /* LANE_GROUP lanes of slack: draw_small fills whole groups. */
-    float q[PERSP_SPAN_MAX + LANE_GROUP], z[PERSP_SPAN_MAX + LANE_GROUP];   /* 1/w and depth */
-    float un[PERSP_SPAN_MAX + LANE_GROUP], vn[PERSP_SPAN_MAX + LANE_GROUP]; /* u/w, v/w */
-    float an[PERSP_SPAN_MAX + LANE_GROUP], bn[PERSP_SPAN_MAX + LANE_GROUP]; /* the weights' numerators (lit) */
-    int32_t idx[PERSP_SPAN_MAX + LANE_GROUP]; /* pixel in the tile: row·PERSP_TILE + column */
-    int seg_start[PERSP_SPAN_MAX + 1];
-    const persp_tri *seg_tri[PERSP_SPAN_MAX];
+    float q[PERSP_LANE_MAX + LANE_GROUP], z[PERSP_LANE_MAX + LANE_GROUP];   /* 1/w and depth */
+    float un[PERSP_LANE_MAX + LANE_GROUP], vn[PERSP_LANE_MAX + LANE_GROUP]; /* u/w, v/w */
+    float an[PERSP_LANE_MAX + LANE_GROUP], bn[PERSP_LANE_MAX + LANE_GROUP]; /* the weights' numerators (lit) */
+    int32_t idx[PERSP_LANE_MAX + LANE_GROUP]; /* pixel in the tile: row·PERSP_TILE + column */
+    int seg_start[PERSP_LANE_MAX + 1];
+    const persp_tri *seg_tri[PERSP_LANE_MAX];
 } lane_batch;
 
 /* Filters whose footprint is each pixel's own (per-draw half of the
@@ -980,7 +980,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     float *depth = sc->depth;
     uint32_t *color = sc->color;
     const float *q = lb->q, *z = lb->z;
-    int32_t live[PERSP_SPAN_MAX];
+    int32_t live[PERSP_LANE_MAX];
     /* The bitmap holds this batch's pixels only. */
     memset(busy + lb->row0, 0, (size_t)(lb->row1 - lb->row0 + 1) * sizeof *busy);
     lb->n = 0;
@@ -998,7 +998,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     /* Unlit, a hidden lane costs about what packing costs (soup: +6 % CPU
      * when packed); lit, it costs its lighting too (phong-pc −10 %). */
     if (any < n && !ds->shade_is_texel) n = pack_live(lb, n, live);
-    float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX], rq[PERSP_SPAN_MAX];
+    float u[PERSP_LANE_MAX], v[PERSP_LANE_MAX], w1[PERSP_LANE_MAX], w2[PERSP_LANE_MAX], rq[PERSP_LANE_MAX];
     const int weights = !ds->shade_is_texel;
     /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]; one for u, v and the
      * weights, as persp__exact_span_pair. */
@@ -1012,7 +1012,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
             w1[k] = lb->an[k] * rq[k];
             w2[k] = lb->bn[k] * rq[k];
         }
-    uint32_t texel[PERSP_SPAN_MAX], out[PERSP_SPAN_MAX];
+    uint32_t texel[PERSP_LANE_MAX], out[PERSP_LANE_MAX];
     uint32_t *tx = weights ? texel : out;
     /* A filter without a level of detail reads no triangle's derivatives:
      * one call for every segment. */
@@ -1073,7 +1073,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
      * own rather than being split over two: each segment is lit apart,
      * padded to whole vectors. */
     const int box = (yb - ya + 1) * (PERSP_MIN(x1, t->xmax) - PERSP_MAX(x0, t->xmin) + 1);
-    if (lb->n && lb->n + box > PERSP_SPAN_MAX) shade_lanes(sc, lb, busy);
+    if (lb->n && lb->n + box > PERSP_LANE_MAX) shade_lanes(sc, lb, busy);
     persp_row_walk walk;
     persp__row_walk_init(&walk, t, ya, x0, x1);
     for (int y = ya; y <= yb; y++) {
@@ -1083,7 +1083,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
         const int32_t base = (y - sc->oy) * PERSP_TILE + (lo - sc->ox);
         /* PERSP_TILE is 64: the row's pixels are bits of one word. */
         const uint64_t mask = (len == 64 ? ~0ull : (1ull << len) - 1) << (base & 63);
-        if (lb->n + len > PERSP_SPAN_MAX || (busy[base >> 6] & mask)) shade_lanes(sc, lb, busy);
+        if (lb->n + len > PERSP_LANE_MAX || (busy[base >> 6] & mask)) shade_lanes(sc, lb, busy);
         if (lb->n == 0) {
             lb->nseg = 0;
             lb->ds = sc->ds;

@@ -105,10 +105,10 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
  * in the same order as light_point, so the scalar and the vector paths
  * agree wherever both are used). */
 typedef struct lit_span {
-    float nx[PERSP_SPAN_MAX], ny[PERSP_SPAN_MAX], nz[PERSP_SPAN_MAX];
-    float ex[PERSP_SPAN_MAX], ey[PERSP_SPAN_MAX], ez[PERSP_SPAN_MAX];
+    float nx[PERSP_LANE_MAX], ny[PERSP_LANE_MAX], nz[PERSP_LANE_MAX];
+    float ex[PERSP_LANE_MAX], ey[PERSP_LANE_MAX], ez[PERSP_LANE_MAX];
     /* The vertex colour, perspective-correct, when ds->color_material. */
-    float cr[PERSP_SPAN_MAX], cg[PERSP_SPAN_MAX], cb[PERSP_SPAN_MAX];
+    float cr[PERSP_LANE_MAX], cg[PERSP_LANE_MAX], cb[PERSP_LANE_MAX];
 } lit_span;
 
 /* Lighting loops run over whole vectors of 16 lanes: the spans of small
@@ -172,8 +172,8 @@ PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, const f
 {
     const persp_material *m = &ds->material;
     const persp_lighting *L = &ds->lighting;
-    float vx[PERSP_SPAN_MAX], vy[PERSP_SPAN_MAX], vz[PERSP_SPAN_MAX];
-    float nx[PERSP_SPAN_MAX], ny[PERSP_SPAN_MAX], nz[PERSP_SPAN_MAX];
+    float vx[PERSP_LANE_MAX], vy[PERSP_LANE_MAX], vz[PERSP_LANE_MAX];
+    float nx[PERSP_LANE_MAX], ny[PERSP_LANE_MAX], nz[PERSP_LANE_MAX];
     const float a0 = L->ambient[0] * m->ambient[0], a1 = L->ambient[1] * m->ambient[1],
                 a2 = L->ambient[2] * m->ambient[2];
     n = span_lanes(n);
@@ -598,7 +598,7 @@ int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const p
 static void light_lanes(const persp_draw_state *ds, const float *side, int n, lit_span *g,
                         const uint32_t *texel, uint32_t *out)
 {
-    float c[6][PERSP_SPAN_MAX];
+    float c[6][PERSP_LANE_MAX];
     pad_lit_span(g, n);
     light_soa(ds, side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
     if (ds->color_material)
@@ -609,7 +609,7 @@ static void light_lanes(const persp_draw_state *ds, const float *side, int n, li
 static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, lit_span *g,
                        const uint32_t *texel, uint32_t *out)
 {
-    float side[PERSP_SPAN_MAX];
+    float side[PERSP_LANE_MAX];
     for (int k = 0; k < span_lanes(n); k++) side[k] = t->light_side;
     light_lanes(ds, side, n, g, texel, out);
 }
@@ -622,7 +622,7 @@ PERSP_SIMD_CLONES_WIDE static void phong_lanes(const persp_draw_state *ds, const
                                                const float *w1, const float *w2, const uint32_t *texel,
                                                uint32_t *out)
 {
-    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    float b1[PERSP_LANE_MAX], b2[PERSP_LANE_MAX];
     const int lanes = span_lanes(n);
     memcpy(b1, w1, (size_t)n * sizeof *b1);
     memcpy(b2, w2, (size_t)n * sizeof *b2);
@@ -669,7 +669,7 @@ PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, in
 {
     const int all = seg_start[nseg];
     lit_span g, c;
-    float side[PERSP_SPAN_MAX], cside[PERSP_SPAN_MAX];
+    float side[PERSP_LANE_MAX], cside[PERSP_LANE_MAX];
     for (int s = 0; s < nseg; s++) {
         const persp_tri *t = seg_tri[s];
         const int s0 = seg_start[s], m = seg_start[s + 1] - s0;
@@ -687,8 +687,8 @@ PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, in
         normalize_and_light(ds, side, all, &g, texel, out);
         return;
     }
-    int at[PERSP_SPAN_MAX], n = 0;
-    uint32_t ctex[PERSP_SPAN_MAX], cout[PERSP_SPAN_MAX];
+    int at[PERSP_LANE_MAX], n = 0;
+    uint32_t ctex[PERSP_LANE_MAX], cout[PERSP_LANE_MAX];
     for (int k = 0; k < all; k++) {
         if (!live[k]) continue;
         c.nx[n] = g.nx[k], c.ny[n] = g.ny[k], c.nz[n] = g.nz[k];

@@ -10,7 +10,7 @@
  * with weight frac(s·W − 1/2), lambda from the analytic Jacobian), with the
  * same floating-point operations in the same order, so the two agree bit for
  * bit; what differs is the shape of the code. Every stage is a loop over the
- * whole span (structure of arrays, at most PERSP_SPAN_MAX pixels) without
+ * whole span (structure of arrays, at most PERSP_LANE_MAX pixels) without
  * calls or data-dependent branches, which GCC turns into 8- or 16-lane code
  * in the AVX2 and AVX-512 variants and 4-lane SSE2 code in the baseline one:
  *   1. coordinates → integer texel indices and fractions,
@@ -28,7 +28,7 @@
 #include <math.h>
 #include <string.h>
 
-#define N PERSP_SPAN_MAX
+#define N PERSP_LANE_MAX
 /* Forced, so that each target clone gets its own vectorised copy. */
 #define PERSP_INLINE __attribute__((always_inline))
 

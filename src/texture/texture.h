@@ -72,7 +72,7 @@ typedef struct persp_sampler_state {
 
 persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_texture *tex,
                                  const persp_sampler_desc *desc);
-/* Fills out[0..n-1] with packed RGBA8. No allocation. */
+/* Fills out[0..n-1] with packed RGBA8, n <= PERSP_LANE_MAX. No allocation. */
 static inline void persp__sample_span(const persp_sampler_state *st, const persp_tex_span_in *in,
                                       uint32_t *out)
 {

@@ -87,8 +87,8 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                         assert_non_null(variant[isa]);
                     }
                     for (int rep = 0; rep < 200; rep++) {
-                        float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], q[PERSP_SPAN_MAX];
-                        int n = 1 + (int)(test_rng_next(&rng) % PERSP_SPAN_MAX);
+                        float u[PERSP_LANE_MAX], v[PERSP_LANE_MAX], q[PERSP_LANE_MAX];
+                        int n = 1 + (int)(test_rng_next(&rng) % PERSP_LANE_MAX);
                         /* Half of the spans are smooth (a real perspective span),
                          * half are random values per pixel. */
                         int smooth = rep & 1;
@@ -112,7 +112,7 @@ static void compare_spans(persp_context *ctx, int w, int h, uint64_t seed)
                             .h = (float)(sc * test_rng_uniform(&rng, -0.1, 0.1)),
                             .poly_lambda = (float)test_rng_uniform(&rng, -3.0, 12.0),
                         };
-                        uint32_t fast[PERSP_SPAN_MAX], ref[PERSP_SPAN_MAX];
+                        uint32_t fast[PERSP_LANE_MAX], ref[PERSP_LANE_MAX];
                         general(&st, &in, ref);
                         for (int isa = 0; isa < nvar; isa++) {
                             variant[isa](&st_isa[isa], &in, fast);
