@@ -21,9 +21,10 @@
 #define PERSP_SPAN_MAX 64
 /* Most pixels the texture samplers and the shaders take in one call: the
  * lanes of one small-triangle batch (src/raster/render.c), rows of several
- * triangles packed together. 128 rather than 64 halved the batches' fixed
- * costs: 2k and 2M tori 10–13 % less CPU (docs/PERFORMANCE.md, item 44). */
-#define PERSP_LANE_MAX 128
+ * triangles packed together. Larger batches share their fixed costs among
+ * more pixels: 128 rather than 64 took 14–20 % less CPU on the 2k torus,
+ * 256 another 4–6 % lit (docs/PERFORMANCE.md, item 44). */
+#define PERSP_LANE_MAX 256
 /* Bytes of per-triangle state a method may keep (fits, forward differences). */
 #define PERSP_METHOD_PREP_BYTES 512
 /* Bytes of parsed parameters ("subdiv:16", "incremental:k=4"). */
