@@ -27,6 +27,9 @@ struct persp_context {
     /* Nonzero: small triangles are drawn row by row as spans, not packed
      * into lanes. Changed only by tests, to compare the two paths. */
     int span_only;
+    /* Nonzero: lane batches are packed by the portable loop even where
+     * AVX-512 is available. Changed only by tests, to compare the two. */
+    int pack_portable;
     /* Samples and rows the object-space pipeline may walk in one frame; 0:
      * its default. Changed only by tests, to reach the limit cheaply. */
     double objspace_max_work;
