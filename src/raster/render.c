@@ -960,7 +960,7 @@ static int lanes_apply(const persp_draw_state *ds, const persp_tri *t)
  * with batches of 256 lanes. The stores write whole vectors at the packed
  * position, which never passes the lanes still to be read, into the
  * arrays' LANE_GROUP lanes of slack. */
-PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const int32_t *live)
+PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const int32_t *live, uint64_t *bits)
 {
     float *const arr[6] = {lb->q, lb->z, lb->un, lb->vn, lb->an, lb->bn};
     int m = 0;
@@ -968,6 +968,7 @@ PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const i
         const __m512i lv = _mm512_loadu_si512((const void *)(live + k));
         __mmask16 mk = _mm512_test_epi32_mask(lv, lv);
         if (n - k < LANE_GROUP) mk &= (__mmask16)((1u << (n - k)) - 1u);
+        bits[k >> 6] |= (uint64_t)mk << (k & 63);
         for (int a = 0; a < 6; a++)
             _mm512_storeu_ps(arr[a] + m, _mm512_maskz_compress_ps(mk, _mm512_loadu_ps(arr[a] + k)));
         _mm512_storeu_si512((void *)(lb->idx + m),
@@ -977,23 +978,23 @@ PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const i
 }
 #endif
 
+_Static_assert(PERSP_LANE_MAX % LANE_GROUP == 0, "lane batches hold whole groups");
+
+/* Live lanes before lane p, from the batch's bitmap of live lanes. */
+static int live_before(const uint64_t *bits, int p)
+{
+    int c = 0;
+    for (int w = 0; w < p >> 6; w++) c += __builtin_popcountll(bits[w]);
+    if (p & 63) c += __builtin_popcountll(bits[p >> 6] & ((1ull << (p & 63)) - 1));
+    return c;
+}
+
 static int pack_live(lane_batch *lb, int n, int32_t *live, int avx512)
 {
-    int m = 0, nseg = 0;
-    for (int s = 0; s < lb->nseg; s++) {
-        int c = 0;
-        for (int k = lb->seg_start[s]; k < lb->seg_start[s + 1]; k++) c += live[k];
-        if (c) {
-            lb->seg_start[nseg] = m;
-            lb->seg_tri[nseg++] = lb->seg_tri[s];
-        }
-        m += c;
-    }
-    lb->nseg = nseg;
-    lb->seg_start[nseg] = m;
+    uint64_t bits[PERSP_LANE_MAX / 64 + 1] = {0};
 #if PERSP_HAVE_ISA_VARIANTS
     if (avx512) {
-        pack_lanes_avx512(lb, n, live);
+        pack_lanes_avx512(lb, n, live, bits);
     } else
 #endif
     {
@@ -1008,8 +1009,20 @@ static int pack_live(lane_batch *lb, int n, int32_t *live, int avx512)
             lb->bn[j] = lb->bn[k];
             lb->idx[j] = lb->idx[k];
             j += live[k];
+            bits[k >> 6] |= (uint64_t)(live[k] != 0) << (k & 63);
         }
     }
+    int nseg = 0, m = 0;
+    for (int s = 0; s < lb->nseg; s++) {
+        const int end = live_before(bits, lb->seg_start[s + 1]);
+        if (end > m) {
+            lb->seg_start[nseg] = m;
+            lb->seg_tri[nseg++] = lb->seg_tri[s];
+        }
+        m = end;
+    }
+    lb->nseg = nseg;
+    lb->seg_start[nseg] = m;
     for (int k = 0; k < m; k++) live[k] = 1;
     return m;
 }
