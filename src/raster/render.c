@@ -1053,7 +1053,8 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     if (!any) return;
     /* Unlit, a hidden lane costs about what moving it one at a time costs
      * (soup: +6 % CPU when packed so), and less than moving it by compress
-     * (−5 %); lit, it costs its lighting too. */
+     * (−5 %); lit, it costs its lighting too, so a lit batch is always
+     * packed and the shaders below light every lane they are given. */
     if (any < n && (!ds->shade_is_texel || f->pack_avx512)) n = pack_live(lb, n, live, f->pack_avx512);
     float u[PERSP_LANE_MAX], v[PERSP_LANE_MAX], w1[PERSP_LANE_MAX], w2[PERSP_LANE_MAX], rq[PERSP_LANE_MAX];
     const int weights = !ds->shade_is_texel;
@@ -1092,17 +1093,11 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     if (weights && ds->shading == PERSP_SHADING_PHONG_PC && lb->nseg == 1)
         persp__shade_phong_lanes(ds, lb->seg_tri[0], n, w1, w2, texel, out);
     else if (weights && ds->shading == PERSP_SHADING_PHONG_PC)
-        persp__shade_phong_segments(ds, lb->nseg, lb->seg_start, lb->seg_tri, live, w1, w2, texel, out);
+        persp__shade_phong_segments(ds, lb->nseg, lb->seg_start, lb->seg_tri, w1, w2, texel, out);
     else if (weights)
         for (int s = 0; s < lb->nseg; s++) {
-            const persp_tri *t = lb->seg_tri[s];
             const int s0 = lb->seg_start[s], m = lb->seg_start[s + 1] - s0;
-            /* Lighting is most of a lit lane's cost: a segment hidden
-             * behind the depth buffer (overdraw) is not lit. */
-            int seg_live = 0;
-            for (int k = s0; k < s0 + m; k++) seg_live |= live[k];
-            if (!seg_live) continue;
-            persp__shade_gouraud_lanes(ds, t, m, w1 + s0, w2 + s0, texel + s0, out + s0);
+            persp__shade_gouraud_lanes(ds, lb->seg_tri[s], m, w1 + s0, w2 + s0, texel + s0, out + s0);
         }
     if (ds->force_opaque)
         for (int k = 0; k < n; k++) out[k] |= 0xff000000u;

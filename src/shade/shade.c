@@ -643,33 +643,16 @@ void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, in
 
 /* phong_lanes for a batch whose lanes come from several triangles
  * (segments): each segment's attributes are interpolated into its lanes,
- * then the whole batch is normalised and lit at once, so that a segment
- * of one or two pixels does not light a vector of 16 by itself (on the
- * 2M-triangle torus lighting was a fifth of a frame, mostly padding). The
- * same operations per lane as phong_lanes. */
-/* Lanes [0, n) with interpolated normals: pads them to whole vectors,
- * normalises the normals and lights them. */
-static inline __attribute__((always_inline)) void normalize_and_light(const persp_draw_state *ds, float *side,
-                                                                      int n, lit_span *g, const uint32_t *texel,
-                                                                      uint32_t *out)
-{
-    const int lanes = span_lanes(n);
-    for (int k = n; k < lanes; k++) {
-        g->nx[k] = g->ny[k] = g->nz[k] = 0.0f;
-        side[k] = 1.0f;
-    }
-    normalize_soa(lanes, g->nx, g->ny, g->nz);
-    light_lanes(ds, side, n, g, texel, out);
-}
-
+ * then the whole batch is padded to whole vectors, normalised and lit at
+ * once, so that a segment of one or two pixels does not light a vector of
+ * 16 by itself (on the 2M-triangle torus lighting was a fifth of a frame,
+ * mostly padding). The same operations per lane as phong_lanes. */
 PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
-                                                  const persp_tri *const *seg_tri, const int32_t *live,
-                                                  const float *w1, const float *w2, const uint32_t *texel,
-                                                  uint32_t *out)
+                                                  const persp_tri *const *seg_tri, const float *w1,
+                                                  const float *w2, const uint32_t *texel, uint32_t *out)
 {
-    const int all = seg_start[nseg];
-    lit_span g, c;
-    float side[PERSP_LANE_MAX], cside[PERSP_LANE_MAX];
+    lit_span g;
+    float side[PERSP_LANE_MAX];
     for (int s = 0; s < nseg; s++) {
         const persp_tri *t = seg_tri[s];
         const int s0 = seg_start[s], m = seg_start[s + 1] - s0;
@@ -678,35 +661,20 @@ PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, in
         if (ds->color_material) interp_soa(t, PERSP_A_R, m, w1 + s0, w2 + s0, g.cr + s0, g.cg + s0, g.cb + s0);
         for (int k = s0; k < s0 + m; k++) side[k] = t->light_side;
     }
-    /* Only the lanes the depth test passed are lit, packed together
-     * (overdraw leaves much of a batch of the soup hidden), when that
-     * saves a whole vector of lanes. */
-    int nlive = 0;
-    for (int k = 0; k < all; k++) nlive += live[k] != 0;
-    if (span_lanes(nlive) == span_lanes(all)) {
-        normalize_and_light(ds, side, all, &g, texel, out);
-        return;
+    const int n = seg_start[nseg], lanes = span_lanes(n);
+    for (int k = n; k < lanes; k++) {
+        g.nx[k] = g.ny[k] = g.nz[k] = 0.0f;
+        side[k] = 1.0f;
     }
-    int at[PERSP_LANE_MAX], n = 0;
-    uint32_t ctex[PERSP_LANE_MAX], cout[PERSP_LANE_MAX];
-    for (int k = 0; k < all; k++) {
-        if (!live[k]) continue;
-        c.nx[n] = g.nx[k], c.ny[n] = g.ny[k], c.nz[n] = g.nz[k];
-        c.ex[n] = g.ex[k], c.ey[n] = g.ey[k], c.ez[n] = g.ez[k];
-        c.cr[n] = g.cr[k], c.cg[n] = g.cg[k], c.cb[n] = g.cb[k];
-        cside[n] = side[k];
-        ctex[n] = texel[k];
-        at[n++] = k;
-    }
-    normalize_and_light(ds, cside, n, &c, ctex, cout);
-    for (int j = 0; j < n; j++) out[at[j]] = cout[j];
+    normalize_soa(lanes, g.nx, g.ny, g.nz);
+    light_lanes(ds, side, n, &g, texel, out);
 }
 
 void persp__shade_phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
-                                 const persp_tri *const *seg_tri, const int32_t *live, const float *w1,
-                                 const float *w2, const uint32_t *texel, uint32_t *out)
+                                 const persp_tri *const *seg_tri, const float *w1, const float *w2,
+                                 const uint32_t *texel, uint32_t *out)
 {
-    phong_segments(ds, nseg, seg_start, seg_tri, live, w1, w2, texel, out);
+    phong_segments(ds, nseg, seg_start, seg_tri, w1, w2, texel, out);
 }
 
 /* Flat: one lighting evaluation per triangle. */

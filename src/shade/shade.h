@@ -34,11 +34,11 @@ void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, 
 void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                               const float *w2, const uint32_t *texel, uint32_t *out);
 /* The same for lanes [seg_start[s], seg_start[s + 1]) of triangle
- * seg_tri[s], s < nseg: one lighting pass over the lanes whose live[] is
- * set, among all seg_start[nseg]; out[] of the others is left as it is. */
+ * seg_tri[s], s < nseg: one lighting pass over all seg_start[nseg] lanes
+ * (the renderer has packed out those the depth test hid). */
 void persp__shade_phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
-                                 const persp_tri *const *seg_tri, const int32_t *live, const float *w1,
-                                 const float *w2, const uint32_t *texel, uint32_t *out);
+                                 const persp_tri *const *seg_tri, const float *w1, const float *w2,
+                                 const uint32_t *texel, uint32_t *out);
 
 /* The unit normal and eye-space position each pixel of batch b is lit with
  * under ds->shading (the same code the span shaders use), for accuracy
