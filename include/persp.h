@@ -109,6 +109,27 @@ typedef struct persp_allocator {
 
 typedef struct persp_context persp_context;
 
+/* Instruction-set variant of the texture span samplers and the lane packing
+ * (docs/PERFORMANCE.md, "Samplers on Intel and AMD"). Every variant computes
+ * the same bits; they differ only in speed, which depends on the CPU (the
+ * texel fetch by gather instructions is fast on some cores and slow on
+ * others). The lighting loops are chosen by the dynamic loader and are not
+ * affected. */
+typedef enum persp_simd {
+    PERSP_SIMD_AUTO = 0,      /* the fastest for this CPU, decided at context creation */
+    PERSP_SIMD_BASELINE,      /* x86-64 baseline (SSE2), or plain C elsewhere */
+    PERSP_SIMD_AVX2,          /* 8 lanes, texels fetched by scalar loads */
+    PERSP_SIMD_AVX2_GATHER,   /* 8 lanes, texels fetched by vpgatherdd */
+    PERSP_SIMD_AVX512,        /* 16 lanes, texels fetched by scalar loads */
+    PERSP_SIMD_AVX512_GATHER  /* 16 lanes, texels fetched by vpgatherdd */
+} persp_simd;
+
+/* "auto", "baseline", "avx2", "avx2-gather", "avx512", "avx512-gather";
+ * "?" for a value outside the enum. */
+PERSP_API const char *persp_simd_name(persp_simd simd);
+/* PERSP_ERR_NOT_FOUND for an unknown name. */
+PERSP_API persp_status persp_simd_parse(const char *name, persp_simd *out);
+
 typedef struct persp_context_desc {
     const persp_allocator *allocator; /* NULL: malloc/free; copied, need not outlive the call */
     int threads;                      /* threads drawing each render, the caller's included,
@@ -123,6 +144,9 @@ typedef struct persp_context_desc {
      * library cannot know how much of the machine its caller means to give
      * it, and persp's fixed size limits already bound each input. */
     size_t max_memory;
+    /* PERSP_SIMD_AUTO (0): chosen for the CPU. A variant this CPU (or this
+     * build) cannot run: PERSP_ERR_UNSUPPORTED from persp_context_create. */
+    persp_simd simd;
 } persp_context_desc;
 
 /* desc may be NULL (all defaults). */
@@ -133,6 +157,10 @@ PERSP_API void persp_context_destroy(persp_context *ctx);
 /* Detail of the last failure on this context ("file:line:col: problem"), or
  * "". Owned by the context, valid until its next call. */
 PERSP_API const char *persp_context_error(const persp_context *ctx);
+/* The sampler variant the context uses (never PERSP_SIMD_AUTO for a
+ * context). For PERSP_SIMD_AUTO the first call, or the first render,
+ * decides it by timing the candidates for a fraction of a millisecond. */
+PERSP_API persp_simd persp_context_simd(persp_context *ctx);
 /* Warnings: problems persp worked around (a model's missing material or
  * texture file, for instance), one line each without a trailing newline.
  * persp never prints; without a handler warnings are dropped. Called on the

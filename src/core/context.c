@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/fmath.h"
 #include "core/pool.h"
 
 const char *persp_version(void) { return PERSP_VERSION_STRING; }
@@ -37,6 +38,29 @@ static void default_free(void *user, void *ptr)
     free(ptr);
 }
 
+static const char *const simd_names[] = {"auto",   "baseline", "avx2", "avx2-gather",
+                                          "avx512", "avx512-gather"};
+/* persp_simd order after AUTO. */
+static const int simd_isa[] = {PERSP_ISA_BASE, PERSP_ISA_AVX2, PERSP_ISA_AVX2_GATHER,
+                               PERSP_ISA_AVX512, PERSP_ISA_AVX512_GATHER};
+
+const char *persp_simd_name(persp_simd simd)
+{
+    return (unsigned)simd < sizeof simd_names / sizeof *simd_names ? simd_names[simd] : "?";
+}
+
+persp_status persp_simd_parse(const char *name, persp_simd *out)
+{
+    if (!name || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    for (size_t i = 0; i < sizeof simd_names / sizeof *simd_names; i++)
+        if (strcmp(name, simd_names[i]) == 0) {
+            *out = (persp_simd)i;
+            return PERSP_OK;
+        }
+    return PERSP_ERR_NOT_FOUND;
+}
+
+
 persp_status persp_context_create(const persp_context_desc *desc, persp_context **out)
 {
     if (!out) return PERSP_ERR_INVALID_ARGUMENT;
@@ -44,6 +68,7 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
     persp_allocator al = {default_alloc, default_free, NULL};
     int threads = 1;
     size_t max_memory = 0;
+    int isa = -1; /* PERSP_SIMD_AUTO: chosen at the first frame (persp_context_simd) */
     if (desc) {
         if (desc->allocator) {
             if (!desc->allocator->alloc || !desc->allocator->free) return PERSP_ERR_INVALID_ARGUMENT;
@@ -52,6 +77,11 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
         if (desc->threads < 0 || desc->threads > 256) return PERSP_ERR_INVALID_ARGUMENT;
         if (desc->threads > 1) threads = desc->threads;
         max_memory = desc->max_memory;
+        if ((unsigned)desc->simd > PERSP_SIMD_AVX512_GATHER) return PERSP_ERR_INVALID_ARGUMENT;
+        if (desc->simd != PERSP_SIMD_AUTO) {
+            isa = simd_isa[desc->simd - 1];
+            if (!persp__isa_runs(isa)) return PERSP_ERR_UNSUPPORTED;
+        }
     }
     if (max_memory && max_memory < sizeof(persp_context))
         return PERSP_ERR_OUT_OF_MEMORY; /* not even the context fits */
@@ -61,6 +91,7 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
     ctx->allocator = al;
     ctx->threads = threads;
     ctx->max_memory = max_memory;
+    ctx->isa = isa;
     ctx->mem_used = ctx->mem_peak = sizeof *ctx;
     *out = ctx;
     return PERSP_OK;

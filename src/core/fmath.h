@@ -35,7 +35,17 @@
  * variant is compiled as usual, the others with these attributes, and the
  * caller picks with persp__cpu_isa(). AVX-512 code uses 512-bit vectors
  * (GCC prefers 256 by default). */
-enum { PERSP_ISA_BASE = 0, PERSP_ISA_AVX2 = 1, PERSP_ISA_AVX512 = 2 };
+enum {
+    PERSP_ISA_BASE = 0,
+    PERSP_ISA_AVX2 = 1,
+    PERSP_ISA_AVX512 = 2,
+    /* The same compiled with the vectoriser's gathers enabled
+     * (fastspan_gather.c): same instruction set, so the CPU checks are
+     * those of the variant without. */
+    PERSP_ISA_AVX2_GATHER = 3,
+    PERSP_ISA_AVX512_GATHER = 4,
+    PERSP_ISA_COUNT = 5
+};
 #if defined(__GNUC__) && defined(__x86_64__)
 #define PERSP_HAVE_ISA_VARIANTS 1
 #define PERSP_TARGET_AVX2 __attribute__((target("avx2")))
@@ -58,6 +68,15 @@ static inline int persp__cpu_isa(void)
 #define PERSP_HAVE_ISA_VARIANTS 0
 static inline int persp__cpu_isa(void) { return PERSP_ISA_BASE; }
 #endif
+
+/* Whether this build and CPU can run variant isa. */
+static inline int persp__isa_runs(int isa)
+{
+    const int need = isa == PERSP_ISA_AVX2_GATHER     ? PERSP_ISA_AVX2
+                     : isa == PERSP_ISA_AVX512_GATHER ? PERSP_ISA_AVX512
+                                                      : isa;
+    return isa >= PERSP_ISA_BASE && isa < PERSP_ISA_COUNT && need <= persp__cpu_isa();
+}
 
 /* log2(x) for normal positive x with an absolute error below 1e-6: x =
  * m·2^e, m in [1, 2), log2 x = e + p(m - 1), p the degree-7 polynomial

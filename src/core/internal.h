@@ -30,6 +30,10 @@ struct persp_context {
     /* Nonzero: lane batches are packed by the portable loop even where
      * AVX-512 is available. Changed only by tests, to compare the two. */
     int pack_portable;
+    /* Sampler and packing variant (PERSP_ISA_*), from
+     * persp_context_desc.simd; -1 for AUTO until persp_context_simd
+     * decides it. */
+    int isa;
     /* Samples and rows the object-space pipeline may walk in one frame; 0:
      * its default. Changed only by tests, to reach the limit cheaply. */
     double objspace_max_work;

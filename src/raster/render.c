@@ -119,6 +119,20 @@ static void render_cache_free(persp_context *ctx)
 #define PERSP_FRAME_BATCH_PER_WORKER 8192u
 #define PERSP_FRAME_BATCH_MAX 65536u
 
+/* PERSP_SIMD_AUTO is resolved here, at the first frame, rather than at
+ * context creation: the choice is timed on the samplers of the texture
+ * module, which the context's own module sits below. */
+persp_simd persp_context_simd(persp_context *ctx)
+{
+    static const persp_simd from_isa[PERSP_ISA_COUNT] = {
+        [PERSP_ISA_BASE] = PERSP_SIMD_BASELINE, [PERSP_ISA_AVX2] = PERSP_SIMD_AVX2,
+        [PERSP_ISA_AVX512] = PERSP_SIMD_AVX512, [PERSP_ISA_AVX2_GATHER] = PERSP_SIMD_AVX2_GATHER,
+        [PERSP_ISA_AVX512_GATHER] = PERSP_SIMD_AVX512_GATHER};
+    if (!ctx) return PERSP_SIMD_AUTO;
+    if (ctx->isa < 0) ctx->isa = persp__fast_span_auto_isa();
+    return from_isa[ctx->isa];
+}
+
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
                                 persp_frame *f)
 {
@@ -142,7 +156,9 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
                                             PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(ctx));
     f->batch_base = f->batch;
     f->batch_adapt = !ctx->frame_batch;
-    f->pack_avx512 = persp__cpu_isa() == PERSP_ISA_AVX512 && !ctx->pack_portable;
+    persp_context_simd(ctx);
+    f->pack_avx512 =
+        (ctx->isa == PERSP_ISA_AVX512 || ctx->isa == PERSP_ISA_AVX512_GATHER) && !ctx->pack_portable;
     return PERSP_OK;
 }
 

@@ -119,7 +119,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
                 sd.min_lod = dd.min_lod;
                 sd.max_lod = dd.max_lod;
             }
-            st = persp__sampler_init(&ds.sampler, ds.tex, &sd);
+            st = persp__sampler_init_isa(&ds.sampler, ds.tex, &sd, ctx->isa);
             if (st != PERSP_OK) return persp__fail(ctx, st, "render: bad sampler settings");
         }
         ds.color_material = scene->meshes[o->mesh].colored;
@@ -254,7 +254,7 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: a toggle is out of range");
     ds.depth_test = ds.depth_write = desc->depth_test != PERSP_TOGGLE_OFF;
     if (ds.tex) {
-        st = persp__sampler_init(&ds.sampler, ds.tex, &desc->sampler);
+        st = persp__sampler_init_isa(&ds.sampler, ds.tex, &desc->sampler, ctx->isa);
         if (st != PERSP_OK) return persp__fail(ctx, st, "draw: bad sampler settings");
     }
     st = persp__shade_resolve(ctx, &ds);

@@ -20,352 +20,9 @@
  * The general samplers wrap with an integer remainder per tap, which is
  * what made them several times slower.
  */
-#include "texture/sample.h"
+#include "texture/fastspan_body.h"
 
-#include "core/internal.h"
-#include "interp/method.h"
-
-#include <math.h>
-#include <string.h>
-
-#define N PERSP_LANE_MAX
-/* Forced, so that each target clone gets its own vectorised copy. */
-#define PERSP_INLINE __attribute__((always_inline))
-
-/* persp__tex_safe: the clamp keeps the later conversion to int defined
- * (NaN goes to the lower limit, as there). */
-static inline PERSP_INLINE float safe_coord(float x)
-{
-    x = x > -PERSP_TEX_COORD_LIMIT ? x : -PERSP_TEX_COORD_LIMIT;
-    return x < PERSP_TEX_COORD_LIMIT ? x : PERSP_TEX_COORD_LIMIT;
-}
-
-static inline PERSP_INLINE int32_t wrap_i(int wrap, int32_t i, int32_t mask)
-{
-    if (wrap == PERSP_WRAP_REPEAT) return i & mask; /* two's complement: i mod 2^k */
-    i = i < 0 ? 0 : i;
-    return i > mask ? mask : i;
-}
-
-static inline PERSP_INLINE uint32_t pack_ch(float c)
-{
-    float v = c + 0.5f;
-    v = v < 0.0f ? 0.0f : v;
-    v = v > 255.0f ? 255.0f : v;
-    return (uint32_t)(int32_t)v;
-}
-
-/* Stages 1-2 of the linear filter on level lev[k] of each pixel (or on one
- * level for all when lev == NULL): the four texel addresses and fractions. */
-static inline PERSP_INLINE void
-linear_taps(const persp_tex_pot *restrict p, int ws, int wt, int n, const float *restrict u,
-            const float *restrict v, const int32_t *restrict lev, int32_t *restrict a00,
-            int32_t *restrict a10, int32_t *restrict a01, int32_t *restrict a11,
-            float *restrict fa, float *restrict fb)
-{
-    const int32_t w0 = p->wmask[0] + 1, h0 = p->hmask[0] + 1, s0 = p->shift[0];
-    for (int k = 0; k < n; k++) {
-        /* Level l of a power-of-two chain is max(w0 >> l, 1) wide: shifts
-         * rather than table look-ups, which would each be a gather. */
-        int32_t l = lev ? lev[k] : 0;
-        int32_t wl = w0 >> l, hl = h0 >> l, sh = s0 - l;
-        wl = wl > 1 ? wl : 1;
-        hl = hl > 1 ? hl : 1;
-        sh = sh > 0 ? sh : 0;
-        float x = safe_coord(u[k] * (float)wl - 0.5f);
-        float y = safe_coord(v[k] * (float)hl - 0.5f);
-        float fx = floorf(x), fy = floorf(y);
-        int32_t i0 = (int32_t)fx, j0 = (int32_t)fy;
-        fa[k] = x - fx;
-        fb[k] = y - fy;
-        int32_t wm = wl - 1, hm = hl - 1, off = lev ? p->off[l] : 0;
-        int32_t x0 = wrap_i(ws, i0, wm), x1 = wrap_i(ws, i0 + 1, wm);
-        int32_t r0 = off + (wrap_i(wt, j0, hm) << sh), r1 = off + (wrap_i(wt, j0 + 1, hm) << sh);
-        a00[k] = r0 + x0;
-        a10[k] = r0 + x1;
-        a01[k] = r1 + x0;
-        a11[k] = r1 + x1;
-    }
-}
-
-/* Stages 3-4: fetch and weigh in the order persp__bilinear accumulates
- * (00, 10, 01, 11), one float sum per channel. Channels 1 and 2 are masked
- * in place rather than shifted down, i.e. scaled by 2^8 and 2^16, and the
- * sum is scaled back at the end: scaling every term of a float sum by a
- * power of two scales each rounded product and partial sum exactly, so the
- * result has the same bits and the loop saves eight shifts per pixel. */
-static inline PERSP_INLINE void linear_sum(const uint32_t *restrict tex, int n,
-                                           const int32_t *restrict a00, const int32_t *restrict a10,
-                                           const int32_t *restrict a01, const int32_t *restrict a11,
-                                           const float *restrict fa, const float *restrict fb,
-                                           float c[4][N])
-{
-    for (int k = 0; k < n; k++) {
-        uint32_t t00 = tex[a00[k]], t10 = tex[a10[k]], t01 = tex[a01[k]], t11 = tex[a11[k]];
-        float a = fa[k], b = fb[k];
-        float w00 = (1.0f - a) * (1.0f - b), w10 = a * (1.0f - b);
-        float w01 = (1.0f - a) * b, w11 = a * b;
-        float s0 = w00 * (float)(int32_t)(t00 & 0xffu);
-        s0 += w10 * (float)(int32_t)(t10 & 0xffu);
-        s0 += w01 * (float)(int32_t)(t01 & 0xffu);
-        s0 += w11 * (float)(int32_t)(t11 & 0xffu);
-        float s1 = w00 * (float)(int32_t)(t00 & 0xff00u);
-        s1 += w10 * (float)(int32_t)(t10 & 0xff00u);
-        s1 += w01 * (float)(int32_t)(t01 & 0xff00u);
-        s1 += w11 * (float)(int32_t)(t11 & 0xff00u);
-        float s2 = w00 * (float)(int32_t)(t00 & 0xff0000u);
-        s2 += w10 * (float)(int32_t)(t10 & 0xff0000u);
-        s2 += w01 * (float)(int32_t)(t01 & 0xff0000u);
-        s2 += w11 * (float)(int32_t)(t11 & 0xff0000u);
-        float s3 = w00 * (float)(int32_t)(t00 >> 24);
-        s3 += w10 * (float)(int32_t)(t10 >> 24);
-        s3 += w01 * (float)(int32_t)(t01 >> 24);
-        s3 += w11 * (float)(int32_t)(t11 >> 24);
-        c[0][k] = s0;
-        c[1][k] = s1 * 0x1p-8f;
-        c[2][k] = s2 * 0x1p-16f;
-        c[3][k] = s3;
-    }
-}
-
-static inline PERSP_INLINE void pack_span(int n, float c[4][N], uint32_t *out)
-{
-    for (int k = 0; k < n; k++)
-        out[k] = pack_ch(c[0][k]) | pack_ch(c[1][k]) << 8 | pack_ch(c[2][k]) << 16 |
-                 pack_ch(c[3][k]) << 24;
-}
-
-/* Texel addresses of the nearest filter on level lev[k] of each pixel (or
- * level 0 for all when lev == NULL): wrap(floor(s·W_l)). */
-static inline PERSP_INLINE void nearest_addr(const persp_tex_pot *restrict p, int ws, int wt, int n,
-                                             const float *restrict u, const float *restrict v,
-                                             const int32_t *restrict lev, int32_t *restrict addr)
-{
-    const int32_t w0 = p->wmask[0] + 1, h0 = p->hmask[0] + 1, s0 = p->shift[0];
-    for (int k = 0; k < n; k++) {
-        int32_t l = lev ? lev[k] : 0;
-        int32_t wl = w0 >> l, hl = h0 >> l, sh = s0 - l;
-        wl = wl > 1 ? wl : 1;
-        hl = hl > 1 ? hl : 1;
-        sh = sh > 0 ? sh : 0;
-        int32_t i = (int32_t)floorf(safe_coord(u[k] * (float)wl));
-        int32_t j = (int32_t)floorf(safe_coord(v[k] * (float)hl));
-        int32_t off = lev ? p->off[l] : 0;
-        addr[k] = off + (wrap_i(wt, j, hl - 1) << sh) + wrap_i(ws, i, wl - 1);
-    }
-}
-
-static inline PERSP_INLINE void span_nearest(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                             uint32_t *out, int ws, int wt)
-{
-    const uint32_t *restrict tex = st->tex->storage;
-    uint32_t *restrict dst = out;
-    const int n = in->n;
-    int32_t addr[N];
-    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, NULL, addr);
-    for (int k = 0; k < n; k++) dst[k] = tex[addr[k]];
-}
-
-/* Lambda of every pixel: from the Jacobian (persp__span_jacobian,
- * persp__jac_lambda) or once per polygon, as span_iso of sampler.c. */
-static inline PERSP_INLINE void span_lambda(const persp_sampler_state *st,
-                                            const persp_tex_span_in *in, float *lam)
-{
-    if (st->desc.lod_mode == PERSP_LOD_POLYGON) {
-        float l = persp__clamp_lod(st, in->poly_lambda + st->lod_bias);
-        for (int k = 0; k < in->n; k++) lam[k] = l;
-    } else {
-        for (int k = 0; k < in->n; k++) lam[k] = persp__jac_lambda(st, persp__span_jacobian(st, in, k));
-    }
-}
-
-/* *_MIP_NEAREST level (GL 4.6 eq. 8.17, mip_nearest_level of sampler.c):
- * 0 when lambda <= 1/2, else ceil(lambda + 1/2) - 1 up to the last level. */
-static inline PERSP_INLINE void mip_nearest_levels(const persp_sampler_state *st, int n,
-                                                   const float *lam, int32_t *lev)
-{
-    const float top = (float)(st->tex->levels - 1);
-    for (int k = 0; k < n; k++) {
-        float d = ceilf(lam[k] + 0.5f) - 1.0f;
-        d = d >= top ? top : d;
-        lev[k] = lam[k] <= 0.5f ? 0 : (int32_t)d;
-    }
-}
-
-/* Blend level d1 towards d2 by f (trilinear and nearest-mip-linear): the
- * levels and factor of every pixel; returns whether any pixel blends. */
-static inline PERSP_INLINE int mip_linear_levels(const persp_sampler_state *st, int n,
-                                                 const float *lam, int32_t *d1, int32_t *d2,
-                                                 float *f)
-{
-    const int32_t top = st->tex->levels - 1;
-    int blend = 0;
-    for (int k = 0; k < n; k++) {
-        float l = lam[k];
-        float fl = floorf(l);
-        int32_t il = (int32_t)fl;
-        int mag = l <= 0.0f, last = il >= top;
-        d1[k] = mag ? 0 : last ? top : il;
-        f[k] = mag || last ? 0.0f : l - fl;
-        d2[k] = mag || last ? d1[k] : il + 1;
-        blend |= !(mag || last);
-    }
-    return blend;
-}
-
-static inline PERSP_INLINE void span_nmn(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                         uint32_t *out, int ws, int wt)
-{
-    const uint32_t *restrict tex = st->tex->storage;
-    uint32_t *restrict dst = out;
-    const int n = in->n;
-    float lam[N];
-    int32_t lev[N], addr[N];
-    span_lambda(st, in, lam);
-    mip_nearest_levels(st, n, lam, lev);
-    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, lev, addr);
-    for (int k = 0; k < n; k++) dst[k] = tex[addr[k]];
-}
-
-static inline PERSP_INLINE void span_bmn(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                         uint32_t *out, int ws, int wt)
-{
-    const int n = in->n;
-    float lam[N], fa[N], fb[N], c[4][N];
-    int32_t lev[N], a00[N], a10[N], a01[N], a11[N];
-    span_lambda(st, in, lam);
-    mip_nearest_levels(st, n, lam, lev);
-    linear_taps(&st->pot, ws, wt, n, in->u, in->v, lev, a00, a10, a01, a11, fa, fb);
-    linear_sum(st->tex->storage, n, a00, a10, a01, a11, fa, fb, c);
-    pack_span(n, c, out);
-}
-
-/* Nearest-mip-linear: the nearest texels of two levels blended per channel
- * in float (sampler.c: c1 + f·(c2 − c1), one rounding at the end). */
-static inline PERSP_INLINE void span_nml(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                         uint32_t *out, int ws, int wt)
-{
-    const uint32_t *restrict tex = st->tex->storage;
-    const int n = in->n;
-    float lam[N], f[N], c[4][N];
-    int32_t d1[N], d2[N], a1[N], a2[N];
-    span_lambda(st, in, lam);
-    mip_linear_levels(st, n, lam, d1, d2, f);
-    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, d1, a1);
-    nearest_addr(&st->pot, ws, wt, n, in->u, in->v, d2, a2);
-    for (int k = 0; k < n; k++) {
-        uint32_t t1 = tex[a1[k]], t2 = tex[a2[k]];
-        for (int ch = 0; ch < 4; ch++) {
-            float c1 = (float)(int32_t)(t1 >> (8 * ch) & 0xffu);
-            float c2 = (float)(int32_t)(t2 >> (8 * ch) & 0xffu);
-            c[ch][k] = c1 + f[k] * (c2 - c1);
-        }
-    }
-    pack_span(n, c, out);
-}
-
-static inline PERSP_INLINE void span_bilinear(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                 uint32_t *out, int ws, int wt)
-{
-    int32_t a00[N], a10[N], a01[N], a11[N];
-    float fa[N], fb[N], c[4][N];
-    linear_taps(&st->pot, ws, wt, in->n, in->u, in->v, NULL, a00, a10, a01, a11, fa, fb);
-    linear_sum(st->tex->level[0].texels, in->n, a00, a10, a01, a11, fa, fb, c);
-    pack_span(in->n, c, out);
-}
-
-/* Trilinear (GL 4.6 §8.14.3) with lambda per pixel from the Jacobian
- * (persp__span_jacobian, persp__jac_lambda) or once per polygon. A pixel
- * whose lambda is <= 0 (magnified) or at the last level takes one level with
- * blend factor 0, for which c1 + 0·(c2 − c1) = c1 exactly; the second level
- * is fetched only when some pixel of the span blends. */
-static inline PERSP_INLINE void span_trilinear(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                  uint32_t *out, int ws, int wt)
-{
-    const int n = in->n;
-    const uint32_t *tex = st->tex->storage;
-    float lam[N], f[N];
-    int32_t d1[N], d2[N];
-    span_lambda(st, in, lam);
-    int blend = mip_linear_levels(st, n, lam, d1, d2, f);
-    int32_t a00[N], a10[N], a01[N], a11[N];
-    float fa[N], fb[N], c[4][N];
-    linear_taps(&st->pot, ws, wt, n, in->u, in->v, d1, a00, a10, a01, a11, fa, fb);
-    linear_sum(tex, n, a00, a10, a01, a11, fa, fb, c);
-    if (blend) {
-        float c2[4][N];
-        linear_taps(&st->pot, ws, wt, n, in->u, in->v, d2, a00, a10, a01, a11, fa, fb);
-        linear_sum(tex, n, a00, a10, a01, a11, fa, fb, c2);
-        for (int ch = 0; ch < 4; ch++)
-            for (int k = 0; k < n; k++) c[ch][k] += f[k] * (c2[ch][k] - c[ch][k]);
-    }
-    pack_span(n, c, out);
-}
-
-/* EXT_texture_filter_anisotropic (sampler.c span_aniso): N trilinear taps
- * along the major axis at the common lambda', averaged. The span runs tap
- * by tap up to its largest N; a pixel whose N is smaller adds 0·c, which
- * leaves its sum exactly as the general sampler's loop over its own N
- * taps leaves it. */
-static inline PERSP_INLINE void span_aniso(const persp_sampler_state *st, const persp_tex_span_in *in,
-                                           uint32_t *out, int ws, int wt)
-{
-    const int n = in->n;
-    const float W = (float)st->tex->width, H = (float)st->tex->height;
-    const uint32_t *tex = st->tex->storage;
-    float lam[N], du[N], dv[N], inv[N], f[N];
-    int32_t taps[N], d1[N], d2[N];
-    for (int k = 0; k < n; k++) {
-        persp_tex_jac j = persp__span_jacobian(st, in, k);
-        int mx;
-        taps[k] = persp__aniso_rule(st, j, &lam[k], &mx);
-        du[k] = (mx ? j.ux : j.uy) / W;
-        dv[k] = (mx ? j.vx : j.vy) / H;
-        inv[k] = 1.0f / (float)taps[k];
-    }
-    int32_t tmax = 1;
-    for (int k = 0; k < n; k++) tmax = taps[k] > tmax ? taps[k] : tmax;
-    const int blend = mip_linear_levels(st, n, lam, d1, d2, f);
-    float acc[4][N];
-    for (int ch = 0; ch < 4; ch++)
-        for (int k = 0; k < n; k++) acc[ch][k] = 0.0f;
-    for (int32_t t = 0; t < tmax; t++) {
-        float ut[N], vt[N], m[N], fa[N], fb[N], c[4][N];
-        int32_t a00[N], a10[N], a01[N], a11[N];
-        for (int k = 0; k < n; k++) {
-            float sk = ((float)t + 0.5f) * inv[k] - 0.5f;
-            ut[k] = in->u[k] + sk * du[k];
-            vt[k] = in->v[k] + sk * dv[k];
-            m[k] = t < taps[k] ? 1.0f : 0.0f;
-        }
-        linear_taps(&st->pot, ws, wt, n, ut, vt, d1, a00, a10, a01, a11, fa, fb);
-        linear_sum(tex, n, a00, a10, a01, a11, fa, fb, c);
-        if (blend) {
-            float c2[4][N];
-            linear_taps(&st->pot, ws, wt, n, ut, vt, d2, a00, a10, a01, a11, fa, fb);
-            linear_sum(tex, n, a00, a10, a01, a11, fa, fb, c2);
-            for (int ch = 0; ch < 4; ch++)
-                for (int k = 0; k < n; k++) c[ch][k] += f[k] * (c2[ch][k] - c[ch][k]);
-        }
-        for (int ch = 0; ch < 4; ch++)
-            for (int k = 0; k < n; k++) acc[ch][k] += m[k] * c[ch][k];
-    }
-    for (int ch = 0; ch < 4; ch++)
-        for (int k = 0; k < n; k++) acc[ch][k] *= inv[k];
-    pack_span(n, acc, out);
-}
-
-#define R PERSP_WRAP_REPEAT
-#define E PERSP_WRAP_CLAMP_TO_EDGE
-#define FAST(NAME, ATTR, BODY, WS, WT)                                                             \
-    ATTR static void NAME(const persp_sampler_state *st, const persp_tex_span_in *in, uint32_t *out) \
-    {                                                                                              \
-        BODY(st, in, out, WS, WT);                                                                 \
-    }
-#define FAST4(P, ATTR, BODY)                                                                       \
-    FAST(P##_RR, ATTR, BODY, R, R) FAST(P##_RE, ATTR, BODY, R, E)                                  \
-    FAST(P##_ER, ATTR, BODY, E, R) FAST(P##_EE, ATTR, BODY, E, E)                                  \
-    static const persp_tex_span_fn P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
+#include <time.h>
 
 /* The baseline variants (SSE2 on x86-64: 4 lanes) and, where the compiler
  * can target them, AVX2 (8 lanes) and AVX-512 (16 lanes) ones, picked at
@@ -394,8 +51,6 @@ FAST4(trilinear_avx512, PERSP_TARGET_AVX512, span_trilinear)
 FAST4(aniso_avx512, PERSP_TARGET_AVX512, span_aniso)
 #endif
 
-#undef R
-#undef E
 
 static int is_pot(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
@@ -433,16 +88,90 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     st->pot.pot = 1;
     int w = (ws - PERSP_WRAP_REPEAT) * 2 + (wt - PERSP_WRAP_REPEAT);
     /* [isa][filter] for the filters nearest .. aniso (persp_filter order). */
-    static const persp_tex_span_fn *const table[3][7] = {
+    static const persp_tex_span_fn *const table[5][7] = {
         {nearest_base, bilinear_base, nmn_base, bmn_base, nml_base, trilinear_base, aniso_base},
 #if PERSP_HAVE_ISA_VARIANTS
         {nearest_avx2, bilinear_avx2, nmn_avx2, bmn_avx2, nml_avx2, trilinear_avx2, aniso_avx2},
         {nearest_avx512, bilinear_avx512, nmn_avx512, bmn_avx512, nml_avx512, trilinear_avx512,
          aniso_avx512},
+        {persp__nearest_avx2g, persp__bilinear_avx2g, persp__nmn_avx2g, persp__bmn_avx2g,
+         persp__nml_avx2g, persp__trilinear_avx2g, persp__aniso_avx2g},
+        {persp__nearest_avx512g, persp__bilinear_avx512g, persp__nmn_avx512g,
+         persp__bmn_avx512g, persp__nml_avx512g, persp__trilinear_avx512g, persp__aniso_avx512g},
 #endif
     };
     if (st->desc.filter < PERSP_FILTER_NEAREST || st->desc.filter > PERSP_FILTER_ANISO) return NULL;
-    if (isa < PERSP_ISA_BASE || isa > (PERSP_HAVE_ISA_VARIANTS ? PERSP_ISA_AVX512 : PERSP_ISA_BASE))
+    if (isa < PERSP_ISA_BASE ||
+        isa > (PERSP_HAVE_ISA_VARIANTS ? PERSP_ISA_AVX512_GATHER : PERSP_ISA_BASE))
         isa = PERSP_ISA_BASE;
     return table[isa][st->desc.filter - PERSP_FILTER_NEAREST][w];
+}
+
+#if PERSP_HAVE_ISA_VARIANTS
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+#endif
+
+/* Whether texels are fetched faster by gather instructions or by scalar
+ * loads depends on the core, and not only on its vendor: gathers are
+ * microcoded and slow on AMD's Zen, fast on Intel's cores from Skylake on,
+ * and several times slower again on those with the 2023 "Downfall" (GDS)
+ * microcode. So the two are timed here, on a bilinear span of an L1-resident
+ * texture (the fetch is what differs between them; docs/PERFORMANCE.md,
+ * "Samplers on Intel and AMD"): a few spans each, interleaved, best of
+ * several rounds, about 0.1 ms in all. The gather variant must win by 5 %:
+ * where the two are close (Zen 5: within 3 %) the scalar loads are kept,
+ * since they cost less on the cache misses of large textures. Either way
+ * the images are the same. */
+int persp__fast_span_auto_isa(void)
+{
+    const int isa = persp__cpu_isa();
+#if PERSP_HAVE_ISA_VARIANTS
+    if (isa == PERSP_ISA_BASE) return isa;
+    enum { S = 64, ROUNDS = 7, SPANS = 6 };
+    const int gather = isa == PERSP_ISA_AVX512 ? PERSP_ISA_AVX512_GATHER : PERSP_ISA_AVX2_GATHER;
+    uint32_t texels[S * S];
+    for (uint32_t i = 0; i < S * S; i++) texels[i] = i * 2654435761u;
+    struct persp_texture tex;
+    memset(&tex, 0, sizeof tex);
+    tex.width = tex.height = S;
+    tex.levels = 1;
+    tex.level[0] = (persp_tex_level){S, S, texels};
+    tex.storage = texels;
+    persp_sampler_state st[2];
+    memset(st, 0, sizeof st);
+    persp_tex_span_fn fn[2];
+    const int variant[2] = {isa, gather};
+    for (int v = 0; v < 2; v++) {
+        st[v].tex = &tex;
+        st[v].desc.filter = PERSP_FILTER_BILINEAR;
+        st[v].desc.wrap_s = st[v].desc.wrap_t = PERSP_WRAP_REPEAT;
+        fn[v] = persp__fast_span_select_isa(&st[v], variant[v]);
+        if (!fn[v]) return isa;
+    }
+    /* A span crossing the texture at an angle, minified about 1.5 times,
+     * as the corridor's floor is on most rows. */
+    float u[N], v[N];
+    for (int k = 0; k < N; k++) {
+        u[k] = 0.137f + (float)k * (1.5f / S);
+        v[k] = 0.711f + (float)k * (0.6f / S);
+    }
+    persp_tex_span_in in = {.n = N, .u = u, .v = v};
+    uint32_t out[N];
+    double best[2] = {1e30, 1e30};
+    for (int r = 0; r < ROUNDS; r++)
+        for (int w = 0; w < 2; w++) {
+            double t0 = now_seconds();
+            for (int i = 0; i < SPANS; i++) fn[w](&st[w], &in, out);
+            double t = now_seconds() - t0;
+            best[w] = t < best[w] ? t : best[w];
+        }
+    return best[1] < 0.95 * best[0] ? gather : isa;
+#else
+    return isa;
+#endif
 }

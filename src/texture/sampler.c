@@ -169,6 +169,12 @@ static const persp_tex_span_fn span_table[7][16] = {
 persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_texture *tex,
                                  const persp_sampler_desc *given)
 {
+    return persp__sampler_init_isa(st, tex, given, persp__cpu_isa());
+}
+
+persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp_texture *tex,
+                                     const persp_sampler_desc *given, int isa)
+{
     if (!st || !tex || !given) return PERSP_ERR_INVALID_ARGUMENT;
     persp_sampler_desc d = *given;
     if (d.wrap_s == PERSP_WRAP_DEFAULT) d.wrap_s = PERSP_WRAP_REPEAT;
@@ -212,7 +218,7 @@ persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_tex
         st->span = persp__window_spans[wrap];
         break;
     default:
-        st->span = persp__fast_span_select(st);
+        st->span = persp__fast_span_select_isa(st, isa);
         if (!st->span) st->span = span_table[d.filter - PERSP_FILTER_NEAREST][wrap];
         break;
     }

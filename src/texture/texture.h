@@ -72,6 +72,10 @@ typedef struct persp_sampler_state {
 
 persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_texture *tex,
                                  const persp_sampler_desc *desc);
+/* The same with the vectorised samplers' variant given (PERSP_ISA_*, one
+ * that persp__isa_runs). */
+persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp_texture *tex,
+                                     const persp_sampler_desc *given, int isa);
 /* Fills out[0..n-1] with packed RGBA8, n <= PERSP_LANE_MAX. No allocation. */
 static inline void persp__sample_span(const persp_sampler_state *st, const persp_tex_span_in *in,
                                       uint32_t *out)
@@ -89,6 +93,9 @@ persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st);
  * _AVX2, _AVX512 of core/fmath.h; tests compare each the CPU can run
  * against the general sampler). */
 persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa);
+/* The variant PERSP_SIMD_AUTO stands for on this CPU (PERSP_ISA_*): the
+ * widest instruction set it has, with or without gathers as timed. */
+int persp__fast_span_auto_isa(void);
 /* The general (table-driven) span sampler of a filter and wrap pair, for
  * comparing the vectorised one against it. */
 persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt);

@@ -32,7 +32,7 @@ else
     row=$(awk '$1 == "exact"' <<<"$out")
     if awk '{ exit !($2 == 1 && $3 > 0 && $4 > 0 && $5 > 0 && $4 <= $3 && $3 <= $5 && $6 == 1.000) }' <<<"$row"
     then ok; else bad "no parsable exact row (frames 1, min <= median <= max, vs_exact 1): $out"; fi
-    grep -qE "^bench corridor 32x24 filter bilinear threads 1 reps 1$" <<<"$out" && ok || bad "header line: $out"
+    grep -qE "^bench corridor 32x24 filter bilinear threads 1 simd [a-z0-9-]+ reps 1$" <<<"$out" && ok || bad "header line: $out"
     grep -qE "^peak resident memory: persp [0-9.]+ MiB" <<<"$out" && ok || bad "no peak memory line: $out"
 fi
 
@@ -58,6 +58,34 @@ if "$persp" bench --method all "${tiny[@]}" --json >"$tmp/all.json" 2>"$tmp/err"
         and all(r['vs_exact'] > 0 for r in j['results']) \
         and [r['vs_exact'] for r in j['results'] if r['method'] == 'exact'] == [1]"
 else bad "bench --method all exited non-zero: $(cat "$tmp/err")"; fi
+
+# --simd: each sampler variant this CPU runs is used as asked and draws the
+# same image (every filter of the vectorised samplers, both wraps); one it
+# cannot run fails naming it; auto resolves to a variant.
+expect 2 "bad --simd 'sse9'" -- "$persp" bench --simd sse9
+ran=0
+for s in baseline avx2 avx2-gather avx512 avx512-gather; do
+    if "$persp" bench --simd "$s" "${tiny[@]}" --json >"$tmp/simd.json" 2>"$tmp/err"; then
+        ran=$((ran + 1))
+        check_json "$tmp/simd.json" "j['simd'] == '$s' and j['simd_asked'] == '$s'"
+        for f in nearest bilinear nearest-mip-nearest bilinear-mip-nearest nearest-mip-linear trilinear aniso; do
+            for w in repeat clamp-to-edge; do
+                "$persp" render corridor --size 96x64 --filter "$f" --wrap "$w" --simd "$s" \
+                    -o "$tmp/simd-$s-$f-$w.png" -q 2>>"$tmp/err" || bad "render --simd $s --filter $f failed: $(cat "$tmp/err")"
+                if [ "$s" != baseline ]; then
+                    cmp -s "$tmp/simd-baseline-$f-$w.png" "$tmp/simd-$s-$f-$w.png" && ok \
+                        || bad "--simd $s --filter $f --wrap $w draws another image than baseline"
+                fi
+            done
+        done
+    else
+        grep -q "cannot run --simd $s" "$tmp/err" && ok || bad "--simd $s: $(cat "$tmp/err")"
+    fi
+done
+[ "$ran" -ge 1 ] && ok || bad "no --simd variant ran"
+if "$persp" bench "${tiny[@]}" --json >"$tmp/auto.json" 2>"$tmp/err"; then
+    check_json "$tmp/auto.json" "j['simd_asked'] == 'auto' and j['simd'] in ('baseline', 'avx2', 'avx2-gather', 'avx512', 'avx512-gather')"
+else bad "bench --json exited non-zero: $(cat "$tmp/err")"; fi
 
 expect 2 "unknown option '--bogus'" -- "$persp" bench --bogus
 expect 2 "bad --frames '0'" -- "$persp" bench --frames 0

@@ -74,6 +74,7 @@ typedef struct bench_opts {
     persp_filter filter;
     int max_aniso;
     int threads, peer_threads, width, height, reps, json;
+    persp_simd simd, simd_asked; /* the context's choice, and what --simd asked for */
     long frames; /* 0: calibrate */
     double run_seconds;
 } bench_opts;
@@ -526,7 +527,11 @@ static void print_json(FILE *out, const bench_report *r)
     json_string(out, o->filter_name);
     fprintf(out, ", \"shading\": ");
     json_string(out, o->shading_name);
-    fprintf(out, ", \"threads\": %d, \"peak_rss_mib\": ", o->threads);
+    fprintf(out, ", \"threads\": %d, \"simd\": ", o->threads);
+    json_string(out, persp_simd_name(o->simd));
+    fprintf(out, ", \"simd_asked\": ");
+    json_string(out, persp_simd_name(o->simd_asked));
+    fprintf(out, ", \"peak_rss_mib\": ");
     json_number(out, r->rss_mib);
     fprintf(out, ", \"rss_at_start_mib\": ");
     json_number(out, r->rss_start_mib);
@@ -599,8 +604,8 @@ static void print_text(FILE *out, const bench_report *r)
 {
     const bench_opts *o = r->o;
     const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
-    fprintf(out, "bench %s %dx%d filter %s threads %d reps %d\n", o->scene, o->width, o->height,
-            o->filter_name, o->threads, o->reps);
+    fprintf(out, "bench %s %dx%d filter %s threads %d simd %s reps %d\n", o->scene, o->width,
+            o->height, o->filter_name, o->threads, persp_simd_name(o->simd), o->reps);
     fprintf(out, "shading %s\n", o->shading_name);
     fprintf(out, "%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
             "vs_exact");
@@ -775,6 +780,7 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
         CLI_OPT(cli_opt_max_memory, &max_memory),
+        CLI_OPT(cli_opt_simd, &o.simd),
         CLI_OPT(opt_frames, &o.frames),
         CLI_OPT(opt_reps, &o.reps),
         CLI_OPT(opt_time, &o.run_seconds),
@@ -841,16 +847,18 @@ int cmd_bench(int argc, char **argv)
     uint8_t *exact_image = NULL;
     image_diff diff;
     int have_diff = 0;
-    persp_context_desc cd = {.threads = o.threads, .max_memory = max_memory};
+    persp_context_desc cd = {.threads = o.threads, .max_memory = max_memory, .simd = o.simd};
     persp_status st = persp_context_create(&cd, &b.ctx);
     if (st != PERSP_OK) {
         cli_output_close("bench", &out, 0);
         free(results);
+        if (st == PERSP_ERR_UNSUPPORTED)
+            return cli_error(CLI_FAIL, "bench: this CPU cannot run --simd %s", persp_simd_name(o.simd));
         return cli_status(NULL, st, "bench");
     }
+    o.simd_asked = o.simd;
+    o.simd = persp_context_simd(b.ctx);
     persp_context_set_temp_file_handler(b.ctx, cli_temp_file, NULL);
-    {
-    }
     persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
     if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
     else st = persp_scene_load_ex(b.ctx, o.scene, &o.load, &b.scene);

@@ -62,6 +62,7 @@ int cmd_render(int argc, char **argv)
     cli_size size = {0, 0};
     int quiet = 0, threads = 1, quality = 0;
     size_t max_memory = 0;
+    persp_simd simd = PERSP_SIMD_AUTO;
     float min_lod = -1000.0f, max_lod = 1000.0f;
     persp_image_format format = PERSP_IMAGE_FORMAT_DEFAULT;
     persp_scene_load_desc load = {PERSP_TOGGLE_DEFAULT};
@@ -89,6 +90,7 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_any_folder, &load.any_folder),
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT(cli_opt_max_memory, &max_memory),
+        CLI_OPT(cli_opt_simd, &simd),
         CLI_OPT(cli_opt_cull, &desc.cull_backfaces),
         CLI_OPT(cli_opt_count_ops, &desc.count_ops),
         CLI_OPT_HELP(cli_opt_quiet, &quiet,
@@ -144,8 +146,12 @@ int cmd_render(int argc, char **argv)
     desc.shading = shading.shading;
 
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.threads = threads, .max_memory = max_memory};
-    if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) return cli_status(NULL, st, "render");
+    persp_context_desc cd = {.threads = threads, .max_memory = max_memory, .simd = simd};
+    if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
+        if (st == PERSP_ERR_UNSUPPORTED)
+            return cli_error(CLI_FAIL, "render: this CPU cannot run --simd %s", persp_simd_name(simd));
+        return cli_status(NULL, st, "render");
+    }
     persp_context_set_warning_handler(ctx, cli_warning, NULL);
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
     persp_scene *scene = NULL;

@@ -406,6 +406,11 @@ static const char *const pipeline_names[] = {"screen", "object", NULL};
 static const int pipeline_values[] = {PERSP_PIPELINE_SCREEN, PERSP_PIPELINE_OBJECT};
 static const char *const cull_names[] = {"on", "off", NULL};
 static const int cull_values[] = {PERSP_TOGGLE_ON, PERSP_TOGGLE_OFF};
+static const char *const simd_names[] = {"auto",   "baseline", "avx2", "avx2-gather",
+                                          "avx512", "avx512-gather", NULL};
+static const int simd_values[] = {PERSP_SIMD_AUTO,   PERSP_SIMD_BASELINE, PERSP_SIMD_AVX2,
+                                  PERSP_SIMD_AVX2_GATHER, PERSP_SIMD_AVX512,
+                                  PERSP_SIMD_AVX512_GATHER};
 static const char *const format_names[] = {"png", "jpeg", "jpg", NULL};
 static const int format_values[] = {PERSP_IMAGE_FORMAT_PNG, PERSP_IMAGE_FORMAT_JPEG,
                                     PERSP_IMAGE_FORMAT_JPEG};
@@ -510,6 +515,14 @@ const cli_spec cli_opt_threads = {.name = "threads",
                                   .lo = 1,
                                   .hi = 256,
                                   .help = "worker threads, 1..256 (default 1)"};
+const cli_spec cli_opt_simd = {.name = "simd",
+                               .kind = CLI_KIND_ENUM,
+                               .metavar = "V",
+                               .names = simd_names,
+                               .values = simd_values,
+                               .help = "vector variant of the texture samplers: auto, baseline,\n"
+                                       "avx2, avx2-gather, avx512, avx512-gather (same images;\n"
+                                       "default auto: chosen for the CPU)"};
 const cli_spec cli_opt_cull = {.name = "cull",
                                .kind = CLI_KIND_ENUM,
                                .metavar = "on|off",
