@@ -12,6 +12,7 @@
 #
 #   scripts/bench_simd.sh [PERSP] [OUTDIR]    (defaults: build/persp, out/bench-simd)
 #   REPS=3 TIME=0.3 PEER=llvmpipe PARTS="1 2 3" scripts/bench_simd.sh
+#   VARIANTS="auto avx512" (part 1) and THREAD_LIST="1 16" (part 2) narrow the runs.
 set -u
 persp="${1:-build/persp}"
 outdir="${2:-out/bench-simd}"
@@ -66,7 +67,7 @@ EOF
 if [[ " $parts " == *" 1 "* ]]; then
     files=()
     for f in nearest bilinear trilinear; do
-        for s in auto avx2 avx2-gather avx512 avx512-gather; do
+        for s in ${VARIANTS:-auto avx2 avx2-gather avx512 avx512-gather}; do
             "$persp" bench --simd "$s" --frames 1 --reps 1 >/dev/null 2>&1 || continue
             run "variant-$f-$s" corridor --filter "$f" --simd "$s" "${peer_args[@]}"
             files+=("$outdir/variant-$f-$s.json")
@@ -80,13 +81,19 @@ fi
 if [[ " $parts " == *" 2 "* ]]; then
     files=()
     for f in nearest bilinear trilinear; do
-        t=1
-        while [ "$t" -le "$all" ]; do
+        list="${THREAD_LIST:-}"
+        if [ -z "$list" ]; then
+            t=1
+            while [ "$t" -le "$all" ]; do
+                list="$list $t"
+                if [ "$t" -lt "$all" ] && [ $((t * 2)) -gt "$all" ]; then t=$all; else t=$((t * 2)); fi
+            done
+        fi
+        for t in $list; do
             p=()
             if [ "$t" = 1 ] || [ "$t" = "$all" ]; then p=("${peer_args[@]}" --peer-threads "$t"); fi
             run "scale-$f-t$t" corridor --size 3840x2160 --filter "$f" --threads "$t" "${p[@]}"
             files+=("$outdir/scale-$f-t$t.json")
-            if [ "$t" -lt "$all" ] && [ $((t * 2)) -gt "$all" ]; then t=$all; else t=$((t * 2)); fi
         done
     done
     echo
