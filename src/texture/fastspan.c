@@ -19,6 +19,11 @@
  *   4. weights and the per-channel sums, rounded once at the end.
  * The general samplers wrap with an integer remainder per tap, which is
  * what made them several times slower.
+ *
+ * The bodies are in fastspan_body.h; this file instantiates them per
+ * instruction set, fastspan_gather.c once more with the texels fetched by
+ * gather instructions, and persp__fast_span_auto_isa (below) times the two
+ * fetches to choose between them.
  */
 #include "texture/fastspan_body.h"
 

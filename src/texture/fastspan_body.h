@@ -348,18 +348,17 @@ static inline PERSP_INLINE void span_aniso(const persp_sampler_state *st, const 
     {                                                                                              \
         BODY(st, in, out, WS, WT);                                                                 \
     }
+#define FAST_WRAPS(P, ATTR, BODY)                                                                  \
+    FAST(P##_RR, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_REPEAT)                                 \
+    FAST(P##_RE, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_CLAMP_TO_EDGE)                          \
+    FAST(P##_ER, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_REPEAT)                          \
+    FAST(P##_EE, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_CLAMP_TO_EDGE)
 #define FAST4(P, ATTR, BODY)                                                                       \
-    FAST(P##_RR, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_REPEAT)                      \
-    FAST(P##_RE, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_CLAMP_TO_EDGE)                                  \
-    FAST(P##_ER, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_REPEAT)              \
-    FAST(P##_EE, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_CLAMP_TO_EDGE)                                  \
+    FAST_WRAPS(P, ATTR, BODY)                                                                      \
     static const persp_tex_span_fn P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
 /* The same, the table visible to fastspan.c as persp__P. */
-#define FAST4_EXPORT(P, ATTR, BODY)                                                                       \
-    FAST(P##_RR, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_REPEAT)                      \
-    FAST(P##_RE, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_CLAMP_TO_EDGE)                                  \
-    FAST(P##_ER, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_REPEAT)              \
-    FAST(P##_EE, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_CLAMP_TO_EDGE)                                  \
+#define FAST4_EXPORT(P, ATTR, BODY)                                                                \
+    FAST_WRAPS(P, ATTR, BODY)                                                                      \
     const persp_tex_span_fn persp__##P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
 
 #if PERSP_HAVE_ISA_VARIANTS
