@@ -80,6 +80,34 @@ int persp__setup_triangle(const persp_winvert v[3], int width, int height, int c
 int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
                               persp_tri *t);
 
+/* The integer half of set-up: vertices in 1/256 pixel (PERSP_SUBPIXEL),
+ * put counter-clockwise (order: which input vertex is each), the clipped
+ * pixel box of the candidate centres, and the edge functions with the
+ * top-left rule folded in. */
+typedef struct persp_tri_edges {
+    int64_t x[3], y[3];
+    int order[3];
+    int back; /* the input was clockwise (a back face) */
+    int64_t bx0, bx1, by0, by1;
+    int64_t ea[3], eb[3], ec[3];
+} persp_tri_edges;
+/* 0 when the triangle is degenerate, culled (back face with cull), has no
+ * candidate centre in the viewport, or covers none of at most
+ * PERSP_SMALL_BOX_PIXELS candidates: the triangles set-up drops before any
+ * floating-point work. The renderer calls it on the window positions of
+ * its vertex stage before building set-up's input, so that a triangle set-up
+ * would drop costs no more than this (a third of the set-ups of the
+ * 2M-triangle torus covered no pixel centre). */
+#define PERSP_SMALL_BOX_PIXELS 9
+int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int width, int height, int cull,
+                     persp_tri_edges *e);
+/* The rest of persp__setup_triangle_for, for a triangle whose integer half
+ * e was computed from the same vertices (their x, y rounded to e's
+ * integers) and accepted, and whose z and q are finite with q > 0 (what
+ * the renderer's outcodes guarantee for a vertex inside every plane). */
+int persp__setup_triangle_edges(const persp_winvert v[3], const persp_tri_edges *e, unsigned need,
+                                persp_tri *t);
+
 /* Covered pixel range of row y (inclusive), clipped to [x0, x1]. */
 int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int *hi);
 

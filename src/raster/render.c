@@ -261,7 +261,7 @@ static int vertex_attrs(const persp_frame *f, const persp_draw_state *ds)
 /* The set-up record of one triangle with its texture scale and per-polygon
  * LOD; 0 if set-up refuses it. Touches nothing but *t (worker threads). */
 static int setup_record(const persp_frame *f, const persp_draw_state *ds, const persp_winvert tv[3],
-                        uint32_t state, int cull, persp_tri *t)
+                        const persp_tri_edges *e, uint32_t state, int cull, persp_tri *t)
 {
     /* A span that is the texel itself reads no shading field; the
      * analyses' capture and the object-space pipeline read them all. */
@@ -269,7 +269,9 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
     const unsigned need = nattr <= PERSP_A_V + 1 ? 0u
                           : nattr < PERSP_A_COUNT ? PERSP_SETUP_SHADING
                                                   : PERSP_SETUP_ALL;
-    if (!persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t)) return 0;
+    if (e ? !persp__setup_triangle_edges(tv, e, need, t)
+          : !persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t))
+        return 0;
     t->state = state;
     if (ds->tex) {
         t->rat.scale1 = (float)ds->tex->width;
@@ -288,14 +290,15 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
 }
 
 /* Sets up one triangle and appends it (with its LOD and method state). */
-static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], uint32_t state, int cull)
+static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], const persp_tri_edges *e,
+                                  uint32_t state, int cull)
 {
     struct persp_render_cache *c = f->cache;
     const persp_draw_state *ds = &c->states[state];
     persp_status st = reserve_triangle(f);
     if (st != PERSP_OK) return st;
     persp_tri *t = &c->tris[f->tri_count];
-    if (!setup_record(f, ds, tv, state, cull, t)) return PERSP_OK;
+    if (!setup_record(f, ds, tv, e, state, cull, t)) return PERSP_OK;
     if (ds->method.m->prepare) {
         if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
             PERSP_OK)
@@ -332,12 +335,15 @@ typedef struct tri_sink {
     setup_slab *slab;
 } tri_sink;
 
-static persp_status sink_triangle(const tri_sink *s, const persp_winvert tv[3], uint32_t state, int cull)
+/* e: the triangle's integer set-up, when the caller has it (NULL: set-up
+ * computes it from tv). */
+static persp_status sink_triangle(const tri_sink *s, const persp_winvert tv[3], const persp_tri_edges *e,
+                                  uint32_t state, int cull)
 {
-    if (!s->slab) return emit_triangle(s->f, tv, state, cull);
+    if (!s->slab) return emit_triangle(s->f, tv, e, state, cull);
     const persp_draw_state *ds = &s->f->cache->states[state];
     setup_slab *sl = s->slab;
-    if (setup_record(s->f, ds, tv, state, cull, &sl->tris[sl->count])) {
+    if (setup_record(s->f, ds, tv, e, state, cull, &sl->tris[sl->count])) {
         if (sl->tiles) sl->tiles[sl->count] = tiles_of(&sl->tris[sl->count]);
         sl->count++;
     }
@@ -357,25 +363,10 @@ static persp_status emit_polygon(const tri_sink *sk, const persp_clipvert *poly,
     }
     for (int i = 1; i + 1 < n; i++) {
         persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
-        persp_status st = sink_triangle(sk, tv, state, cull);
+        persp_status st = sink_triangle(sk, tv, NULL, state, cull);
         if (st != PERSP_OK) return st;
     }
     return PERSP_OK;
-}
-
-/* A triangle inside every clip plane that persp__setup_triangle would
- * refuse anyway: zero area or culled (the same fixed-point area), or a
- * bounding box wholly left of, right of, below or above the viewport. Most
- * triangles of a closed mesh end here, before their attributes are read. */
-static int quick_reject(const struct vert_win *a, const struct vert_win *b, const struct vert_win *c,
-                        int cull, int width, int height)
-{
-    int64_t area = ((int64_t)b->X - a->X) * ((int64_t)c->Y - a->Y) - ((int64_t)c->X - a->X) * ((int64_t)b->Y - a->Y);
-    if (area == 0 || (cull && area < 0)) return 1;
-    int64_t minx = PERSP_MIN(a->X, PERSP_MIN(b->X, c->X)), maxx = PERSP_MAX(a->X, PERSP_MAX(b->X, c->X));
-    int64_t miny = PERSP_MIN(a->Y, PERSP_MIN(b->Y, c->Y)), maxy = PERSP_MAX(a->Y, PERSP_MAX(b->Y, c->Y));
-    return maxx < 0 || maxy < 0 || minx > (int64_t)width * PERSP_SUBPIXEL ||
-           miny > (int64_t)height * PERSP_SUBPIXEL;
 }
 
 /* The vertex stage of one mesh: each vertex is transformed, lit (Gouraud)
@@ -435,18 +426,27 @@ PERSP_SIMD_CLONES static void transform_block(const persp_mat4 *m, const persp_v
 PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, int nattr, size_t n, double gx,
                                            double gy, double W, double H, struct vert_win *win)
 {
-    float probe[VERTEX_BLOCK];
+    uint32_t bad[VERTEX_BLOCK];
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK], w[VERTEX_BLOCK];
     unsigned code[VERTEX_BLOCK];
     for (size_t i = 0; i < n; i++) {
         const float *v = o + i * stride;
-        float p = 0.0f;
-        for (int k = 0; k < 4 + nattr; k++) p += v[k] * 0.0f;
-        probe[i] = p;
+        /* A non-finite output (NaN input, or a transform that overflowed)
+         * has an all-ones exponent. Tested on the bits and combined by OR,
+         * which the compiler may reorder and vectorise; a float sum of
+         * v·0 (NaN for any of them) was a chain of dependent additions, 4 %
+         * of a 2M-torus frame. */
+        uint32_t b = 0;
+        for (int k = 0; k < 4 + nattr; k++) {
+            uint32_t bits;
+            memcpy(&bits, &v[k], sizeof bits);
+            b |= (bits & 0x7f800000u) == 0x7f800000u;
+        }
+        bad[i] = b;
         x[i] = v[0], y[i] = v[1], z[i] = v[2], w[i] = v[3];
     }
     for (size_t i = 0; i < n; i++)
-        code[i] = probe[i] != 0.0f ? PERSP_CLIP_NONFINITE : persp__clip_outcode_pos(x[i], y[i], z[i], w[i], gx, gy);
+        code[i] = bad[i] ? PERSP_CLIP_NONFINITE : persp__clip_outcode_pos(x[i], y[i], z[i], w[i], gx, gy);
     for (size_t i = 0; i < n; i++) {
         /* Vertices outside a plane keep no window position: 1 stands in
          * for their w, so that nothing below overflows. */
@@ -538,14 +538,21 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
         if ((any & PERSP_CLIP_NONFINITE) || (w0->code & w1->code & w2->code)) continue;
         persp_status st;
         if (!any) {
-            if (quick_reject(w0, w1, w2, j->cull, width, height)) continue;
+            const int64_t X[3] = {w0->X, w1->X, w2->X}, Y[3] = {w0->Y, w1->Y, w2->Y};
+            /* What set-up would refuse, decided on the vertex stage's
+             * fixed-point positions (set-up rounds them back to the same
+             * integers): zero area, culled, no candidate centre in the
+             * viewport, or a small box covering none. Most triangles of a
+             * closed mesh end here, before their attributes are read. */
+            persp_tri_edges e;
+            if (!persp__tri_edges(X, Y, width, height, j->cull, &e)) continue;
             persp_winvert tv[3];
             for (int k = 0; k < 3; k++) {
                 const struct vert_win *w = &c->win[ix[k]];
                 tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
                                         w->q, c->verts + ix[k] * stride + 4};
             }
-            st = sink_triangle(&sk, tv, j->state, j->cull);
+            st = sink_triangle(&sk, tv, &e, j->state, j->cull);
         } else {
             /* The attributes the draw does not read are clipped as zeros. */
             persp_clipvert in[3];

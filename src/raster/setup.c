@@ -15,8 +15,6 @@
 static int64_t floor_div(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 static int64_t ceil_div(int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); }
 
-/* Boxes of at most this many pixel centres are tested for coverage at set-up. */
-#define SMALL_BOX_PIXELS 9
 #define COORD_LIMIT ((double)(1 << 22)) /* |window coordinate| in pixels, far beyond the guard band */
 
 int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int cull, persp_tri *t)
@@ -24,30 +22,20 @@ int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int
     return persp__setup_triangle_for(vin, width, height, cull, PERSP_SETUP_ALL, t);
 }
 
-int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height, int cull, unsigned need,
-                              persp_tri *t)
+int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int width, int height, int cull,
+                     persp_tri_edges *e)
 {
-    int64_t X[3], Y[3];
-    for (int i = 0; i < 3; i++) {
-        if (!(fabs(vin[i].x) < COORD_LIMIT && fabs(vin[i].y) < COORD_LIMIT) || !isfinite(vin[i].z) ||
-            !(vin[i].q > 0.0) || !isfinite(vin[i].q))
-            return 0;
-        X[i] = (int64_t)llround(vin[i].x * PERSP_SUBPIXEL);
-        Y[i] = (int64_t)llround(vin[i].y * PERSP_SUBPIXEL);
-    }
-    int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area == 0) return 0;
-    int back = area < 0; /* counter-clockwise in window space (y up) is front, as glFrontFace(GL_CCW) */
-    if (back && cull) return 0;
-    int order[3] = {0, 1, 2};
-    if (back) {
-        order[1] = 2;
-        order[2] = 1;
-    }
-    int64_t x[3], y[3];
+    e->back = area < 0; /* counter-clockwise in window space (y up) is front, as glFrontFace(GL_CCW) */
+    if (e->back && cull) return 0;
+    e->order[0] = 0;
+    e->order[1] = e->back ? 2 : 1;
+    e->order[2] = e->back ? 1 : 2;
+    int64_t *x = e->x, *y = e->y;
     for (int i = 0; i < 3; i++) {
-        x[i] = X[order[i]];
-        y[i] = Y[order[i]];
+        x[i] = X[e->order[i]];
+        y[i] = Y[e->order[i]];
     }
 
     int64_t minx = x[0], maxx = x[0], miny = y[0], maxy = y[0];
@@ -66,8 +54,9 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
     if (bx1 > width - 1) bx1 = width - 1;
     if (by1 > height - 1) by1 = height - 1;
     if (bx0 > bx1 || by0 > by1) return 0;
+    e->bx0 = bx0, e->bx1 = bx1, e->by0 = by0, e->by1 = by1;
 
-    int64_t ea[3], eb[3], ec[3];
+    int64_t *ea = e->ea, *eb = e->eb, *ec = e->ec;
     for (int k = 0; k < 3; k++) {
         int i = k, j = (k + 1) % 3;
         int64_t dx = x[j] - x[i], dy = y[j] - y[i];
@@ -82,10 +71,10 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
     }
     /* A triangle of a few pixels' box often covers no pixel centre at all
      * (on the 2M-triangle torus, about two pixels per triangle, a third of
-     * those set up); testing the few centres with the edge functions the
-     * rasterizer uses drops exactly those, before the planes are fitted
-     * and the record is binned and walked. */
-    if ((bx1 - bx0 + 1) * (by1 - by0 + 1) <= SMALL_BOX_PIXELS) {
+     * those that reach set-up); testing the few centres with the edge
+     * functions the rasterizer uses drops exactly those, before the planes
+     * are fitted and the record is binned and walked. */
+    if ((bx1 - bx0 + 1) * (by1 - by0 + 1) <= PERSP_SMALL_BOX_PIXELS) {
         int covered = 0;
         for (int64_t py = by0; py <= by1 && !covered; py++) {
             const int64_t Yc = py * PERSP_SUBPIXEL + half;
@@ -97,14 +86,40 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
         }
         if (!covered) return 0;
     }
+    return 1;
+}
+
+int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height, int cull, unsigned need,
+                              persp_tri *t)
+{
+    int64_t X[3], Y[3];
+    for (int i = 0; i < 3; i++) {
+        if (!(fabs(vin[i].x) < COORD_LIMIT && fabs(vin[i].y) < COORD_LIMIT) || !isfinite(vin[i].z) ||
+            !(vin[i].q > 0.0) || !isfinite(vin[i].q))
+            return 0;
+        X[i] = (int64_t)llround(vin[i].x * PERSP_SUBPIXEL);
+        Y[i] = (int64_t)llround(vin[i].y * PERSP_SUBPIXEL);
+    }
+    persp_tri_edges e;
+    if (!persp__tri_edges(X, Y, width, height, cull, &e)) return 0;
+    return persp__setup_triangle_edges(vin, &e, need, t);
+}
+
+int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edges *ed, unsigned need,
+                                persp_tri *t)
+{
+    const persp_tri_edges e = *ed;
+    const int64_t *x = e.x, *y = e.y;
+    const int *order = e.order;
+    const int back = e.back;
 
     const int shading = (need & PERSP_SETUP_SHADING) != 0;
     /* The record is written field by field, every field the shading needs
      * (bary, lb1, lb2, vattr, light_side) too: clearing all 800 bytes first
      * cost 3 % of a phong-pc frame of the 2M-triangle torus. */
     t->backfacing = back;
-    t->xmin = (int)bx0, t->xmax = (int)bx1, t->ymin = (int)by0, t->ymax = (int)by1;
-    for (int k = 0; k < 3; k++) t->ea[k] = ea[k], t->eb[k] = eb[k], t->ec[k] = ec[k];
+    t->xmin = (int)e.bx0, t->xmax = (int)e.bx1, t->ymin = (int)e.by0, t->ymax = (int)e.by1;
+    for (int k = 0; k < 3; k++) t->ea[k] = e.ea[k], t->eb[k] = e.eb[k], t->ec[k] = e.ec[k];
 
     double vx[3], vy[3], q[3], zz[3], uq[3], vq[3], b1[3], b2[3];
     /* Unrolled, so that the per-vertex values stay in registers: stored
