@@ -99,8 +99,87 @@ typedef struct persp_tri_edges {
  * would drop costs no more than this (a third of the set-ups of the
  * 2M-triangle torus covered no pixel centre). */
 #define PERSP_SMALL_BOX_PIXELS 9
-int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int width, int height, int cull,
-                     persp_tri_edges *e);
+/* floor(a / b) and ceil(a / b) for b > 0 in 64-bit integers. */
+static inline int64_t persp__floor_div(int64_t a, int64_t b)
+{
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+static inline int64_t persp__ceil_div(int64_t a, int64_t b)
+{
+    return a >= 0 ? (a + b - 1) / b : -((-a) / b);
+}
+
+/* Inline: the renderer calls it on every triangle of a mesh inside the
+ * clip volume, most of which it refuses. */
+static inline int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int width, int height, int cull,
+                                   persp_tri_edges *e)
+{
+    const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+    if (area == 0) return 0;
+    e->back = area < 0; /* counter-clockwise in window space (y up) is front, as glFrontFace(GL_CCW) */
+    if (e->back && cull) return 0;
+    e->order[0] = 0;
+    e->order[1] = e->back ? 2 : 1;
+    e->order[2] = e->back ? 1 : 2;
+    int64_t *x = e->x, *y = e->y;
+    for (int i = 0; i < 3; i++) {
+        x[i] = X[e->order[i]];
+        y[i] = Y[e->order[i]];
+    }
+
+    int64_t minx = x[0], maxx = x[0], miny = y[0], maxy = y[0];
+    for (int i = 1; i < 3; i++) {
+        if (x[i] < minx) minx = x[i];
+        if (x[i] > maxx) maxx = x[i];
+        if (y[i] < miny) miny = y[i];
+        if (y[i] > maxy) maxy = y[i];
+    }
+    /* Pixel p is a candidate if its centre p·256 + 128 lies inside the box. */
+    const int64_t half = PERSP_SUBPIXEL / 2;
+    int64_t bx0 = persp__ceil_div(minx - half, PERSP_SUBPIXEL);
+    int64_t bx1 = persp__floor_div(maxx - half, PERSP_SUBPIXEL);
+    int64_t by0 = persp__ceil_div(miny - half, PERSP_SUBPIXEL);
+    int64_t by1 = persp__floor_div(maxy - half, PERSP_SUBPIXEL);
+    if (bx0 < 0) bx0 = 0;
+    if (by0 < 0) by0 = 0;
+    if (bx1 > width - 1) bx1 = width - 1;
+    if (by1 > height - 1) by1 = height - 1;
+    if (bx0 > bx1 || by0 > by1) return 0;
+    e->bx0 = bx0, e->bx1 = bx1, e->by0 = by0, e->by1 = by1;
+
+    int64_t *ea = e->ea, *eb = e->eb, *ec = e->ec;
+    for (int k = 0; k < 3; k++) {
+        int i = k, j = (k + 1) % 3;
+        int64_t dx = x[j] - x[i], dy = y[j] - y[i];
+        ea[k] = -dy;
+        eb[k] = dx;
+        ec[k] = -(ea[k] * x[i] + eb[k] * y[i]);
+        /* Top-left rule in y-up window space for a counter-clockwise
+         * triangle: a left edge runs downwards, a top edge runs towards -x.
+         * Pixels exactly on other edges belong to the neighbour. */
+        int top_left = dy < 0 || (dy == 0 && dx < 0);
+        if (!top_left) ec[k] -= 1;
+    }
+    /* A triangle of a few pixels' box often covers no pixel centre at all
+     * (on the 2M-triangle torus, about two pixels per triangle, a third of
+     * those that reach set-up); testing the few centres with the edge
+     * functions the rasterizer uses drops exactly those, before the planes
+     * are fitted and the record is binned and walked. */
+    if ((bx1 - bx0 + 1) * (by1 - by0 + 1) <= PERSP_SMALL_BOX_PIXELS) {
+        int covered = 0;
+        for (int64_t py = by0; py <= by1 && !covered; py++) {
+            const int64_t Yc = py * PERSP_SUBPIXEL + half;
+            for (int64_t px = bx0; px <= bx1 && !covered; px++) {
+                const int64_t Xc = px * PERSP_SUBPIXEL + half;
+                covered = ea[0] * Xc + eb[0] * Yc + ec[0] >= 0 && ea[1] * Xc + eb[1] * Yc + ec[1] >= 0 &&
+                          ea[2] * Xc + eb[2] * Yc + ec[2] >= 0;
+            }
+        }
+        if (!covered) return 0;
+    }
+    return 1;
+}
+
 /* The rest of persp__setup_triangle_for, for a triangle whose integer half
  * e was computed from the same vertices (their x, y rounded to e's
  * integers) and accepted, and whose z and q are finite with q > 0 (what
