@@ -423,21 +423,29 @@ PERSP_SIMD_CLONES static void transform_block(const persp_mat4 *m, const persp_v
 
 /* Outcodes and window positions of n <= VERTEX_BLOCK packed vertices, as
  * persp__clip_outcode_packed and to_window compute them. */
-PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, int nattr, size_t n, double gx,
+PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, size_t n, double gx,
                                            double gy, double W, double H, struct vert_win *win)
 {
     uint32_t bad[VERTEX_BLOCK];
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK], w[VERTEX_BLOCK];
     unsigned code[VERTEX_BLOCK];
+    /* A non-finite output (NaN input, or a transform that overflowed) has
+     * an all-ones exponent. Tested on the bits and combined by OR, which the
+     * compiler may reorder and vectorise (a float sum of v·0, NaN for any of
+     * them, was a chain of dependent additions, 4 % of a 2M-torus frame):
+     * first over the whole block, whose vertices are consecutive, and per
+     * vertex only when the block has one. */
+    const size_t floats = n * stride;
+    uint32_t block_bad = 0;
+    for (size_t k = 0; k < floats; k++) {
+        uint32_t bits;
+        memcpy(&bits, &o[k], sizeof bits);
+        block_bad |= (bits & 0x7f800000u) == 0x7f800000u;
+    }
     for (size_t i = 0; i < n; i++) {
         const float *v = o + i * stride;
-        /* A non-finite output (NaN input, or a transform that overflowed)
-         * has an all-ones exponent. Tested on the bits and combined by OR,
-         * which the compiler may reorder and vectorise; a float sum of
-         * v·0 (NaN for any of them) was a chain of dependent additions, 4 %
-         * of a 2M-torus frame. */
         uint32_t b = 0;
-        for (int k = 0; k < 4 + nattr; k++) {
+        for (size_t k = 0; block_bad && k < stride; k++) {
             uint32_t bits;
             memcpy(&bits, &v[k], sizeof bits);
             b |= (bits & 0x7f800000u) == 0x7f800000u;
@@ -499,7 +507,7 @@ static void vertex_task(void *user, int task, int worker)
         persp__shade_vertices(j->ds, (persp_clipvert *)(void *)(c->verts + a * stride), b - a);
     const double W = j->f->fb->width, H = j->f->fb->height;
     for (size_t i0 = a; i0 < b; i0 += VERTEX_BLOCK)
-        window_block(c->verts + i0 * stride, stride, j->nattr, PERSP_MIN((size_t)VERTEX_BLOCK, b - i0), j->gx,
+        window_block(c->verts + i0 * stride, stride, PERSP_MIN((size_t)VERTEX_BLOCK, b - i0), j->gx,
                      j->gy, W, H, &c->win[i0]);
 }
 
