@@ -431,6 +431,26 @@ static void test_bad_inputs(void **state)
     for (int i = 0; i < 16; i++) assert_true(depth[i] == 1.0f);
     uint32_t bad[3] = {0, 1, 7};
     assert_int_equal(persp_draw(ctx, &ok, &dd, v, 3, bad, 3), PERSP_ERR_INVALID_ARGUMENT);
+    /* A visible triangle is dropped when any attribute of a vertex is not
+     * finite (the vertex stage's probe), whichever attribute it is; with
+     * all of them finite it is drawn. */
+    persp_vertex tri[3] = {{{-1, -1, -2}, {0, 0}, {0, 0, 1}, {1, 1, 1, 1}},
+                           {{3, -1, -2}, {1, 0}, {0, 0, 1}, {1, 1, 1, 1}},
+                           {{-1, 3, -2}, {0, 1}, {0, 0, 1}, {1, 1, 1, 1}}};
+    for (int which = -1; which < 4; which++) {
+        persp_vertex w[3];
+        memcpy(w, tri, sizeof w);
+        if (which == 0) w[1].uv[1] = NAN;
+        if (which == 1) w[2].color[2] = INFINITY;
+        if (which == 2) w[0].color[3] = -INFINITY;
+        if (which == 3) w[1].pos[1] = NAN;
+        persp_framebuffer_clear(&ok, NULL, PERSP_DEPTH_Z);
+        assert_int_equal(persp_draw(ctx, &ok, &dd, w, 3, idx, 3), PERSP_OK);
+        int drawn = 0;
+        for (int i = 0; i < 16; i++) drawn += depth[i] != 1.0f;
+        if (which < 0) assert_int_equal(drawn, 16);
+        else if (drawn) fail_msg("case %d: a vertex with a non-finite attribute was drawn", which);
+    }
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
 }
