@@ -60,7 +60,6 @@ persp_status persp_simd_parse(const char *name, persp_simd *out)
     return PERSP_ERR_NOT_FOUND;
 }
 
-
 persp_status persp_context_create(const persp_context_desc *desc, persp_context **out)
 {
     if (!out) return PERSP_ERR_INVALID_ARGUMENT;
