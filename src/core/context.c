@@ -44,6 +44,13 @@ static const char *const simd_names[] = {"auto",   "baseline", "avx2", "avx2-gat
 static const int simd_isa[] = {PERSP_ISA_BASE, PERSP_ISA_AVX2, PERSP_ISA_AVX2_GATHER,
                                PERSP_ISA_AVX512, PERSP_ISA_AVX512_GATHER};
 
+persp_simd persp__simd_from_isa(int isa)
+{
+    for (size_t i = 0; i < sizeof simd_isa / sizeof *simd_isa; i++)
+        if (simd_isa[i] == isa) return (persp_simd)(i + 1);
+    return PERSP_SIMD_AUTO;
+}
+
 const char *persp_simd_name(persp_simd simd)
 {
     return (unsigned)simd < sizeof simd_names / sizeof *simd_names ? simd_names[simd] : "?";

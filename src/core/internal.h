@@ -48,6 +48,9 @@ struct persp_context {
     size_t max_memory, mem_used, mem_peak, mem_refused;
 };
 
+/* The persp_simd naming variant isa (PERSP_ISA_*); AUTO for none. */
+persp_simd persp__simd_from_isa(int isa);
+
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
 static inline int persp__size_mul(size_t a, size_t b, size_t *out)
 {

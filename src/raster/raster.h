@@ -80,6 +80,16 @@ int persp__setup_triangle(const persp_winvert v[3], int width, int height, int c
 int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
                               persp_tri *t);
 
+/* floor(a / b) and ceil(a / b) for b > 0 in 64-bit integers. */
+static inline int64_t persp__floor_div(int64_t a, int64_t b)
+{
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+static inline int64_t persp__ceil_div(int64_t a, int64_t b)
+{
+    return a >= 0 ? (a + b - 1) / b : -((-a) / b);
+}
+
 /* The integer half of set-up: vertices in 1/256 pixel (PERSP_SUBPIXEL),
  * put counter-clockwise (order: which input vertex is each), the clipped
  * pixel box of the candidate centres, and the edge functions with the
@@ -91,26 +101,15 @@ typedef struct persp_tri_edges {
     int64_t bx0, bx1, by0, by1;
     int64_t ea[3], eb[3], ec[3];
 } persp_tri_edges;
+#define PERSP_SMALL_BOX_PIXELS 9
 /* 0 when the triangle is degenerate, culled (back face with cull), has no
  * candidate centre in the viewport, or covers none of at most
  * PERSP_SMALL_BOX_PIXELS candidates: the triangles set-up drops before any
  * floating-point work. The renderer calls it on the window positions of
  * its vertex stage before building set-up's input, so that a triangle set-up
  * would drop costs no more than this (a third of the set-ups of the
- * 2M-triangle torus covered no pixel centre). */
-#define PERSP_SMALL_BOX_PIXELS 9
-/* floor(a / b) and ceil(a / b) for b > 0 in 64-bit integers. */
-static inline int64_t persp__floor_div(int64_t a, int64_t b)
-{
-    return a >= 0 ? a / b : -((-a + b - 1) / b);
-}
-static inline int64_t persp__ceil_div(int64_t a, int64_t b)
-{
-    return a >= 0 ? (a + b - 1) / b : -((-a) / b);
-}
-
-/* Inline: the renderer calls it on every triangle of a mesh inside the
- * clip volume, most of which it refuses. */
+ * 2M-triangle torus covered no pixel centre); inline, as it runs for every
+ * triangle inside the clip volume. */
 static inline int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int width, int height, int cull,
                                    persp_tri_edges *e)
 {

@@ -124,13 +124,9 @@ static void render_cache_free(persp_context *ctx)
  * module, which the context's own module sits below. */
 persp_simd persp_context_simd(persp_context *ctx)
 {
-    static const persp_simd from_isa[PERSP_ISA_COUNT] = {
-        [PERSP_ISA_BASE] = PERSP_SIMD_BASELINE, [PERSP_ISA_AVX2] = PERSP_SIMD_AVX2,
-        [PERSP_ISA_AVX512] = PERSP_SIMD_AVX512, [PERSP_ISA_AVX2_GATHER] = PERSP_SIMD_AVX2_GATHER,
-        [PERSP_ISA_AVX512_GATHER] = PERSP_SIMD_AVX512_GATHER};
     if (!ctx) return PERSP_SIMD_AUTO;
     if (ctx->isa < 0) ctx->isa = persp__fast_span_auto_isa();
-    return from_isa[ctx->isa];
+    return persp__simd_from_isa(ctx->isa);
 }
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
@@ -421,6 +417,18 @@ PERSP_SIMD_CLONES static void transform_block(const persp_mat4 *m, const persp_v
     }
 }
 
+/* 1 if any of v[0..n) is NaN or infinite (an all-ones exponent). */
+static inline uint32_t any_nonfinite(const float *v, size_t n)
+{
+    uint32_t bad = 0;
+    for (size_t k = 0; k < n; k++) {
+        uint32_t bits;
+        memcpy(&bits, &v[k], sizeof bits);
+        bad |= (bits & 0x7f800000u) == 0x7f800000u;
+    }
+    return bad;
+}
+
 /* Outcodes and window positions of n <= VERTEX_BLOCK packed vertices, as
  * persp__clip_outcode_packed and to_window compute them. */
 PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, size_t n, double gx,
@@ -435,22 +443,10 @@ PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, size_t
      * them, was a chain of dependent additions, 4 % of a 2M-torus frame):
      * first over the whole block, whose vertices are consecutive, and per
      * vertex only when the block has one. */
-    const size_t floats = n * stride;
-    uint32_t block_bad = 0;
-    for (size_t k = 0; k < floats; k++) {
-        uint32_t bits;
-        memcpy(&bits, &o[k], sizeof bits);
-        block_bad |= (bits & 0x7f800000u) == 0x7f800000u;
-    }
+    const uint32_t block_bad = any_nonfinite(o, n * stride);
     for (size_t i = 0; i < n; i++) {
         const float *v = o + i * stride;
-        uint32_t b = 0;
-        for (size_t k = 0; block_bad && k < stride; k++) {
-            uint32_t bits;
-            memcpy(&bits, &v[k], sizeof bits);
-            b |= (bits & 0x7f800000u) == 0x7f800000u;
-        }
-        bad[i] = b;
+        bad[i] = block_bad ? any_nonfinite(v, stride) : 0u;
         x[i] = v[0], y[i] = v[1], z[i] = v[2], w[i] = v[3];
     }
     for (size_t i = 0; i < n; i++)

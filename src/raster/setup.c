@@ -34,21 +34,20 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
     return persp__setup_triangle_edges(vin, &e, need, t);
 }
 
-int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edges *ed, unsigned need,
+int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edges *e, unsigned need,
                                 persp_tri *t)
 {
-    const persp_tri_edges e = *ed;
-    const int64_t *x = e.x, *y = e.y;
-    const int *order = e.order;
-    const int back = e.back;
+    const int64_t *x = e->x, *y = e->y;
+    const int *order = e->order;
+    const int back = e->back;
 
     const int shading = (need & PERSP_SETUP_SHADING) != 0;
     /* The record is written field by field, every field the shading needs
      * (bary, lb1, lb2, vattr, light_side) too: clearing all 800 bytes first
      * cost 3 % of a phong-pc frame of the 2M-triangle torus. */
     t->backfacing = back;
-    t->xmin = (int)e.bx0, t->xmax = (int)e.bx1, t->ymin = (int)e.by0, t->ymax = (int)e.by1;
-    for (int k = 0; k < 3; k++) t->ea[k] = e.ea[k], t->eb[k] = e.eb[k], t->ec[k] = e.ec[k];
+    t->xmin = (int)e->bx0, t->xmax = (int)e->bx1, t->ymin = (int)e->by0, t->ymax = (int)e->by1;
+    for (int k = 0; k < 3; k++) t->ea[k] = e->ea[k], t->eb[k] = e->eb[k], t->ec[k] = e->ec[k];
 
     double vx[3], vy[3], q[3], zz[3], uq[3], vq[3], b1[3], b2[3];
     /* Unrolled, so that the per-vertex values stay in registers: stored

@@ -32,30 +32,11 @@
 /* The baseline variants (SSE2 on x86-64: 4 lanes) and, where the compiler
  * can target them, AVX2 (8 lanes) and AVX-512 (16 lanes) ones, picked at
  * sampler set-up from the CPU. */
-FAST4(nearest_base, , span_nearest)
-FAST4(bilinear_base, , span_bilinear)
-FAST4(nmn_base, , span_nmn)
-FAST4(bmn_base, , span_bmn)
-FAST4(nml_base, , span_nml)
-FAST4(trilinear_base, , span_trilinear)
-FAST4(aniso_base, , span_aniso)
+FAST_VARIANT(static, variant_base, base, )
 #if PERSP_HAVE_ISA_VARIANTS
-FAST4(nearest_avx2, PERSP_TARGET_AVX2, span_nearest)
-FAST4(bilinear_avx2, PERSP_TARGET_AVX2, span_bilinear)
-FAST4(nmn_avx2, PERSP_TARGET_AVX2, span_nmn)
-FAST4(bmn_avx2, PERSP_TARGET_AVX2, span_bmn)
-FAST4(nml_avx2, PERSP_TARGET_AVX2, span_nml)
-FAST4(trilinear_avx2, PERSP_TARGET_AVX2, span_trilinear)
-FAST4(aniso_avx2, PERSP_TARGET_AVX2, span_aniso)
-FAST4(nearest_avx512, PERSP_TARGET_AVX512, span_nearest)
-FAST4(bilinear_avx512, PERSP_TARGET_AVX512, span_bilinear)
-FAST4(nmn_avx512, PERSP_TARGET_AVX512, span_nmn)
-FAST4(bmn_avx512, PERSP_TARGET_AVX512, span_bmn)
-FAST4(nml_avx512, PERSP_TARGET_AVX512, span_nml)
-FAST4(trilinear_avx512, PERSP_TARGET_AVX512, span_trilinear)
-FAST4(aniso_avx512, PERSP_TARGET_AVX512, span_aniso)
+FAST_VARIANT(static, variant_avx2, avx2, PERSP_TARGET_AVX2)
+FAST_VARIANT(static, variant_avx512, avx512, PERSP_TARGET_AVX512)
 #endif
-
 
 static int is_pot(int n) { return n > 0 && (n & (n - 1)) == 0; }
 
@@ -92,17 +73,11 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     if (tex->level[0].texels != tex->storage) return NULL;
     st->pot.pot = 1;
     int w = (ws - PERSP_WRAP_REPEAT) * 2 + (wt - PERSP_WRAP_REPEAT);
-    /* [isa][filter] for the filters nearest .. aniso (persp_filter order). */
-    static const persp_tex_span_fn *const table[5][7] = {
-        {nearest_base, bilinear_base, nmn_base, bmn_base, nml_base, trilinear_base, aniso_base},
+    /* Indexed by PERSP_ISA_*. */
+    static const persp_tex_span_fn *const *const table[] = {
+        variant_base,
 #if PERSP_HAVE_ISA_VARIANTS
-        {nearest_avx2, bilinear_avx2, nmn_avx2, bmn_avx2, nml_avx2, trilinear_avx2, aniso_avx2},
-        {nearest_avx512, bilinear_avx512, nmn_avx512, bmn_avx512, nml_avx512, trilinear_avx512,
-         aniso_avx512},
-        {persp__nearest_avx2g, persp__bilinear_avx2g, persp__nmn_avx2g, persp__bmn_avx2g,
-         persp__nml_avx2g, persp__trilinear_avx2g, persp__aniso_avx2g},
-        {persp__nearest_avx512g, persp__bilinear_avx512g, persp__nmn_avx512g,
-         persp__bmn_avx512g, persp__nml_avx512g, persp__trilinear_avx512g, persp__aniso_avx512g},
+        variant_avx2, variant_avx512, persp__fast_avx2g, persp__fast_avx512g,
 #endif
     };
     if (st->desc.filter < PERSP_FILTER_NEAREST || st->desc.filter > PERSP_FILTER_ANISO) return NULL;

@@ -348,27 +348,31 @@ static inline PERSP_INLINE void span_aniso(const persp_sampler_state *st, const 
     {                                                                                              \
         BODY(st, in, out, WS, WT);                                                                 \
     }
-#define FAST_WRAPS(P, ATTR, BODY)                                                                  \
+#define FAST4(P, ATTR, BODY)                                                                       \
     FAST(P##_RR, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_REPEAT)                                 \
     FAST(P##_RE, ATTR, BODY, PERSP_WRAP_REPEAT, PERSP_WRAP_CLAMP_TO_EDGE)                          \
     FAST(P##_ER, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_REPEAT)                          \
-    FAST(P##_EE, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_CLAMP_TO_EDGE)
-#define FAST4(P, ATTR, BODY)                                                                       \
-    FAST_WRAPS(P, ATTR, BODY)                                                                      \
+    FAST(P##_EE, ATTR, BODY, PERSP_WRAP_CLAMP_TO_EDGE, PERSP_WRAP_CLAMP_TO_EDGE)                   \
     static const persp_tex_span_fn P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
-/* The same, the table visible to fastspan.c as persp__P. */
-#define FAST4_EXPORT(P, ATTR, BODY)                                                                \
-    FAST_WRAPS(P, ATTR, BODY)                                                                      \
-    const persp_tex_span_fn persp__##P[4] = {P##_RR, P##_RE, P##_ER, P##_EE};
+/* One instruction-set variant: every body as its wrap pairs, and NAME, the
+ * variant's table [filter][wrap pair] for the filters nearest .. aniso
+ * (persp_filter order). STORAGE is static or empty. */
+#define FAST_VARIANT(STORAGE, NAME, V, ATTR)                                                       \
+    FAST4(nearest_##V, ATTR, span_nearest)                                                         \
+    FAST4(bilinear_##V, ATTR, span_bilinear)                                                       \
+    FAST4(nmn_##V, ATTR, span_nmn)                                                                 \
+    FAST4(bmn_##V, ATTR, span_bmn)                                                                 \
+    FAST4(nml_##V, ATTR, span_nml)                                                                 \
+    FAST4(trilinear_##V, ATTR, span_trilinear)                                                     \
+    FAST4(aniso_##V, ATTR, span_aniso)                                                             \
+    STORAGE const persp_tex_span_fn *const NAME[7] = {nearest_##V, bilinear_##V, nmn_##V,          \
+                                                      bmn_##V,     nml_##V,      trilinear_##V,    \
+                                                      aniso_##V};
 
 #if PERSP_HAVE_ISA_VARIANTS
 /* fastspan_gather.c: texels fetched by the vectoriser's gathers. */
-extern const persp_tex_span_fn persp__nearest_avx2g[4], persp__bilinear_avx2g[4],
-    persp__nmn_avx2g[4], persp__bmn_avx2g[4], persp__nml_avx2g[4], persp__trilinear_avx2g[4],
-    persp__aniso_avx2g[4];
-extern const persp_tex_span_fn persp__nearest_avx512g[4], persp__bilinear_avx512g[4],
-    persp__nmn_avx512g[4], persp__bmn_avx512g[4], persp__nml_avx512g[4],
-    persp__trilinear_avx512g[4], persp__aniso_avx512g[4];
+extern const persp_tex_span_fn *const persp__fast_avx2g[7];
+extern const persp_tex_span_fn *const persp__fast_avx512g[7];
 #endif
 
 #endif

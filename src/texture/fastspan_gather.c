@@ -11,20 +11,8 @@
 #include "texture/fastspan_body.h"
 
 #if PERSP_HAVE_ISA_VARIANTS
-FAST4_EXPORT(nearest_avx2g, PERSP_TARGET_AVX2, span_nearest)
-FAST4_EXPORT(bilinear_avx2g, PERSP_TARGET_AVX2, span_bilinear)
-FAST4_EXPORT(nmn_avx2g, PERSP_TARGET_AVX2, span_nmn)
-FAST4_EXPORT(bmn_avx2g, PERSP_TARGET_AVX2, span_bmn)
-FAST4_EXPORT(nml_avx2g, PERSP_TARGET_AVX2, span_nml)
-FAST4_EXPORT(trilinear_avx2g, PERSP_TARGET_AVX2, span_trilinear)
-FAST4_EXPORT(aniso_avx2g, PERSP_TARGET_AVX2, span_aniso)
-FAST4_EXPORT(nearest_avx512g, PERSP_TARGET_AVX512, span_nearest)
-FAST4_EXPORT(bilinear_avx512g, PERSP_TARGET_AVX512, span_bilinear)
-FAST4_EXPORT(nmn_avx512g, PERSP_TARGET_AVX512, span_nmn)
-FAST4_EXPORT(bmn_avx512g, PERSP_TARGET_AVX512, span_bmn)
-FAST4_EXPORT(nml_avx512g, PERSP_TARGET_AVX512, span_nml)
-FAST4_EXPORT(trilinear_avx512g, PERSP_TARGET_AVX512, span_trilinear)
-FAST4_EXPORT(aniso_avx512g, PERSP_TARGET_AVX512, span_aniso)
+FAST_VARIANT(, persp__fast_avx2g, avx2g, PERSP_TARGET_AVX2)
+FAST_VARIANT(, persp__fast_avx512g, avx512g, PERSP_TARGET_AVX512)
 #else
 /* ISO C forbids an empty translation unit. */
 typedef int persp__fastspan_gather_unused;
