@@ -520,8 +520,9 @@ typedef struct tri_job {
 } tri_job;
 
 /* Input triangles [a, b) into the job's sink (or slab, when given): trivial
- * reject, quick reject, clipping, set-up. A slab stops early, recording
- * where, when it might not hold a clipped polygon's fan. */
+ * reject, the rejects of set-up's integer half, clipping, set-up. A slab
+ * stops early, recording where, when it might not hold a clipped polygon's
+ * fan. */
 static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_slab *slab)
 {
     persp_frame *f = j->sink.f;
