@@ -30,6 +30,10 @@ struct persp_context {
     /* Nonzero: lane batches are packed by the portable loop even where
      * AVX-512 is available. Changed only by tests, to compare the two. */
     int pack_portable;
+    /* Where two-sided Gouraud lights the back faces (render.c,
+     * back_colours): 0 chosen by culling, 1 the vertex stage, 2 set-up.
+     * Changed only by tests, to compare the two. */
+    int back_lighting;
     /* Sampler and packing variant (PERSP_ISA_*), from
      * persp_context_desc.simd; -1 for AUTO until persp_context_simd
      * decides it. */

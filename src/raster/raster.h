@@ -68,7 +68,7 @@ typedef struct persp_winvert {
 int persp__setup_triangle(const persp_winvert v[3], int width, int height, int cull,
                           persp_tri *t);
 /* The same with only the fields need names: PERSP_SETUP_SHADING adds the
- * barycentric planes (bary, lb1, lb2), the vertex attributes (vattr) and
+ * perspective-correct barycentric planes (bary), the vertex attributes (vattr) and
  * light_side, which only the span shaders and the analyses read; without
  * it those fields are left unwritten. persp__setup_triangle sets up all. */
 #define PERSP_SETUP_SHADING 1u
@@ -76,7 +76,11 @@ int persp__setup_triangle(const persp_winvert v[3], int width, int height, int c
  * which only Gouraud reads) are copied too; without it they are zero and
  * only the attributes before them are read. */
 #define PERSP_SETUP_BACK_COLOURS 2u
-#define PERSP_SETUP_ALL (PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS)
+/* With PERSP_SETUP_SHADING: the screen-linear barycentric planes (lb1,
+ * lb2), which only the screen-linear shading modes read (a shading method
+ * of NULL); without it they are left unwritten. */
+#define PERSP_SETUP_LINEAR 4u
+#define PERSP_SETUP_ALL (PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS | PERSP_SETUP_LINEAR)
 int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
                               persp_tri *t);
 

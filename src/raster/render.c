@@ -59,12 +59,14 @@ struct persp_render_cache {
     persp_method_prep *preps;
     size_t prep_cap;
     /* Per vertex: its clip position and the first nattr attributes the
-     * draw reads (vertex_attrs), packed: 6 floats unlit, 16 lit per pixel,
-     * 19 for Gouraud, instead of a whole persp_clipvert each. */
+     * draw reads (vertex_attrs), packed: 6 floats unlit, 16 lit (no
+     * back colours), instead of a whole persp_clipvert each. */
     float *verts;
     size_t vert_cap;
     struct vert_win *win; /* per vertex: window position and outcode */
     size_t win_cap;
+    float *back; /* per vertex: Gouraud's back colour, when the vertex stage lights it */
+    size_t back_cap;
     persp_tri *slab_tris; /* records set up by the worker threads */
     size_t slab_cap;
     struct setup_slab *slabs;
@@ -85,6 +87,7 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->tiles);
     persp__free(ctx, c->preps);
     persp__free(ctx, c->verts);
+    persp__free(ctx, c->back);
     persp__free(ctx, c->win);
     persp__free(ctx, c->slab_tris);
     persp__free(ctx, c->slabs);
@@ -248,26 +251,81 @@ static void commit_triangle(persp_frame *f)
  * per-pixel lighting reads (colour, normal, eye position). */
 static int vertex_attrs(const persp_frame *f, const persp_draw_state *ds)
 {
+    /* Never the back colours: set-up lights them for the triangles that
+     * show them (setup_record). */
     if (ds->shade_is_texel && !f->capture) return PERSP_A_V + 1;
-    if (f->capture || ds->shading == PERSP_SHADING_GOURAUD || ds->shading == PERSP_SHADING_GOURAUD_PC)
-        return PERSP_A_COUNT;
     return PERSP_A_BR;
+}
+
+static int is_gouraud(const persp_draw_state *ds)
+{
+    return ds->shading == PERSP_SHADING_GOURAUD || ds->shading == PERSP_SHADING_GOURAUD_PC;
+}
+
+/* Two-sided Gouraud needs a vertex's back colour only for the triangles
+ * that show their back (light_side −1). Drawn with culling, a closed mesh
+ * has few (along the silhouettes), and lighting each vertex's back in the
+ * vertex stage cost a sixth of a frame of the 2M-triangle torus: set-up
+ * lights the three vertices of such a triangle instead. Without culling
+ * about half the triangles show their back and lighting per triangle would
+ * cost more (+40 % on the 2M torus), so the vertex stage lights every
+ * back into the back array. Either way a vertex gets the same colour
+ * (persp__light_vertices on the same normal, position and colour), and a
+ * triangle is dropped when a colour it shows is not finite.
+ * back_colours: the three vertices' back colours into v[i][PERSP_A_BR..BB]
+ * (attributes as clipping takes them), from back[i] or, with back[0]
+ * NULL, lit from their normals and positions in v and their own colours. */
+static void back_colours(const persp_draw_state *ds, float *const v[3], const float *const col[3],
+                         const float *const back[3])
+{
+    if (back[0]) {
+        for (int i = 0; i < 3; i++)
+            for (int c = 0; c < 3; c++) v[i][PERSP_A_BR + c] = back[i][c];
+        return;
+    }
+    float a[9][3], out[3][3];
+    for (int i = 0; i < 3; i++)
+        for (int c = 0; c < 3; c++) {
+            a[c][i] = v[i][PERSP_A_NX + c];
+            a[3 + c][i] = v[i][PERSP_A_EX + c];
+            a[6 + c][i] = col[i][c];
+        }
+    const persp_light_in in = {{a[0], a[1], a[2]}, {a[3], a[4], a[5]}, {a[6], a[7], a[8]}};
+    persp__light_vertices(ds, -1.0f, 3, &in, out[0], out[1], out[2]);
+    for (int i = 0; i < 3; i++)
+        for (int c = 0; c < 3; c++) v[i][PERSP_A_BR + c] = out[c][i];
 }
 
 /* The set-up record of one triangle with its texture scale and per-polygon
  * LOD; 0 if set-up refuses it. Touches nothing but *t (worker threads). */
 static int setup_record(const persp_frame *f, const persp_draw_state *ds, const persp_winvert tv[3],
-                        const persp_tri_edges *e, uint32_t state, int cull, persp_tri *t)
+                        const persp_tri_edges *e, const float *const col[3], const float *const back[3],
+                        uint32_t state, int cull, persp_tri *t)
 {
     /* A span that is the texel itself reads no shading field; the
-     * analyses' capture and the object-space pipeline read them all. */
-    const int nattr = vertex_attrs(f, ds);
-    const unsigned need = nattr <= PERSP_A_V + 1 ? 0u
-                          : nattr < PERSP_A_COUNT ? PERSP_SETUP_SHADING
-                                                  : PERSP_SETUP_ALL;
+     * analyses' capture and the object-space pipeline read them all. With
+     * col, Gouraud's back colours come from back_colours; without, with
+     * the attributes (clipped polygons: mesh_triangles added them before
+     * clipping, which interpolates them). */
+    const int gouraud = is_gouraud(ds);
+    unsigned need = vertex_attrs(f, ds) <= PERSP_A_V + 1 ? 0u
+                    : gouraud && !col                  ? PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS
+                                                       : PERSP_SETUP_SHADING;
+    if (need && (!ds->shade_method.m || f->capture)) need |= PERSP_SETUP_LINEAR;
     if (e ? !persp__setup_triangle_edges(tv, e, need, t)
           : !persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t))
         return 0;
+    if (gouraud && col && t->light_side < 0.0f) {
+        /* In set-up order; a colour that is not finite drops the triangle,
+         * as clipping drops one with any attribute that is not. */
+        float *v[3] = {t->vattr[0], t->vattr[1], t->vattr[2]};
+        const int *o = e->order;
+        const float *c[3] = {col[o[0]], col[o[1]], col[o[2]]}, *bk[3] = {back[o[0]], back[o[1]], back[o[2]]};
+        back_colours(ds, v, c, bk);
+        for (int i = 0; i < 3; i++)
+            for (int k = PERSP_A_BR; k <= PERSP_A_BB; k++)
+                if (!isfinite(v[i][k])) return 0;
+    }
     t->state = state;
     if (ds->tex) {
         t->rat.scale1 = (float)ds->tex->width;
@@ -287,14 +345,15 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
 
 /* Sets up one triangle and appends it (with its LOD and method state). */
 static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], const persp_tri_edges *e,
-                                  uint32_t state, int cull)
+                                  const float *const col[3], const float *const back[3], uint32_t state,
+                                  int cull)
 {
     struct persp_render_cache *c = f->cache;
     const persp_draw_state *ds = &c->states[state];
     persp_status st = reserve_triangle(f);
     if (st != PERSP_OK) return st;
     persp_tri *t = &c->tris[f->tri_count];
-    if (!setup_record(f, ds, tv, e, state, cull, t)) return PERSP_OK;
+    if (!setup_record(f, ds, tv, e, col, back, state, cull, t)) return PERSP_OK;
     if (ds->method.m->prepare) {
         if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
             PERSP_OK)
@@ -332,14 +391,16 @@ typedef struct tri_sink {
 } tri_sink;
 
 /* e: the triangle's integer set-up, when the caller has it (NULL: set-up
- * computes it from tv). */
+ * computes it from tv); col and back, with e: the vertices' own colours
+ * and back colours (back_colours). */
 static persp_status sink_triangle(const tri_sink *s, const persp_winvert tv[3], const persp_tri_edges *e,
-                                  uint32_t state, int cull)
+                                  const float *const col[3], const float *const back[3], uint32_t state,
+                                  int cull)
 {
-    if (!s->slab) return emit_triangle(s->f, tv, e, state, cull);
+    if (!s->slab) return emit_triangle(s->f, tv, e, col, back, state, cull);
     const persp_draw_state *ds = &s->f->cache->states[state];
     setup_slab *sl = s->slab;
-    if (setup_record(s->f, ds, tv, e, state, cull, &sl->tris[sl->count])) {
+    if (setup_record(s->f, ds, tv, e, col, back, state, cull, &sl->tris[sl->count])) {
         if (sl->tiles) sl->tiles[sl->count] = tiles_of(&sl->tris[sl->count]);
         sl->count++;
     }
@@ -359,7 +420,7 @@ static persp_status emit_polygon(const tri_sink *sk, const persp_clipvert *poly,
     }
     for (int i = 1; i + 1 < n; i++) {
         persp_winvert tv[3] = {wv[0], wv[i], wv[i + 1]};
-        persp_status st = sink_triangle(sk, tv, NULL, state, cull);
+        persp_status st = sink_triangle(sk, tv, NULL, NULL, NULL, state, cull);
         if (st != PERSP_OK) return st;
     }
     return PERSP_OK;
@@ -381,6 +442,7 @@ typedef struct vertex_job {
     /* The attributes kept per vertex (vertex_attrs): the vertex stage
      * computes only what clipping and set-up use. */
     int nattr;
+    int back; /* Gouraud: light the backs too, into the cache's back array (back_colours) */
 } vertex_job;
 
 /* llround for |v| < 2^31: v − trunc(v) is exact, so halves round away
@@ -476,11 +538,17 @@ static void vertex_task(void *user, int task, int worker)
     const size_t b = PERSP_MIN(a + VERTEX_TASK, mesh->vertex_count);
     const float *nm = j->nm, *uv = j->uv;
     const size_t stride = 4 + (size_t)j->nattr;
+    const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && is_gouraud(j->ds);
+    const double W = j->f->fb->width, H = j->f->fb->height;
+    /* Block by block, each step across the block while it is in L1: a
+     * block's normals, positions and colours go to the lighting as arrays
+     * (they were gathered back out of the packed cache, 4 % of a frame of
+     * the 2M-triangle torus). */
     for (size_t i0 = a; i0 < b; i0 += VERTEX_BLOCK) {
         const size_t n = PERSP_MIN((size_t)VERTEX_BLOCK, b - i0);
-        float cp[4][VERTEX_BLOCK], ep[4][VERTEX_BLOCK];
+        float cp[4][VERTEX_BLOCK], ep[4][VERTEX_BLOCK], en[3][VERTEX_BLOCK], col[3][VERTEX_BLOCK];
         transform_block(&j->mvp, mesh->vertices + i0, n, cp);
-        if (j->nattr > PERSP_A_V + 1) transform_block(&j->mv, mesh->vertices + i0, n, ep);
+        if (lit) transform_block(&j->mv, mesh->vertices + i0, n, ep);
         for (size_t k = 0; k < n; k++) {
             const size_t i = i0 + k;
             const persp_vertex *v = &mesh->vertices[i];
@@ -488,23 +556,33 @@ static void vertex_task(void *user, int task, int worker)
             o[0] = cp[0][k], o[1] = cp[1][k], o[2] = cp[2][k], o[3] = cp[3][k];
             at[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
             at[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
-            if (j->nattr <= PERSP_A_V + 1) continue;
+            if (!lit) continue;
             for (int r = 0; r < 4; r++) at[PERSP_A_R + r] = v->color[r];
-            for (int r = 0; r < 3; r++)
-                at[PERSP_A_NX + r] = nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
+            for (int r = 0; r < 3; r++) {
+                col[r][k] = v->color[r];
+                en[r][k] = at[PERSP_A_NX + r] =
+                    nm[r] * v->normal[0] + nm[3 + r] * v->normal[1] + nm[6 + r] * v->normal[2];
+            }
             at[PERSP_A_EX] = ep[0][k], at[PERSP_A_EY] = ep[1][k], at[PERSP_A_EZ] = ep[2][k];
-            if (j->nattr < PERSP_A_COUNT) continue;
-            for (int r = 0; r < 3; r++) at[PERSP_A_BR + r] = v->color[r]; /* lit by Gouraud */
         }
+        if (gouraud) {
+            float rgb[3][VERTEX_BLOCK];
+            const persp_light_in in = {{en[0], en[1], en[2]}, {ep[0], ep[1], ep[2]}, {col[0], col[1], col[2]}};
+            persp__light_vertices(j->ds, 1.0f, (int)n, &in, rgb[0], rgb[1], rgb[2]);
+            for (size_t k = 0; k < n; k++) {
+                float *at = c->verts + (i0 + k) * stride + 4;
+                at[PERSP_A_R] = rgb[0][k], at[PERSP_A_G] = rgb[1][k], at[PERSP_A_B] = rgb[2][k];
+                at[PERSP_A_A] = 1.0f;
+            }
+            if (j->back) {
+                persp__light_vertices(j->ds, -1.0f, (int)n, &in, rgb[0], rgb[1], rgb[2]);
+                float *bk = c->back + 3 * i0;
+                for (size_t k = 0; k < n; k++)
+                    bk[3 * k] = rgb[0][k], bk[3 * k + 1] = rgb[1][k], bk[3 * k + 2] = rgb[2][k];
+            }
+        }
+        window_block(c->verts + i0 * stride, stride, n, j->gx, j->gy, W, H, &c->win[i0]);
     }
-    /* Gouraud's full packing is exactly an array of persp_clipvert. */
-    _Static_assert(sizeof(persp_clipvert) == (4 + PERSP_A_COUNT) * sizeof(float), "packed clipvert");
-    if (j->nattr == PERSP_A_COUNT)
-        persp__shade_vertices(j->ds, (persp_clipvert *)(void *)(c->verts + a * stride), b - a);
-    const double W = j->f->fb->width, H = j->f->fb->height;
-    for (size_t i0 = a; i0 < b; i0 += VERTEX_BLOCK)
-        window_block(c->verts + i0 * stride, stride, PERSP_MIN((size_t)VERTEX_BLOCK, b - i0), j->gx,
-                     j->gy, W, H, &c->win[i0]);
 }
 
 /* Triangles of one mesh after its vertex stage. */
@@ -514,6 +592,7 @@ typedef struct tri_job {
     uint32_t state;
     int cull;
     int nattr; /* the vertex cache's attributes per vertex (vertex_attrs) */
+    const float *back; /* the vertex stage's back colours, or NULL (back_colours) */
     double gx, gy;
     setup_slab *slabs;
     size_t first; /* first input triangle of the round */
@@ -557,12 +636,29 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                 tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
                                         w->q, c->verts + ix[k] * stride + 4};
             }
-            st = sink_triangle(&sk, tv, &e, j->state, j->cull);
+            const float *col[3] = {mesh->vertices[ix[0]].color, mesh->vertices[ix[1]].color,
+                                   mesh->vertices[ix[2]].color};
+            const float *back[3] = {NULL, NULL, NULL};
+            if (j->back)
+                for (int k = 0; k < 3; k++) back[k] = j->back + 3 * (size_t)ix[k];
+            st = sink_triangle(&sk, tv, &e, col, back, j->state, j->cull);
         } else {
-            /* The attributes the draw does not read are clipped as zeros. */
+            /* The attributes the draw does not read are clipped as zeros;
+             * Gouraud's back colours are lit first, as clipping
+             * interpolates them. */
             persp_clipvert in[3];
             memset(in, 0, sizeof in);
             for (int k = 0; k < 3; k++) memcpy(&in[k], c->verts + ix[k] * stride, stride * sizeof(float));
+            const persp_draw_state *ds = &c->states[j->state];
+            if (is_gouraud(ds)) {
+                float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
+                const float *col[3] = {mesh->vertices[ix[0]].color, mesh->vertices[ix[1]].color,
+                                       mesh->vertices[ix[2]].color};
+                const float *back[3] = {NULL, NULL, NULL};
+                if (j->back)
+                    for (int k = 0; k < 3; k++) back[k] = j->back + 3 * (size_t)ix[k];
+                back_colours(ds, v, col, back);
+            }
             persp_clipvert poly[PERSP_CLIP_MAX];
             int n = persp__clip_triangle(in, j->gx, j->gy, poly);
             st = n >= 3 ? emit_polygon(&sk, poly, n, j->state, j->cull) : PERSP_OK;
@@ -721,7 +817,14 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
         persp__reserve(f->ctx, (void **)&c->verts, &c->vert_cap, floats, sizeof *c->verts) != PERSP_OK ||
         persp__reserve(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-    vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = ds, .nattr = nattr};
+    /* Backs in the vertex stage when most triangles may show theirs
+     * (back_colours). */
+    const int back_lighting = f->ctx->back_lighting;
+    vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = ds, .nattr = nattr,
+                      .back = is_gouraud(ds) && (back_lighting ? back_lighting == 1 : !cull)};
+    if (job.back && (!persp__size_mul(mesh->vertex_count, 3, &floats) ||
+                     persp__reserve(f->ctx, (void **)&c->back, &c->back_cap, floats, sizeof *c->back) != PERSP_OK))
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     job.mv = persp_mat4_mul(*view, *model);
     job.mvp = persp_mat4_mul(*proj, job.mv);
     if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
@@ -741,7 +844,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     }
     const size_t ntri = mesh->index_count / 3;
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
-                  .gx = job.gx, .gy = job.gy};
+                  .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
     if (workers < 2 || job.ds->method.m->prepare || ntri < 4 * SETUP_CHUNK)
         return mesh_triangles(&tj, 0, ntri, NULL);

@@ -101,9 +101,11 @@ int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edge
     persp__plane_through(vx, vy, b1, &t->bary.a, &t->bary.b, &t->bary.c);
     persp__plane_through(vx, vy, b2, &t->bary.d, &t->bary.e, &t->bary.f);
     t->bary.g = t->rat.g, t->bary.h = t->rat.h, t->bary.i = t->rat.i;
-    const double e1[3] = {0, 1, 0}, e2[3] = {0, 0, 1};
-    persp__plane_through(vx, vy, e1, &t->lb1[0], &t->lb1[1], &t->lb1[2]);
-    persp__plane_through(vx, vy, e2, &t->lb2[0], &t->lb2[1], &t->lb2[2]);
+    if (need & PERSP_SETUP_LINEAR) {
+        const double e1[3] = {0, 1, 0}, e2[3] = {0, 0, 1};
+        persp__plane_through(vx, vy, e1, &t->lb1[0], &t->lb1[1], &t->lb1[2]);
+        persp__plane_through(vx, vy, e2, &t->lb2[0], &t->lb2[1], &t->lb2[2]);
+    }
     t->bary.xmin = t->xmin;
     t->bary.xmax = t->xmax;
     t->bary.ymin = t->ymin;

@@ -778,43 +778,54 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
     return PERSP_OK;
 }
 
+void persp__light_vertices(const persp_draw_state *ds, float side, int n, const persp_light_in *in,
+                           float *restrict r, float *restrict g, float *restrict b)
+{
+    /* Through the span lighting (light_soa: light_point's operations in
+     * the same order), so that a vertex gets the same colour whether it is
+     * lit in a block of the vertex stage or alone at set-up. */
+    if (n <= 0 || n > PERSP_SPAN_MAX) return;
+    lit_span s;
+    for (int k = 0; k < n; k++) {
+        /* normalize3's operations, with its branch as selects. */
+        const float x = in->n[0][k], y = in->n[1][k], z = in->n[2][k];
+        const float l = sqrtf(x * x + y * y + z * z);
+        const float d = l > 0.0f ? l : 1.0f;
+        s.nx[k] = l > 0.0f ? x / d : x;
+        s.ny[k] = l > 0.0f ? y / d : y;
+        s.nz[k] = l > 0.0f ? z / d : z;
+        s.ex[k] = in->e[0][k], s.ey[k] = in->e[1][k], s.ez[k] = in->e[2][k];
+    }
+    pad_lit_span(&s, n);
+    float sides[PERSP_SPAN_MAX], d[6][PERSP_SPAN_MAX];
+    for (int k = 0; k < span_lanes(n); k++) sides[k] = side;
+    light_soa(ds, sides, n, &s, d[0], d[1], d[2], d[3], d[4], d[5]);
+    if (ds->color_material)
+        for (int k = 0; k < n; k++) d[0][k] *= in->c[0][k], d[1][k] *= in->c[1][k], d[2][k] *= in->c[2][k];
+    for (int k = 0; k < n; k++) r[k] = d[0][k] + d[3][k], g[k] = d[1][k] + d[4][k], b[k] = d[2][k] + d[5][k];
+}
+
 void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n)
 {
     if (ds->shading != PERSP_SHADING_GOURAUD && ds->shading != PERSP_SHADING_GOURAUD_PC) return;
-    /* Vertices are lit before their triangles are known (render.c), so
-     * both sides are lit here, as OpenGL's two-sided lighting does, and
-     * shade_gouraud picks one per triangle. Blocks of vertices go through
-     * the span lighting (light_soa: light_point's operations in the same
-     * order, so the colours are those of lighting one vertex at a time). */
-    lit_span g;
-    float d[6][PERSP_SPAN_MAX];
-    for (size_t a = 0; a < n; a += PERSP_SPAN_MAX) {
-        const int m = (int)(n - a < PERSP_SPAN_MAX ? n - a : PERSP_SPAN_MAX);
+    float a[9][PERSP_SPAN_MAX], out[3][PERSP_SPAN_MAX];
+    const persp_light_in in = {{a[0], a[1], a[2]}, {a[3], a[4], a[5]}, {a[6], a[7], a[8]}};
+    for (size_t i0 = 0; i0 < n; i0 += PERSP_SPAN_MAX) {
+        const int m = (int)(n - i0 < PERSP_SPAN_MAX ? n - i0 : PERSP_SPAN_MAX);
         for (int k = 0; k < m; k++) {
-            const float *at = v[a + (size_t)k].attr;
-            float nn[3] = {at[PERSP_A_NX], at[PERSP_A_NY], at[PERSP_A_NZ]};
-            normalize3(nn);
-            g.nx[k] = nn[0], g.ny[k] = nn[1], g.nz[k] = nn[2];
-            g.ex[k] = at[PERSP_A_EX], g.ey[k] = at[PERSP_A_EY], g.ez[k] = at[PERSP_A_EZ];
-        }
-        pad_lit_span(&g, m);
-        if (ds->color_material)
-            for (int k = 0; k < m; k++) {
-                const float *at = v[a + (size_t)k].attr;
-                g.cr[k] = at[PERSP_A_R], g.cg[k] = at[PERSP_A_G], g.cb[k] = at[PERSP_A_B];
-            }
-        for (int side = 0; side < 2; side++) {
-            float sides[PERSP_SPAN_MAX];
-            for (int k = 0; k < span_lanes(m); k++) sides[k] = side ? -1.0f : 1.0f;
-            light_soa(ds, sides, m, &g, d[0], d[1], d[2], d[3], d[4], d[5]);
-            if (ds->color_material)
-                for (int k = 0; k < m; k++) d[0][k] *= g.cr[k], d[1][k] *= g.cg[k], d[2][k] *= g.cb[k];
-            const int base = side ? PERSP_A_BR : PERSP_A_R;
-            for (int k = 0; k < m; k++) {
-                float *at = v[a + (size_t)k].attr;
-                for (int c = 0; c < 3; c++) at[base + c] = d[c][k] + d[3 + c][k];
+            const float *at = v[i0 + (size_t)k].attr;
+            for (int c = 0; c < 3; c++) {
+                a[c][k] = at[PERSP_A_NX + c];
+                a[3 + c][k] = at[PERSP_A_EX + c];
+                a[6 + c][k] = at[PERSP_A_R + c];
             }
         }
-        for (int k = 0; k < m; k++) v[a + (size_t)k].attr[PERSP_A_A] = 1.0f;
+        for (int side = 1; side >= 0; side--) {
+            persp__light_vertices(ds, side ? 1.0f : -1.0f, m, &in, out[0], out[1], out[2]);
+            const int base = side ? PERSP_A_R : PERSP_A_BR;
+            for (int k = 0; k < m; k++)
+                for (int c = 0; c < 3; c++) v[i0 + (size_t)k].attr[base + c] = out[c][k];
+        }
+        for (int k = 0; k < m; k++) v[i0 + (size_t)k].attr[PERSP_A_A] = 1.0f;
     }
 }

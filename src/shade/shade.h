@@ -9,8 +9,22 @@
  * environment and whether a texture is bound. */
 persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds);
 /* Per-vertex stage: Gouraud modes write lit colours into the R, G, B, A
- * attributes; other modes leave the vertices alone. */
+ * attributes and the back face's into BR, BG, BB (two-sided lighting);
+ * other modes leave the vertices alone. */
 void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n);
+
+/* Vertices given component-wise: eye-space normals (not necessarily unit),
+ * eye-space positions, and vertex colours (read only with
+ * ds->color_material). */
+typedef struct persp_light_in {
+    const float *n[3], *e[3], *c[3];
+} persp_light_in;
+/* Gouraud colours of n <= PERSP_SPAN_MAX vertices on one side (side 1 the
+ * front, −1 the back) into r, g, b: the colours persp__shade_vertices
+ * writes for that side. The renderer lights fronts in its vertex stage and
+ * backs at set-up, for the triangles that show them. */
+void persp__light_vertices(const persp_draw_state *ds, float side, int n, const persp_light_in *in,
+                           float *restrict r, float *restrict g, float *restrict b);
 static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri *t,
                                      const persp_frag_batch *b, const float *q,
                                      const uint32_t *texel, uint32_t *out)

@@ -455,6 +455,66 @@ static void test_bad_inputs(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Two-sided Gouraud lights back faces either in the vertex stage, for
+ * every vertex, or at set-up, for the triangles that show their back
+ * (render.c, back_colours; chosen by culling): both must give the same
+ * image. Seen from inside its tube, every visible triangle of the torus
+ * shows its back (its normals face away from the eye), so a back colour
+ * computed wrongly in either place changes the image. */
+static uint64_t render_back_lighting(const char *scene_name, const persp_render_desc *d, int threads,
+                                     int back, persp_render_stats *st)
+{
+    persp_context *ctx = test_context_threads(threads);
+    ctx->back_lighting = back;
+    char path[1024];
+    test_source_path(path, sizeof path, scene_name);
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    persp_framebuffer fb = test_framebuffer(160, 120);
+    if (persp_render(ctx, scene, d, &fb, st) != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
+    const uint64_t h = test_hash(fb.color, (size_t)160 * 120 * 4);
+    test_framebuffer_free(&fb);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+    return h;
+}
+
+static void test_back_lighting_places_agree(void **state)
+{
+    (void)state;
+    /* The torus (major radius 1, minor 0.45, in the xz plane): an eye on
+     * its tube's centre circle looking along the tube. */
+    const persp_mat4 inside = persp_look_at((persp_vec3){0, 0, 1}, (persp_vec3){0.4f, 0.05f, 0.9f},
+                                            (persp_vec3){0, 1, 0});
+    const char *scenes[] = {"scenes/bench/torus-2k.json", "scenes/bench/torus-2k.json", "scenes/spheres.json"};
+    const persp_mat4 *views[] = {&inside, NULL, NULL};
+    const persp_shading shadings[] = {PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_GOURAUD};
+    const persp_toggle culls[] = {PERSP_TOGGLE_ON, PERSP_TOGGLE_OFF};
+    for (int si = 0; si < 3; si++)
+        for (int sh = 0; sh < 2; sh++)
+            for (int cu = 0; cu < 2; cu++)
+                for (int threads = 1; threads <= 2; threads++) {
+                    persp_render_desc d;
+                    memset(&d, 0, sizeof d);
+                    d.shading = shadings[sh];
+                    d.cull_backfaces = culls[cu];
+                    d.view = views[si];
+                    persp_render_stats st[2];
+                    const uint64_t vertex = render_back_lighting(scenes[si], &d, threads, 1, &st[0]);
+                    const uint64_t setup = render_back_lighting(scenes[si], &d, threads, 2, &st[1]);
+                    /* Inside the tube the faces are back faces: culled, the
+                     * view is empty. */
+                    if (si == 0 && culls[cu] == PERSP_TOGGLE_ON) assert_int_equal(st[0].pixels_written, 0);
+                    else assert_true(st[0].pixels_written > 1000);
+                    assert_int_equal(st[0].pixels_written, st[1].pixels_written);
+                    if (vertex != setup)
+                        fail_msg("%s view %d, shading %d, cull %d, %d threads: backs lit in the vertex stage "
+                                 "%016llx, at set-up %016llx",
+                                 scenes[si], si, (int)shadings[sh], cu, threads, (unsigned long long)vertex,
+                                 (unsigned long long)setup);
+                }
+}
+
 /* Frames with many triangles are drawn in batches, and meshes of more than
  * a few thousand triangles are set up on the worker threads in slabs; the
  * image must depend neither on where the batches end (tiles draw in
@@ -565,6 +625,7 @@ int main(void)
         cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_batches_bit_identical),
+        cmocka_unit_test(test_back_lighting_places_agree),
         cmocka_unit_test(test_adaptive_batches_bit_identical),
         cmocka_unit_test(test_submission_order_kept),
         cmocka_unit_test(test_every_pixel_covered_corridor),
