@@ -461,7 +461,7 @@ static inline double round_half_away(double v)
 
 /* Clip positions of vertices [a, a + n), n <= VERTEX_BLOCK, by the same
  * operations as persp_mat4_apply (double sums from 0.0, rounded to float). */
-PERSP_SIMD_CLONES static void transform_block(const persp_mat4 *m, const persp_vertex *v, size_t n,
+PERSP_SIMD_CLONES_WIDE static void transform_block(const persp_mat4 *m, const persp_vertex *v, size_t n,
                                               float out[4][VERTEX_BLOCK])
 {
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK];
@@ -491,10 +491,12 @@ static inline uint32_t any_nonfinite(const float *v, size_t n)
     return bad;
 }
 
-/* Outcodes and window positions of n <= VERTEX_BLOCK packed vertices, as
- * persp__clip_outcode_packed and to_window compute them. */
-PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, size_t n, double gx,
-                                           double gy, double W, double H, struct vert_win *win)
+/* Outcodes and window positions of n <= VERTEX_BLOCK packed vertices o,
+ * as persp__clip_outcode_packed and to_window compute them; cp: their
+ * clip positions component by component (the same values as o's). */
+PERSP_SIMD_CLONES_WIDE static void window_block(const float *o, size_t stride, size_t n,
+                                                const float cp[4][VERTEX_BLOCK], double gx, double gy,
+                                                double W, double H, struct vert_win *win)
 {
     uint32_t bad[VERTEX_BLOCK];
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK], w[VERTEX_BLOCK];
@@ -506,11 +508,8 @@ PERSP_SIMD_CLONES static void window_block(const float *o, size_t stride, size_t
      * first over the whole block, whose vertices are consecutive, and per
      * vertex only when the block has one. */
     const uint32_t block_bad = any_nonfinite(o, n * stride);
-    for (size_t i = 0; i < n; i++) {
-        const float *v = o + i * stride;
-        bad[i] = block_bad ? any_nonfinite(v, stride) : 0u;
-        x[i] = v[0], y[i] = v[1], z[i] = v[2], w[i] = v[3];
-    }
+    for (size_t i = 0; i < n; i++) bad[i] = block_bad ? any_nonfinite(o + i * stride, stride) : 0u;
+    for (size_t i = 0; i < n; i++) x[i] = cp[0][i], y[i] = cp[1][i], z[i] = cp[2][i], w[i] = cp[3][i];
     for (size_t i = 0; i < n; i++)
         code[i] = bad[i] ? PERSP_CLIP_NONFINITE : persp__clip_outcode_pos(x[i], y[i], z[i], w[i], gx, gy);
     for (size_t i = 0; i < n; i++) {
@@ -557,7 +556,8 @@ static void vertex_task(void *user, int task, int worker)
             at[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
             at[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
             if (!lit) continue;
-            for (int r = 0; r < 4; r++) at[PERSP_A_R + r] = v->color[r];
+            if (!gouraud) /* Gouraud writes its lit colours below */
+                for (int r = 0; r < 4; r++) at[PERSP_A_R + r] = v->color[r];
             for (int r = 0; r < 3; r++) {
                 col[r][k] = v->color[r];
                 en[r][k] = at[PERSP_A_NX + r] =
@@ -581,7 +581,8 @@ static void vertex_task(void *user, int task, int worker)
                     bk[3 * k] = rgb[0][k], bk[3 * k + 1] = rgb[1][k], bk[3 * k + 2] = rgb[2][k];
             }
         }
-        window_block(c->verts + i0 * stride, stride, n, j->gx, j->gy, W, H, &c->win[i0]);
+        window_block(c->verts + i0 * stride, stride, n, (const float(*)[VERTEX_BLOCK])cp, j->gx, j->gy, W, H,
+                     &c->win[i0]);
     }
 }
 
