@@ -58,9 +58,10 @@ struct persp_render_cache {
     size_t tiles_cap;
     persp_method_prep *preps;
     size_t prep_cap;
-    /* Per vertex: its clip position and the first nattr attributes the
-     * draw reads (vertex_attrs), packed: 6 floats unlit, 16 lit (no
-     * back colours), instead of a whole persp_clipvert each. */
+    /* Per vertex: the first nattr attributes the draw reads
+     * (vertex_attrs), packed: 2 floats unlit, 12 lit (no back colours),
+     * instead of a whole persp_clipvert each. The clip position is not
+     * kept: only clipping reads it, and recomputes it (clip_position). */
     float *verts;
     size_t vert_cap;
     struct vert_win *win; /* per vertex: window position and outcode */
@@ -479,6 +480,21 @@ PERSP_SIMD_CLONES_WIDE static void transform_block(const persp_mat4 *m, const pe
     }
 }
 
+/* The clip position of one vertex: transform_block's operations, for the
+ * triangles that are clipped (the vertex cache keeps no clip positions). */
+static void clip_position(const persp_mat4 *m, const persp_vertex *v, float out[4])
+{
+    const double x = v->pos[0], y = v->pos[1], z = v->pos[2];
+    for (int r = 0; r < 4; r++) {
+        double o = 0.0;
+        o += m->m[r] * x;
+        o += m->m[4 + r] * y;
+        o += m->m[8 + r] * z;
+        o += m->m[12 + r] * 1.0;
+        out[r] = (float)o;
+    }
+}
+
 /* 1 if any of v[0..n) is NaN or infinite (an all-ones exponent). */
 static inline uint32_t any_nonfinite(const float *v, size_t n)
 {
@@ -491,9 +507,10 @@ static inline uint32_t any_nonfinite(const float *v, size_t n)
     return bad;
 }
 
-/* Outcodes and window positions of n <= VERTEX_BLOCK packed vertices o,
- * as persp__clip_outcode_packed and to_window compute them; cp: their
- * clip positions component by component (the same values as o's). */
+/* Outcodes and window positions of n <= VERTEX_BLOCK vertices, as
+ * persp__clip_outcode_packed and to_window compute them: o, their packed
+ * attributes (stride floats each), cp their clip positions component by
+ * component. */
 PERSP_SIMD_CLONES_WIDE static void window_block(const float *o, size_t stride, size_t n,
                                                 const float cp[4][VERTEX_BLOCK], double gx, double gy,
                                                 double W, double H, struct vert_win *win)
@@ -507,8 +524,13 @@ PERSP_SIMD_CLONES_WIDE static void window_block(const float *o, size_t stride, s
      * them, was a chain of dependent additions, 4 % of a 2M-torus frame):
      * first over the whole block, whose vertices are consecutive, and per
      * vertex only when the block has one. */
-    const uint32_t block_bad = any_nonfinite(o, n * stride);
-    for (size_t i = 0; i < n; i++) bad[i] = block_bad ? any_nonfinite(o + i * stride, stride) : 0u;
+    uint32_t block_bad = any_nonfinite(o, n * stride);
+    for (int r = 0; r < 4; r++) block_bad |= any_nonfinite(cp[r], n);
+    for (size_t i = 0; i < n; i++)
+        bad[i] = block_bad ? any_nonfinite(o + i * stride, stride) | any_nonfinite(&cp[0][i], 1) |
+                                 any_nonfinite(&cp[1][i], 1) | any_nonfinite(&cp[2][i], 1) |
+                                 any_nonfinite(&cp[3][i], 1)
+                           : 0u;
     for (size_t i = 0; i < n; i++) x[i] = cp[0][i], y[i] = cp[1][i], z[i] = cp[2][i], w[i] = cp[3][i];
     for (size_t i = 0; i < n; i++)
         code[i] = bad[i] ? PERSP_CLIP_NONFINITE : persp__clip_outcode_pos(x[i], y[i], z[i], w[i], gx, gy);
@@ -536,7 +558,7 @@ static void vertex_task(void *user, int task, int worker)
     const size_t a = (size_t)task * VERTEX_TASK;
     const size_t b = PERSP_MIN(a + VERTEX_TASK, mesh->vertex_count);
     const float *nm = j->nm, *uv = j->uv;
-    const size_t stride = 4 + (size_t)j->nattr;
+    const size_t stride = (size_t)j->nattr;
     const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && is_gouraud(j->ds);
     const double W = j->f->fb->width, H = j->f->fb->height;
     /* Block by block, each step across the block while it is in L1: a
@@ -551,8 +573,7 @@ static void vertex_task(void *user, int task, int worker)
         for (size_t k = 0; k < n; k++) {
             const size_t i = i0 + k;
             const persp_vertex *v = &mesh->vertices[i];
-            float *o = c->verts + i * stride, *at = o + 4;
-            o[0] = cp[0][k], o[1] = cp[1][k], o[2] = cp[2][k], o[3] = cp[3][k];
+            float *at = c->verts + i * stride;
             at[PERSP_A_U] = uv ? uv[2 * i] : v->uv[0];
             at[PERSP_A_V] = uv ? uv[2 * i + 1] : v->uv[1];
             if (!lit) continue;
@@ -570,7 +591,7 @@ static void vertex_task(void *user, int task, int worker)
             const persp_light_in in = {{en[0], en[1], en[2]}, {ep[0], ep[1], ep[2]}, {col[0], col[1], col[2]}};
             persp__light_vertices(j->ds, 1.0f, (int)n, &in, rgb[0], rgb[1], rgb[2]);
             for (size_t k = 0; k < n; k++) {
-                float *at = c->verts + (i0 + k) * stride + 4;
+                float *at = c->verts + (i0 + k) * stride;
                 at[PERSP_A_R] = rgb[0][k], at[PERSP_A_G] = rgb[1][k], at[PERSP_A_B] = rgb[2][k];
                 at[PERSP_A_A] = 1.0f;
             }
@@ -593,6 +614,7 @@ typedef struct tri_job {
     uint32_t state;
     int cull;
     int nattr; /* the vertex cache's attributes per vertex (vertex_attrs) */
+    persp_mat4 mvp; /* clip positions of clipped triangles (clip_position) */
     const float *back; /* the vertex stage's back colours, or NULL (back_colours) */
     double gx, gy;
     setup_slab *slabs;
@@ -610,8 +632,7 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
     const persp_mesh *mesh = j->mesh;
     const int width = f->fb->width, height = f->fb->height;
     tri_sink sk = {f, slab};
-    const int nattr = j->nattr;
-    const size_t stride = 4 + (size_t)nattr;
+    const size_t stride = (size_t)j->nattr;
     for (size_t t = a; t < b; t++) {
         if (slab && slab->count + (PERSP_CLIP_MAX - 2) > slab->cap) {
             slab->stop = t;
@@ -635,7 +656,7 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
             for (int k = 0; k < 3; k++) {
                 const struct vert_win *w = &c->win[ix[k]];
                 tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
-                                        w->q, c->verts + ix[k] * stride + 4};
+                                        w->q, c->verts + ix[k] * stride};
             }
             const float *col[3] = {mesh->vertices[ix[0]].color, mesh->vertices[ix[1]].color,
                                    mesh->vertices[ix[2]].color};
@@ -649,7 +670,10 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
              * interpolates them. */
             persp_clipvert in[3];
             memset(in, 0, sizeof in);
-            for (int k = 0; k < 3; k++) memcpy(&in[k], c->verts + ix[k] * stride, stride * sizeof(float));
+            for (int k = 0; k < 3; k++) {
+                clip_position(&j->mvp, &mesh->vertices[ix[k]], in[k].clip);
+                memcpy(in[k].attr, c->verts + ix[k] * stride, stride * sizeof(float));
+            }
             const persp_draw_state *ds = &c->states[j->state];
             if (is_gouraud(ds)) {
                 float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
@@ -814,7 +838,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     const persp_draw_state *ds = &c->states[state];
     const int nattr = vertex_attrs(f, ds);
     size_t floats;
-    if (!persp__size_mul(mesh->vertex_count, 4 + (size_t)nattr, &floats) ||
+    if (!persp__size_mul(mesh->vertex_count, (size_t)nattr, &floats) ||
         persp__reserve(f->ctx, (void **)&c->verts, &c->vert_cap, floats, sizeof *c->verts) != PERSP_OK ||
         persp__reserve(f->ctx, (void **)&c->win, &c->win_cap, mesh->vertex_count, sizeof *c->win) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
@@ -845,7 +869,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     }
     const size_t ntri = mesh->index_count / 3;
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
-                  .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
+                  .mvp = job.mvp, .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
     if (workers < 2 || job.ds->method.m->prepare || ntri < 4 * SETUP_CHUNK)
         return mesh_triangles(&tj, 0, ntri, NULL);
