@@ -463,7 +463,7 @@ static inline double round_half_away(double v)
 /* Clip positions of vertices [a, a + n), n <= VERTEX_BLOCK, by the same
  * operations as persp_mat4_apply (double sums from 0.0, rounded to float). */
 PERSP_SIMD_CLONES_WIDE static void transform_block(const persp_mat4 *m, const persp_vertex *v, size_t n,
-                                              float out[4][VERTEX_BLOCK])
+                                                   float out[4][VERTEX_BLOCK])
 {
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK];
     for (size_t i = 0; i < n; i++) x[i] = v[i].pos[0], y[i] = v[i].pos[1], z[i] = v[i].pos[2];
@@ -621,6 +621,15 @@ typedef struct tri_job {
     size_t first; /* first input triangle of the round */
 } tri_job;
 
+/* Where back_colours finds the back colours of triangle ix's vertices. */
+static void colour_sources(const tri_job *j, const uint32_t ix[3], const float *col[3], const float *back[3])
+{
+    for (int k = 0; k < 3; k++) {
+        col[k] = j->mesh->vertices[ix[k]].color;
+        back[k] = j->back ? j->back + 3 * (size_t)ix[k] : NULL;
+    }
+}
+
 /* Input triangles [a, b) into the job's sink (or slab, when given): trivial
  * reject, the rejects of set-up's integer half, clipping, set-up. A slab
  * stops early, recording where, when it might not hold a clipped polygon's
@@ -658,11 +667,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                 tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
                                         w->q, c->verts + ix[k] * stride};
             }
-            const float *col[3] = {mesh->vertices[ix[0]].color, mesh->vertices[ix[1]].color,
-                                   mesh->vertices[ix[2]].color};
-            const float *back[3] = {NULL, NULL, NULL};
-            if (j->back)
-                for (int k = 0; k < 3; k++) back[k] = j->back + 3 * (size_t)ix[k];
+            const float *col[3], *back[3];
+            colour_sources(j, ix, col, back);
             st = sink_triangle(&sk, tv, &e, col, back, j->state, j->cull);
         } else {
             /* The attributes the draw does not read are clipped as zeros;
@@ -677,11 +683,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
             const persp_draw_state *ds = &c->states[j->state];
             if (is_gouraud(ds)) {
                 float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
-                const float *col[3] = {mesh->vertices[ix[0]].color, mesh->vertices[ix[1]].color,
-                                       mesh->vertices[ix[2]].color};
-                const float *back[3] = {NULL, NULL, NULL};
-                if (j->back)
-                    for (int k = 0; k < 3; k++) back[k] = j->back + 3 * (size_t)ix[k];
+                const float *col[3], *back[3];
+                colour_sources(j, ix, col, back);
                 back_colours(ds, v, col, back);
             }
             persp_clipvert poly[PERSP_CLIP_MAX];
