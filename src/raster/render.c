@@ -292,7 +292,8 @@ static void back_colours(const persp_draw_state *ds, float *const v[3], const fl
             a[6 + c][i] = col[i][c];
         }
     const persp_light_in in = {{a[0], a[1], a[2]}, {a[3], a[4], a[5]}, {a[6], a[7], a[8]}};
-    persp__light_vertices(ds, -1.0f, 3, &in, out[0], out[1], out[2]);
+    float *const bk[3] = {out[0], out[1], out[2]};
+    persp__light_vertices(ds, 3, &in, NULL, bk);
     for (int i = 0; i < 3; i++)
         for (int c = 0; c < 3; c++) v[i][PERSP_A_BR + c] = out[c][i];
 }
@@ -587,19 +588,19 @@ static void vertex_task(void *user, int task, int worker)
             at[PERSP_A_EX] = ep[0][k], at[PERSP_A_EY] = ep[1][k], at[PERSP_A_EZ] = ep[2][k];
         }
         if (gouraud) {
-            float rgb[3][VERTEX_BLOCK];
+            float rgb[6][VERTEX_BLOCK];
             const persp_light_in in = {{en[0], en[1], en[2]}, {ep[0], ep[1], ep[2]}, {col[0], col[1], col[2]}};
-            persp__light_vertices(j->ds, 1.0f, (int)n, &in, rgb[0], rgb[1], rgb[2]);
+            float *const front[3] = {rgb[0], rgb[1], rgb[2]}, *const back[3] = {rgb[3], rgb[4], rgb[5]};
+            persp__light_vertices(j->ds, (int)n, &in, front, j->back ? back : NULL);
             for (size_t k = 0; k < n; k++) {
                 float *at = c->verts + (i0 + k) * stride;
                 at[PERSP_A_R] = rgb[0][k], at[PERSP_A_G] = rgb[1][k], at[PERSP_A_B] = rgb[2][k];
                 at[PERSP_A_A] = 1.0f;
             }
             if (j->back) {
-                persp__light_vertices(j->ds, -1.0f, (int)n, &in, rgb[0], rgb[1], rgb[2]);
                 float *bk = c->back + 3 * i0;
                 for (size_t k = 0; k < n; k++)
-                    bk[3 * k] = rgb[0][k], bk[3 * k + 1] = rgb[1][k], bk[3 * k + 2] = rgb[2][k];
+                    bk[3 * k] = rgb[3][k], bk[3 * k + 1] = rgb[4][k], bk[3 * k + 2] = rgb[5][k];
             }
         }
         window_block(c->verts + i0 * stride, stride, n, (const float(*)[VERTEX_BLOCK])cp, j->gx, j->gy, W, H,

@@ -778,8 +778,8 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
     return PERSP_OK;
 }
 
-void persp__light_vertices(const persp_draw_state *ds, float side, int n, const persp_light_in *in,
-                           float *restrict r, float *restrict g, float *restrict b)
+void persp__light_vertices(const persp_draw_state *ds, int n, const persp_light_in *in, float *const front[3],
+                           float *const back[3])
 {
     /* Through the span lighting (light_soa: light_point's operations in
      * the same order), so that a vertex gets the same colour whether it is
@@ -797,18 +797,23 @@ void persp__light_vertices(const persp_draw_state *ds, float side, int n, const 
         s.ex[k] = in->e[0][k], s.ey[k] = in->e[1][k], s.ez[k] = in->e[2][k];
     }
     pad_lit_span(&s, n);
-    float sides[PERSP_SPAN_MAX], d[6][PERSP_SPAN_MAX];
-    for (int k = 0; k < span_lanes(n); k++) sides[k] = side;
-    light_soa(ds, sides, n, &s, d[0], d[1], d[2], d[3], d[4], d[5]);
-    if (ds->color_material)
-        for (int k = 0; k < n; k++) d[0][k] *= in->c[0][k], d[1][k] *= in->c[1][k], d[2][k] *= in->c[2][k];
-    for (int k = 0; k < n; k++) r[k] = d[0][k] + d[3][k], g[k] = d[1][k] + d[4][k], b[k] = d[2][k] + d[5][k];
+    for (int side = 0; side < 2; side++) {
+        float *const *out = side ? back : front;
+        if (!out) continue;
+        float sides[PERSP_SPAN_MAX], d[6][PERSP_SPAN_MAX];
+        for (int k = 0; k < span_lanes(n); k++) sides[k] = side ? -1.0f : 1.0f;
+        light_soa(ds, sides, n, &s, d[0], d[1], d[2], d[3], d[4], d[5]);
+        if (ds->color_material)
+            for (int k = 0; k < n; k++) d[0][k] *= in->c[0][k], d[1][k] *= in->c[1][k], d[2][k] *= in->c[2][k];
+        for (int c = 0; c < 3; c++)
+            for (int k = 0; k < n; k++) out[c][k] = d[c][k] + d[3 + c][k];
+    }
 }
 
 void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n)
 {
     if (ds->shading != PERSP_SHADING_GOURAUD && ds->shading != PERSP_SHADING_GOURAUD_PC) return;
-    float a[9][PERSP_SPAN_MAX], out[3][PERSP_SPAN_MAX];
+    float a[9][PERSP_SPAN_MAX], out[6][PERSP_SPAN_MAX];
     const persp_light_in in = {{a[0], a[1], a[2]}, {a[3], a[4], a[5]}, {a[6], a[7], a[8]}};
     for (size_t i0 = 0; i0 < n; i0 += PERSP_SPAN_MAX) {
         const int m = (int)(n - i0 < PERSP_SPAN_MAX ? n - i0 : PERSP_SPAN_MAX);
@@ -820,12 +825,13 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
                 a[6 + c][k] = at[PERSP_A_R + c];
             }
         }
-        for (int side = 1; side >= 0; side--) {
-            persp__light_vertices(ds, side ? 1.0f : -1.0f, m, &in, out[0], out[1], out[2]);
-            const int base = side ? PERSP_A_R : PERSP_A_BR;
-            for (int k = 0; k < m; k++)
-                for (int c = 0; c < 3; c++) v[i0 + (size_t)k].attr[base + c] = out[c][k];
-        }
+        float *const front[3] = {out[0], out[1], out[2]}, *const back[3] = {out[3], out[4], out[5]};
+        persp__light_vertices(ds, m, &in, front, back);
+        for (int k = 0; k < m; k++)
+            for (int c = 0; c < 3; c++) {
+                v[i0 + (size_t)k].attr[PERSP_A_R + c] = out[c][k];
+                v[i0 + (size_t)k].attr[PERSP_A_BR + c] = out[3 + c][k];
+            }
         for (int k = 0; k < m; k++) v[i0 + (size_t)k].attr[PERSP_A_A] = 1.0f;
     }
 }

@@ -19,12 +19,13 @@ void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t
 typedef struct persp_light_in {
     const float *n[3], *e[3], *c[3];
 } persp_light_in;
-/* Gouraud colours of n <= PERSP_SPAN_MAX vertices on one side (side 1 the
- * front, −1 the back) into r, g, b: the colours persp__shade_vertices
- * writes for that side. The renderer lights fronts in its vertex stage and
- * backs at set-up, for the triangles that show them. */
-void persp__light_vertices(const persp_draw_state *ds, float side, int n, const persp_light_in *in,
-                           float *restrict r, float *restrict g, float *restrict b);
+/* Gouraud colours of n <= PERSP_SPAN_MAX vertices, the front's into
+ * front[0..2] (r, g, b arrays) and the back's into back[0..2], either NULL
+ * when not wanted: the colours persp__shade_vertices writes. The renderer
+ * lights fronts in its vertex stage and backs there or at set-up, for the
+ * triangles that show them. */
+void persp__light_vertices(const persp_draw_state *ds, int n, const persp_light_in *in, float *const front[3],
+                           float *const back[3]);
 static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri *t,
                                      const persp_frag_batch *b, const float *q,
                                      const uint32_t *texel, uint32_t *out)
