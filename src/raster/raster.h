@@ -208,7 +208,9 @@ typedef struct persp_row_walk {
     int sign[3];        /* +1: bound from below (A > 0), −1: from above, 0: horizontal */
 } persp_row_walk;
 
-void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int x0, int x1);
+/* A walk of rows rows from row y (rows >= 1; stepping past them is not
+ * defined), clipped to columns [x0, x1]. */
+void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int rows, int x0, int x1);
 
 /* The range of the walk's current row, then advances it by one row. */
 static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)

@@ -1287,7 +1287,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
     const int box = (yb - ya + 1) * (PERSP_MIN(x1, t->xmax) - PERSP_MAX(x0, t->xmin) + 1);
     if (lb->n && lb->n + box > PERSP_LANE_MAX) shade_lanes(sc, lb, busy);
     persp_row_walk walk;
-    persp__row_walk_init(&walk, t, ya, x0, x1);
+    persp__row_walk_init(&walk, t, ya, yb - ya + 1, x0, x1);
     for (int y = ya; y <= yb; y++) {
         int lo, hi;
         if (!persp__row_walk_next(&walk, &lo, &hi)) continue;
@@ -1475,7 +1475,7 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
             continue;
         }
         persp_row_walk walk;
-        persp__row_walk_init(&walk, t, ya, x0, x1);
+        persp__row_walk_init(&walk, t, ya, yb - ya + 1, x0, x1);
         for (int y = ya; y <= yb; y++) {
             int lo, hi;
             if (!persp__row_walk_next(&walk, &lo, &hi)) continue;

@@ -140,7 +140,7 @@ int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int
     return 1;
 }
 
-void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int x0, int x1)
+void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int rows, int x0, int x1)
 {
     w->lo = x0 > t->xmin ? x0 : t->xmin;
     w->hi = x1 < t->xmax ? x1 : t->xmax;
@@ -174,8 +174,10 @@ void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int x0, 
             w->m[k] = persp__floor_div(R, d);
             w->r[k] = R - d * w->m[k];
         }
-        w->q[k] = persp__floor_div(S, d);
-        w->s[k] = S - d * w->q[k];
+        /* A walk of one row never steps: its division is saved (half the
+         * tile rows of a triangle of two pixels). */
+        w->q[k] = rows > 1 ? persp__floor_div(S, d) : 0;
+        w->s[k] = rows > 1 ? S - d * w->q[k] : 0;
     }
 }
 
