@@ -541,6 +541,40 @@ static void test_batches_bit_identical(void **state)
     }
 }
 
+/* Every benchmark scene of docs/PERFORMANCE.md (scripts/bench.sh), with
+ * each shading the table measures, gives the same image on one, two and
+ * three worker threads: the 2M-triangle torus and the soup are set up on
+ * the workers in slabs (render.c, mesh_triangles_parallel), the others
+ * serially, and the tiles are drawn in parallel in every case. */
+static void test_bench_scenes_thread_independent(void **state)
+{
+    (void)state;
+    const char *scenes[] = {"corridor",
+                            "scenes/bench/torus-2k.json",
+                            "scenes/bench/torus-20k.json",
+                            "scenes/bench/torus-200k.json",
+                            "scenes/bench/torus-2m.json",
+                            "scenes/bench/soup-200k.json"};
+    const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_PHONG_PC};
+    enum { W = 320, H = 240 };
+    for (size_t si = 0; si < sizeof scenes / sizeof *scenes; si++)
+        for (size_t sh = 0; sh < sizeof shadings / sizeof *shadings; sh++) {
+            persp_render_desc d;
+            memset(&d, 0, sizeof d);
+            d.shading = shadings[sh];
+            uint64_t ref = 0;
+            for (int threads = 1; threads <= 3; threads++) {
+                persp_render_stats st;
+                const uint64_t h = render_hash_batched(scenes[si], &d, threads, 0, W, H, NULL, &st);
+                assert_true(st.pixels_written > W * H / 4);
+                if (threads == 1) ref = h;
+                else if (h != ref)
+                    fail_msg("%s, shading %d, %d threads: hash %016llx, one thread %016llx", scenes[si],
+                             (int)shadings[sh], threads, (unsigned long long)h, (unsigned long long)ref);
+            }
+        }
+}
+
 /* The default batches adapt to how spread the last batch was (render.c,
  * PERSP_FRAME_BATCH_PER_WORKER): the 200k-triangle soup at 1024×768
  * touches every tile in each batch, so its batches after the first are
@@ -626,6 +660,7 @@ int main(void)
         cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_batches_bit_identical),
         cmocka_unit_test(test_back_lighting_places_agree),
+        cmocka_unit_test(test_bench_scenes_thread_independent),
         cmocka_unit_test(test_adaptive_batches_bit_identical),
         cmocka_unit_test(test_submission_order_kept),
         cmocka_unit_test(test_every_pixel_covered_corridor),
