@@ -6,7 +6,8 @@
 # times (baseline SSE2, AVX2 = 8 lanes, AVX-512 = 16 lanes), and
 # fastspan_gather.c the AVX2 and AVX-512 ones again with
 # -mtune-ctrl=use_gather; a variant is picked at run time (PERSP_SIMD_AUTO
-# times the two fetches). The "gather" variant below models the latter. This script compiles the file as the build does, finds the hot
+# times the two fetches). The "gather" variant below models the latter.
+# This script compiles the file as the build does, finds the hot
 # per-vector loops of the chosen functions (wrap repeat/repeat, the corridor
 # benchmark's state) by name, classifies each into its stage (lambda, mip
 # levels, tap addresses, texel fetch and weighting, blend of two levels,

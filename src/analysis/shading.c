@@ -311,7 +311,7 @@ static void measure_span(const persp_draw_state *ds, const persp_tri *t, const p
     ds->shade(ds, t, b, NULL, NULL, out);
     int has_n = persp__shade_normals(ds, t, b, nrm, eye);
     e->has_normals = has_n;
-    const int gouraud = ds->shading == PERSP_SHADING_GOURAUD || ds->shading == PERSP_SHADING_GOURAUD_PC;
+    const int gouraud = persp__shade_is_gouraud(ds);
     for (int k = 0; k < b->n; k++) {
         double ce = colour_err(out[k], r->col[k]);
         e->col_max = fmax(e->col_max, ce);

@@ -258,11 +258,6 @@ static int vertex_attrs(const persp_frame *f, const persp_draw_state *ds)
     return PERSP_A_BR;
 }
 
-static int is_gouraud(const persp_draw_state *ds)
-{
-    return ds->shading == PERSP_SHADING_GOURAUD || ds->shading == PERSP_SHADING_GOURAUD_PC;
-}
-
 /* Two-sided Gouraud needs a vertex's back colour only for the triangles
  * that show their back (light_side −1). Drawn with culling, a closed mesh
  * has few (along the silhouettes), and lighting each vertex's back in the
@@ -309,7 +304,7 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
      * col, Gouraud's back colours come from back_colours; without, with
      * the attributes (clipped polygons: mesh_triangles added them before
      * clipping, which interpolates them). */
-    const int gouraud = is_gouraud(ds);
+    const int gouraud = persp__shade_is_gouraud(ds);
     unsigned need = vertex_attrs(f, ds) <= PERSP_A_V + 1 ? 0u
                     : gouraud && !col                  ? PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS
                                                        : PERSP_SETUP_SHADING;
@@ -527,11 +522,10 @@ PERSP_SIMD_CLONES_WIDE static void window_block(const float *o, size_t stride, s
      * vertex only when the block has one. */
     uint32_t block_bad = any_nonfinite(o, n * stride);
     for (int r = 0; r < 4; r++) block_bad |= any_nonfinite(cp[r], n);
-    for (size_t i = 0; i < n; i++)
-        bad[i] = block_bad ? any_nonfinite(o + i * stride, stride) | any_nonfinite(&cp[0][i], 1) |
-                                 any_nonfinite(&cp[1][i], 1) | any_nonfinite(&cp[2][i], 1) |
-                                 any_nonfinite(&cp[3][i], 1)
-                           : 0u;
+    for (size_t i = 0; i < n; i++) bad[i] = block_bad ? any_nonfinite(o + i * stride, stride) : 0u;
+    if (block_bad)
+        for (int r = 0; r < 4; r++)
+            for (size_t i = 0; i < n; i++) bad[i] |= any_nonfinite(&cp[r][i], 1);
     for (size_t i = 0; i < n; i++) x[i] = cp[0][i], y[i] = cp[1][i], z[i] = cp[2][i], w[i] = cp[3][i];
     for (size_t i = 0; i < n; i++)
         code[i] = bad[i] ? PERSP_CLIP_NONFINITE : persp__clip_outcode_pos(x[i], y[i], z[i], w[i], gx, gy);
@@ -560,7 +554,7 @@ static void vertex_task(void *user, int task, int worker)
     const size_t b = PERSP_MIN(a + VERTEX_TASK, mesh->vertex_count);
     const float *nm = j->nm, *uv = j->uv;
     const size_t stride = (size_t)j->nattr;
-    const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && is_gouraud(j->ds);
+    const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && persp__shade_is_gouraud(j->ds);
     const double W = j->f->fb->width, H = j->f->fb->height;
     /* Block by block, each step across the block while it is in L1: a
      * block's normals, positions and colours go to the lighting as arrays
@@ -682,7 +676,7 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                 memcpy(in[k].attr, c->verts + ix[k] * stride, stride * sizeof(float));
             }
             const persp_draw_state *ds = &c->states[j->state];
-            if (is_gouraud(ds)) {
+            if (persp__shade_is_gouraud(ds)) {
                 float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
                 const float *col[3], *back[3];
                 colour_sources(j, ix, col, back);
@@ -850,7 +844,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
      * (back_colours). */
     const int back_lighting = f->ctx->back_lighting;
     vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = ds, .nattr = nattr,
-                      .back = is_gouraud(ds) && (back_lighting ? back_lighting == 1 : !cull)};
+                      .back = persp__shade_is_gouraud(ds) && (back_lighting ? back_lighting == 1 : !cull)};
     if (job.back && (!persp__size_mul(mesh->vertex_count, 3, &floats) ||
                      persp__reserve(f->ctx, (void **)&c->back, &c->back_cap, floats, sizeof *c->back) != PERSP_OK))
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");

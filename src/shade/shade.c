@@ -812,7 +812,7 @@ void persp__light_vertices(const persp_draw_state *ds, int n, const persp_light_
 
 void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n)
 {
-    if (ds->shading != PERSP_SHADING_GOURAUD && ds->shading != PERSP_SHADING_GOURAUD_PC) return;
+    if (!persp__shade_is_gouraud(ds)) return;
     float a[9][PERSP_SPAN_MAX], out[6][PERSP_SPAN_MAX];
     const persp_light_in in = {{a[0], a[1], a[2]}, {a[3], a[4], a[5]}, {a[6], a[7], a[8]}};
     for (size_t i0 = 0; i0 < n; i0 += PERSP_SPAN_MAX) {

@@ -8,6 +8,12 @@
 /* Chooses ds->shade (and ds->shade_method) from ds->shading, the texture
  * environment and whether a texture is bound. */
 persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds);
+/* The shading modes that light vertices (gouraud, gouraud-pc). */
+static inline int persp__shade_is_gouraud(const persp_draw_state *ds)
+{
+    return ds->shading == PERSP_SHADING_GOURAUD || ds->shading == PERSP_SHADING_GOURAUD_PC;
+}
+
 /* Per-vertex stage: Gouraud modes write lit colours into the R, G, B, A
  * attributes and the back face's into BR, BG, BB (two-sided lighting);
  * other modes leave the vertices alone. */
