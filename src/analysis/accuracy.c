@@ -3,7 +3,7 @@
  * compares each pixel with the exact rational form (Heckbert 1989 §2.3.2)
  * evaluated in double precision at the pixel centre (persp__rational_eval).
  *
- * Methods are driven as the renderer drives them (src/raster/render.c):
+ * Methods are driven as the renderer drives them (src/raster/tiles.c):
  * `prepare` once per triangle, then `span` on the covered pixels of each row
  * cut at 64-pixel tile columns, or the method's own `traverse` per tile; the
  * operation counts are the method's own (persp_opcount), per-triangle and

@@ -20,7 +20,7 @@
 /* Longest span a method is asked to fill in one call (one row of a tile). */
 #define PERSP_SPAN_MAX 64
 /* Most pixels the texture samplers and the shaders take in one call: the
- * lanes of one small-triangle batch (src/raster/render.c), rows of several
+ * lanes of one small-triangle batch (src/raster/tiles.c), rows of several
  * triangles packed together. Larger batches share their fixed costs among
  * more pixels: 128 rather than 64 took 14–20 % less CPU on the 2k torus,
  * 256 another 4–6 % lit (docs/PERFORMANCE.md, item 44). */

@@ -1,4 +1,4 @@
-/* One frame being assembled and rasterized (src/raster/render.c). */
+/* One frame being assembled (src/raster/render.c) and rasterized (tiles.c). */
 #ifndef PERSP_RASTER_FRAME_H
 #define PERSP_RASTER_FRAME_H
 
@@ -18,7 +18,7 @@ typedef struct persp_frame {
     size_t batch; /* records drawn at once without a capture (render.c, frame_batch_limit) */
     size_t batch_base; /* batch before adapting to how spread the last one was (render.c) */
     int batch_adapt;
-    int pack_avx512; /* lane batches packed with AVX-512 compress (render.c pack_live) */
+    int pack_avx512; /* lane batches packed with AVX-512 compress (tiles.c pack_live) */
     persp_render_stats stats;
     persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
     persp_mat4 proj;        /* projection of the scene's camera */

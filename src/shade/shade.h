@@ -48,7 +48,7 @@ static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri
 float persp__shade_light_side(const persp_tri *t);
 /* Perspective-correct Gouraud modulating texels for pixels given by their
  * weights w1, w2 alone (in any arrangement: the small-triangle path of
- * render.c packs several rows); the same colours as the span shader. */
+ * tiles.c packs several rows); the same colours as the span shader. */
 void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                                 const float *w2, const uint32_t *texel, uint32_t *out);
 /* The same for perspective-correct Phong (phong-pc with the exact weights). */
