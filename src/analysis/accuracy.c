@@ -82,6 +82,14 @@ typedef struct acc_run {
     size_t next_row;           /* position of the next row in the unsharded run */
 } acc_run;
 
+/* One random triangle: its set-up, the vertices of its rational form and
+ * the attributes set-up read. */
+typedef struct acc_tri {
+    persp_tri t;
+    persp_rational_vertices v;
+    float attr[3][PERSP_A_COUNT];
+} acc_tri;
+
 /* Whether this run's shard measures the next row. */
 static int row_wanted(const acc_run *a)
 {
@@ -138,13 +146,15 @@ static int row_range(const void *p, int y, int *lo, int *hi)
 }
 
 /* Runs the method over one triangle (t) or over the paper line (t == NULL,
- * r the line's rational, line_n samples), as the renderer's tile loop does. */
-static void measure_triangle(acc_run *a, const persp_tri *t, const persp_rational *r, int line_n)
+ * r the line's rational, line_n samples), as the renderer's tile loop does;
+ * v: the vertices r passes through. */
+static void measure_triangle(acc_run *a, const persp_tri *t, const persp_rational *r,
+                             const persp_rational_vertices *v, int line_n)
 {
     const persp_method *m = a->sel.m;
     persp_method_prep prep;
     memset(&prep, 0, sizeof prep);
-    if (m->prepare) m->prepare(r, &a->sel.params, &prep, &a->m.ops);
+    if (m->prepare) m->prepare(r, v, &a->sel.params, &prep, &a->m.ops);
     a->m.triangles++;
     a->rat = r;
     int xmin = t ? t->xmin : 0, xmax = t ? t->xmax : line_n - 1;
@@ -258,17 +268,18 @@ static persp_status begin_case(acc_run *a, size_t pixels, int gw, int gh)
 static persp_status case_paper_line(acc_run *a, persp_accuracy_result *res)
 {
     persp_rational r;
-    persp__paper_quad_line(PERSP_ACCURACY_LINE_SAMPLES, 256.0, &r, NULL, NULL);
+    persp_rational_vertices v;
+    persp__paper_quad_line(PERSP_ACCURACY_LINE_SAMPLES, 256.0, &r, &v, NULL, NULL);
     persp_status st = begin_case(a, PERSP_ACCURACY_LINE_SAMPLES, PERSP_ACCURACY_LINE_SAMPLES, 1);
     if (st != PERSP_OK) return st;
-    measure_triangle(a, NULL, &r, PERSP_ACCURACY_LINE_SAMPLES);
+    measure_triangle(a, NULL, &r, &v, PERSP_ACCURACY_LINE_SAMPLES);
     return finish_row(a, res, "paper-quad", 0.0, 1);
 }
 
 /* The two triangles (c0, c1, c2), (c0, c2, c3) of the paper quad, set up by
  * the renderer's own setup so coverage follows its fill rules; pixel (x, y)
  * samples the chapter's point (x, y). */
-static int paper_quad_tris(persp_tri t[2], float attr[4][PERSP_A_COUNT])
+static int paper_quad_tris(persp_tri t[2], persp_rational_vertices v[2], float attr[4][PERSP_A_COUNT])
 {
     double fwd[9], p[9];
     if (!persp__square_to_quad(persp__paper_quad_x, persp__paper_quad_y, fwd, p)) return 0;
@@ -286,7 +297,8 @@ static int paper_quad_tris(persp_tri t[2], float attr[4][PERSP_A_COUNT])
         w[k].attr = attr[k];
     }
     const persp_winvert a[3] = {w[0], w[1], w[2]}, b[3] = {w[0], w[2], w[3]};
-    if (!persp__setup_triangle(a, 130, 130, 0, &t[0]) || !persp__setup_triangle(b, 130, 130, 0, &t[1]))
+    if (!persp__setup_triangle(a, 130, 130, 0, &t[0], &v[0]) ||
+        !persp__setup_triangle(b, 130, 130, 0, &t[1], &v[1]))
         return 0;
     t[0].rat.scale1 = t[0].rat.scale2 = t[1].rat.scale1 = t[1].rat.scale2 = 256.0f;
     return 1;
@@ -295,17 +307,17 @@ static int paper_quad_tris(persp_tri t[2], float attr[4][PERSP_A_COUNT])
 static persp_status case_paper_full(acc_run *a, persp_accuracy_result *res)
 {
     persp_tri t[2];
+    persp_rational_vertices v[2];
     float attr[4][PERSP_A_COUNT];
-    if (!paper_quad_tris(t, attr))
+    if (!paper_quad_tris(t, v, attr))
         return persp__fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: paper quad setup");
     persp_status st = begin_case(a, persp__tri_pixels(&t[0]) + persp__tri_pixels(&t[1]), 130, 130);
     if (st != PERSP_OK) return st;
-    for (int i = 0; i < 2; i++) measure_triangle(a, &t[i], &t[i].rat, 0);
+    for (int i = 0; i < 2; i++) measure_triangle(a, &t[i], &t[i].rat, &v[i], 0);
     return finish_row(a, res, "paper-quad-full", 0.0, 1);
 }
 
-static persp_status case_random(acc_run *a, persp_accuracy_result *res, persp_tri *tris,
-                                float (*attr)[3][PERSP_A_COUNT])
+static persp_status case_random(acc_run *a, persp_accuracy_result *res, acc_tri *tris)
 {
     int count = a->desc->triangles > 0 ? a->desc->triangles : 40;
     uint64_t seed = a->desc->seed ? a->desc->seed : 1;
@@ -320,12 +332,13 @@ static persp_status case_random(acc_run *a, persp_accuracy_result *res, persp_tr
         size_t pixels = 0;
         int made = 0;
         for (int i = 0; i < count; i++) {
-            uint64_t px = persp__random_triangle(&rng, persp__hbar_groups[g], &tris[made], attr[made]);
+            acc_tri *at = &tris[made];
+            uint64_t px = persp__random_triangle(&rng, persp__hbar_groups[g], &at->t, &at->v, at->attr);
             if (px) pixels += (size_t)px, made++;
         }
         persp_status st = begin_case(a, pixels, PERSP_RT_WIDTH, PERSP_RT_HEIGHT);
         if (st != PERSP_OK) return st;
-        for (int i = 0; i < made; i++) measure_triangle(a, &tris[i], &tris[i].rat, 0);
+        for (int i = 0; i < made; i++) measure_triangle(a, &tris[i].t, &tris[i].t.rat, &tris[i].v, 0);
         st = finish_row(a, res, "random-triangles", persp__hbar_groups[g], 1);
         if (st != PERSP_OK) return st;
     }
@@ -405,10 +418,9 @@ static void sweep_text(char *buf, size_t size, const persp_accuracy_desc *d, con
 #undef PUT
 }
 
-static persp_status run_case(acc_run *a, persp_accuracy_result *res, const char *c,
-                             persp_tri *tris, float (*attr)[3][PERSP_A_COUNT])
+static persp_status run_case(acc_run *a, persp_accuracy_result *res, const char *c, acc_tri *tris)
 {
-    if (!strcmp(c, "random-triangles")) return case_random(a, res, tris, attr);
+    if (!strcmp(c, "random-triangles")) return case_random(a, res, tris);
     if (!row_wanted(a)) {
         a->next_row++;
         return PERSP_OK;
@@ -450,8 +462,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     persp_method_sel *sels = persp__calloc(ctx, nmeth ? nmeth : 1, sizeof *sels);
     persp_accuracy_result *res = persp__calloc(ctx, 1, sizeof *res);
     if (res) res->ctx = ctx;
-    persp_tri *tris = NULL;
-    float(*attr)[3][PERSP_A_COUNT] = NULL;
+    acc_tri *tris = NULL;
     acc_run a;
     memset(&a, 0, sizeof a);
     a.ctx = ctx;
@@ -491,8 +502,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     int ntri = desc->triangles > 0 ? desc->triangles : 40;
     sweep_text(res->sweep, sizeof res->sweep, desc, specs, used, cases, ncases, ntri);
     tris = persp__calloc(ctx, (size_t)ntri, sizeof *tris);
-    attr = persp__calloc(ctx, (size_t)ntri, sizeof *attr);
-    if (!res->rows || !res->index || !tris || !attr) {
+    if (!res->rows || !res->index || !tris) {
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
         goto done;
     }
@@ -500,13 +510,12 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         for (size_t i = 0; i < used && st == PERSP_OK; i++) {
             a.sel = sels[i];
             a.spec = specs[i];
-            st = run_case(&a, res, cases[c], tris, attr);
+            st = run_case(&a, res, cases[c], tris);
         }
 done:
     persp__acc_metrics_free(&a.m);
     persp__free(ctx, a.grid);
     persp__free(ctx, tris);
-    persp__free(ctx, attr);
     persp__free(ctx, specs);
     persp__free(ctx, sels);
     if (st != PERSP_OK) {

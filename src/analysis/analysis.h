@@ -108,14 +108,15 @@ extern const double persp__paper_quad_x[4], persp__paper_quad_y[4];
  * samples the chapter's point (x, y) (pixel centres shifted by half a pixel,
  * so that integer screen positions are sampled as in the chapter), with the
  * vertices of corners k0, k1, k2. scale = texels per unit. */
-void persp__paper_quad_rational(int k0, int k1, int k2, double scale, persp_rational *r);
+void persp__paper_quad_rational(int k0, int k1, int k2, double scale, persp_rational *r,
+                                persp_rational_vertices *v);
 
 /* The line y = 32 of the paper quad from its left edge to its right edge,
  * resampled to n equally spaced samples (n <= PERSP_SPAN_MAX) so that one
  * span call covers the whole line as in the chapter's study: pixel (k, 0) of
  * the returned rational is the point x = x_left + k·(x_right-x_left)/(n-1). */
-void persp__paper_quad_line(int n, double scale, persp_rational *r, double *x_left,
-                            double *x_right);
+void persp__paper_quad_line(int n, double scale, persp_rational *r, persp_rational_vertices *v,
+                            double *x_left, double *x_right);
 
 /* Depth-ratio groups of random-triangles (docs/WORKLOADS.md). */
 #define PERSP_HBAR_COUNT 7
@@ -133,10 +134,11 @@ double persp__rng_uniform(persp_rng *r, double lo, double hi);
 
 /* One random triangle of depth ratio hbar (z_far / z_near of its vertices)
  * in eye space, projected with the corridor projection at 1024×768, u, v in
- * [0, 1], texture 256×256 (rat.scale = 256), covering 100..100000 pixels.
+ * [0, 1], texture 256×256 (rat.scale = 256), covering 100..100000 pixels,
+ * with the vertices of its rational form in *v.
  * attr is storage for the vertex attributes. Returns its pixel count, or 0
  * if no triangle was found within the retry limit. */
-uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t,
+uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t, persp_rational_vertices *v,
                                 float attr[3][PERSP_A_COUNT]);
 /* Covered pixels of a set-up triangle. */
 uint64_t persp__tri_pixels(const persp_tri *t);

@@ -69,7 +69,7 @@ static void eval_planes(const double p[9], double X, double Y, double *u, double
  * window pixel centre (px, py) maps to X = x0 + sx·(px - 0.5),
  * Y = y0 + (py - 0.5); vertices are quad corners k[0..2]. */
 static void rational_from_planes(const double p[9], double x0, double sx, double y0, const int k[3],
-                                 double scale, persp_rational *r)
+                                 double scale, persp_rational *r, persp_rational_vertices *rv)
 {
     memset(r, 0, sizeof *r);
     double *dst[3][3] = {{&r->a, &r->b, &r->c}, {&r->d, &r->e, &r->f}, {&r->g, &r->h, &r->i}};
@@ -84,28 +84,30 @@ static void rational_from_planes(const double p[9], double x0, double sx, double
         double X = persp__paper_quad_x[k[j]], Y = persp__paper_quad_y[k[j]];
         double u, v, q;
         eval_planes(p, X, Y, &u, &v, &q);
-        r->vx[j] = (X - x0) / sx + 0.5;
-        r->vy[j] = Y - y0 + 0.5;
-        r->s1v[j] = u;
-        r->s2v[j] = v;
-        r->qv[j] = q;
-        xmin = fmin(xmin, r->vx[j]), xmax = fmax(xmax, r->vx[j]);
-        ymin = fmin(ymin, r->vy[j]), ymax = fmax(ymax, r->vy[j]);
+        rv->x[j] = (X - x0) / sx + 0.5;
+        rv->y[j] = Y - y0 + 0.5;
+        rv->s1[j] = u;
+        rv->s2[j] = v;
+        rv->q[j] = q;
+        xmin = fmin(xmin, rv->x[j]), xmax = fmax(xmax, rv->x[j]);
+        ymin = fmin(ymin, rv->y[j]), ymax = fmax(ymax, rv->y[j]);
     }
     r->xmin = (int)ceil(xmin - 0.5), r->xmax = (int)floor(xmax - 0.5);
     r->ymin = (int)ceil(ymin - 0.5), r->ymax = (int)floor(ymax - 0.5);
     r->scale1 = r->scale2 = (float)scale;
 }
 
-void persp__paper_quad_rational(int k0, int k1, int k2, double scale, persp_rational *r)
+void persp__paper_quad_rational(int k0, int k1, int k2, double scale, persp_rational *r,
+                                persp_rational_vertices *v)
 {
     double p[9];
     paper_quad_planes(p);
     const int k[3] = {k0, k1, k2};
-    rational_from_planes(p, 0.0, 1.0, 0.0, k, scale, r);
+    rational_from_planes(p, 0.0, 1.0, 0.0, k, scale, r, v);
 }
 
-void persp__paper_quad_line(int n, double scale, persp_rational *r, double *x_left, double *x_right)
+void persp__paper_quad_line(int n, double scale, persp_rational *r, persp_rational_vertices *v,
+                            double *x_left, double *x_right)
 {
     const double Y = PERSP_PAPER_QUAD_LINE_Y;
     double xl = 1e300, xr = -1e300;
@@ -122,7 +124,7 @@ void persp__paper_quad_line(int n, double scale, persp_rational *r, double *x_le
     /* Triangle (c0, c1, c3) of the quad contains the whole line: its left
      * end lies on edge c0c1 and its right end is c3. */
     const int k[3] = {0, 1, 3};
-    rational_from_planes(p, xl, (xr - xl) / (double)(n - 1), Y, k, scale, r);
+    rational_from_planes(p, xl, (xr - xl) / (double)(n - 1), Y, k, scale, r, v);
     r->xmin = 0, r->xmax = n - 1, r->ymin = r->ymax = 0;
     if (x_left) *x_left = xl;
     if (x_right) *x_right = xr;
@@ -152,7 +154,7 @@ uint64_t persp__tri_pixels(const persp_tri *t)
     return n;
 }
 
-uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t,
+uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t, persp_rational_vertices *rv,
                                 float attr[3][PERSP_A_COUNT])
 {
     const double W = PERSP_RT_WIDTH, H = PERSP_RT_HEIGHT, aspect = W / H;
@@ -193,7 +195,7 @@ uint64_t persp__random_triangle(persp_rng *rng, double hbar, persp_tri *t,
             v[i].attr = attr[i];
         }
         if (!inside) continue;
-        if (!persp__setup_triangle(v, (int)W, (int)H, 0, t)) continue;
+        if (!persp__setup_triangle(v, (int)W, (int)H, 0, t, rv)) continue;
         uint64_t px = persp__tri_pixels(t);
         if (px < PERSP_RT_MIN_PIXELS || px > PERSP_RT_MAX_PIXELS) continue;
         t->rat.scale1 = t->rat.scale2 = 256.0f;

@@ -337,15 +337,11 @@ static double count_fetches(const fa_case *c, const persp_sampler_state *ss, uin
             float u = (float)((r->a * X + r->b * Y + r->c) / q);
             float v = (float)((r->d * X + r->e * Y + r->f) / q);
             float qf = (float)q;
-            double du1 = r->s1v[1] - r->s1v[0], dv1 = r->s2v[1] - r->s2v[0];
-            double du2 = r->s1v[2] - r->s1v[0], dv2 = r->s2v[2] - r->s2v[0];
-            double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
-            double px_area = 0.5 * fabs((r->vx[1] - r->vx[0]) * (r->vy[2] - r->vy[0]) -
-                                        (r->vx[2] - r->vx[0]) * (r->vy[1] - r->vy[0]));
+            const persp_rational_vertices *rv = &c->cap.rat_vertices[t];
             persp_tex_span_in in = {.n = 1, .u = &u, .v = &v, .q = &qf,
                                     .a = (float)r->a, .b = (float)r->b, .d = (float)r->d,
                                     .e = (float)r->e, .g = (float)r->g, .h = (float)r->h,
-                                    .poly_lambda = persp__polygon_lambda(ss->tex, uv_area, px_area)};
+                                    .poly_lambda = persp__polygon_lambda(ss->tex, rv->x, rv->y, rv->s1, rv->s2)};
             total += persp__sampler_fetches(ss, &in, 0);
             n++;
         }

@@ -263,7 +263,7 @@ static int random_lit_triangle(persp_rng *rng, double hbar, const persp_draw_sta
         if (!facing) continue;
         persp__shade_vertices(gouraud, cv, 3);
         for (int i = 0; i < 3; i++) v[i].attr = cv[i].attr;
-        if (!persp__setup_triangle(v, (int)W, (int)H, 0, t)) continue;
+        if (!persp__setup_triangle(v, (int)W, (int)H, 0, t, NULL)) continue;
         uint64_t px = persp__tri_pixels(t);
         if (px < PERSP_RT_MIN_PIXELS || px > PERSP_RT_MAX_PIXELS) continue;
         return 1;

@@ -23,8 +23,8 @@
  * at most half that.
  *
  * Paths and cost (counted in ops):
- *   affine  (g≈h≈0): 1 div per triangle (per span when called without a
- *                    prepared state); 1 mul, 1 add /px per varying coordinate
+ *   affine  (g≈h≈0): 1 div per triangle; 1 mul, 1 add /px per varying
+ *                    coordinate
  *   row     (g≈0):   1 div /span; 1 mul, 1 add /px per varying coordinate
  *   column  (h≈0):   traversal by columns, 1 div /column; 2 mul, 1 add /px per
  *                    varying coordinate (the `span` form pays 1 div /px and
@@ -32,7 +32,9 @@
  *   otherwise:       the fallback method (`adaptive:fallback=NAME[:PARAMS]`,
  *                    default `exact`), with its own cost and traversal.
  * Classifying costs 8 mul, 6 add, 6 cmp per call (it is repeated per span
- * because the per-triangle state belongs to the fallback).
+ * because the per-triangle state belongs to the fallback; prepare keeps the
+ * vertices it reads in the state's tail, PERSP_METHOD_PREP_TAIL). Spans and
+ * traversals need that prepared state: without one they return zeros.
  * Error: |Δs| ≤ 2^-22·|s| (the neglected coefficient) + float rounding on the
  * cheap paths; the fallback's bound otherwise.
  */
@@ -48,7 +50,7 @@
 _Static_assert(AD_FB_BYTES + sizeof(uint16_t) <= PERSP_METHOD_PARAM_BYTES,
                "the fallback's parameters and index do not fit in persp_method_params");
 /* Affine triangles keep 1/D at the box centre; others the fallback's state. */
-PERSP_METHOD_BLOB_FITS(double, persp_method_prep);
+PERSP_METHOD_PREP_FITS(double);
 
 enum { AD_AFFINE, AD_ROW, AD_COLUMN, AD_FALLBACK, AD_INVALID };
 
@@ -96,12 +98,30 @@ static double ad_recip(double D) { return D > 0.0 && isfinite(D) ? 1.0 / D : 0.0
 
 static double ad_scale(float s) { return (s > 0.0f && isfinite(s)) ? (double)s : 1.0; }
 
-static ad_class ad_classify(const persp_rational *r, persp_opcount *ops)
+/* The vertices' window positions, kept where the fallback's state leaves
+ * room (PERSP_METHOD_PREP_TAIL). */
+_Static_assert(6 * sizeof(double) <= PERSP_METHOD_PREP_TAIL, "adaptive's vertices fit the tail");
+static void ad_keep_vertices(persp_method_prep *prep, const persp_rational_vertices *v)
+{
+    unsigned char *tail = prep->bytes + PERSP_METHOD_PREP_BYTES - PERSP_METHOD_PREP_TAIL;
+    memcpy(tail, v->x, sizeof v->x);
+    memcpy(tail + sizeof v->x, v->y, sizeof v->y);
+}
+
+static void ad_vertices(const persp_method_prep *prep, double x[3], double y[3])
+{
+    const unsigned char *tail = prep->bytes + PERSP_METHOD_PREP_BYTES - PERSP_METHOD_PREP_TAIL;
+    memcpy(x, tail, 3 * sizeof *x);
+    memcpy(y, tail + 3 * sizeof *x, 3 * sizeof *y);
+}
+
+static ad_class ad_classify(const persp_rational *r, const double vx[3], const double vy[3],
+                            persp_opcount *ops)
 {
     ad_class c = {AD_FALLBACK, 0, 0, 0.0, 0.0};
     double dmin = HUGE_VAL;
     for (int k = 0; k < 3; k++) {
-        double D = r->g * r->vx[k] + r->h * r->vy[k] + r->i;
+        double D = r->g * vx[k] + r->h * vy[k] + r->i;
         if (D < dmin) dmin = D;
     }
     const double w = (double)(r->xmax - r->xmin + 1), h = (double)(r->ymax - r->ymin + 1);
@@ -134,14 +154,14 @@ static ad_class ad_classify(const persp_rational *r, persp_opcount *ops)
     return c;
 }
 
-static void ad_prepare(const persp_rational *r, const persp_method_params *params,
-                       persp_method_prep *prep, persp_opcount *ops)
+static void ad_prepare(const persp_rational *r, const persp_rational_vertices *v,
+                       const persp_method_params *params, persp_method_prep *prep, persp_opcount *ops)
 {
-    ad_class c = ad_classify(r, ops);
+    ad_class c = ad_classify(r, v->x, v->y, ops);
     if (c.kind == AD_FALLBACK) {
         persp_method_params fbp;
         const persp_method *fb = ad_fallback(params, &fbp);
-        if (fb->prepare) fb->prepare(r, &fbp, prep, ops);
+        if (fb->prepare) fb->prepare(r, v, &fbp, prep, ops);
     } else if (c.kind == AD_AFFINE) {
         double k = ad_recip(r->g * c.xc + r->h * c.yc + r->i);
         memcpy(prep->bytes, &k, sizeof k);
@@ -149,6 +169,16 @@ static void ad_prepare(const persp_rational *r, const persp_method_params *param
         PERSP_OPS(ops, mul, 2);
         PERSP_OPS(ops, add, 2);
     }
+    ad_keep_vertices(prep, v);
+}
+
+/* The class of a prepared triangle (AD_INVALID without a prepared state). */
+static ad_class ad_class_of(const persp_rational *r, const persp_method_prep *prep, persp_opcount *ops)
+{
+    if (!prep) return (ad_class){AD_INVALID, 0, 0, 0.0, 0.0};
+    double x[3], y[3];
+    ad_vertices(prep, x, y);
+    return ad_classify(r, x, y, ops);
 }
 
 /* Row or affine path: D constant along the row, s linear in x. */
@@ -203,18 +233,11 @@ static void ad_span(const persp_rational *r, const persp_method_params *params,
                     persp_opcount *ops)
 {
     if (n <= 0) return;
-    ad_class c = ad_classify(r, ops);
+    ad_class c = ad_class_of(r, prep, ops);
     switch (c.kind) {
     case AD_AFFINE: {
         double k;
-        if (prep) {
-            memcpy(&k, prep->bytes, sizeof k);
-        } else {
-            k = ad_recip(r->g * c.xc + r->h * c.yc + r->i);
-            PERSP_OPS(ops, div, 1);
-            PERSP_OPS(ops, mul, 2);
-            PERSP_OPS(ops, add, 2);
-        }
+        memcpy(&k, prep->bytes, sizeof k);
         ad_row(r, &c, k, x0, y, n, s1, s2, ops);
         break;
     }
@@ -298,7 +321,7 @@ static void ad_traverse(const persp_rational *r, const persp_method_params *para
                         persp_batch_sink sink, void *user, persp_opcount *ops)
 {
     if (!area || !area->row_range || !sink) return;
-    ad_class c = ad_classify(r, ops);
+    ad_class c = ad_class_of(r, prep, ops);
     if (c.kind == AD_COLUMN) {
         ad_columns(r, &c, area, sink, user, ops);
         return;

@@ -12,15 +12,15 @@
 typedef struct affine_prep {
     double ux, uy, uc, vx, vy, vc;
 } affine_prep;
-PERSP_METHOD_BLOB_FITS(affine_prep, persp_method_prep);
+PERSP_METHOD_PREP_FITS(affine_prep);
 
-static void affine_prepare(const persp_rational *r, const persp_method_params *params,
-                           persp_method_prep *prep, persp_opcount *ops)
+static void affine_prepare(const persp_rational *r, const persp_rational_vertices *v,
+                           const persp_method_params *params, persp_method_prep *prep, persp_opcount *ops)
 {
-    (void)params;
+    (void)r, (void)params;
     affine_prep *p = (affine_prep *)prep->bytes;
-    persp__plane_through(r->vx, r->vy, r->s1v, &p->ux, &p->uy, &p->uc);
-    persp__plane_through(r->vx, r->vy, r->s2v, &p->vx, &p->vy, &p->vc);
+    persp__plane_through(v->x, v->y, v->s1, &p->ux, &p->uy, &p->uc);
+    persp__plane_through(v->x, v->y, v->s2, &p->vx, &p->vy, &p->vc);
     PERSP_OPS(ops, div, 2);
     PERSP_OPS(ops, mul, 14);
     PERSP_OPS(ops, add, 14);

@@ -48,7 +48,7 @@ typedef struct bip_prep {
     int degree; /* 2 or 3 */
     int ok;     /* 0: the solve failed; spans fall back to the exact form */
 } bip_prep;
-PERSP_METHOD_BLOB_FITS(bip_prep, persp_method_prep);
+PERSP_METHOD_PREP_FITS(bip_prep);
 
 /* Monomials in the chapter's coefficient order. */
 static void monomials(int degree, double X, double Y, double *m)
@@ -109,16 +109,16 @@ static void exact_at(const persp_rational *r, double x, double y, double *u, dou
     *v = (r->d * x + r->e * y + r->f) / q;
 }
 
-static void bip_prepare_deg(const persp_rational *r, int degree, persp_method_prep *prep,
-                            persp_opcount *ops)
+static void bip_prepare_deg(const persp_rational *r, const persp_rational_vertices *v, int degree,
+                            persp_method_prep *prep, persp_opcount *ops)
 {
     bip_prep *p = (bip_prep *)(void *)prep->bytes;
     memset(p, 0, sizeof *p);
     p->degree = degree;
-    double cx = (r->vx[0] + r->vx[1] + r->vx[2]) / 3.0;
-    double cy = (r->vy[0] + r->vy[1] + r->vy[2]) / 3.0;
+    double cx = (v->x[0] + v->x[1] + v->x[2]) / 3.0;
+    double cy = (v->y[0] + v->y[1] + v->y[2]) / 3.0;
     double h = 0.0;
-    for (int i = 0; i < 3; i++) h = fmax(h, hypot(r->vx[i] - cx, r->vy[i] - cy));
+    for (int i = 0; i < 3; i++) h = fmax(h, hypot(v->x[i] - cx, v->y[i] - cy));
     if (!(h > 0.0)) h = 1.0;
     p->cx = cx, p->cy = cy, p->invh = 1.0 / h;
 
@@ -126,14 +126,14 @@ static void bip_prepare_deg(const persp_rational *r, int degree, persp_method_pr
     double nx[BIP_MAX], ny[BIP_MAX];
     int count = 0;
     for (int i = 0; i < 3; i++) {
-        nx[count] = r->vx[i], ny[count] = r->vy[i], count++;
+        nx[count] = v->x[i], ny[count] = v->y[i], count++;
     }
     for (int i = 0; i < 3; i++) {
         int j = (i + 1) % 3;
         for (int s = 1; s < degree; s++) {
             double w = (double)s / (double)degree;
-            nx[count] = (1.0 - w) * r->vx[i] + w * r->vx[j];
-            ny[count] = (1.0 - w) * r->vy[i] + w * r->vy[j];
+            nx[count] = (1.0 - w) * v->x[i] + w * v->x[j];
+            ny[count] = (1.0 - w) * v->y[i] + w * v->y[j];
             count++;
         }
     }
@@ -155,18 +155,18 @@ static void bip_prepare_deg(const persp_rational *r, int degree, persp_method_pr
     PERSP_OPS(ops, add, 6 * count + count * count * count / 3 * 2);
 }
 
-static void biquad_prepare(const persp_rational *r, const persp_method_params *params,
-                           persp_method_prep *prep, persp_opcount *ops)
+static void biquad_prepare(const persp_rational *r, const persp_rational_vertices *v,
+                           const persp_method_params *params, persp_method_prep *prep, persp_opcount *ops)
 {
     (void)params;
-    bip_prepare_deg(r, 2, prep, ops);
+    bip_prepare_deg(r, v, 2, prep, ops);
 }
 
-static void bicubic_prepare(const persp_rational *r, const persp_method_params *params,
-                            persp_method_prep *prep, persp_opcount *ops)
+static void bicubic_prepare(const persp_rational *r, const persp_rational_vertices *v,
+                            const persp_method_params *params, persp_method_prep *prep, persp_opcount *ops)
 {
     (void)params;
-    bip_prepare_deg(r, 3, prep, ops);
+    bip_prepare_deg(r, v, 3, prep, ops);
 }
 
 /* The row polynomial in X for fixed Y. */

@@ -34,12 +34,20 @@ typedef struct persp_rational {
     double a, b, c;  /* numerator plane of s1 (u/w) */
     double d, e, f;  /* numerator plane of s2 (v/w) */
     double g, h, i;  /* denominator plane (1/w) */
-    double vx[3], vy[3];      /* window positions of the triangle's vertices */
-    double s1v[3], s2v[3];    /* s1, s2 at the vertices */
-    double qv[3];             /* 1/w at the vertices (> 0) */
     int xmin, xmax, ymin, ymax; /* inclusive pixel bounding box of the triangle */
     float scale1, scale2;     /* texels per unit of s1, s2 (texture size); 1 if none */
 } persp_rational;
+
+/* The values a rational form was fitted through: its triangle's vertices.
+ * Only fitting reads them (a method's prepare, the per-polygon level of
+ * detail), at set-up, so the set-up record keeps the planes alone: 240
+ * bytes less for each triangle a batch holds and its tiles read back
+ * (docs/PERFORMANCE.md, item 55). */
+typedef struct persp_rational_vertices {
+    double x[3], y[3]; /* window positions */
+    double s1[3], s2[3];
+    double q[3]; /* 1/w (> 0) */
+} persp_rational_vertices;
 
 typedef struct persp_method_prep {
     _Alignas(16) unsigned char bytes[PERSP_METHOD_PREP_BYTES];
@@ -48,6 +56,11 @@ typedef struct persp_method_prep {
 typedef struct persp_method_params {
     _Alignas(8) unsigned char bytes[PERSP_METHOD_PARAM_BYTES];
 } persp_method_params;
+
+/* Bytes at the end of a persp_method_prep that a method's own state leaves
+ * free for a method that wraps it: adaptive keeps there the vertices it
+ * classifies a triangle by, in front of its fallback's state. */
+#define PERSP_METHOD_PREP_TAIL 48
 
 /* A method keeps its parameters and per-triangle state in these blobs as a
  * struct of its own, copied in and out or read through a cast pointer. Next
@@ -58,6 +71,12 @@ typedef struct persp_method_params {
     _Static_assert(sizeof(type) <= sizeof(((blob *)0)->bytes) &&                             \
                        _Alignof(type) <= _Alignof(blob),                                     \
                    #type " does not fit in " #blob)
+/* The same for a per-triangle state, which leaves PERSP_METHOD_PREP_TAIL
+ * bytes free. */
+#define PERSP_METHOD_PREP_FITS(type)                                                         \
+    _Static_assert(sizeof(type) <= PERSP_METHOD_PREP_BYTES - PERSP_METHOD_PREP_TAIL &&       \
+                       _Alignof(type) <= _Alignof(persp_method_prep),                        \
+                   #type " does not fit in persp_method_prep before its tail")
 
 /* A batch of fragments handed downstream by a traversal. In span form
  * px == NULL and the pixels are (x0 + k, y); otherwise pixel k is
@@ -96,9 +115,10 @@ typedef struct persp_method {
     /* Parses the text after ':' (NULL if none) into params. Returns
      * PERSP_OK or PERSP_ERR_INVALID_ARGUMENT. May be NULL (no parameters). */
     persp_status (*parse)(const char *text, persp_method_params *params);
-    /* Per triangle: anything fitted once per polygon. May be NULL. */
-    void (*prepare)(const persp_rational *r, const persp_method_params *params,
-                    persp_method_prep *prep, persp_opcount *ops);
+    /* Per triangle: anything fitted once per polygon, from the planes r and
+     * the vertices v they pass through. May be NULL. */
+    void (*prepare)(const persp_rational *r, const persp_rational_vertices *v,
+                    const persp_method_params *params, persp_method_prep *prep, persp_opcount *ops);
     /* Per span: fill s1[0..n-1], s2[0..n-1] for pixels (x0 + k, y), n <= PERSP_SPAN_MAX.
      * ops may be NULL; a method adds its operation counts when it is not. */
     void (*span)(const persp_rational *r, const persp_method_params *params,

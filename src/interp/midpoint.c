@@ -95,7 +95,7 @@ typedef struct mp_fixed {
     int64_t X2max, Y2max; /* pixel-centre coordinates the format covers: X2 < X2max */
     int ok;
 } mp_fixed;
-PERSP_METHOD_BLOB_FITS(mp_fixed, persp_method_prep);
+PERSP_METHOD_PREP_FITS(mp_fixed);
 
 static persp_status mp_parse(const char *text, persp_method_params *params)
 {
@@ -429,9 +429,10 @@ static void mp_span_fixed(const persp_rational *r, const mp_fixed *fx, int edge,
 
 /* ---------------------------------------------------------------- the entry */
 
-static void mp_prepare(const persp_rational *r, const persp_method_params *params,
-                       persp_method_prep *prep, persp_opcount *ops)
+static void mp_prepare(const persp_rational *r, const persp_rational_vertices *v,
+                       const persp_method_params *params, persp_method_prep *prep, persp_opcount *ops)
 {
+    (void)v;
     mp_params p = mp_get_params(params);
     if (!p.fixed) return;
     mp_fixed fx;

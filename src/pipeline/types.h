@@ -108,6 +108,7 @@ typedef struct persp_capture {
     int32_t *tri;  /* width*height, row 0 = bottom */
     float *s1, *s2;
     persp_rational *rats;
+    persp_rational_vertices *rat_vertices; /* the vertices of rats[i] */
     size_t rat_count;
     persp_opcount ops; /* the method's operations, with desc->count_ops */
 } persp_capture;

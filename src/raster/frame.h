@@ -44,6 +44,9 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
 persp_status persp__frame_flush(persp_frame *f);
 /* The set-up triangles of the frame so far (valid until the next frame). */
 const persp_tri *persp__frame_tris(const persp_frame *f);
+/* With a capture: the vertices of each of those triangles' rational form
+ * (NULL without one). */
+const persp_rational_vertices *persp__frame_fits(const persp_frame *f);
 const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index);
 
 #endif

@@ -26,7 +26,7 @@ _Static_assert((PERSP_IMAGE_MAX_SIDE + (long long)PERSP_GUARD_PIXELS) * PERSP_SU
 
 /* The tiles a set-up triangle covers, kept beside its record when it is
  * appended (and the record is in cache), so that binning reads 8 bytes per
- * triangle instead of a cache line of each ~800-byte record. */
+ * triangle instead of a cache line of each 560-byte record. */
 struct tri_tiles {
     uint16_t tx0, tx1, ty0, ty1;
 };
@@ -39,6 +39,10 @@ struct persp_render_cache {
     size_t tiles_cap;
     persp_method_prep *preps;
     size_t prep_cap;
+    /* With a capture: the vertices of each triangle's rational form (the
+     * records keep the planes only), by the triangle's index in the frame. */
+    persp_rational_vertices *fits;
+    size_t fit_cap;
     /* Per vertex: the first nattr attributes the draw reads
      * (vertex_attrs), packed: 2 floats unlit, 12 lit (no back colours),
      * instead of a whole persp_clipvert each. The clip position is not

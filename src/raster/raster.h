@@ -64,9 +64,12 @@ typedef struct persp_winvert {
 } persp_winvert;
 
 /* Sets up one triangle. Returns 0 if it is degenerate (zero area), fully
- * outside the viewport, or culled; 1 otherwise. */
+ * outside the viewport, or culled; 1 otherwise. vv, when not NULL, gets
+ * the vertices t->rat was fitted through (in set-up order), which a
+ * method's prepare reads; t->bary passes through the same x, y and q with
+ * s1 = (0, 1, 0), s2 = (0, 0, 1). */
 int persp__setup_triangle(const persp_winvert v[3], int width, int height, int cull,
-                          persp_tri *t);
+                          persp_tri *t, persp_rational_vertices *vv);
 /* The same with only the fields need names: PERSP_SETUP_SHADING adds the
  * perspective-correct barycentric planes (bary), the vertex attributes (vattr) and
  * light_side, which only the span shaders and the analyses read; without
@@ -82,7 +85,7 @@ int persp__setup_triangle(const persp_winvert v[3], int width, int height, int c
 #define PERSP_SETUP_LINEAR 4u
 #define PERSP_SETUP_ALL (PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS | PERSP_SETUP_LINEAR)
 int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
-                              persp_tri *t);
+                              persp_tri *t, persp_rational_vertices *vv);
 
 /* floor(a / b) and ceil(a / b) for b > 0 in 64-bit integers. */
 static inline int64_t persp__floor_div(int64_t a, int64_t b)
@@ -188,7 +191,7 @@ static inline int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int w
  * integers) and accepted, and whose z and q are finite with q > 0 (what
  * the renderer's outcodes guarantee for a vertex inside every plane). */
 int persp__setup_triangle_edges(const persp_winvert v[3], const persp_tri_edges *e, unsigned need,
-                                persp_tri *t);
+                                persp_tri *t, persp_rational_vertices *vv);
 
 /* Covered pixel range of row y (inclusive), clipped to [x0, x1]. */
 int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int *hi);

@@ -39,6 +39,7 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->bin_start);
     persp__free(ctx, c->bin_items);
     persp__free(ctx, c->states);
+    persp__free(ctx, c->fits);
     persp__free(ctx, c->worker_stats);
     persp__free(ctx, c);
     ctx->render = NULL;
@@ -49,8 +50,8 @@ static void render_cache_free(persp_context *ctx)
  * drawn in batches: each tile draws its triangles in submission order
  * whatever the batches, so the image is the same. A batch is written by the
  * set-up and read back by the tiles, so it is sized for the caches:
- * PERSP_FRAME_BATCH_PER_WORKER records (~800 bytes each, 6.3 MiB) per
- * worker thread. Against one batch of 65 536 (52 MiB, read back from
+ * PERSP_FRAME_BATCH_PER_WORKER records (560 bytes each, 4.4 MiB) per
+ * worker thread. Against one batch of 65 536 records, then of 800 bytes (52 MiB, read back from
  * memory) that took 20 % less CPU time on the 2M-triangle torus and 17 %
  * on the 200k one (docs/PERFORMANCE.md), and memory stays bounded
  * whatever the mesh. A capture refers to triangles by their index in the
@@ -232,11 +233,17 @@ static void back_colours(const persp_draw_state *ds, float *const v[3], const fl
 }
 
 /* The set-up record of one triangle with its texture scale and per-polygon
- * LOD; 0 if set-up refuses it. Touches nothing but *t (worker threads). */
+ * LOD, and in *vv (when not NULL) the vertices its rational form passes
+ * through; 0 if set-up refuses it. Touches nothing but *t and *vv (worker
+ * threads). */
 static int setup_record(const persp_frame *f, const persp_draw_state *ds, const persp_winvert tv[3],
                         const persp_tri_edges *e, const float *const col[3], const float *const back[3],
-                        uint32_t state, int cull, persp_tri *t)
+                        uint32_t state, int cull, persp_tri *t, persp_rational_vertices *vv)
 {
+    /* Only the per-polygon level of detail reads them (a log2 per triangle). */
+    const int poly_lod = ds->tex && ds->sampler.desc.lod_mode == PERSP_LOD_POLYGON;
+    persp_rational_vertices lod_vv;
+    if (poly_lod && !vv) vv = &lod_vv;
     /* A span that is the texel itself reads no shading field; the
      * analyses' capture and the object-space pipeline read them all. With
      * col, Gouraud's back colours come from back_colours; without, with
@@ -247,8 +254,8 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
                     : gouraud && !col                  ? PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS
                                                        : PERSP_SETUP_SHADING;
     if (need && (!ds->shade_method.m || f->capture)) need |= PERSP_SETUP_LINEAR;
-    if (e ? !persp__setup_triangle_edges(tv, e, need, t)
-          : !persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t))
+    if (e ? !persp__setup_triangle_edges(tv, e, need, t, vv)
+          : !persp__setup_triangle_for(tv, f->fb->width, f->fb->height, cull, need, t, vv))
         return 0;
     if (gouraud && col && t->light_side < 0.0f) {
         /* In set-up order; a colour that is not finite drops the triangle,
@@ -266,15 +273,7 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
         t->rat.scale1 = (float)ds->tex->width;
         t->rat.scale2 = (float)ds->tex->height;
     }
-    /* Only the per-polygon level of detail reads it (a log2 per triangle). */
-    if (ds->tex && ds->sampler.desc.lod_mode == PERSP_LOD_POLYGON) {
-        double du1 = t->rat.s1v[1] - t->rat.s1v[0], dv1 = t->rat.s2v[1] - t->rat.s2v[0];
-        double du2 = t->rat.s1v[2] - t->rat.s1v[0], dv2 = t->rat.s2v[2] - t->rat.s2v[0];
-        double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
-        double px_area = 0.5 * fabs((t->rat.vx[1] - t->rat.vx[0]) * (t->rat.vy[2] - t->rat.vy[0]) -
-                                    (t->rat.vx[2] - t->rat.vx[0]) * (t->rat.vy[1] - t->rat.vy[0]));
-        t->poly_lambda = persp__polygon_lambda(ds->tex, uv_area, px_area);
-    }
+    if (poly_lod) t->poly_lambda = persp__polygon_lambda(ds->tex, vv->x, vv->y, vv->s1, vv->s2);
     return 1;
 }
 
@@ -288,13 +287,20 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], con
     persp_status st = reserve_triangle(f);
     if (st != PERSP_OK) return st;
     persp_tri *t = &c->tris[f->tri_count];
-    if (!setup_record(f, ds, tv, e, col, back, state, cull, t)) return PERSP_OK;
+    persp_rational_vertices prep_vv, *vv = ds->method.m->prepare ? &prep_vv : NULL;
+    if (f->capture) {
+        if (persp__grow(f->ctx, (void **)&c->fits, &c->fit_cap, f->tri_count + 1, sizeof *c->fits) !=
+            PERSP_OK)
+            return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        vv = &c->fits[f->tri_count];
+    }
+    if (!setup_record(f, ds, tv, e, col, back, state, cull, t, vv)) return PERSP_OK;
     if (ds->method.m->prepare) {
         if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
             PERSP_OK)
             return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         t->prep = (uint32_t)f->prep_count++;
-        ds->method.m->prepare(&t->rat, &ds->method.params, &c->preps[t->prep],
+        ds->method.m->prepare(&t->rat, vv, &ds->method.params, &c->preps[t->prep],
                               f->count_ops ? &f->stats.ops : NULL);
     }
     commit_triangle(f);
@@ -335,7 +341,7 @@ static persp_status sink_triangle(const tri_sink *s, const persp_winvert tv[3], 
     if (!s->slab) return emit_triangle(s->f, tv, e, col, back, state, cull);
     const persp_draw_state *ds = &s->f->cache->states[state];
     setup_slab *sl = s->slab;
-    if (setup_record(s->f, ds, tv, e, col, back, state, cull, &sl->tris[sl->count])) {
+    if (setup_record(s->f, ds, tv, e, col, back, state, cull, &sl->tris[sl->count], NULL)) {
         if (sl->tiles) sl->tiles[sl->count] = tiles_of(&sl->tris[sl->count]);
         sl->count++;
     }
@@ -807,7 +813,9 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
                   .mvp = job.mvp, .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
-    if (workers < 2 || job.ds->method.m->prepare || ntri < 4 * SETUP_CHUNK)
+    /* Serial where set-up appends beside the records: method state, and a
+     * capture's vertices (emit_triangle). */
+    if (workers < 2 || job.ds->method.m->prepare || f->capture || ntri < 4 * SETUP_CHUNK)
         return mesh_triangles(&tj, 0, ntri, NULL);
     return mesh_triangles_parallel(&tj, ntri, workers);
 }
@@ -876,6 +884,11 @@ static persp_status frame_flush_batch(persp_frame *f, int last)
 }
 
 const persp_tri *persp__frame_tris(const persp_frame *f) { return f->cache->tris; }
+
+const persp_rational_vertices *persp__frame_fits(const persp_frame *f)
+{
+    return f->capture ? f->cache->fits : NULL;
+}
 
 const persp_draw_state *persp__frame_state(const persp_frame *f, uint32_t index)
 {

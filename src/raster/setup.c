@@ -13,13 +13,14 @@
 
 #define COORD_LIMIT ((double)(1 << 22)) /* |window coordinate| in pixels, far beyond the guard band */
 
-int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int cull, persp_tri *t)
+int persp__setup_triangle(const persp_winvert vin[3], int width, int height, int cull, persp_tri *t,
+                          persp_rational_vertices *vv)
 {
-    return persp__setup_triangle_for(vin, width, height, cull, PERSP_SETUP_ALL, t);
+    return persp__setup_triangle_for(vin, width, height, cull, PERSP_SETUP_ALL, t, vv);
 }
 
 int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height, int cull, unsigned need,
-                              persp_tri *t)
+                              persp_tri *t, persp_rational_vertices *vv)
 {
     int64_t X[3], Y[3];
     for (int i = 0; i < 3; i++) {
@@ -31,11 +32,11 @@ int persp__setup_triangle_for(const persp_winvert vin[3], int width, int height,
     }
     persp_tri_edges e;
     if (!persp__tri_edges(X, Y, width, height, cull, &e)) return 0;
-    return persp__setup_triangle_edges(vin, &e, need, t);
+    return persp__setup_triangle_edges(vin, &e, need, t, vv);
 }
 
 int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edges *e, unsigned need,
-                                persp_tri *t)
+                                persp_tri *t, persp_rational_vertices *vv)
 {
     const int64_t *x = e->x, *y = e->y;
     const int *order = e->order;
@@ -43,7 +44,7 @@ int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edge
 
     const int shading = (need & PERSP_SETUP_SHADING) != 0;
     /* The record is written field by field, every field the shading needs
-     * (bary, lb1, lb2, vattr, light_side) too: clearing all 800 bytes first
+     * (bary, lb1, lb2, vattr, light_side) too: clearing all 560 bytes first
      * cost 3 % of a phong-pc frame of the 2M-triangle torus. */
     t->backfacing = back;
     t->xmin = (int)e->bx0, t->xmax = (int)e->bx1, t->ymin = (int)e->by0, t->ymax = (int)e->by1;
@@ -64,11 +65,6 @@ int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edge
         vq[i] = (double)w->attr[PERSP_A_V] * w->q;
         b1[i] = i == 1 ? w->q : 0.0;
         b2[i] = i == 2 ? w->q : 0.0;
-        t->rat.vx[i] = vx[i];
-        t->rat.vy[i] = vy[i];
-        t->rat.qv[i] = q[i];
-        t->rat.s1v[i] = w->attr[PERSP_A_U];
-        t->rat.s2v[i] = w->attr[PERSP_A_V];
         if (!shading) continue;
         /* Without the back colours (only Gouraud reads them) they are zero. */
         if (need & PERSP_SETUP_BACK_COLOURS) {
@@ -77,11 +73,13 @@ int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edge
             memcpy(t->vattr[i], w->attr, PERSP_A_BR * sizeof t->vattr[i][0]);
             for (int k = PERSP_A_BR; k < PERSP_A_COUNT; k++) t->vattr[i][k] = 0.0f;
         }
-        t->bary.vx[i] = vx[i];
-        t->bary.vy[i] = vy[i];
-        t->bary.qv[i] = q[i];
-        t->bary.s1v[i] = i == 1;
-        t->bary.s2v[i] = i == 2;
+    }
+    if (vv) {
+        for (int i = 0; i < 3; i++) {
+            vv->x[i] = vx[i], vv->y[i] = vy[i], vv->q[i] = q[i];
+            vv->s1[i] = vin[order[i]].attr[PERSP_A_U];
+            vv->s2[i] = vin[order[i]].attr[PERSP_A_V];
+        }
     }
     persp__plane_through(vx, vy, uq, &t->rat.a, &t->rat.b, &t->rat.c);
     persp__plane_through(vx, vy, vq, &t->rat.d, &t->rat.e, &t->rat.f);

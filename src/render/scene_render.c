@@ -184,6 +184,7 @@ void persp__capture_free(persp_context *ctx, persp_capture *cap)
     persp__free(ctx, cap->s1);
     persp__free(ctx, cap->s2);
     persp__free(ctx, cap->rats);
+    persp__free(ctx, cap->rat_vertices);
     memset(cap, 0, sizeof *cap);
 }
 
@@ -212,11 +213,13 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
         if (st == PERSP_OK) cap->ops = f.stats.ops;
         if (st == PERSP_OK && f.tri_count) {
             cap->rats = persp__calloc(ctx, f.tri_count, sizeof *cap->rats);
-            if (!cap->rats) {
+            cap->rat_vertices = persp__calloc(ctx, f.tri_count, sizeof *cap->rat_vertices);
+            if (!cap->rats || !cap->rat_vertices) {
                 st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "capture: out of memory");
             } else {
                 const persp_tri *t = persp__frame_tris(&f);
                 for (size_t i = 0; i < f.tri_count; i++) cap->rats[i] = t[i].rat;
+                memcpy(cap->rat_vertices, persp__frame_fits(&f), f.tri_count * sizeof *cap->rat_vertices);
                 cap->rat_count = f.tri_count;
             }
         }

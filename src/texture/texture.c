@@ -262,8 +262,12 @@ persp_status persp_texture_level(const persp_texture *tex, int level, persp_imag
     return PERSP_OK;
 }
 
-float persp__polygon_lambda(const struct persp_texture *tex, double uv_area, double pixel_area)
+float persp__polygon_lambda(const struct persp_texture *tex, const double x[3], const double y[3],
+                            const double u[3], const double v[3])
 {
+    const double du1 = u[1] - u[0], dv1 = v[1] - v[0], du2 = u[2] - u[0], dv2 = v[2] - v[0];
+    const double uv_area = 0.5 * fabs(du1 * dv2 - du2 * dv1);
+    const double pixel_area = 0.5 * fabs((x[1] - x[0]) * (y[2] - y[0]) - (x[2] - x[0]) * (y[1] - y[0]));
     if (!tex || !(pixel_area > 0.0) || !(uv_area > 0.0)) return 0.0f;
     double texel_area = uv_area * (double)tex->width * (double)tex->height;
     double lam = 0.5 * log2(texel_area / pixel_area);

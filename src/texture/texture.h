@@ -101,8 +101,10 @@ int persp__fast_span_auto_isa(void);
 persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_wrap wt);
 /* Per-polygon level of detail ([CS300-TexMap], "mipmap level selection"):
  * lambda = 0.5·log2(texel area / pixel area), areas of the same triangle in
- * texels (uv area × W × H) and in pixels. */
-float persp__polygon_lambda(const struct persp_texture *tex, double uv_area, double pixel_area);
+ * texels (uv area × W × H) and in pixels, from its vertices' window
+ * positions x, y and normalised texture coordinates u, v. */
+float persp__polygon_lambda(const struct persp_texture *tex, const double x[3], const double y[3],
+                            const double u[3], const double v[3]);
 
 /* For tests and tools: the level of detail of one footprint (derivatives of
  * normalised u, v per pixel) after bias and clamping, and the

@@ -29,6 +29,7 @@ static const double h_ratios[] = {1.25, 1.5, 2.0, 3.0, 4.0, 5.0, 8.0};
 
 typedef struct h_triangle {
     persp_tri t;
+    persp_rational_vertices v; /* the vertices of t.rat, for a method's prepare */
     float attr[3][PERSP_A_COUNT];
 } h_triangle;
 
@@ -72,7 +73,7 @@ static inline void h_random_triangle(test_rng *rng, double hbar, h_triangle *T)
         double area = 0.5 * fabs((v[1].x - v[0].x) * (v[2].y - v[0].y) -
                                  (v[2].x - v[0].x) * (v[1].y - v[0].y));
         if (area < 100.0 || area > 100000.0) continue;
-        if (!persp__setup_triangle(v, H_WIDTH, H_HEIGHT, 0, &T->t)) continue;
+        if (!persp__setup_triangle(v, H_WIDTH, H_HEIGHT, 0, &T->t, &T->v)) continue;
         T->t.rat.scale1 = T->t.rat.scale2 = (float)H_TEXELS;
         return;
     }

@@ -156,7 +156,8 @@ static void test_paper_quad_corners(void **state)
         assert_true(fabs((inv[0] * X + inv[1] * Y + inv[2]) / q - us[k]) < 1e-12);
         assert_true(fabs((inv[3] * X + inv[4] * Y + inv[5]) / q - vs[k]) < 1e-12);
         persp_rational r;
-        persp__paper_quad_rational(0, 1, 2, 256.0, &r);
+        persp_rational_vertices rv;
+        persp__paper_quad_rational(0, 1, 2, 256.0, &r, &rv);
         double u, v;
         persp__rational_eval(&r, X, Y, &u, &v);
         assert_true(fabs(u - us[k]) < 1e-12);
@@ -165,8 +166,9 @@ static void test_paper_quad_corners(void **state)
     /* The chapter's line: v runs from 0 on edge c0c1 to 1 at c3 = (128, 32),
      * where u = 0; both ends lie on the quad's edges. */
     persp_rational r;
+    persp_rational_vertices rv;
     double xl, xr, u, v;
-    persp__paper_quad_line(64, 256.0, &r, &xl, &xr);
+    persp__paper_quad_line(64, 256.0, &r, &rv, &xl, &xr);
     assert_true(fabs(xl - (1.0 + 31.0 * 31.0 / 95.0)) < 1e-12);
     assert_true(fabs(xr - 128.0) < 1e-12);
     persp__rational_eval(&r, 0, 0, &u, &v);
@@ -175,9 +177,10 @@ static void test_paper_quad_corners(void **state)
     assert_true(fabs(u) < 1e-12 && fabs(v - 1.0) < 1e-12);
     /* The vertices carried for vertex-based methods agree with the planes. */
     for (int k = 0; k < 3; k++) {
-        double q = r.g * r.vx[k] + r.h * r.vy[k] + r.i;
-        assert_true(fabs((r.a * r.vx[k] + r.b * r.vy[k] + r.c) / q - r.s1v[k]) < 1e-9);
-        assert_true(fabs(q - r.qv[k]) < 1e-9 * fabs(q));
+        double q = r.g * rv.x[k] + r.h * rv.y[k] + r.i;
+        assert_true(fabs((r.a * rv.x[k] + r.b * rv.y[k] + r.c) / q - rv.s1[k]) < 1e-9);
+        assert_true(fabs((r.d * rv.x[k] + r.e * rv.y[k] + r.f) / q - rv.s2[k]) < 1e-9);
+        assert_true(fabs(q - rv.q[k]) < 1e-9 * fabs(q));
     }
 }
 

@@ -15,7 +15,8 @@ static float zero_attr[PERSP_A_COUNT];
 
 /* Builds a triangle whose vertex depths have ratio hbar, projected with the
  * corridor projection (fovy 60°, 1024×768), u, v in [0, 1]. */
-static int random_triangle(test_rng *rng, double hbar, persp_tri *t, float attr[3][PERSP_A_COUNT])
+static int random_triangle(test_rng *rng, double hbar, persp_tri *t, persp_rational_vertices *vv,
+                           float attr[3][PERSP_A_COUNT])
 {
     const double W = 1024, H = 768, a = W / H, tn = tan(30.0 * 3.14159265358979323846 / 180.0);
     double znear = test_rng_uniform(rng, 0.5, 4.0);
@@ -34,18 +35,19 @@ static int random_triangle(test_rng *rng, double hbar, persp_tri *t, float attr[
         attr[i][PERSP_A_V] = (float)test_rng_uniform(rng, 0, 1);
         v[i].attr = attr[i];
     }
-    if (!persp__setup_triangle(v, (int)W, (int)H, 0, t)) return 0;
+    if (!persp__setup_triangle(v, (int)W, (int)H, 0, t, vv)) return 0;
     t->rat.scale1 = t->rat.scale2 = 256.0f;
     return 1;
 }
 
 /* Max error in texels (256×256 texture) of method m over triangle t. */
-static double method_error(const persp_method *m, const persp_tri *t, long *pixels)
+static double method_error(const persp_method *m, const persp_tri *t, const persp_rational_vertices *vv,
+                           long *pixels)
 {
     persp_method_prep prep;
     persp_method_params params;
     memset(&params, 0, sizeof params);
-    if (m->prepare) m->prepare(&t->rat, &params, &prep, NULL);
+    if (m->prepare) m->prepare(&t->rat, vv, &params, &prep, NULL);
     double worst = 0.0;
     for (int y = t->ymin; y <= t->ymax; y++) {
         int lo, hi;
@@ -76,9 +78,10 @@ static void test_exact_against_double(void **state)
     for (size_t h = 0; h < sizeof hbars / sizeof hbars[0]; h++)
         for (int i = 0; i < 40; i++) {
             persp_tri t;
+            persp_rational_vertices vv;
             float attr[3][PERSP_A_COUNT];
-            if (!random_triangle(&rng, hbars[h], &t, attr)) continue;
-            double e = method_error(&persp__method_exact, &t, &pixels);
+            if (!random_triangle(&rng, hbars[h], &t, &vv, attr)) continue;
+            double e = method_error(&persp__method_exact, &t, &vv, &pixels);
             if (e > worst) worst = e;
         }
     print_message("exact: max error %.3g texels over %ld pixels\n", worst, pixels);
@@ -98,11 +101,12 @@ static void test_affine_is_wrong_under_perspective(void **state)
     long pixels = 0;
     for (int i = 0; i < 20; i++) {
         persp_tri t;
+        persp_rational_vertices vv;
         float attr[3][PERSP_A_COUNT];
-        if (random_triangle(&rng, 1.0, &t, attr))
-            worst_flat = fmax(worst_flat, method_error(&persp__method_affine, &t, &pixels));
-        if (random_triangle(&rng, 8.0, &t, attr))
-            worst_deep = fmax(worst_deep, method_error(&persp__method_affine, &t, &pixels));
+        if (random_triangle(&rng, 1.0, &t, &vv, attr))
+            worst_flat = fmax(worst_flat, method_error(&persp__method_affine, &t, &vv, &pixels));
+        if (random_triangle(&rng, 8.0, &t, &vv, attr))
+            worst_deep = fmax(worst_deep, method_error(&persp__method_affine, &t, &vv, &pixels));
     }
     print_message("affine: max error %.3g texels at depth ratio 1, %.3g at 8\n", worst_flat, worst_deep);
     /* Equal depths: the mapping is affine and so is the method. */

@@ -202,13 +202,13 @@ static void check_span(void *user, const persp_rational *r, int x0, int y, int n
 
 /* (1 + Λ_m)·|N(c)∇D − D(c)∇N|·|∇D|^m·h^(m+1)/Dmin^(m+2) (bipoly.c), the
  * larger of the u and v bounds. */
-static double bipoly_bound(const persp_rational *r, int m)
+static double bipoly_bound(const persp_rational *r, const persp_rational_vertices *v, int m)
 {
-    double cx = (r->vx[0] + r->vx[1] + r->vx[2]) / 3, cy = (r->vy[0] + r->vy[1] + r->vy[2]) / 3;
+    double cx = (v->x[0] + v->x[1] + v->x[2]) / 3, cy = (v->y[0] + v->y[1] + v->y[2]) / 3;
     double h = 0, dmin = INFINITY;
     for (int i = 0; i < 3; i++) {
-        h = fmax(h, hypot(r->vx[i] - cx, r->vy[i] - cy));
-        dmin = fmin(dmin, r->g * r->vx[i] + r->h * r->vy[i] + r->i);
+        h = fmax(h, hypot(v->x[i] - cx, v->y[i] - cy));
+        dmin = fmin(dmin, r->g * v->x[i] + r->h * v->y[i] + r->i);
     }
     double Dc = r->g * cx + r->h * cy + r->i;
     double gradD = hypot(r->g, r->h);
@@ -238,9 +238,9 @@ static void run_method(const char *spec, bound_kind kind, int step)
             h_triangle T;
             h_random_triangle(&rng, h_ratios[ri], &T);
             memset(&c.prep, 0, sizeof c.prep);
-            if (c.sel.m->prepare) c.sel.m->prepare(&T.t.rat, &c.sel.params, &c.prep, NULL);
+            if (c.sel.m->prepare) c.sel.m->prepare(&T.t.rat, &T.v, &c.sel.params, &c.prep, NULL);
             if (kind == B_BIQUAD || kind == B_BICUBIC)
-                c.tri_bound = bipoly_bound(&T.t.rat, kind == B_BIQUAD ? 2 : 3);
+                c.tri_bound = bipoly_bound(&T.t.rat, &T.v, kind == B_BIQUAD ? 2 : 3);
             h_for_each_span(&T, check_span, &c);
         }
     }

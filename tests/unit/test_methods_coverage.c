@@ -100,9 +100,9 @@ static void run(persp_context *ctx, const persp_scene *scene, const char *method
 }
 
 /* Lowest and highest value of s1 (which = 0) or s2 at the triangle's vertices. */
-static void vertex_range(const persp_rational *r, int which, double *lo, double *hi)
+static void vertex_range(const persp_rational_vertices *v, int which, double *lo, double *hi)
 {
-    const double *s = which ? r->s2v : r->s1v;
+    const double *s = which ? v->s2 : v->s1;
     *lo = fmin(s[0], fmin(s[1], s[2]));
     *hi = fmax(s[0], fmax(s[1], s[2]));
 }
@@ -170,7 +170,7 @@ static void test_every_method_every_scene(void **state)
                         for (int c = 0; c < 2; c++) {
                             double s = c ? got.cap.s2[p] : got.cap.s1[p];
                             double lo, hi;
-                            vertex_range(r, c, &lo, &hi);
+                            vertex_range(&got.cap.rat_vertices[got.cap.tri[p]], c, &lo, &hi);
                             /* A perspective map sends the triangle onto the
                              * triangle of its texture coordinates, so exact
                              * values stay in [lo, hi]. The fits anchor at

@@ -21,7 +21,7 @@ static const double hbars[] = {1.25, 1.5, 2, 3, 4, 5, 8};
 
 /* A triangle of eye-space points at depths with ratio hbar inside the corridor
  * frustum (fovy 60°, aspect 4:3), projected to the 1024×768 viewport. */
-static int random_triangle(test_rng *rng, double hbar, persp_tri *t)
+static int random_triangle(test_rng *rng, double hbar, persp_tri *t, persp_rational_vertices *vv)
 {
     static float attr[3][PERSP_A_COUNT];
     const double a = (double)VW / VH, tn = tan(30.0 * 3.14159265358979323846 / 180.0);
@@ -40,7 +40,7 @@ static int random_triangle(test_rng *rng, double hbar, persp_tri *t)
         attr[i][PERSP_A_V] = (float)test_rng_uniform(rng, 0, 1);
         v[i].attr = attr[i];
     }
-    if (!persp__setup_triangle(v, VW, VH, 0, t)) return 0;
+    if (!persp__setup_triangle(v, VW, VH, 0, t, vv)) return 0;
     t->rat.scale1 = t->rat.scale2 = (float)TEX;
     return 1;
 }
@@ -61,11 +61,11 @@ typedef struct err_stats {
  * the double rational form in texels; off is the lattice offset (1/2 for texel
  * centres, 0 for edges) that every output must sit on. */
 static void measure(const persp_method_sel *sel, const persp_tri *t, const persp_rational *r,
-                    double off, err_stats *st, persp_opcount *ops)
+                    const persp_rational_vertices *vv, double off, err_stats *st, persp_opcount *ops)
 {
     persp_method_prep prep;
     memset(&prep, 0, sizeof prep);
-    if (sel->m->prepare) sel->m->prepare(r, &sel->params, &prep, ops);
+    if (sel->m->prepare) sel->m->prepare(r, vv, &sel->params, &prep, ops);
     for (int y = t->ymin; y <= t->ymax; y++) {
         int lo, hi;
         if (!persp__tri_row_range(t, y, 0, VW - 1, &lo, &hi)) continue;
@@ -112,9 +112,10 @@ static void test_midpoint_within_half_texel(void **state)
         err_stats sc = {0}, se = {0};
         for (int i = 0; i < 24; i++) {
             persp_tri t;
-            if (!random_triangle(&rng, hbars[h], &t)) continue;
-            measure(&centre, &t, &t.rat, 0.5, &sc, &ops);
-            measure(&edge, &t, &t.rat, 0.0, &se, NULL);
+            persp_rational_vertices vv;
+            if (!random_triangle(&rng, hbars[h], &t, &vv)) continue;
+            measure(&centre, &t, &t.rat, &vv, 0.5, &sc, &ops);
+            measure(&edge, &t, &t.rat, &vv, 0.0, &se, NULL);
         }
         print_message("midpoint hbar %.2f: max %.6f texel (edge lattice %.6f) over %ld px, "
                       "nearest-texel mismatches %ld\n",
@@ -156,18 +157,19 @@ static void test_midpoint_int_bit_exact(void **state)
     for (size_t h = 0; h < NHBAR; h++)
         for (int i = 0; i < 16; i++) {
             persp_tri t;
-            if (!random_triangle(&rng, hbars[h], &t)) continue;
+            persp_rational_vertices vv;
+            if (!random_triangle(&rng, hbars[h], &t, &vv)) continue;
             persp_rational q;
             persp__midpoint_quantize(&t.rat, 30, &q);
             /* The quantised planes differ from the originals (else the test
              * would not exercise rounding to the format). */
             assert_true(q.g != t.rat.g || q.a != t.rat.a);
             persp_method_prep p1, p2, p3, p4, p5;
-            fx.m->prepare(&q, &fx.params, &p1, NULL);
-            fxe.m->prepare(&q, &fxe.params, &p2, NULL);
-            fx.m->prepare(&t.rat, &fx.params, &p3, NULL);
-            fl.m->prepare(&q, &fl.params, &p4, NULL);
-            fle.m->prepare(&q, &fle.params, &p5, NULL);
+            fx.m->prepare(&q, &vv, &fx.params, &p1, NULL);
+            fxe.m->prepare(&q, &vv, &fxe.params, &p2, NULL);
+            fx.m->prepare(&t.rat, &vv, &fx.params, &p3, NULL);
+            fl.m->prepare(&q, &vv, &fl.params, &p4, NULL);
+            fle.m->prepare(&q, &vv, &fle.params, &p5, NULL);
             for (int y = t.ymin; y <= t.ymax; y++) {
                 int lo, hi;
                 if (!persp__tri_row_range(&t, y, 0, VW - 1, &lo, &hi)) continue;
@@ -221,11 +223,12 @@ static void test_midpoint_short_spans_and_degenerate(void **state)
         persp_method_sel sel = resolve(specs[s]);
         for (int i = 0; i < 20; i++) {
             persp_tri t;
-            if (!random_triangle(&rng, 3.0, &t)) continue;
+            persp_rational_vertices vv;
+            if (!random_triangle(&rng, 3.0, &t, &vv)) continue;
             persp_rational r = t.rat;
             if (i % 2) r.g = 0.0; /* rows of constant depth */
             persp_method_prep prep;
-            if (sel.m->prepare) sel.m->prepare(&r, &sel.params, &prep, NULL);
+            if (sel.m->prepare) sel.m->prepare(&r, &vv, &sel.params, &prep, NULL);
             /* The fixed-point model is exact to half a step with respect to
              * the planes as its format holds them; zeroing g makes the
              * denominator cancel, where that rounding shows. */
@@ -254,10 +257,11 @@ static void test_midpoint_short_spans_and_degenerate(void **state)
         }
         /* Wrong input: zero denominator over the span gives finite values. */
         persp_rational z = {0};
+        persp_rational_vertices zv = {0};
         z.scale1 = z.scale2 = 256.0f;
         float u[4], v[4];
         persp_method_prep prep;
-        if (sel.m->prepare) sel.m->prepare(&z, &sel.params, &prep, NULL);
+        if (sel.m->prepare) sel.m->prepare(&z, &zv, &sel.params, &prep, NULL);
         sel.m->span(&z, &sel.params, &prep, 0, 0, 4, u, v, NULL);
     }
 }
@@ -275,7 +279,8 @@ static void test_midpoint_minification(void **state)
     r.xmax = PERSP_SPAN_MAX - 1, r.ymax = 7; /* the box the fixed-point format covers */
     persp_opcount ops = {0}, iops = {0};
     persp_method_prep prep;
-    isel.m->prepare(&r, &isel.params, &prep, NULL);
+    const persp_rational_vertices rv = {.x = {0}}; /* midpoint fits to the planes alone */
+    isel.m->prepare(&r, &rv, &isel.params, &prep, NULL);
     for (int y = 0; y < 8; y++) {
         float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], iu[PERSP_SPAN_MAX], iv[PERSP_SPAN_MAX];
         sel.m->span(&r, &sel.params, NULL, 0, y, PERSP_SPAN_MAX, u, v, &ops);

@@ -36,14 +36,14 @@ static void project(const double e[3], double u, double v, float attr[PERSP_A_CO
     out->attr = attr;
 }
 
-static int finish(persp_winvert v[3], persp_tri *t)
+static int finish(persp_winvert v[3], persp_tri *t, persp_rational_vertices *vv)
 {
-    if (!persp__setup_triangle(v, VW, VH, 0, t)) return 0;
+    if (!persp__setup_triangle(v, VW, VH, 0, t, vv)) return 0;
     t->rat.scale1 = t->rat.scale2 = (float)TEX;
     return 1;
 }
 
-static int random_triangle(test_rng *rng, double hbar, persp_tri *t)
+static int random_triangle(test_rng *rng, double hbar, persp_tri *t, persp_rational_vertices *vv)
 {
     static float attr[3][PERSP_A_COUNT];
     const double a = (double)VW / VH, tn = tan(30.0 * PI / 180.0);
@@ -55,13 +55,13 @@ static int random_triangle(test_rng *rng, double hbar, persp_tri *t)
                        test_rng_uniform(rng, -0.95, 0.95) * tn * z[i], -z[i]};
         project(e, test_rng_uniform(rng, 0, 1), test_rng_uniform(rng, 0, 1), attr[i], &v[i]);
     }
-    return finish(v, t);
+    return finish(v, t, vv);
 }
 
 /* A floor-like triangle (eye y = −1, two vertices at one depth as in a quad
  * split along its diagonal): u follows eye x, v follows depth, so d = g = 0.
  * wall != 0: the same on the wall x = −1 (v follows depth, u eye y: e = h = 0). */
-static int axis_triangle(test_rng *rng, int wall, persp_tri *t)
+static int axis_triangle(test_rng *rng, int wall, persp_tri *t, persp_rational_vertices *vv)
 {
     static float attr[3][PERSP_A_COUNT];
     const double a = (double)VW / VH, tn = tan(30.0 * PI / 180.0);
@@ -82,7 +82,7 @@ static int axis_triangle(test_rng *rng, int wall, persp_tri *t)
         double along = wall ? e[1] : e[0];
         project(e, 0.5 + 0.1 * along, z[i] / 30.0, attr[i], &v[i]);
     }
-    return finish(v, t);
+    return finish(v, t, vv);
 }
 
 typedef struct area_tri {
@@ -177,12 +177,13 @@ static long traverse_tile(const persp_method_sel *sel, const persp_method_prep *
 
 /* Tiles: the renderer's 64×64 grid, the whole bounding box, and random
  * rectangles (also wider than one block). */
-static long traverse_all(const persp_method_sel *sel, const persp_tri *t, test_rng *rng,
-                         sink_state *st, persp_opcount *ops)
+static long traverse_all(const persp_method_sel *sel, const persp_tri *t,
+                         const persp_rational_vertices *vv, test_rng *rng, sink_state *st,
+                         persp_opcount *ops)
 {
     persp_method_prep prep;
     memset(&prep, 0, sizeof prep);
-    if (sel->m->prepare) sel->m->prepare(&t->rat, &sel->params, &prep, ops);
+    if (sel->m->prepare) sel->m->prepare(&t->rat, vv, &sel->params, &prep, ops);
     st->t = t, st->sel = sel, st->prep = &prep;
     long wrong = 0, before = st->pixels;
     for (int ty = t->ymin / 64 * 64; ty <= t->ymax; ty += 64)
@@ -221,11 +222,12 @@ static void test_constz_coverage_and_values(void **state)
         st.eps2 = eps * eps * (1.0 + 1e-9);
         for (int i = 0; i < 12; i++) {
             persp_tri t;
-            if (!random_triangle(&rng, hbars[h], &t)) continue;
+            persp_rational_vertices vv;
+            if (!random_triangle(&rng, hbars[h], &t, &vv)) continue;
             tris++;
             if (fabs(t.rat.h) >= fabs(t.rat.g)) xmajor++;
             else ymajor++;
-            wrong += traverse_all(&sel, &t, &rng, &st, &ops);
+            wrong += traverse_all(&sel, &t, &vv, &rng, &st, &ops);
         }
         print_message("constz hbar %.2f: max %.5f texel (bound excess %.2g) over %ld px\n", hbars[h],
                       st.worst, st.over, st.pixels);
@@ -262,8 +264,9 @@ static void test_constz_unguarded(void **state)
     for (size_t h = 0; h < NHBAR; h++)
         for (int i = 0; i < 4; i++) {
             persp_tri t;
-            if (!random_triangle(&rng, hbars[h], &t)) continue;
-            wrong += traverse_all(&sel, &t, &rng, &st, NULL);
+            persp_rational_vertices vv;
+            if (!random_triangle(&rng, hbars[h], &t, &vv)) continue;
+            wrong += traverse_all(&sel, &t, &vv, &rng, &st, NULL);
         }
     print_message("constz:eps=1e9: max %.5f texel over %ld px (%ld px with D <= 2·max(|g|,|h|))\n",
                   st.worst, st.pixels, st.unbounded);
@@ -282,11 +285,12 @@ static void test_constz_constant_depth(void **state)
     persp_winvert v[3];
     for (int i = 0; i < 3; i++) project(e[i], 0.3 * i, 0.9 - 0.4 * i, attr[i], &v[i]);
     persp_tri t;
-    assert_true(finish(v, &t));
+    persp_rational_vertices vv;
+    assert_true(finish(v, &t, &vv));
     test_rng rng = {1};
     sink_state st = {0};
     st.eps2 = 0.0;
-    assert_int_equal(traverse_all(&sel, &t, &rng, &st, NULL), 0);
+    assert_int_equal(traverse_all(&sel, &t, &vv, &rng, &st, NULL), 0);
     assert_true(st.pixels > 1000);
     assert_true(st.over <= 0.0);
 }
@@ -302,12 +306,13 @@ static void test_adaptive_floor_takes_row_path(void **state)
     int floors = 0;
     for (int i = 0; i < 30; i++) {
         persp_tri t;
-        if (!axis_triangle(&rng, 0, &t)) continue;
+        persp_rational_vertices vv;
+        if (!axis_triangle(&rng, 0, &t, &vv)) continue;
         /* The premise of statement 4.1 holds exactly for these planes. */
         assert_true(t.rat.g == 0.0 && t.rat.d == 0.0);
         floors++;
         persp_method_prep prep;
-        sel.m->prepare(&t.rat, &sel.params, &prep, &ops);
+        sel.m->prepare(&t.rat, &vv, &sel.params, &prep, &ops);
         for (int y = t.ymin; y <= t.ymax; y++) {
             int lo, hi;
             if (!persp__tri_row_range(&t, y, 0, VW - 1, &lo, &hi)) continue;
@@ -345,13 +350,14 @@ static void test_adaptive_wall_takes_column_path(void **state)
     st.eps2 = 2.5e-7; /* 2^-22 */
     for (int i = 0; i < 20; i++) {
         persp_tri t;
-        if (!axis_triangle(&rng, 1, &t)) continue;
+        persp_rational_vertices vv;
+        if (!axis_triangle(&rng, 1, &t, &vv)) continue;
         assert_true(t.rat.h == 0.0 && t.rat.e == 0.0);
         walls++;
         persp_opcount ops = {0};
         sink_state one = st;
         one.pixels = 0;
-        wrong += traverse_all(&sel, &t, &rng, &one, &ops);
+        wrong += traverse_all(&sel, &t, &vv, &rng, &one, &ops);
         /* The grid pass costs one reciprocal per covered column and tile. */
         long cols = 0;
         for (int ty = t.ymin / 64 * 64; ty <= t.ymax; ty += 64)
@@ -388,9 +394,10 @@ static void test_adaptive_fallback(void **state)
     st.eps2 = 0.01 * 0.01 * (1.0 + 1e-9);
     for (int i = 0; i < 10; i++) {
         persp_tri t;
-        if (!random_triangle(&rng, 3.0, &t)) continue;
+        persp_rational_vertices vv;
+        if (!random_triangle(&rng, 3.0, &t, &vv)) continue;
         persp_method_prep prep;
-        ad.m->prepare(&t.rat, &ad.params, &prep, NULL);
+        ad.m->prepare(&t.rat, &vv, &ad.params, &prep, NULL);
         for (int y = t.ymin; y <= t.ymax; y += 3) {
             int lo, hi;
             if (!persp__tri_row_range(&t, y, 0, VW - 1, &lo, &hi)) continue;
@@ -401,7 +408,7 @@ static void test_adaptive_fallback(void **state)
             differ += memcmp(u, eu, (size_t)n * sizeof(float)) != 0;
             differ += memcmp(v, ev, (size_t)n * sizeof(float)) != 0;
         }
-        wrong += traverse_all(&adz, &t, &rng, &st, NULL);
+        wrong += traverse_all(&adz, &t, &vv, &rng, &st, NULL);
     }
     assert_int_equal(differ, 0);
     assert_int_equal(wrong, 0);
@@ -418,6 +425,7 @@ static void test_degenerate_planes(void **state)
     static const char *specs[] = {"constz", "adaptive", "adaptive:fallback=constz"};
     persp_rational bad[3];
     memset(bad, 0, sizeof bad);
+    const persp_rational_vertices bv = {.x = {0}}; /* at the origin: depths 0, -1 and NaN there */
     bad[1].g = 0.01, bad[1].h = -0.02, bad[1].i = -1.0, bad[1].a = 1.0, bad[1].xmax = 9, bad[1].ymax = 9;
     bad[2].g = NAN, bad[2].i = 1.0, bad[2].xmax = 3, bad[2].ymax = 3;
     for (int s = 0; s < 3; s++) {
@@ -425,7 +433,7 @@ static void test_degenerate_planes(void **state)
         for (int b = 0; b < 3; b++) {
             persp_method_prep prep;
             memset(&prep, 0, sizeof prep);
-            if (sel.m->prepare) sel.m->prepare(&bad[b], &sel.params, &prep, NULL);
+            if (sel.m->prepare) sel.m->prepare(&bad[b], &bv, &sel.params, &prep, NULL);
             float u[8], v[8];
             sel.m->span(&bad[b], &sel.params, &prep, 0, 2, 8, u, v, NULL);
             for (int k = 0; k < 8 && b < 2; k++) assert_true(isfinite(u[k]) && isfinite(v[k]));

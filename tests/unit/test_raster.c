@@ -109,25 +109,25 @@ static void test_setup_degenerate_and_cull(void **state)
     (void)state;
     persp_tri t;
     persp_winvert line[3] = {wv(1, 1), wv(5, 5), wv(9, 9)};
-    assert_int_equal(persp__setup_triangle(line, 16, 16, 0, &t), 0);
+    assert_int_equal(persp__setup_triangle(line, 16, 16, 0, &t, NULL), 0);
     persp_winvert ccw[3] = {wv(1, 1), wv(9, 1), wv(1, 9)};
     persp_winvert cw[3] = {wv(1, 1), wv(1, 9), wv(9, 1)};
-    assert_int_equal(persp__setup_triangle(ccw, 16, 16, 1, &t), 1);
+    assert_int_equal(persp__setup_triangle(ccw, 16, 16, 1, &t, NULL), 1);
     assert_int_equal(t.backfacing, 0);
-    assert_int_equal(persp__setup_triangle(cw, 16, 16, 1, &t), 0);
-    assert_int_equal(persp__setup_triangle(cw, 16, 16, 0, &t), 1);
+    assert_int_equal(persp__setup_triangle(cw, 16, 16, 1, &t, NULL), 0);
+    assert_int_equal(persp__setup_triangle(cw, 16, 16, 0, &t, NULL), 1);
     assert_int_equal(t.backfacing, 1);
     persp_winvert off[3] = {wv(-20, -20), wv(-10, -20), wv(-20, -10)};
-    assert_int_equal(persp__setup_triangle(off, 16, 16, 0, &t), 0);
+    assert_int_equal(persp__setup_triangle(off, 16, 16, 0, &t, NULL), 0);
     persp_winvert bad[3] = {wv(NAN, 1), wv(9, 1), wv(1, 9)};
-    assert_int_equal(persp__setup_triangle(bad, 16, 16, 0, &t), 0);
+    assert_int_equal(persp__setup_triangle(bad, 16, 16, 0, &t, NULL), 0);
 }
 
 /* Counts coverage of a triangle into cnt (w×h). */
 static void cover(const persp_winvert v[3], int w, int h, int *cnt)
 {
     persp_tri t;
-    if (!persp__setup_triangle(v, w, h, 0, &t)) return;
+    if (!persp__setup_triangle(v, w, h, 0, &t, NULL)) return;
     for (int y = 0; y < h; y++) {
         int lo, hi;
         if (!persp__tri_row_range(&t, y, 0, w - 1, &lo, &hi)) continue;
@@ -150,12 +150,12 @@ static void test_fill_rule_pixel_centres(void **state)
      * centres (x = 2.5) owns them; one whose right edge does does not. */
     persp_tri t;
     persp_winvert left[3] = {wv(2.5, 0), wv(6, 0), wv(2.5, 4)};
-    assert_int_equal(persp__setup_triangle(left, 8, 8, 0, &t), 1);
+    assert_int_equal(persp__setup_triangle(left, 8, 8, 0, &t, NULL), 1);
     int lo, hi;
     assert_int_equal(persp__tri_row_range(&t, 0, 0, 7, &lo, &hi), 1);
     assert_int_equal(lo, 2);
     persp_winvert right[3] = {wv(0, 0), wv(2.5, 0), wv(2.5, 4)};
-    assert_int_equal(persp__setup_triangle(right, 8, 8, 0, &t), 1);
+    assert_int_equal(persp__setup_triangle(right, 8, 8, 0, &t, NULL), 1);
     assert_int_equal(persp__tri_row_range(&t, 1, 0, 7, &lo, &hi), 1);
     assert_int_equal(hi, 1);
 }
@@ -261,7 +261,7 @@ static void test_row_walk_matches_row_range(void **state)
         }
         if (n % 7 == 0) v[1] = wv(v[0].x + 30, v[0].y); /* a horizontal edge */
         persp_tri t;
-        if (!persp__setup_triangle(v, 200, 160, 0, &t)) continue;
+        if (!persp__setup_triangle(v, 200, 160, 0, &t, NULL)) continue;
         const int x0 = (int)(test_rng_next(&rng) % 200), x1 = x0 + (int)(test_rng_next(&rng) % 80);
         const int ya = t.ymin + (int)(test_rng_next(&rng) % 3);
         /* Every eighth walk of one row, which skips the per-row steps. */

@@ -250,7 +250,7 @@ static void test_row_range_brute_force(void **state)
             v[i].attr = attr;
         }
         persp_tri t;
-        if (!persp__setup_triangle(v, 200, 120, 0, &t)) continue;
+        if (!persp__setup_triangle(v, 200, 120, 0, &t, NULL)) continue;
         for (int y = t.ymin; y <= t.ymax; y++) {
             int x0 = (int)(test_rng_next(&rng) % 64), x1 = x0 + 64 + (int)(test_rng_next(&rng) % 100);
             int want_lo = -1, want_hi = -2;

@@ -365,7 +365,9 @@ static void test_lod_rules(void **state)
     assert_true(fabsf(persp__pixel_lambda(&st, 16.0f / 256, 0, 0, 16.0f / 128) - 3.0f) < 1e-5f);
     assert_true(fabsf(persp__pixel_lambda(&st, 0.01f / 256, 0, 0, 0.01f / 128) - 0.25f) < 1e-5f);
     /* Per polygon ([CS300-TexMap]): 0.5·log2(texel area / pixel area). */
-    assert_true(fabsf(persp__polygon_lambda(t, 0.5, 256.0 * 128.0 * 0.5 / 16.0) - 2.0f) < 1e-6f);
+    /* uv area 1/2 (16 384 texels of 256×128) over 64·32/2 = 1024 pixels. */
+    const double px[3] = {0, 64, 0}, py[3] = {0, 0, 32}, pu[3] = {0, 1, 0}, pv[3] = {0, 0, 1};
+    assert_true(fabsf(persp__polygon_lambda(t, px, py, pu, pv) - 2.0f) < 1e-6f);
     persp_texture_destroy(t);
     persp_context_destroy(ctx);
 }
