@@ -144,6 +144,30 @@ static size_t frame_batch_limit(const persp_frame *f)
     return f->capture ? SIZE_MAX : f->batch;
 }
 
+/* Room for need records in the frame's array, its first tri_count kept.
+ * Unlike persp__grow nothing is zeroed and only the kept records are
+ * copied: the slots that in-place set-up leaves as gaps (mesh_triangles_
+ * parallel; most of a batch on a culled mesh) are never written, so their
+ * pages stay out of the resident set, and a bounded batch is allocated
+ * whole at once rather than doubled into while the old copy is held
+ * (docs/PERFORMANCE.md, item 56). Nothing reads a slot before set-up
+ * writes it: binning skips gaps by their tile range. */
+static persp_status grow_records(persp_frame *f, size_t need)
+{
+    struct persp_render_cache *c = f->cache;
+    if (need <= c->tri_cap) return PERSP_OK;
+    const size_t whole = f->capture || f->batch > PERSP_FRAME_BATCH_MAX ? 2 * c->tri_cap : f->batch;
+    const size_t ncap = PERSP_MAX(need, whole);
+    size_t bytes;
+    persp_tri *n = persp__size_mul(ncap, sizeof *n, &bytes) ? persp__alloc(f->ctx, bytes) : NULL;
+    if (!n) return PERSP_ERR_OUT_OF_MEMORY;
+    if (f->tri_count) memcpy(n, c->tris, f->tri_count * sizeof *n);
+    persp__free(f->ctx, c->tris);
+    c->tris = n;
+    c->tri_cap = ncap;
+    return PERSP_OK;
+}
+
 /* Makes room for up to want more triangles in the frame, drawing the batch
  * first when it is full; *room (may be NULL) receives how many fit in the
  * batch now (at least 1). */
@@ -161,7 +185,7 @@ static persp_status reserve_triangles(persp_frame *f, size_t want, size_t *room)
         if (room) *room = n;
         return PERSP_OK;
     }
-    if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + n, sizeof *c->tris) != PERSP_OK ||
+    if (grow_records(f, f->tri_count + n) != PERSP_OK ||
         persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + n, sizeof *c->tiles) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     if (room) *room = n;
@@ -722,8 +746,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
                 if ((st = frame_flush_batch(f, 0)) != PERSP_OK) return st;
                 f->tri_count = f->prep_count = 0;
             }
-            if (persp__grow(f->ctx, (void **)&c->tris, &c->tri_cap, f->tri_count + slots, sizeof *c->tris) !=
-                    PERSP_OK ||
+            if (grow_records(f, f->tri_count + slots) != PERSP_OK ||
                 persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + slots,
                             sizeof *c->tiles) != PERSP_OK)
                 return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
