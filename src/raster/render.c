@@ -50,21 +50,23 @@ static void render_cache_free(persp_context *ctx)
  * drawn in batches: each tile draws its triangles in submission order
  * whatever the batches, so the image is the same. A batch is written by the
  * set-up and read back by the tiles, so it is sized for the caches:
- * PERSP_FRAME_BATCH_PER_WORKER records (560 bytes each, 4.4 MiB) per
- * worker thread. Against one batch of 65 536 records, then of 800 bytes (52 MiB, read back from
- * memory) that took 20 % less CPU time on the 2M-triangle torus and 17 %
- * on the 200k one (docs/PERFORMANCE.md), and memory stays bounded
- * whatever the mesh. A capture refers to triangles by their index in the
- * frame, so it takes one batch.
+ * PERSP_FRAME_BATCH_PER_WORKER records (560 bytes each, 6.6 MiB) per
+ * worker thread. Against one batch of 65 536 records (then 800 bytes
+ * each, 52 MiB, read back from memory) 6.3 MiB per worker took 20 % less
+ * CPU time on the 2M-triangle torus and 17 % on the 200k one, and memory
+ * stays bounded whatever the mesh; it is the bytes that count: with the
+ * smaller records 12 288 rather than 8192 took 5 % less CPU on the 2M
+ * torus at two threads (docs/PERFORMANCE.md, items 18 and 57). A capture
+ * refers to triangles by their index in the frame, so it takes one batch.
  *
  * Each batch also copies every tile it touches in and out (64 KiB a
  * tile). A mesh drawn in order touches few tiles a batch (the 2M torus:
  * 34-42 of 192), but unconnected triangles spread over the screen touch
- * all of them each batch (the soup: 8192 triangles in 192 tiles, 12 MiB
+ * all of them each batch (the soup: 8192 triangles touched all 192 tiles, 12 MiB
  * copied a batch, 13 % of a frame). When the last batch's tile copies
  * outweighed its records, the next batch takes twice as many: soup
  * 5-7 % less CPU, tori unchanged (a fixed doubling cost the tori 0.5-3 %). */
-#define PERSP_FRAME_BATCH_PER_WORKER 8192u
+#define PERSP_FRAME_BATCH_PER_WORKER 12288u
 #define PERSP_FRAME_BATCH_MAX 65536u
 
 /* PERSP_SIMD_AUTO is resolved here, at the first frame, rather than at
