@@ -122,19 +122,21 @@ expect 1 "/dev/full" -- "$persp" render cube --size 8x8 -q --format jpeg -o /dev
 [ -z "$(ls "$o" | grep tmp)" ] && ok || bad "temporary files left: $(ls "$o")"
 
 # A signal during the write removes the temporary file: a report is
-# written to its temporary file while the command computes.
+# written to its temporary file while the command computes, an image while
+# it is encoded (a 3072x3072 PNG: about a third of a second, so that the
+# signal, sent as soon as the file is seen, lands before the rename even on
+# a loaded machine).
 sig_case() { # sig_case SIGNAL FILE -- command...
     local sig="$1" file="$2"; shift 3
     "$@" & local pid=$!
     for _ in $(seq 1 3000); do compgen -G "$file.tmp-*" >/dev/null && break; sleep 0.01; done
     if ! compgen -G "$file.tmp-*" >/dev/null; then wait "$pid"; bad "$sig: no temporary file seen"; return; fi
-    sleep 0.05
     kill -"$sig" "$pid"; wait "$pid"; local rc=$?
     if compgen -G "$file*" >/dev/null; then bad "$sig: left $(ls "$file"*)"; return; fi
     [ "$rc" -ge 128 ] && ok || bad "$sig: exit $rc"
 }
 sig_case INT "$o/acc.json" -- "$persp" accuracy --case paper-quad,random-triangles --triangles 500 -o "$o/acc.json"
-sig_case TERM "$o/big.png" -- "$persp" render corridor --size 2048x2048 -q -o "$o/big.png"
+sig_case TERM "$o/big.png" -- "$persp" render corridor --size 3072x3072 -q -o "$o/big.png"
 
 # ---------------------------------------------------- output paths, early
 for args in "render corridor --size 8192x8192 -o /nonexistent/dir/x.png" \
