@@ -109,14 +109,16 @@ typedef struct persp_allocator {
 
 typedef struct persp_context persp_context;
 
-/* Instruction-set variant of the texture span samplers and the lane packing
- * (docs/PERFORMANCE.md, "Samplers on Intel and AMD"). Every variant computes
- * the same bits; they differ only in speed, which depends on the CPU (the
- * texel fetch by gather instructions is fast on some cores and slow on
- * others). The lighting loops are chosen by the dynamic loader and are not
- * affected. */
+/* Instruction-set variant of the texture span samplers and the lane packing,
+ * and the vector width (baseline, AVX2 or AVX-512) of the vertex stage and
+ * the lighting loops (docs/PERFORMANCE.md, "Samplers on Intel and AMD",
+ * item 58). Every variant computes the same bits; they differ only in
+ * speed, which depends on the CPU (the texel fetch by gather instructions
+ * is fast on some cores and slow on others; 512-bit arithmetic may lower
+ * the clock of some). The other span loops take AVX2 wherever the CPU has
+ * it, chosen by the dynamic loader. */
 typedef enum persp_simd {
-    PERSP_SIMD_AUTO = 0,      /* the fastest for this CPU, decided at context creation */
+    PERSP_SIMD_AUTO = 0,      /* the fastest samplers for this CPU, timed at the first frame */
     PERSP_SIMD_BASELINE,      /* x86-64 baseline (SSE2), or plain C elsewhere */
     PERSP_SIMD_AVX2,          /* 8 lanes, texels fetched by scalar loads */
     PERSP_SIMD_AVX2_GATHER,   /* 8 lanes, texels fetched by vpgatherdd */
@@ -157,7 +159,7 @@ PERSP_API void persp_context_destroy(persp_context *ctx);
 /* Detail of the last failure on this context ("file:line:col: problem"), or
  * "". Owned by the context, valid until its next call. */
 PERSP_API const char *persp_context_error(const persp_context *ctx);
-/* The sampler variant the context uses (never PERSP_SIMD_AUTO for a
+/* The vector variant the context uses (never PERSP_SIMD_AUTO for a
  * context). For PERSP_SIMD_AUTO the first call, or the first render,
  * decides it by timing the candidates for a fraction of a millisecond. */
 PERSP_API persp_simd persp_context_simd(persp_context *ctx);

@@ -69,6 +69,52 @@ static inline int persp__cpu_isa(void)
 static inline int persp__cpu_isa(void) { return PERSP_ISA_BASE; }
 #endif
 
+/* Variants of a loop that the vector width decides (lighting, the vertex
+ * stage), selectable at run time: NAME##_body, a static always-inline
+ * function without a target, is compiled into a baseline, an AVX2 and an
+ * AVX-512 function, and NAME(isa, ...) calls the one of PERSP_ISA_*
+ * variant isa (a gather variant: its instruction set's). Unlike
+ * PERSP_SIMD_CLONES, which the dynamic loader resolves for the CPU, this
+ * follows the context's persp_context_desc.simd, so that `--simd avx2` runs
+ * 256-bit lighting on an AVX-512 CPU (where 512-bit arithmetic may lower
+ * the clock). params: the parenthesised parameter list; args: the
+ * parenthesised arguments that name them. Every variant computes the same
+ * bits (exactly rounded operations, no contraction). */
+#define PERSP_ALWAYS_INLINE inline __attribute__((always_inline))
+#define PERSP_UNPAREN(...) __VA_ARGS__
+#if PERSP_HAVE_ISA_VARIANTS
+/* Never inlined into their callers, and AVX-512 as plain avx512f, as the
+ * target clones they replace were: inlined, or with PERSP_TARGET_AVX512's
+ * extensions, the Phong loops took about 1 % more CPU on the 2M-triangle
+ * torus (AMD Zen 5). */
+#define PERSP_ISA_VARIANTS(name, params, args)                                                     \
+    static __attribute__((noinline)) void name##_base params { name##_body args; }                 \
+    PERSP_TARGET_AVX2 static __attribute__((noinline)) void name##_avx2 params                     \
+    {                                                                                              \
+        name##_body args;                                                                          \
+    }                                                                                              \
+    __attribute__((target("avx512f"), noinline)) static void name##_avx512 params                  \
+    {                                                                                              \
+        name##_body args;                                                                          \
+    }                                                                                              \
+    static inline void name(int isa, PERSP_UNPAREN params)                                         \
+    {                                                                                              \
+        if (isa == PERSP_ISA_AVX512 || isa == PERSP_ISA_AVX512_GATHER)                             \
+            name##_avx512 args;                                                                    \
+        else if (isa == PERSP_ISA_AVX2 || isa == PERSP_ISA_AVX2_GATHER)                            \
+            name##_avx2 args;                                                                      \
+        else                                                                                       \
+            name##_base args;                                                                      \
+    }
+#else
+#define PERSP_ISA_VARIANTS(name, params, args)                                                     \
+    static inline void name(int isa, PERSP_UNPAREN params)                                         \
+    {                                                                                              \
+        (void)isa;                                                                                 \
+        name##_body args;                                                                          \
+    }
+#endif
+
 /* Whether this build and CPU can run variant isa. */
 static inline int persp__isa_runs(int isa)
 {

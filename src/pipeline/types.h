@@ -91,6 +91,7 @@ typedef struct persp_draw_state {
     int color_material;
     int force_opaque; /* set every written alpha to 255 (persp_draw: the caller's texture and
                          vertex colours may carry alpha; scene textures are made opaque at load) */
+    int isa; /* PERSP_ISA_* of the lighting loops: the context's (persp__shade_resolve) */
     /* Span shader chosen from shading and texture environment. */
     void (*shade)(const struct persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
                   const float *q, const uint32_t *texel, uint32_t *out);

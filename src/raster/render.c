@@ -428,8 +428,8 @@ static inline double round_half_away(double v)
 
 /* Clip positions of vertices [a, a + n), n <= VERTEX_BLOCK, by the same
  * operations as persp_mat4_apply (double sums from 0.0, rounded to float). */
-PERSP_SIMD_CLONES_WIDE static void transform_block(const persp_mat4 *m, const persp_vertex *v, size_t n,
-                                                   float out[4][VERTEX_BLOCK])
+static PERSP_ALWAYS_INLINE void transform_block_body(const persp_mat4 *m, const persp_vertex *v, size_t n,
+                                                     float out[4][VERTEX_BLOCK])
 {
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK];
     for (size_t i = 0; i < n; i++) x[i] = v[i].pos[0], y[i] = v[i].pos[1], z[i] = v[i].pos[2];
@@ -445,6 +445,9 @@ PERSP_SIMD_CLONES_WIDE static void transform_block(const persp_mat4 *m, const pe
         }
     }
 }
+PERSP_ISA_VARIANTS(transform_block,
+                   (const persp_mat4 *m, const persp_vertex *v, size_t n, float out[4][VERTEX_BLOCK]),
+                   (m, v, n, out))
 
 /* The clip position of one vertex: transform_block's operations, for the
  * triangles that are clipped (the vertex cache keeps no clip positions). */
@@ -477,9 +480,9 @@ static inline uint32_t any_nonfinite(const float *v, size_t n)
  * persp__clip_outcode_packed and to_window compute them: o, their packed
  * attributes (stride floats each), cp their clip positions component by
  * component. */
-PERSP_SIMD_CLONES_WIDE static void window_block(const float *o, size_t stride, size_t n,
-                                                const float cp[4][VERTEX_BLOCK], double gx, double gy,
-                                                double W, double H, struct vert_win *win)
+static PERSP_ALWAYS_INLINE void window_block_body(const float *o, size_t stride, size_t n,
+                                                  const float cp[4][VERTEX_BLOCK], double gx, double gy,
+                                                  double W, double H, struct vert_win *win)
 {
     uint32_t bad[VERTEX_BLOCK];
     double x[VERTEX_BLOCK], y[VERTEX_BLOCK], z[VERTEX_BLOCK], w[VERTEX_BLOCK];
@@ -513,6 +516,10 @@ PERSP_SIMD_CLONES_WIDE static void window_block(const float *o, size_t stride, s
         win[i].code = code[i];
     }
 }
+PERSP_ISA_VARIANTS(window_block,
+                   (const float *o, size_t stride, size_t n, const float cp[4][VERTEX_BLOCK], double gx,
+                    double gy, double W, double H, struct vert_win *win),
+                   (o, stride, n, cp, gx, gy, W, H, win))
 
 static void vertex_task(void *user, int task, int worker)
 {
@@ -526,6 +533,7 @@ static void vertex_task(void *user, int task, int worker)
     const size_t stride = (size_t)j->nattr;
     const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && persp__shade_is_gouraud(j->ds);
     const double W = j->f->fb->width, H = j->f->fb->height;
+    const int isa = j->f->ctx->isa; /* the context's, as the samplers' (PERSP_ISA_VARIANTS) */
     /* Block by block, each step across the block while it is in L1: a
      * block's normals, positions and colours go to the lighting as arrays
      * (they were gathered back out of the packed cache, 4 % of a frame of
@@ -533,8 +541,8 @@ static void vertex_task(void *user, int task, int worker)
     for (size_t i0 = a; i0 < b; i0 += VERTEX_BLOCK) {
         const size_t n = PERSP_MIN((size_t)VERTEX_BLOCK, b - i0);
         float cp[4][VERTEX_BLOCK], ep[4][VERTEX_BLOCK], en[3][VERTEX_BLOCK], col[3][VERTEX_BLOCK];
-        transform_block(&j->mvp, mesh->vertices + i0, n, cp);
-        if (lit) transform_block(&j->mv, mesh->vertices + i0, n, ep);
+        transform_block(isa, &j->mvp, mesh->vertices + i0, n, cp);
+        if (lit) transform_block(isa, &j->mv, mesh->vertices + i0, n, ep);
         for (size_t k = 0; k < n; k++) {
             const size_t i = i0 + k;
             const persp_vertex *v = &mesh->vertices[i];
@@ -567,7 +575,7 @@ static void vertex_task(void *user, int task, int worker)
                     bk[3 * k] = rgb[3][k], bk[3 * k + 1] = rgb[4][k], bk[3 * k + 2] = rgb[5][k];
             }
         }
-        window_block(c->verts + i0 * stride, stride, n, (const float(*)[VERTEX_BLOCK])cp, j->gx, j->gy, W, H,
+        window_block(isa, c->verts + i0 * stride, stride, n, (const float(*)[VERTEX_BLOCK])cp, j->gx, j->gy, W, H,
                      &c->win[i0]);
     }
 }

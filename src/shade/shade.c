@@ -166,9 +166,10 @@ light_add(const persp_material *m, const persp_eye_light *l, const int direction
 
 /* Ambient + diffuse (d*) and specular (s*) light per pixel: Blinn–Phong,
  * light_point's arithmetic with its branches turned into selects. */
-PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, const float *side, int n, const lit_span *g,
-                                        float *restrict dr, float *restrict dg, float *restrict db,
-                                        float *restrict sr, float *restrict sg, float *restrict sb)
+static PERSP_ALWAYS_INLINE void light_soa_body(const persp_draw_state *ds, const float *side, int n,
+                                               const lit_span *g, float *restrict dr, float *restrict dg,
+                                               float *restrict db, float *restrict sr, float *restrict sg,
+                                               float *restrict sb)
 {
     const persp_material *m = &ds->material;
     const persp_lighting *L = &ds->lighting;
@@ -195,6 +196,11 @@ PERSP_SIMD_CLONES_WIDE static void light_soa(const persp_draw_state *ds, const f
             light_add(m, &L->light[i], 0, n, g, nx, ny, nz, vx, vy, vz, dr, dg, db, sr, sg, sb);
     }
 }
+PERSP_ISA_VARIANTS(light_soa,
+                   (const persp_draw_state *ds, const float *side, int n, const lit_span *g,
+                    float *restrict dr, float *restrict dg, float *restrict db, float *restrict sr,
+                    float *restrict sg, float *restrict sb),
+                   (ds, side, n, g, dr, dg, db, sr, sg, sb))
 
 static inline uint32_t pack_channel(float c, int shift)
 {
@@ -208,10 +214,10 @@ static inline uint32_t pack_channel(float c, int shift)
  * diffuse colour (d*) by it and adds the specular highlight (s*), itself
  * multiplied by the texel when the material uses the texture as specular
  * colour too; packed to RGBA8 like pack(). */
-PERSP_SIMD_CLONES_WIDE static void combine_soa(const persp_draw_state *ds, int n, const float *dr,
-                                          const float *dg, const float *db, const float *sr,
-                                          const float *sg, const float *sb, const uint32_t *texel,
-                                          uint32_t *out)
+static PERSP_ALWAYS_INLINE void combine_soa_body(const persp_draw_state *ds, int n, const float *dr,
+                                                 const float *dg, const float *db, const float *sr,
+                                                 const float *sg, const float *sb, const uint32_t *texel,
+                                                 uint32_t *out)
 {
     if (texel && ds->material.env == PERSP_TEXENV_REPLACE) {
         memcpy(out, texel, (size_t)n * sizeof *out);
@@ -235,6 +241,11 @@ PERSP_SIMD_CLONES_WIDE static void combine_soa(const persp_draw_state *ds, int n
                  pack_channel(db[k] * t2 + s2, 16) | (p & 0xff000000u);
     }
 }
+PERSP_ISA_VARIANTS(combine_soa,
+                   (const persp_draw_state *ds, int n, const float *dr, const float *dg, const float *db,
+                    const float *sr, const float *sg, const float *sb, const uint32_t *texel,
+                    uint32_t *out),
+                   (ds, n, dr, dg, db, sr, sg, sb, texel, out))
 
 /* ----------------------------------------------------------- barycentrics */
 
@@ -378,8 +389,8 @@ float persp__shade_light_side(const persp_tri *t)
  * texel path in one loop, the same operations in the same order (the
  * specular term of a Gouraud vertex colour is in the colour, so the
  * combine adds a zero specular: kept, as it turns −0 into +0). */
-PERSP_SIMD_CLONES_WIDE static void gouraud_modulate(const persp_tri *t, int attr, int n, const float *b1,
-                                               const float *b2, const uint32_t *texel, uint32_t *out)
+static PERSP_ALWAYS_INLINE void gouraud_modulate_body(const persp_tri *t, int attr, int n, const float *b1,
+                                                      const float *b2, const uint32_t *texel, uint32_t *out)
 {
     const float r0 = t->vattr[0][attr], r1 = t->vattr[1][attr], r2 = t->vattr[2][attr];
     const float g0 = t->vattr[0][attr + 1], g1 = t->vattr[1][attr + 1], g2 = t->vattr[2][attr + 1];
@@ -397,12 +408,15 @@ PERSP_SIMD_CLONES_WIDE static void gouraud_modulate(const persp_tri *t, int attr
                  pack_channel(cb * t2 + 0.0f, 16) | (p & 0xff000000u);
     }
 }
+PERSP_ISA_VARIANTS(gouraud_modulate,
+                   (const persp_tri *t, int attr, int n, const float *b1, const float *b2,
+                    const uint32_t *texel, uint32_t *out),
+                   (t, attr, n, b1, b2, texel, out))
 
 void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                                 const float *w2, const uint32_t *texel, uint32_t *out)
 {
-    (void)ds;
-    gouraud_modulate(t, t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R, n, w1, w2, texel, out);
+    gouraud_modulate(ds->isa, t, t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R, n, w1, w2, texel, out);
 }
 
 static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
@@ -415,10 +429,10 @@ static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const 
     const int attr = t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R;
     if (texel && ds->material.env != PERSP_TEXENV_REPLACE) {
         if (b->w1) {
-            gouraud_modulate(t, attr, b->n, b->w1, b->w2, texel, out);
+            gouraud_modulate(ds->isa, t, attr, b->n, b->w1, b->w2, texel, out);
         } else {
             bary_for(ds, t, b, b1, b2);
-            gouraud_modulate(t, attr, b->n, b1, b2, texel, out);
+            gouraud_modulate(ds->isa, t, attr, b->n, b1, b2, texel, out);
         }
         return;
     }
@@ -426,7 +440,7 @@ static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const 
     float c[3][PERSP_SPAN_MAX], zero[PERSP_SPAN_MAX];
     interp_soa(t, attr, b->n, b1, b2, c[0], c[1], c[2]);
     for (int k = 0; k < b->n; k++) zero[k] = 0.0f;
-    combine_soa(ds, b->n, c[0], c[1], c[2], zero, zero, zero, texel, out);
+    combine_soa(ds->isa, ds, b->n, c[0], c[1], c[2], zero, zero, zero, texel, out);
 }
 
 void persp__slerp_init(persp_slerp *s, const float na[3], const float nb[3], double hbar)
@@ -600,10 +614,10 @@ static void light_lanes(const persp_draw_state *ds, const float *side, int n, li
 {
     float c[6][PERSP_LANE_MAX];
     pad_lit_span(g, n);
-    light_soa(ds, side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
+    light_soa(ds->isa, ds, side, n, g, c[0], c[1], c[2], c[3], c[4], c[5]);
     if (ds->color_material)
         for (int k = 0; k < n; k++) c[0][k] *= g->cr[k], c[1][k] *= g->cg[k], c[2][k] *= g->cb[k];
-    combine_soa(ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
+    combine_soa(ds->isa, ds, n, c[0], c[1], c[2], c[3], c[4], c[5], texel, out);
 }
 
 static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, lit_span *g,
@@ -614,13 +628,12 @@ static void light_span(const persp_draw_state *ds, const persp_tri *t, int n, li
     light_lanes(ds, side, n, g, texel, out);
 }
 
-/* phong_normals with perspective-correct weights given (phong-pc); a clone
- * per instruction set for its interpolation and normalisation loops (an
- * exported function cannot carry the clones: their resolver would be
- * exported with it). */
-PERSP_SIMD_CLONES_WIDE static void phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n,
-                                               const float *w1, const float *w2, const uint32_t *texel,
-                                               uint32_t *out)
+/* phong_normals with perspective-correct weights given (phong-pc); a
+ * variant per instruction set for its interpolation and normalisation
+ * loops. */
+static PERSP_ALWAYS_INLINE void phong_lanes_body(const persp_draw_state *ds, const persp_tri *t, int n,
+                                                 const float *w1, const float *w2, const uint32_t *texel,
+                                                 uint32_t *out)
 {
     float b1[PERSP_LANE_MAX], b2[PERSP_LANE_MAX];
     const int lanes = span_lanes(n);
@@ -634,11 +647,15 @@ PERSP_SIMD_CLONES_WIDE static void phong_lanes(const persp_draw_state *ds, const
     if (ds->color_material) interp_soa(t, PERSP_A_R, lanes, b1, b2, g.cr, g.cg, g.cb);
     light_span(ds, t, n, &g, texel, out);
 }
+PERSP_ISA_VARIANTS(phong_lanes,
+                   (const persp_draw_state *ds, const persp_tri *t, int n, const float *w1, const float *w2,
+                    const uint32_t *texel, uint32_t *out),
+                   (ds, t, n, w1, w2, texel, out))
 
 void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                               const float *w2, const uint32_t *texel, uint32_t *out)
 {
-    phong_lanes(ds, t, n, w1, w2, texel, out);
+    phong_lanes(ds->isa, ds, t, n, w1, w2, texel, out);
 }
 
 /* phong_lanes for a batch whose lanes come from several triangles
@@ -647,9 +664,9 @@ void persp__shade_phong_lanes(const persp_draw_state *ds, const persp_tri *t, in
  * once, so that a segment of one or two pixels does not light a vector of
  * 16 by itself (on the 2M-triangle torus lighting was a fifth of a frame,
  * mostly padding). The same operations per lane as phong_lanes. */
-PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
-                                                  const persp_tri *const *seg_tri, const float *w1,
-                                                  const float *w2, const uint32_t *texel, uint32_t *out)
+static PERSP_ALWAYS_INLINE void phong_segments_body(const persp_draw_state *ds, int nseg, const int *seg_start,
+                                                    const persp_tri *const *seg_tri, const float *w1,
+                                                    const float *w2, const uint32_t *texel, uint32_t *out)
 {
     lit_span g;
     float side[PERSP_LANE_MAX];
@@ -669,12 +686,17 @@ PERSP_SIMD_CLONES_WIDE static void phong_segments(const persp_draw_state *ds, in
     normalize_soa(lanes, g.nx, g.ny, g.nz);
     light_lanes(ds, side, n, &g, texel, out);
 }
+PERSP_ISA_VARIANTS(phong_segments,
+                   (const persp_draw_state *ds, int nseg, const int *seg_start,
+                    const persp_tri *const *seg_tri, const float *w1, const float *w2,
+                    const uint32_t *texel, uint32_t *out),
+                   (ds, nseg, seg_start, seg_tri, w1, w2, texel, out))
 
 void persp__shade_phong_segments(const persp_draw_state *ds, int nseg, const int *seg_start,
                                  const persp_tri *const *seg_tri, const float *w1, const float *w2,
                                  const uint32_t *texel, uint32_t *out)
 {
-    phong_segments(ds, nseg, seg_start, seg_tri, w1, w2, texel, out);
+    phong_segments(ds->isa, ds, nseg, seg_start, seg_tri, w1, w2, texel, out);
 }
 
 /* Flat: one lighting evaluation per triangle. */
@@ -696,7 +718,7 @@ static void shade_flat(const persp_draw_state *ds, const persp_tri *t, const per
         d[0][k] = diff[0], d[1][k] = diff[1], d[2][k] = diff[2];
         d[3][k] = spec[0], d[4][k] = spec[1], d[5][k] = spec[2];
     }
-    combine_soa(ds, b->n, d[0], d[1], d[2], d[3], d[4], d[5], texel, out);
+    combine_soa(ds->isa, ds, b->n, d[0], d[1], d[2], d[3], d[4], d[5], texel, out);
 }
 
 static void shade_phong(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
@@ -747,6 +769,10 @@ static const char *shade_method_spec(persp_shading s)
 persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
 {
     memset(&ds->shade_method, 0, sizeof ds->shade_method);
+    /* The lighting loops follow the context's instruction set, as the
+     * samplers do (persp_context_desc.simd, resolved when a frame begins);
+     * before any frame, the widest this CPU has. */
+    ds->isa = ctx && ctx->isa >= 0 ? ctx->isa : persp__cpu_isa();
     if (ds->shading == PERSP_SHADING_DEFAULT) ds->shading = PERSP_SHADING_NONE;
     const char *spec = shade_method_spec(ds->shading);
     if (spec) {
@@ -802,7 +828,7 @@ void persp__light_vertices(const persp_draw_state *ds, int n, const persp_light_
         if (!out) continue;
         float sides[PERSP_SPAN_MAX], d[6][PERSP_SPAN_MAX];
         for (int k = 0; k < span_lanes(n); k++) sides[k] = side ? -1.0f : 1.0f;
-        light_soa(ds, sides, n, &s, d[0], d[1], d[2], d[3], d[4], d[5]);
+        light_soa(ds->isa, ds, sides, n, &s, d[0], d[1], d[2], d[3], d[4], d[5]);
         if (ds->color_material)
             for (int k = 0; k < n; k++) d[0][k] *= in->c[0][k], d[1][k] *= in->c[1][k], d[2][k] *= in->c[2][k];
         for (int c = 0; c < 3; c++)

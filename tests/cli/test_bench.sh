@@ -60,8 +60,11 @@ if "$persp" bench --method all "${tiny[@]}" --json >"$tmp/all.json" 2>"$tmp/err"
 else bad "bench --method all exited non-zero: $(cat "$tmp/err")"; fi
 
 # --simd: each sampler variant this CPU runs is used as asked and draws the
-# same image (every filter of the vectorised samplers, both wraps); one it
-# cannot run fails naming it; auto resolves to a variant.
+# same image (every filter of the vectorised samplers, both wraps; the
+# vertex stage and the lighting loops, which follow it too, with every lit
+# mode, culling off so that Gouraud's back faces are lit in the vertex
+# stage, and on); one it cannot run fails naming it; auto resolves to a
+# variant.
 expect 2 "bad --simd 'sse9'" -- "$persp" bench --simd sse9
 ran=0
 for s in baseline avx2 avx2-gather avx512 avx512-gather; do
@@ -75,6 +78,17 @@ for s in baseline avx2 avx2-gather avx512 avx512-gather; do
                 if [ "$s" != baseline ]; then
                     cmp -s "$tmp/simd-baseline-$f-$w.png" "$tmp/simd-$s-$f-$w.png" && ok \
                         || bad "--simd $s --filter $f --wrap $w draws another image than baseline"
+                fi
+            done
+        done
+        for sh in flat gouraud gouraud-pc phong phong-pc; do
+            for cull in on off; do
+                "$persp" render "$src/scenes/bench/torus-2k.json" --size 96x72 --shading "$sh" --cull "$cull" \
+                    --simd "$s" -o "$tmp/simd-$s-$sh-$cull.png" -q 2>>"$tmp/err" \
+                    || bad "render --simd $s --shading $sh failed: $(cat "$tmp/err")"
+                if [ "$s" != baseline ]; then
+                    cmp -s "$tmp/simd-baseline-$sh-$cull.png" "$tmp/simd-$s-$sh-$cull.png" && ok \
+                        || bad "--simd $s --shading $sh --cull $cull draws another image than baseline"
                 fi
             done
         done

@@ -520,8 +520,9 @@ const cli_spec cli_opt_simd = {.name = "simd",
                                .metavar = "V",
                                .names = simd_names,
                                .values = simd_values,
-                               .help = "vector variant of the texture samplers: auto, baseline,\n"
-                                       "avx2, avx2-gather, avx512, avx512-gather (same images;\n"
+                               .help = "vector variant of the texture samplers and width of the\n"
+                                       "vertex and lighting loops: auto, baseline, avx2,\n"
+                                       "avx2-gather, avx512, avx512-gather (same images;\n"
                                        "default auto: chosen for the CPU)"};
 const cli_spec cli_opt_cull = {.name = "cull",
                                .kind = CLI_KIND_ENUM,
