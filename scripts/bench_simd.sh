@@ -7,17 +7,20 @@
 #   2. corridor 3840x2160 (nearest, bilinear, trilinear) at 1, 2, 4, 8, ...
 #      up to all threads, the peer at one and at all threads;
 #   3. the 2M-triangle torus (gouraud-pc) at 1, 4 and all threads, with the
-#      peer at each.
+#      peer at each;
+#   4. the 2M-triangle torus at one thread, unlit, gouraud-pc and phong-pc,
+#      with auto, avx2 and avx512 (the vertex stage and the lighting loops
+#      follow --simd: does 512-bit arithmetic cost this CPU its clock?).
 # Prints Markdown tables; the raw JSON of every run is kept in OUTDIR.
 #
 #   scripts/bench_simd.sh [PERSP] [OUTDIR]    (defaults: build/persp, out/bench-simd)
-#   REPS=3 TIME=0.3 PEER=llvmpipe PARTS="1 2 3" scripts/bench_simd.sh
+#   REPS=3 TIME=0.3 PEER=llvmpipe PARTS="1 2 3 4" scripts/bench_simd.sh
 #   VARIANTS="auto avx512" (part 1) and THREAD_LIST="1 16" (part 2) narrow the runs.
 set -u
 persp="${1:-build/persp}"
 outdir="${2:-out/bench-simd}"
 root="$(cd "$(dirname "$0")/.." && pwd)"
-reps="${REPS:-3}" run_time="${TIME:-0.3}" peer="${PEER:-llvmpipe}" parts="${PARTS:-1 2 3}"
+reps="${REPS:-3}" run_time="${TIME:-0.3}" peer="${PEER:-llvmpipe}" parts="${PARTS:-1 2 3 4}"
 all=$(nproc 2>/dev/null || echo 2)
 mkdir -p "$outdir"
 peer_args=(--peer "$peer")
@@ -110,5 +113,20 @@ if [[ " $parts " == *" 3 "* ]]; then
     done
     echo
     echo "Thread scaling, 2M-triangle torus, gouraud-pc, 1024x768:"
+    table "${files[@]}"
+fi
+
+if [[ " $parts " == *" 4 "* ]]; then
+    files=()
+    for sh in none gouraud-pc phong-pc; do
+        for s in auto avx2 avx512; do
+            "$persp" bench --simd "$s" --frames 1 --reps 1 >/dev/null 2>&1 || continue
+            run "torus2m-$sh-$s" "$root/scenes/bench/torus-2m.json" --shading "$sh" --simd "$s" \
+                --threads 1 "${peer_args[@]}"
+            files+=("$outdir/torus2m-$sh-$s.json")
+        done
+    done
+    echo
+    echo "Vector width, 2M-triangle torus, 1024x768, one thread:"
     table "${files[@]}"
 fi
