@@ -146,20 +146,25 @@ static size_t frame_batch_limit(const persp_frame *f)
     return f->capture ? SIZE_MAX : f->batch;
 }
 
-/* Room for need records in the frame's array, its first tri_count kept.
- * Unlike persp__grow nothing is zeroed and only the kept records are
- * copied: the slots that in-place set-up leaves as gaps (mesh_triangles_
- * parallel; most of a batch on a culled mesh) are never written, so their
- * pages stay out of the resident set, and a bounded batch is allocated
- * whole at once rather than doubled into while the old copy is held
+/* Room for need records in the frame's array, its first tri_count kept;
+ * whole: grow to a whole batch at once (in-place set-up, which fills it)
+ * rather than by doubling (serial set-up, whatever the scene's size, so
+ * that a small scene holds little of the memory budget). Unlike
+ * persp__grow nothing is zeroed and only the kept records are copied: the
+ * slots that in-place set-up leaves as gaps (mesh_triangles_parallel; most
+ * of a batch on a culled mesh) are never written, so their pages stay out
+ * of the resident set, and no doubling holds two copies of a batch
  * (docs/PERFORMANCE.md, item 56). Nothing reads a slot before set-up
  * writes it: binning skips gaps by their tile range. */
-static persp_status grow_records(persp_frame *f, size_t need)
+static persp_status grow_records(persp_frame *f, size_t need, int whole)
 {
     struct persp_render_cache *c = f->cache;
     if (need <= c->tri_cap) return PERSP_OK;
-    const size_t whole = f->capture || f->batch > PERSP_FRAME_BATCH_MAX ? 2 * c->tri_cap : f->batch;
-    const size_t ncap = PERSP_MAX(need, whole);
+    const size_t batch = frame_batch_limit(f);
+    const size_t grown = whole && batch <= PERSP_FRAME_BATCH_MAX
+                             ? batch
+                             : PERSP_MIN(PERSP_MAX((size_t)16, 2 * c->tri_cap), batch);
+    const size_t ncap = PERSP_MAX(need, grown);
     size_t bytes;
     persp_tri *n = persp__size_mul(ncap, sizeof *n, &bytes) ? persp__alloc(f->ctx, bytes) : NULL;
     if (!n) return PERSP_ERR_OUT_OF_MEMORY;
@@ -187,7 +192,7 @@ static persp_status reserve_triangles(persp_frame *f, size_t want, size_t *room)
         if (room) *room = n;
         return PERSP_OK;
     }
-    if (grow_records(f, f->tri_count + n) != PERSP_OK ||
+    if (grow_records(f, f->tri_count + n, 0) != PERSP_OK ||
         persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + n, sizeof *c->tiles) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     if (room) *room = n;
@@ -756,7 +761,7 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
                 if ((st = frame_flush_batch(f, 0)) != PERSP_OK) return st;
                 f->tri_count = f->prep_count = 0;
             }
-            if (grow_records(f, f->tri_count + slots) != PERSP_OK ||
+            if (grow_records(f, f->tri_count + slots, 1) != PERSP_OK ||
                 persp__grow(f->ctx, (void **)&c->tiles, &c->tiles_cap, f->tri_count + slots,
                             sizeof *c->tiles) != PERSP_OK)
                 return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");

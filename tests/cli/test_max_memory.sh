@@ -15,6 +15,11 @@ expect 0 "1024x768" -- "$persp" render corridor --max-memory 64M -o "$tmp/b.png"
 expect 0 "1024x768" -- "$persp" render corridor -o "$tmp/c.png"
 cmp -s "$tmp/b.png" "$tmp/c.png" && ok || bad "the budget changed the image"
 expect 0 "64x48" -- "$persp" bench floor --size 64x48 --frames 1 --reps 1 --max-memory 16M
+# A small scene holds little of the budget however many threads draw it:
+# the frame's set-up records grow with what it sets up, not to the whole
+# batch 16 workers may hold (35 MiB).
+expect 0 "1024x768" -- "$persp" render corridor --threads 16 --max-memory 16M -o "$tmp/t16.png"
+cmp -s "$tmp/t16.png" "$tmp/c.png" && ok || bad "16 threads under a budget drew another image"
 expect 2 "bad --max-memory '5X'" -- "$persp" render --max-memory 5X -o "$tmp/x.png"
 expect 2 "bad --max-memory '0'" -- "$persp" render --max-memory 0 -o "$tmp/x.png"
 expect 2 "bad --max-memory '99999999999T'" -- "$persp" render --max-memory 99999999999T -o "$tmp/x.png"
