@@ -22,12 +22,8 @@
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__gnu_linux__) &&  \
     !defined(__SANITIZE_THREAD__)
 #define PERSP_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-/* For loops bound by arithmetic rather than memory (lighting): an AVX-512
- * clone as well, which doubles the lanes of divisions and square roots. */
-#define PERSP_SIMD_CLONES_WIDE __attribute__((target_clones("avx512f", "avx2", "default")))
 #else
 #define PERSP_SIMD_CLONES
-#define PERSP_SIMD_CLONES_WIDE
 #endif
 
 /* Explicit instruction-set variants of a function, for code whose variants

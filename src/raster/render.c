@@ -62,8 +62,8 @@ static void render_cache_free(persp_context *ctx)
  * Each batch also copies every tile it touches in and out (64 KiB a
  * tile). A mesh drawn in order touches few tiles a batch (the 2M torus:
  * 34-42 of 192), but unconnected triangles spread over the screen touch
- * all of them each batch (the soup: 8192 triangles touched all 192 tiles, 12 MiB
- * copied a batch, 13 % of a frame). When the last batch's tile copies
+ * all of them each batch (the soup: 8192 triangles touched all 192 tiles,
+ * 12 MiB copied a batch, 13 % of a frame). When the last batch's tile copies
  * outweighed its records, the next batch takes twice as many: soup
  * 5-7 % less CPU, tori unchanged (a fixed doubling cost the tori 0.5-3 %). */
 #define PERSP_FRAME_BATCH_PER_WORKER 12288u
