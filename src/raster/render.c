@@ -597,6 +597,7 @@ typedef struct tri_job {
     double gx, gy;
     setup_slab *slabs;
     size_t first; /* first input triangle of the round */
+    size_t chunk, slab; /* input triangles a set-up task takes, record slots of its slab */
 } tri_job;
 
 /* Where back_colours finds the back colours of triangle ix's vertices. */
@@ -676,24 +677,29 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
 }
 
 /* Triangle set-up on the worker threads: a round gives each of its tasks
- * SETUP_CHUNK consecutive input triangles and a slab for their records;
+ * a chunk of consecutive input triangles and a slab for their records;
  * the calling thread then appends the slabs in input order, and sets up
  * itself whatever a full slab left over before moving to the next slab, so
  * the frame receives exactly the serial sequence of triangles. */
 /* 2048 rather than 512: each round is a start and a wait of the worker
  * threads, and with 512 their wake-ups took a sixth of a two-thread frame
  * of the 2M torus (kernel time); 2048: −13 % wall there, −8 % on the 200k
- * torus. */
+ * torus. A mesh too small for two chunks a worker takes smaller ones,
+ * down to SETUP_CHUNK_MIN, so that every worker sets up a share: its one
+ * round is one start and wait (the 2k torus, 2000 triangles, was set up
+ * by the calling thread alone: docs/PERFORMANCE.md, item 59). A slab holds
+ * half as many records again as its chunk has triangles (clipping makes
+ * more). */
 #define SETUP_CHUNK 2048u
-#define SETUP_SLAB (SETUP_CHUNK + SETUP_CHUNK / 2)
+#define SETUP_CHUNK_MIN 256u
 
 static void setup_task(void *user, int task, int worker)
 {
     (void)worker;
     tri_job *j = user;
     setup_slab *slab = &j->slabs[task];
-    const size_t a = j->first + (size_t)task * SETUP_CHUNK;
-    const size_t b = PERSP_MIN(a + SETUP_CHUNK, j->mesh->index_count / 3);
+    const size_t a = j->first + (size_t)task * j->chunk;
+    const size_t b = PERSP_MIN(a + j->chunk, j->mesh->index_count / 3);
     slab->count = 0;
     (void)mesh_triangles(j, a, b, slab); /* a slab sink cannot fail */
 }
@@ -715,7 +721,7 @@ static persp_status append_slab(persp_frame *f, const setup_slab *slab)
 }
 
 /* Slabs in place: each task of a round sets up straight into its own
- * region of SETUP_SLAB slots of the frame's records, so that nothing is
+ * region of j->slab slots of the frame's records, so that nothing is
  * copied (a copy of every record on the calling thread took a fifth of a
  * two-thread frame of the 2M torus). The slots a task leaves unused stay
  * in the batch as gaps, marked as covering no tile, so binning passes over
@@ -724,10 +730,10 @@ static persp_status append_slab(persp_frame *f, const setup_slab *slab)
  * task's slab overflowed, the slabs after it are moved out to the scratch
  * slabs and appended by copying after the overflowing chunk's remainder,
  * which keeps the serial order. */
-static persp_status scratch_slabs(persp_frame *f, size_t tasks)
+static persp_status scratch_slabs(persp_frame *f, size_t tasks, size_t slab)
 {
     struct persp_render_cache *c = f->cache;
-    if (persp__grow(f->ctx, (void **)&c->slab_tris, &c->slab_cap, tasks * SETUP_SLAB,
+    if (persp__grow(f->ctx, (void **)&c->slab_tris, &c->slab_cap, tasks * slab,
                     sizeof *c->slab_tris) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     return PERSP_OK;
@@ -741,21 +747,21 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
      * (at least one per worker). */
     const size_t batch_slots = frame_batch_limit(f);
     const size_t tasks_max =
-        PERSP_MAX((size_t)workers, PERSP_MIN((size_t)workers * 2, batch_slots / SETUP_SLAB));
+        PERSP_MAX((size_t)workers, PERSP_MIN((size_t)workers * 2, batch_slots / j->slab));
     if (persp__grow(f->ctx, (void **)&c->slabs, &c->slabs_cap, tasks_max, sizeof *c->slabs) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     j->slabs = c->slabs;
-    for (j->first = 0; j->first < ntri; j->first += tasks_max * SETUP_CHUNK) {
+    for (j->first = 0; j->first < ntri; j->first += tasks_max * j->chunk) {
         const size_t batch = frame_batch_limit(f);
         const size_t left = ntri - j->first;
-        const int tasks = (int)PERSP_MIN(tasks_max, (left + SETUP_CHUNK - 1) / SETUP_CHUNK);
-        const size_t slots = (size_t)tasks * SETUP_SLAB;
+        const int tasks = (int)PERSP_MIN(tasks_max, (left + j->chunk - 1) / j->chunk);
+        const size_t slots = (size_t)tasks * j->slab;
         persp_status st;
         const int in_place = !f->capture && slots <= batch;
         /* The scratch slabs (a batch's worth of records: 13 MB with two
          * workers) exist only once a round needs them: without in-place
          * slabs, or when a slab overflowed (below). */
-        if (!in_place && scratch_slabs(f, tasks_max) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
+        if (!in_place && scratch_slabs(f, tasks_max, j->slab) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
         if (in_place) {
             if (f->tri_count + slots > batch && f->tri_count > 0) {
                 if ((st = frame_flush_batch(f, 0)) != PERSP_OK) return st;
@@ -768,9 +774,9 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         }
         const size_t base = f->tri_count;
         for (int k = 0; k < tasks; k++) {
-            c->slabs[k].tris = in_place ? c->tris + base + (size_t)k * SETUP_SLAB : c->slab_tris + (size_t)k * SETUP_SLAB;
-            c->slabs[k].tiles = in_place ? c->tiles + base + (size_t)k * SETUP_SLAB : NULL;
-            c->slabs[k].cap = SETUP_SLAB;
+            c->slabs[k].tris = in_place ? c->tris + base + (size_t)k * j->slab : c->slab_tris + (size_t)k * j->slab;
+            c->slabs[k].tiles = in_place ? c->tiles + base + (size_t)k * j->slab : NULL;
+            c->slabs[k].cap = j->slab;
         }
         st = persp__pool_run(f->ctx, tasks, setup_task, j);
         if (st != PERSP_OK)
@@ -779,25 +785,25 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         int copying = !in_place;
         for (int k = 0; k < tasks; k++) {
             const setup_slab *slab = &j->slabs[k];
-            const size_t end = PERSP_MIN(j->first + ((size_t)k + 1) * SETUP_CHUNK, ntri);
+            const size_t end = PERSP_MIN(j->first + ((size_t)k + 1) * j->chunk, ntri);
             if (copying) {
                 if ((st = append_slab(f, slab)) != PERSP_OK) return st;
             } else {
                 /* The records and their tile ranges are in place (the task
                  * wrote both); the unused slots become gaps. */
-                const size_t region = base + (size_t)k * SETUP_SLAB;
-                for (size_t i = slab->count; i < SETUP_SLAB; i++)
+                const size_t region = base + (size_t)k * j->slab;
+                for (size_t i = slab->count; i < j->slab; i++)
                     c->tiles[region + i] = (struct tri_tiles){1, 0, 1, 0};
-                f->gap_count += SETUP_SLAB - slab->count;
-                f->tri_count = region + SETUP_SLAB;
+                f->gap_count += j->slab - slab->count;
+                f->tri_count = region + j->slab;
                 if (slab->stop < end && k + 1 < tasks) {
                     /* The later slabs leave the frame before the serial
                      * remainder of this chunk is appended after it. */
-                    if (scratch_slabs(f, tasks_max) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
+                    if (scratch_slabs(f, tasks_max, j->slab) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
                     for (int m = k + 1; m < tasks; m++) {
                         setup_slab *later = &j->slabs[m];
-                        memcpy(c->slab_tris + (size_t)m * SETUP_SLAB, later->tris, later->count * sizeof *c->tris);
-                        later->tris = c->slab_tris + (size_t)m * SETUP_SLAB;
+                        memcpy(c->slab_tris + (size_t)m * j->slab, later->tris, later->count * sizeof *c->tris);
+                        later->tris = c->slab_tris + (size_t)m * j->slab;
                         later->tiles = NULL;
                     }
                     copying = 1;
@@ -851,9 +857,12 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
                   .mvp = job.mvp, .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
-    /* Serial where set-up appends beside the records: method state, and a
-     * capture's vertices (emit_triangle). */
-    if (workers < 2 || job.ds->method.m->prepare || f->capture || ntri < 4 * SETUP_CHUNK)
+    tj.chunk = PERSP_MIN((size_t)SETUP_CHUNK, PERSP_MAX((size_t)SETUP_CHUNK_MIN, ntri / (2 * (size_t)workers)));
+    tj.slab = tj.chunk + tj.chunk / 2;
+    /* Serial where set-up appends beside the records (method state, and a
+     * capture's vertices: emit_triangle), and for fewer than two chunks a
+     * worker. */
+    if (workers < 2 || job.ds->method.m->prepare || f->capture || ntri < 2 * (size_t)workers * SETUP_CHUNK_MIN)
         return mesh_triangles(&tj, 0, ntri, NULL);
     return mesh_triangles_parallel(&tj, ntri, workers);
 }
