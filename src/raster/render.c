@@ -857,12 +857,14 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
                   .mvp = job.mvp, .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
-    tj.chunk = PERSP_MIN((size_t)SETUP_CHUNK, PERSP_MAX((size_t)SETUP_CHUNK_MIN, ntri / (2 * (size_t)workers)));
+    tj.chunk =
+        PERSP_MIN((size_t)SETUP_CHUNK, PERSP_MAX((size_t)SETUP_CHUNK_MIN, ntri / (2 * (size_t)workers)));
     tj.slab = tj.chunk + tj.chunk / 2;
     /* Serial where set-up appends beside the records (method state, and a
      * capture's vertices: emit_triangle), and for fewer than two chunks a
      * worker. */
-    if (workers < 2 || job.ds->method.m->prepare || f->capture || ntri < 2 * (size_t)workers * SETUP_CHUNK_MIN)
+    if (workers < 2 || job.ds->method.m->prepare || f->capture ||
+        ntri < 2 * (size_t)workers * SETUP_CHUNK_MIN)
         return mesh_triangles(&tj, 0, ntri, NULL);
     return mesh_triangles_parallel(&tj, ntri, workers);
 }
