@@ -543,9 +543,12 @@ static void test_batches_bit_identical(void **state)
 
 /* Every benchmark scene of docs/PERFORMANCE.md (scripts/bench.sh), with
  * each shading the table measures, gives the same image on one, two and
- * three worker threads: the 2M-triangle torus and the soup are set up on
- * the workers in slabs (render.c, mesh_triangles_parallel), the others
- * serially, and the tiles are drawn in parallel in every case. */
+ * three worker threads, from the same triangles and fragments: the tori
+ * and the soup are set up on the workers in slabs (render.c,
+ * mesh_triangles_parallel; the 2k torus in chunks smaller than the
+ * others'), the corridor serially, and the tiles are drawn in parallel in
+ * every case. A triangle set up twice would leave the image as it is
+ * (its copy fails the depth test) but not the counts. */
 static void test_bench_scenes_thread_independent(void **state)
 {
     (void)state;
@@ -563,14 +566,24 @@ static void test_bench_scenes_thread_independent(void **state)
             memset(&d, 0, sizeof d);
             d.shading = shadings[sh];
             uint64_t ref = 0;
+            persp_render_stats ref_st;
+            memset(&ref_st, 0, sizeof ref_st);
             for (int threads = 1; threads <= 3; threads++) {
                 persp_render_stats st;
                 const uint64_t h = render_hash_batched(scenes[si], &d, threads, 0, W, H, NULL, &st);
                 assert_true(st.pixels_written > W * H / 4);
-                if (threads == 1) ref = h;
-                else if (h != ref)
+                if (threads == 1) {
+                    ref = h, ref_st = st;
+                    continue;
+                }
+                if (h != ref)
                     fail_msg("%s, shading %d, %d threads: hash %016llx, one thread %016llx", scenes[si],
                              (int)shadings[sh], threads, (unsigned long long)h, (unsigned long long)ref);
+                if (st.triangles_drawn != ref_st.triangles_drawn || st.fragments != ref_st.fragments)
+                    fail_msg("%s, shading %d, %d threads: %llu triangles, %llu fragments; one thread %llu, %llu",
+                             scenes[si], (int)shadings[sh], threads, (unsigned long long)st.triangles_drawn,
+                             (unsigned long long)st.fragments, (unsigned long long)ref_st.triangles_drawn,
+                             (unsigned long long)ref_st.fragments);
             }
         }
 }
