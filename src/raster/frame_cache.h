@@ -53,6 +53,8 @@ struct persp_render_cache {
     size_t win_cap;
     float *back; /* per vertex: Gouraud's back colour, when the vertex stage lights it */
     size_t back_cap;
+    uint8_t *lazy; /* per vertex: Gouraud's front colour left to set-up (render.c, front_colours) */
+    size_t lazy_cap;
     persp_tri *slab_tris; /* records set up by the worker threads */
     size_t slab_cap;
     struct setup_slab *slabs;

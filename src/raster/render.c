@@ -40,6 +40,7 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->bin_items);
     persp__free(ctx, c->states);
     persp__free(ctx, c->fits);
+    persp__free(ctx, c->lazy);
     persp__free(ctx, c->worker_stats);
     persp__free(ctx, c);
     ctx->render = NULL;
@@ -415,6 +416,7 @@ typedef struct vertex_job {
      * computes only what clipping and set-up use. */
     int nattr;
     int back; /* Gouraud: light the backs too, into the cache's back array (back_colours) */
+    int lazy; /* Gouraud: leave the fronts of vertices facing away to set-up (front_colours) */
 } vertex_job;
 
 /* llround for |v| < 2^31: v − trunc(v) is exact, so halves round away
@@ -564,7 +566,34 @@ static void vertex_task(void *user, int task, int worker)
             }
             at[PERSP_A_EX] = ep[0][k], at[PERSP_A_EY] = ep[1][k], at[PERSP_A_EZ] = ep[2][k];
         }
-        if (gouraud) {
+        if (gouraud && j->lazy) {
+            /* Only the vertices facing the eye, packed together; the
+             * others' fronts are lit by set-up for the few drawn triangles
+             * that show them (front_colours), and stand at 0 here. */
+            float pk[9][VERTEX_BLOCK], rgb[3][VERTEX_BLOCK];
+            size_t lit_k[VERTEX_BLOCK];
+            int m = 0;
+            for (size_t k = 0; k < n; k++) {
+                const float facing = en[0][k] * ep[0][k] + en[1][k] * ep[1][k] + en[2][k] * ep[2][k];
+                c->lazy[i0 + k] = (uint8_t)!(facing < 0.0f);
+                if (c->lazy[i0 + k]) continue;
+                for (int r = 0; r < 3; r++)
+                    pk[r][m] = en[r][k], pk[3 + r][m] = ep[r][k], pk[6 + r][m] = col[r][k];
+                lit_k[m++] = k;
+            }
+            const persp_light_in in = {{pk[0], pk[1], pk[2]}, {pk[3], pk[4], pk[5]}, {pk[6], pk[7], pk[8]}};
+            float *const front[3] = {rgb[0], rgb[1], rgb[2]};
+            persp__light_vertices(j->ds, m, &in, front, NULL);
+            for (size_t k = 0; k < n; k++) {
+                float *at = c->verts + (i0 + k) * stride;
+                at[PERSP_A_R] = at[PERSP_A_G] = at[PERSP_A_B] = 0.0f;
+                at[PERSP_A_A] = 1.0f;
+            }
+            for (int q = 0; q < m; q++) {
+                float *at = c->verts + (i0 + lit_k[q]) * stride;
+                at[PERSP_A_R] = rgb[0][q], at[PERSP_A_G] = rgb[1][q], at[PERSP_A_B] = rgb[2][q];
+            }
+        } else if (gouraud) {
             float rgb[6][VERTEX_BLOCK];
             const persp_light_in in = {{en[0], en[1], en[2]}, {ep[0], ep[1], ep[2]}, {col[0], col[1], col[2]}};
             float *const front[3] = {rgb[0], rgb[1], rgb[2]}, *const back[3] = {rgb[3], rgb[4], rgb[5]};
@@ -594,6 +623,7 @@ typedef struct tri_job {
     int nattr; /* the vertex cache's attributes per vertex (vertex_attrs) */
     persp_mat4 mvp; /* clip positions of clipped triangles (clip_position) */
     const float *back; /* the vertex stage's back colours, or NULL (back_colours) */
+    const uint8_t *lazy; /* the vertices whose front colour set-up lights, or NULL (front_colours) */
     double gx, gy;
     setup_slab *slabs;
     size_t first; /* first input triangle of the round */
@@ -607,6 +637,41 @@ static void colour_sources(const tri_job *j, const uint32_t ix[3], const float *
         col[k] = j->mesh->vertices[ix[k]].color;
         back[k] = j->back ? j->back + 3 * (size_t)ix[k] : NULL;
     }
+}
+
+/* Gouraud's front colours that the vertex stage left to set-up (those of
+ * vertices facing away from the eye, which a closed mesh drawn with
+ * culling shows only along its silhouettes: lighting them all was about
+ * 4 % of a frame of the 2M-triangle torus): into a[k], the attributes of
+ * vertex ix[k] as the vertex cache holds them, for each such vertex, from
+ * the normal, position and colour the vertex stage lit the others from,
+ * through the same persp__light_vertices, so that every vertex gets the
+ * bits it would have got there. 0 if a colour is not finite: the triangle
+ * is dropped, as the vertex stage's probe drops a vertex whose colour is
+ * not. */
+static int front_colours(const tri_job *j, const uint32_t ix[3], float *const a[3])
+{
+    float in[9][3], rgb[3][3];
+    int of[3], m = 0;
+    for (int k = 0; k < 3; k++) {
+        if (!j->lazy[ix[k]]) continue;
+        for (int r = 0; r < 3; r++) {
+            in[r][m] = a[k][PERSP_A_NX + r];
+            in[3 + r][m] = a[k][PERSP_A_EX + r];
+            in[6 + r][m] = j->mesh->vertices[ix[k]].color[r];
+        }
+        of[m++] = k;
+    }
+    if (!m) return 1;
+    const persp_light_in li = {{in[0], in[1], in[2]}, {in[3], in[4], in[5]}, {in[6], in[7], in[8]}};
+    float *const front[3] = {rgb[0], rgb[1], rgb[2]};
+    persp__light_vertices(&j->sink.f->cache->states[j->state], m, &li, front, NULL);
+    for (int q = 0; q < m; q++)
+        for (int r = 0; r < 3; r++) {
+            if (!isfinite(rgb[r][q])) return 0;
+            a[of[q]][PERSP_A_R + r] = rgb[r][q];
+        }
+    return 1;
 }
 
 /* Input triangles [a, b) into the job's sink (or slab, when given): trivial
@@ -646,6 +711,13 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                 tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
                                         w->q, c->verts + ix[k] * stride};
             }
+            float lit[3][PERSP_A_BR];
+            if (j->lazy && (j->lazy[ix[0]] | j->lazy[ix[1]] | j->lazy[ix[2]])) {
+                for (int k = 0; k < 3; k++) memcpy(lit[k], tv[k].attr, stride * sizeof(float));
+                float *const la[3] = {lit[0], lit[1], lit[2]};
+                if (!front_colours(j, ix, la)) continue;
+                for (int k = 0; k < 3; k++) tv[k].attr = lit[k];
+            }
             const float *col[3], *back[3];
             colour_sources(j, ix, col, back);
             st = sink_triangle(&sk, tv, &e, col, back, j->state, j->cull);
@@ -659,6 +731,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                 clip_position(&j->mvp, &mesh->vertices[ix[k]], in[k].clip);
                 memcpy(in[k].attr, c->verts + ix[k] * stride, stride * sizeof(float));
             }
+            float *const ia[3] = {in[0].attr, in[1].attr, in[2].attr};
+            if (j->lazy && !front_colours(j, ix, ia)) continue;
             const persp_draw_state *ds = &c->states[j->state];
             if (persp__shade_is_gouraud(ds)) {
                 float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
@@ -833,6 +907,11 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     const int back_lighting = f->ctx->back_lighting;
     vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = ds, .nattr = nattr,
                       .back = persp__shade_is_gouraud(ds) && (back_lighting ? back_lighting == 1 : !cull)};
+    /* Fronts left to set-up where backs are too (front_colours), but not
+     * for a capture, whose records the analyses read whole. */
+    job.lazy = persp__shade_is_gouraud(ds) && !job.back && !f->capture && nattr == PERSP_A_BR;
+    if (job.lazy && persp__reserve(f->ctx, (void **)&c->lazy, &c->lazy_cap, mesh->vertex_count, 1) != PERSP_OK)
+        return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     if (job.back && (!persp__size_mul(mesh->vertex_count, 3, &floats) ||
                      persp__reserve(f->ctx, (void **)&c->back, &c->back_cap, floats, sizeof *c->back) != PERSP_OK))
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
@@ -855,7 +934,8 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     }
     const size_t ntri = mesh->index_count / 3;
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
-                  .mvp = job.mvp, .back = job.back ? c->back : NULL, .gx = job.gx, .gy = job.gy};
+                  .mvp = job.mvp, .back = job.back ? c->back : NULL, .lazy = job.lazy ? c->lazy : NULL,
+                  .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
     tj.chunk =
         PERSP_MIN((size_t)SETUP_CHUNK, PERSP_MAX((size_t)SETUP_CHUNK_MIN, ntri / (2 * (size_t)workers)));
