@@ -800,8 +800,8 @@ static persp_status append_slab(persp_frame *f, const setup_slab *slab)
  * two-thread frame of the 2M torus). The slots a task leaves unused stay
  * in the batch as gaps, marked as covering no tile, so binning passes over
  * them; the frame counts them (gap_count) to report only real triangles.
- * Only without a capture, whose users walk the records by index. When a
- * task's slab overflowed, the slabs after it are moved out to the scratch
+ * (A capture, whose users walk the records by index, is set up serially:
+ * persp__frame_add_mesh.) When a task's slab overflowed, the slabs after it are moved out to the scratch
  * slabs and appended by copying after the overflowing chunk's remainder,
  * which keeps the serial order. */
 static persp_status scratch_slabs(persp_frame *f, size_t tasks, size_t slab)
@@ -831,8 +831,8 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         const int tasks = (int)PERSP_MIN(tasks_max, (left + j->chunk - 1) / j->chunk);
         const size_t slots = (size_t)tasks * j->slab;
         persp_status st;
-        const int in_place = !f->capture && slots <= batch;
-        /* The scratch slabs (a batch's worth of records: 13 MB with two
+        const int in_place = slots <= batch;
+        /* The scratch slabs (a round's worth of records: 6.9 MB with two
          * workers) exist only once a round needs them: without in-place
          * slabs, or when a slab overflowed (below). */
         if (!in_place && scratch_slabs(f, tasks_max, j->slab) != PERSP_OK) return PERSP_ERR_OUT_OF_MEMORY;
