@@ -44,6 +44,9 @@ typedef struct persp_tri {
     int backfacing;
     float light_side;            /* two-sided lighting: 1 lights the front, -1 the back
                                     (persp__shade_light_side, at set-up) */
+    uint32_t cover;              /* box of at most PERSP_SMALL_BOX_PIXELS, under 32 wide:
+                                    bit (y − ymin)·(xmax − xmin + 1) + x − xmin set for
+                                    each covered pixel centre (persp__tri_edges); else 0 */
     persp_rational rat;          /* s1 = u, s2 = v */
     persp_rational bary;         /* s1 = b1, s2 = b2 (perspective-correct barycentrics) */
     double lb1[3], lb2[3];       /* screen-linear barycentric planes (classical Gouraud/Phong) */

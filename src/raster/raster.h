@@ -107,8 +107,9 @@ typedef struct persp_tri_edges {
     int back; /* the input was clockwise (a back face) */
     int64_t bx0, bx1, by0, by1;
     int64_t ea[3], eb[3], ec[3];
+    uint32_t cover; /* small box: the covered candidates (persp_tri.cover), else 0 */
 } persp_tri_edges;
-#define PERSP_SMALL_BOX_PIXELS 9
+#define PERSP_SMALL_BOX_PIXELS 32
 /* 0 when the triangle is degenerate, culled (back face with cull), has no
  * candidate centre in the viewport, or covers none of at most
  * PERSP_SMALL_BOX_PIXELS candidates: the triangles set-up drops before any
@@ -170,18 +171,29 @@ static inline int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int w
      * (on the 2M-triangle torus, about two pixels per triangle, a third of
      * those that reach set-up); testing the few centres with the edge
      * functions the rasterizer uses drops exactly those, before the planes
-     * are fitted and the record is binned and walked. */
-    if ((bx1 - bx0 + 1) * (by1 - by0 + 1) <= PERSP_SMALL_BOX_PIXELS) {
-        int covered = 0;
-        for (int64_t py = by0; py <= by1 && !covered; py++) {
-            const int64_t Yc = py * PERSP_SUBPIXEL + half;
-            for (int64_t px = bx0; px <= bx1 && !covered; px++) {
-                const int64_t Xc = px * PERSP_SUBPIXEL + half;
-                covered = ea[0] * Xc + eb[0] * Yc + ec[0] >= 0 && ea[1] * Xc + eb[1] * Yc + ec[1] >= 0 &&
-                          ea[2] * Xc + eb[2] * Yc + ec[2] >= 0;
+     * are fitted and the record is binned and walked. The centres that pass
+     * are kept as a mask, which the row walk then reads instead of dividing
+     * (persp__row_walk_init): the same integer edge values, so the same
+     * pixels. Steps of 256·A and 256·B instead of products: all three edges
+     * are >= 0 exactly when none of their sign bits is set. */
+    e->cover = 0;
+    const int64_t bw = bx1 - bx0 + 1;
+    if (bw < 32 && bw * (by1 - by0 + 1) <= PERSP_SMALL_BOX_PIXELS) {
+        const int64_t Xc = bx0 * PERSP_SUBPIXEL + half, Yc = by0 * PERSP_SUBPIXEL + half;
+        int64_t r0 = ea[0] * Xc + eb[0] * Yc + ec[0];
+        int64_t r1 = ea[1] * Xc + eb[1] * Yc + ec[1];
+        int64_t r2 = ea[2] * Xc + eb[2] * Yc + ec[2];
+        uint32_t cover = 0, bit = 1;
+        for (int64_t py = by0; py <= by1; py++) {
+            int64_t e0 = r0, e1 = r1, e2 = r2;
+            for (int64_t px = bx0; px <= bx1; px++, bit <<= 1) {
+                if ((e0 | e1 | e2) >= 0) cover |= bit;
+                e0 += ea[0] * PERSP_SUBPIXEL, e1 += ea[1] * PERSP_SUBPIXEL, e2 += ea[2] * PERSP_SUBPIXEL;
             }
+            r0 += eb[0] * PERSP_SUBPIXEL, r1 += eb[1] * PERSP_SUBPIXEL, r2 += eb[2] * PERSP_SUBPIXEL;
         }
-        if (!covered) return 0;
+        if (!cover) return 0;
+        e->cover = cover;
     }
     return 1;
 }
@@ -209,6 +221,11 @@ typedef struct persp_row_walk {
     int64_t q[3], s[3]; /* per-row step of the bound: quotient and remainder by d[k] */
     int64_t R[3];       /* horizontal edges: edge value at the row, and its step in s[k] */
     int sign[3];        /* +1: bound from below (A > 0), −1: from above, 0: horizontal */
+    /* A triangle with a coverage mask (persp_tri.cover) walks its mask: the
+     * rows still to come, bw bits each (bw 0: the edge walk above), and the
+     * columns [lo, hi] as bits from the box's left column x. */
+    uint32_t bits, cols;
+    int bw, x;
 } persp_row_walk;
 
 /* A walk of rows rows from row y (rows >= 1; stepping past them is not
@@ -218,6 +235,14 @@ void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int rows
 /* The range of the walk's current row, then advances it by one row. */
 static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
 {
+    if (w->bw) {
+        const uint32_t row = w->bits & w->cols;
+        w->bits >>= w->bw;
+        if (!row) return 0;
+        *lo = w->x + __builtin_ctz(row);
+        *hi = w->x + 31 - __builtin_clz(row);
+        return 1;
+    }
     int64_t l = w->lo, h = w->hi;
     int ok = 1;
     for (int k = 0; k < 3; k++) {

@@ -48,6 +48,7 @@ int persp__setup_triangle_edges(const persp_winvert vin[3], const persp_tri_edge
      * cost 3 % of a phong-pc frame of the 2M-triangle torus. */
     t->backfacing = back;
     t->xmin = (int)e->bx0, t->xmax = (int)e->bx1, t->ymin = (int)e->by0, t->ymax = (int)e->by1;
+    t->cover = e->cover;
     for (int k = 0; k < 3; k++) t->ea[k] = e->ea[k], t->eb[k] = e->eb[k], t->ec[k] = e->ec[k];
 
     double vx[3], vy[3], q[3], zz[3], uq[3], vq[3], b1[3], b2[3];
@@ -142,6 +143,14 @@ void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int rows
 {
     w->lo = x0 > t->xmin ? x0 : t->xmin;
     w->hi = x1 < t->xmax ? x1 : t->xmax;
+    w->bw = 0;
+    if (t->cover) {
+        w->bw = t->xmax - t->xmin + 1;
+        w->x = t->xmin;
+        w->bits = w->lo <= w->hi ? t->cover >> ((y - t->ymin) * w->bw) : 0;
+        w->cols = w->lo <= w->hi ? ((2u << (w->hi - w->x)) - 1) & ~((1u << (w->lo - w->x)) - 1) : 0;
+        return;
+    }
     const int64_t Y = (int64_t)y * PERSP_SUBPIXEL + PERSP_SUBPIXEL / 2;
     for (int k = 0; k < 3; k++) {
         const int64_t A = t->ea[k];

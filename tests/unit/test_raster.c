@@ -237,15 +237,16 @@ static void test_watertight_guard_band_fan(void **state)
     free(cnt);
 }
 
-/* The row walk (exact stepping) gives the same ranges as the per-row
- * division for every row and clip window: random triangles of all sizes
- * and slopes, vertices on and off the sub-pixel grid, both windings, and
- * windows that cut them (the tile loop starts a walk at the tile's row). */
+/* The row walk (exact stepping, or the coverage mask set-up keeps for a
+ * small box) gives the same ranges as the per-row division for every row
+ * and clip window: random triangles of all sizes and slopes, vertices on
+ * and off the sub-pixel grid, both windings, and windows that cut them
+ * (the tile loop starts a walk at the tile's row). */
 static void test_row_walk_matches_row_range(void **state)
 {
     (void)state;
     test_rng rng = {777};
-    int checked = 0;
+    int checked = 0, masked = 0;
     for (int n = 0; n < 4000; n++) {
         double s = n % 4 == 0 ? 300 : n % 4 == 1 ? 40 : n % 4 == 2 ? 6 : 1.5;
         double cx = test_rng_uniform(&rng, -20, 220), cy = test_rng_uniform(&rng, -20, 180);
@@ -262,6 +263,7 @@ static void test_row_walk_matches_row_range(void **state)
         if (n % 7 == 0) v[1] = wv(v[0].x + 30, v[0].y); /* a horizontal edge */
         persp_tri t;
         if (!persp__setup_triangle(v, 200, 160, 0, &t, NULL)) continue;
+        masked += t.cover != 0;
         const int x0 = (int)(test_rng_next(&rng) % 200), x1 = x0 + (int)(test_rng_next(&rng) % 80);
         const int ya = t.ymin + (int)(test_rng_next(&rng) % 3);
         /* Every eighth walk of one row, which skips the per-row steps. */
@@ -279,6 +281,7 @@ static void test_row_walk_matches_row_range(void **state)
         }
     }
     assert_true(checked > 10000);
+    assert_true(masked > 500);
     /* Edges with small coefficients, so that a pixel centre often lies
      * exactly on an edge (the remainder reaches its bound) for both signs
      * of A, and horizontal edges; the two functions read only the edges
