@@ -534,7 +534,9 @@ typedef struct persp_render_desc {
 typedef struct persp_render_stats {
     /* triangles_drawn: those set up for drawing, after clipping (a clipped
      * triangle may become several) and after dropping culled ones, those
-     * outside the view and those covering no pixel centre. */
+     * outside the view and those covering no pixel centre (tested for
+     * triangles whose box holds at most 32 pixel centres; a larger one
+     * covering none, a long sliver, is counted and draws nothing). */
     uint64_t triangles_in, triangles_drawn, fragments, pixels_written;
     persp_opcount ops; /* with persp_render_desc.count_ops: the operations of the
                           texture-coordinate method over the frame (per-triangle
