@@ -34,6 +34,11 @@ struct persp_context {
      * back_colours): 0 chosen by culling, 1 the vertex stage, 2 set-up.
      * Changed only by tests, to compare the two. */
     int back_lighting;
+    /* Nonzero: no mesh cluster is culled whole (src/raster/clusters.c).
+     * Changed only by tests, to compare with culling triangle by triangle. */
+    int no_cluster_cull;
+    /* Clusters culled whole over the context's frames (tests read it). */
+    size_t clusters_culled;
     /* Sampler and packing variant (PERSP_ISA_*), from
      * persp_context_desc.simd; -1 for AUTO until persp_context_simd
      * decides it. */

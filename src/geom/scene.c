@@ -44,6 +44,7 @@ void persp__mesh_free(persp_context *ctx, persp_mesh *mesh)
     if (!mesh) return;
     persp__free(ctx, mesh->vertices);
     persp__free(ctx, mesh->indices);
+    persp__free(ctx, mesh->clusters);
     memset(mesh, 0, sizeof *mesh);
 }
 
@@ -71,6 +72,10 @@ persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index)
     for (size_t i = 0; i < mesh->vertex_count && !mesh->colored; i++) {
         const float *c = mesh->vertices[i].color;
         mesh->colored = !(c[0] == 1.0f && c[1] == 1.0f && c[2] == 1.0f);
+    }
+    if (persp__mesh_build_clusters(s->ctx, mesh) != PERSP_OK) {
+        persp__mesh_free(s->ctx, mesh);
+        return persp__fail(s->ctx, PERSP_ERR_OUT_OF_MEMORY, "scene: out of memory for a mesh's clusters");
     }
     s->meshes[s->mesh_count] = *mesh;
     memset(mesh, 0, sizeof *mesh);

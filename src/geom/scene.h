@@ -15,13 +15,40 @@
 #define PERSP_SCENE_MAX_LIGHTS 8
 #define PERSP_SCENE_MAX_TEXTURES 1024
 
+/* A run of PERSP_CLUSTER_TRIANGLES consecutive triangles of a mesh (the
+ * last may be shorter), described so that a frame can decide whether every
+ * one of them is a back face it would cull without looking at any of them
+ * (src/raster/clusters.c), in object space: a sphere around their
+ * vertices, a cone around their face normals (from the winding), their
+ * shape, and the vertices they use. Built once, when the mesh joins a
+ * scene (src/geom/clusters.c); a scene's meshes do not change after. */
+#define PERSP_CLUSTER_TRIANGLES 64
+#define PERSP_CLUSTER_RUNS 4
+typedef struct persp_cluster {
+    double center[3], radius;  /* every vertex is within radius of center */
+    double axis[3];            /* unit; every unit face normal n has n·axis >= cos_a */
+    double cos_a, sin_a;       /* the cone's half-angle, cos_a > 0 */
+    double alt_min;            /* least height of a triangle over its longest edge, > 0 */
+    double edge_min;           /* least longest edge of a triangle, > 0 */
+    uint32_t run[PERSP_CLUSTER_RUNS][2]; /* vertex index ranges [first, last + 1) that
+                                            hold every vertex the triangles use */
+    int runs; /* 0: an index is out of range (the frame refuses the mesh) */
+    int usable; /* 0: a degenerate or non-finite triangle, an index out of
+                   range, or normals too spread for a cone: never culled whole */
+} persp_cluster;
+
 typedef struct persp_mesh {
     persp_vertex *vertices;
     uint32_t *indices; /* triangles, 3 per face, counter-clockwise = front */
     size_t vertex_count, index_count;
     int has_normals;   /* 0: normals were computed by persp */
     int colored;       /* some vertex colour is not white (persp__scene_add_mesh) */
+    persp_cluster *clusters; /* index_count / 3 / PERSP_CLUSTER_TRIANGLES rounded up, or NULL */
+    size_t cluster_count;
 } persp_mesh;
+
+/* Fills mesh->clusters (none for a mesh of fewer than two clusters). */
+persp_status persp__mesh_build_clusters(persp_context *ctx, persp_mesh *mesh);
 
 typedef enum persp_texenv {
     PERSP_TEXENV_REPLACE = 0, /* fragment colour = texture colour ([CS300-TexMap]) */

@@ -55,6 +55,10 @@ struct persp_render_cache {
     size_t back_cap;
     uint8_t *lazy; /* per vertex: Gouraud's front colour left to set-up (render.c, front_colours) */
     size_t lazy_cap;
+    uint8_t *cluster_culled; /* per cluster of the mesh being added: culled whole */
+    size_t cluster_cap;
+    uint8_t *vertex_need; /* per block of the vertex stage: some triangle not culled uses it */
+    size_t need_cap;
     persp_tri *slab_tris; /* records set up by the worker threads */
     size_t slab_cap;
     struct setup_slab *slabs;

@@ -269,4 +269,22 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
     return 1;
 }
 
+/* What culling a cluster whole needs of a frame (src/raster/clusters.c):
+ * the model-view-projection rows, the centre of projection in object space
+ * and the window's bounds. */
+typedef struct persp_cluster_view {
+    double row[4][4], E[4];
+    double tx, ty, W2, H2, K, eps;
+} persp_cluster_view;
+void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
+                              double gy);
+/* culled[k] = 1 for each of clusters[0..count) every triangle of which the
+ * frame, drawing with culling, would cull; 0 for the others. Returns how
+ * many. */
+size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters, size_t count,
+                            uint8_t *culled);
+/* need[b] = 1 for each block of `block` vertices that a cluster not culled
+ * uses (a superset). */
+void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, size_t block, uint8_t *need);
+
 #endif

@@ -41,6 +41,8 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->states);
     persp__free(ctx, c->fits);
     persp__free(ctx, c->lazy);
+    persp__free(ctx, c->cluster_culled);
+    persp__free(ctx, c->vertex_need);
     persp__free(ctx, c->worker_stats);
     persp__free(ctx, c);
     ctx->render = NULL;
@@ -417,6 +419,7 @@ typedef struct vertex_job {
     int nattr;
     int back; /* Gouraud: light the backs too, into the cache's back array (back_colours) */
     int lazy; /* Gouraud: leave the fronts of vertices facing away to set-up (front_colours) */
+    const uint8_t *need; /* per block: some triangle not culled with its cluster uses it; NULL: all */
 } vertex_job;
 
 /* llround for |v| < 2^31: v − trunc(v) is exact, so halves round away
@@ -546,6 +549,8 @@ static void vertex_task(void *user, int task, int worker)
      * (they were gathered back out of the packed cache, 4 % of a frame of
      * the 2M-triangle torus). */
     for (size_t i0 = a; i0 < b; i0 += VERTEX_BLOCK) {
+        /* Used only by clusters culled whole: no triangle reads it. */
+        if (j->need && !j->need[i0 / VERTEX_BLOCK]) continue;
         const size_t n = PERSP_MIN((size_t)VERTEX_BLOCK, b - i0);
         float cp[4][VERTEX_BLOCK], ep[4][VERTEX_BLOCK], en[3][VERTEX_BLOCK], col[3][VERTEX_BLOCK];
         transform_block(isa, &j->mvp, mesh->vertices + i0, n, cp);
@@ -614,6 +619,24 @@ static void vertex_task(void *user, int task, int worker)
     }
 }
 
+/* The cluster tests of one mesh (src/raster/clusters.c), split over the
+ * workers in ranges of CLUSTER_TASK clusters. */
+#define CLUSTER_TASK 2048u
+
+typedef struct cluster_job {
+    persp_cluster_view view;
+    const persp_mesh *mesh;
+    uint8_t *culled;
+} cluster_job;
+
+static void cluster_task(void *user, int task, int worker)
+{
+    (void)worker;
+    const cluster_job *j = user;
+    const size_t a = (size_t)task * CLUSTER_TASK, b = PERSP_MIN(a + CLUSTER_TASK, j->mesh->cluster_count);
+    persp__clusters_cull(&j->view, j->mesh->clusters + a, b - a, j->culled + a);
+}
+
 /* Triangles of one mesh after its vertex stage. */
 typedef struct tri_job {
     tri_sink sink;
@@ -624,6 +647,7 @@ typedef struct tri_job {
     persp_mat4 mvp; /* clip positions of clipped triangles (clip_position) */
     const float *back; /* the vertex stage's back colours, or NULL (back_colours) */
     const uint8_t *lazy; /* the vertices whose front colour set-up lights, or NULL (front_colours) */
+    const uint8_t *culled; /* per cluster of the mesh: culled whole, or NULL (src/raster/clusters.c) */
     double gx, gy;
     setup_slab *slabs;
     size_t first; /* first input triangle of the round */
@@ -686,65 +710,78 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
     const int width = f->fb->width, height = f->fb->height;
     tri_sink sk = {f, slab};
     const size_t stride = (size_t)j->nattr;
-    for (size_t t = a; t < b; t++) {
-        if (slab && slab->count + (PERSP_CLIP_MAX - 2) > slab->cap) {
-            slab->stop = t;
-            return PERSP_OK;
+    for (size_t t = a; t < b;) {
+        /* A cluster culled whole is skipped; without clusters the inner
+         * loop is the whole range. */
+        size_t run_end = b;
+        if (j->culled) {
+            const size_t k = t / PERSP_CLUSTER_TRIANGLES;
+            run_end = PERSP_MIN(b, (k + 1) * PERSP_CLUSTER_TRIANGLES);
+            if (j->culled[k]) {
+                t = run_end;
+                continue;
+            }
         }
-        const uint32_t *ix = &mesh->indices[3 * t];
-        const struct vert_win *w0 = &c->win[ix[0]], *w1 = &c->win[ix[1]], *w2 = &c->win[ix[2]];
-        const unsigned any = w0->code | w1->code | w2->code;
-        if ((any & PERSP_CLIP_NONFINITE) || (w0->code & w1->code & w2->code)) continue;
-        persp_status st;
-        if (!any) {
-            const int64_t X[3] = {w0->X, w1->X, w2->X}, Y[3] = {w0->Y, w1->Y, w2->Y};
-            /* What set-up would refuse, decided on the vertex stage's
-             * fixed-point positions (set-up rounds them back to the same
-             * integers): zero area, culled, no candidate centre in the
-             * viewport, or a small box covering none. Most triangles of a
-             * closed mesh end here, before their attributes are read. */
-            persp_tri_edges e;
-            if (!persp__tri_edges(X, Y, width, height, j->cull, &e)) continue;
-            persp_winvert tv[3];
-            for (int k = 0; k < 3; k++) {
-                const struct vert_win *w = &c->win[ix[k]];
-                tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
-                                        w->q, c->verts + ix[k] * stride};
+        for (; t < run_end; t++) {
+            if (slab && slab->count + (PERSP_CLIP_MAX - 2) > slab->cap) {
+                slab->stop = t;
+                return PERSP_OK;
             }
-            float lit[3][PERSP_A_BR];
-            if (j->lazy && (j->lazy[ix[0]] | j->lazy[ix[1]] | j->lazy[ix[2]])) {
-                for (int k = 0; k < 3; k++) memcpy(lit[k], tv[k].attr, stride * sizeof(float));
-                float *const la[3] = {lit[0], lit[1], lit[2]};
-                if (!front_colours(j, ix, la)) continue;
-                for (int k = 0; k < 3; k++) tv[k].attr = lit[k];
-            }
-            const float *col[3], *back[3];
-            colour_sources(j, ix, col, back);
-            st = sink_triangle(&sk, tv, &e, col, back, j->state, j->cull);
-        } else {
-            /* The attributes the draw does not read are clipped as zeros;
-             * Gouraud's back colours are lit first, as clipping
-             * interpolates them. */
-            persp_clipvert in[3];
-            memset(in, 0, sizeof in);
-            for (int k = 0; k < 3; k++) {
-                clip_position(&j->mvp, &mesh->vertices[ix[k]], in[k].clip);
-                memcpy(in[k].attr, c->verts + ix[k] * stride, stride * sizeof(float));
-            }
-            float *const ia[3] = {in[0].attr, in[1].attr, in[2].attr};
-            if (j->lazy && !front_colours(j, ix, ia)) continue;
-            const persp_draw_state *ds = &c->states[j->state];
-            if (persp__shade_is_gouraud(ds)) {
-                float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
+            const uint32_t *ix = &mesh->indices[3 * t];
+            const struct vert_win *w0 = &c->win[ix[0]], *w1 = &c->win[ix[1]], *w2 = &c->win[ix[2]];
+            const unsigned any = w0->code | w1->code | w2->code;
+            if ((any & PERSP_CLIP_NONFINITE) || (w0->code & w1->code & w2->code)) continue;
+            persp_status st;
+            if (!any) {
+                const int64_t X[3] = {w0->X, w1->X, w2->X}, Y[3] = {w0->Y, w1->Y, w2->Y};
+                /* What set-up would refuse, decided on the vertex stage's
+                 * fixed-point positions (set-up rounds them back to the same
+                 * integers): zero area, culled, no candidate centre in the
+                 * viewport, or a small box covering none. Most triangles of a
+                 * closed mesh end here, before their attributes are read. */
+                persp_tri_edges e;
+                if (!persp__tri_edges(X, Y, width, height, j->cull, &e)) continue;
+                persp_winvert tv[3];
+                for (int k = 0; k < 3; k++) {
+                    const struct vert_win *w = &c->win[ix[k]];
+                    tv[k] = (persp_winvert){w->X * (1.0 / PERSP_SUBPIXEL), w->Y * (1.0 / PERSP_SUBPIXEL), w->z,
+                                            w->q, c->verts + ix[k] * stride};
+                }
+                float lit[3][PERSP_A_BR];
+                if (j->lazy && (j->lazy[ix[0]] | j->lazy[ix[1]] | j->lazy[ix[2]])) {
+                    for (int k = 0; k < 3; k++) memcpy(lit[k], tv[k].attr, stride * sizeof(float));
+                    float *const la[3] = {lit[0], lit[1], lit[2]};
+                    if (!front_colours(j, ix, la)) continue;
+                    for (int k = 0; k < 3; k++) tv[k].attr = lit[k];
+                }
                 const float *col[3], *back[3];
                 colour_sources(j, ix, col, back);
-                back_colours(ds, v, col, back);
+                st = sink_triangle(&sk, tv, &e, col, back, j->state, j->cull);
+            } else {
+                /* The attributes the draw does not read are clipped as zeros;
+                 * Gouraud's back colours are lit first, as clipping
+                 * interpolates them. */
+                persp_clipvert in[3];
+                memset(in, 0, sizeof in);
+                for (int k = 0; k < 3; k++) {
+                    clip_position(&j->mvp, &mesh->vertices[ix[k]], in[k].clip);
+                    memcpy(in[k].attr, c->verts + ix[k] * stride, stride * sizeof(float));
+                }
+                float *const ia[3] = {in[0].attr, in[1].attr, in[2].attr};
+                if (j->lazy && !front_colours(j, ix, ia)) continue;
+                const persp_draw_state *ds = &c->states[j->state];
+                if (persp__shade_is_gouraud(ds)) {
+                    float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
+                    const float *col[3], *back[3];
+                    colour_sources(j, ix, col, back);
+                    back_colours(ds, v, col, back);
+                }
+                persp_clipvert poly[PERSP_CLIP_MAX];
+                int n = persp__clip_triangle(in, j->gx, j->gy, poly);
+                st = n >= 3 ? emit_polygon(&sk, poly, n, j->state, j->cull) : PERSP_OK;
             }
-            persp_clipvert poly[PERSP_CLIP_MAX];
-            int n = persp__clip_triangle(in, j->gx, j->gy, poly);
-            st = n >= 3 ? emit_polygon(&sk, poly, n, j->state, j->cull) : PERSP_OK;
+            if (st != PERSP_OK) return st;
         }
-        if (st != PERSP_OK) return st;
     }
     if (slab) slab->stop = b;
     return PERSP_OK;
@@ -917,9 +954,34 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     job.mv = persp_mat4_mul(*view, *model);
     job.mvp = persp_mat4_mul(*proj, job.mv);
-    if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
     job.gx = PERSP_GUARD_PIXELS / (0.5 * f->fb->width);
     job.gy = PERSP_GUARD_PIXELS / (0.5 * f->fb->height);
+    /* Clusters of back faces culled whole, and the vertices only they use
+     * left out of the vertex stage (src/raster/clusters.c): not for a
+     * capture, which the analyses read with every vertex. */
+    const uint8_t *culled = NULL;
+    if (cull && mesh->clusters && !f->capture && !f->ctx->no_cluster_cull) {
+        const size_t blocks = (mesh->vertex_count + VERTEX_BLOCK - 1) / VERTEX_BLOCK;
+        if (persp__reserve(f->ctx, (void **)&c->cluster_culled, &c->cluster_cap, mesh->cluster_count, 1) !=
+                PERSP_OK ||
+            persp__reserve(f->ctx, (void **)&c->vertex_need, &c->need_cap, blocks, 1) != PERSP_OK)
+            return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        cluster_job cj = {.mesh = mesh, .culled = c->cluster_culled};
+        persp__cluster_view_init(&cj.view, &job.mvp, f->fb->width, f->fb->height, job.gx, job.gy);
+        const int ctasks = (int)((mesh->cluster_count + CLUSTER_TASK - 1) / CLUSTER_TASK);
+        persp_status cst = persp__pool_run(f->ctx, ctasks, cluster_task, &cj);
+        if (cst != PERSP_OK)
+            return persp__fail(f->ctx, cst, "render: cannot start worker threads: %s", persp_status_string(cst));
+        size_t n = 0;
+        for (size_t k = 0; k < mesh->cluster_count; k++) n += c->cluster_culled[k];
+        f->ctx->clusters_culled += n;
+        if (n) {
+            persp__clusters_vertex_need(mesh, c->cluster_culled, VERTEX_BLOCK, c->vertex_need);
+            culled = c->cluster_culled;
+            job.need = c->vertex_need;
+        }
+    }
+    if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
     f->stats.triangles_in += mesh->index_count / 3;
     const int tasks = (int)((mesh->vertex_count + VERTEX_TASK - 1) / VERTEX_TASK);
     persp_status vst = persp__pool_run(f->ctx, tasks, vertex_task, &job);
@@ -935,6 +997,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     const size_t ntri = mesh->index_count / 3;
     tri_job tj = {.sink = {f, NULL}, .mesh = mesh, .state = state, .cull = cull, .nattr = nattr,
                   .mvp = job.mvp, .back = job.back ? c->back : NULL, .lazy = job.lazy ? c->lazy : NULL,
+                  .culled = culled,
                   .gx = job.gx, .gy = job.gy};
     const int workers = persp__pool_workers(f->ctx);
     tj.chunk =

@@ -265,7 +265,7 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     uint32_t si;
     st = persp__frame_add_state(&f, &ds, &si);
     if (st != PERSP_OK) return st;
-    persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1, 0};
+    persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1, 0, NULL, 0};
     persp_mat4 id = persp_mat4_identity();
     st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL, desc->cull_backfaces == PERSP_TOGGLE_ON);
     if (st != PERSP_OK) return st;

@@ -1,0 +1,145 @@
+/*
+ * Culling whole clusters of back faces (persp_cluster, src/geom/scene.h),
+ * exactly: a cluster is culled only when every one of its triangles would
+ * be culled by the rasterizer's own test, the sign of its area in the
+ * 1/256-pixel fixed point (persp__tri_edges). So the images, the drawn
+ * triangles and the fragments are those of culling triangle by triangle;
+ * what is saved is the triangle loop over the cluster and, for the
+ * vertices that only culled clusters use, the vertex stage.
+ *
+ * Why the test below implies the per-triangle one. Let R_x, R_y, R_w be the
+ * rows of the model-view-projection matrix acting on (p, 1), and E the
+ * 4-vector with u·E = det[u; R_x; R_y; R_w] for every u (the centre of
+ * projection in object space, homogeneous). For a triangle p0 p1 p2 with
+ * n = (p1 − p0) × (p2 − p0) and plane π = (n, −n·p0), Cauchy–Binet gives
+ * det[(R_x·p̃_i, R_y·p̃_i, R_w·p̃_i)]_i = E·π, so its window area, twice and
+ * counter-clockwise positive, is
+ *     A2 = (W/2)(H/2) E·π / (w0 w1 w2) = −(W/2)(H/2) 2A g / (w0 w1 w2),
+ * A its object-space area, g = n̂·(E_w p0 − E_xyz) (any vertex may stand for
+ * p0). Over a cluster with sphere (c, r) and normal cone (a, α),
+ *     g >= |v| cos(θ + α) − |E_w| r,  v = E_w c − E_xyz, θ the angle of v to a.
+ * Snapping the vertices to 1/256 pixel moves each coordinate by at most
+ * ε = 1/512 (plus the float rounding of the clip coordinates, bounded
+ * below), which changes A2 by at most 2ε(|e1|₁ + |e2|₁) + 8ε² for the edges
+ * e1, e2 from p0; inside the planes |x| <= t w, |y| <= t w an edge of
+ * object length L spans |e|₁ <= K L / w_min in the window,
+ * K = (W/2)(|R_x| + t|R_w|) + (H/2)(|R_y| + t|R_w|) (norms of the rows'
+ * xyz parts). With 2A >= h L (h: the least height over the longest edge),
+ * the snapped area is negative, and the triangle culled, whenever
+ *     (W/2)(H/2) h g_min / w_max³ > 4εK / w_min + 8ε² / L_min,
+ * and the test asks for twice that margin. The sphere inside every clip
+ * plane (with margin for the float clip coordinates) puts every vertex in
+ * the vertex stage's fast path (outcode 0), which tests exactly that area.
+ */
+#include "raster/raster.h"
+
+#include <math.h>
+#include <string.h>
+
+static double det3(const double a[3], const double b[3], const double c[3])
+{
+    return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+           a[2] * (b[0] * c[1] - b[1] * c[0]);
+}
+
+static double norm3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+/* The planes a cluster's sphere must be inside: w >= PERSP_CLIP_W_EPSILON,
+ * −w <= z <= w and |x| <= tx·w, |y| <= ty·w (tx, ty at most the guard
+ * band's), as coefficients of the rows x, y, z, w and a constant. */
+typedef struct cull_plane {
+    double k[4], c;
+} cull_plane;
+
+void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
+                              double gy)
+{
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) cv->row[r][c] = mvp->m[4 * c + r];
+    for (int k = 0; k < 4; k++) {
+        double m[3][3];
+        for (int i = 0; i < 3; i++) {
+            const double *src = cv->row[i == 2 ? 3 : i];
+            for (int c = 0, d = 0; c < 4; c++)
+                if (c != k) m[i][d++] = src[c];
+        }
+        cv->E[k] = (k % 2 ? -1.0 : 1.0) * det3(m[0], m[1], m[2]);
+    }
+    cv->tx = fmin(gx, 2.0), cv->ty = fmin(gy, 2.0);
+    cv->W2 = 0.5 * width, cv->H2 = 0.5 * height;
+    const double nx = norm3(cv->row[0]), ny = norm3(cv->row[1]), nw = norm3(cv->row[3]);
+    cv->K = cv->W2 * (nx + cv->tx * nw) + cv->H2 * (ny + cv->ty * nw);
+    /* The clip coordinates are floats: relative 2^-24 in x/w and y/w,
+     * times 6 here. */
+    cv->eps = 1.0 / (2.0 * PERSP_SUBPIXEL) + (cv->W2 * cv->tx + cv->H2 * cv->ty) * 4e-7;
+}
+
+size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters, size_t count,
+                            uint8_t *culled)
+{
+    const double(*row)[4] = cv->row;
+    const double *E = cv->E;
+    const cull_plane planes[7] = {
+        {{0, 0, 0, 1}, -PERSP_CLIP_W_EPSILON}, {{0, 0, 1, 1}, 0},       {{0, 0, -1, 1}, 0},
+        {{1, 0, 0, cv->tx}, 0},                {{-1, 0, 0, cv->tx}, 0}, {{0, 1, 0, cv->ty}, 0},
+        {{0, -1, 0, cv->ty}, 0},
+    };
+    size_t n = 0;
+    for (size_t k = 0; k < count; k++) {
+        const persp_cluster *cl = &clusters[k];
+        culled[k] = 0;
+        if (!cl->usable) continue;
+        const double *c = cl->center, r = cl->radius;
+        const double v[3] = {E[3] * c[0] - E[0], E[3] * c[1] - E[1], E[3] * c[2] - E[2]};
+        const double vl = norm3(v);
+        if (!(vl > 0.0)) continue;
+        const double cos_t = (v[0] * cl->axis[0] + v[1] * cl->axis[1] + v[2] * cl->axis[2]) / vl;
+        const double sin_t = sqrt(fmax(0.0, 1.0 - cos_t * cos_t));
+        const double g_min = vl * (cos_t * cl->cos_a - sin_t * cl->sin_a) - fabs(E[3]) * r;
+        if (!(g_min > 0.0)) continue;
+        /* Each row at the centre, and how far it can move over the sphere;
+         * mag bounds |row·p̃| there, for the margins of float rounding. */
+        double at[4], mag[4];
+        const double cn = norm3(c) + r;
+        for (int i = 0; i < 4; i++) {
+            at[i] = row[i][0] * c[0] + row[i][1] * c[1] + row[i][2] * c[2] + row[i][3];
+            mag[i] = norm3(row[i]) * cn + fabs(row[i][3]);
+        }
+        int inside = 1;
+        for (int p = 0; p < 7 && inside; p++) {
+            double val = planes[p].c, mg = 0.0, co[3] = {0, 0, 0};
+            for (int i = 0; i < 4; i++) {
+                val += planes[p].k[i] * at[i];
+                mg += fabs(planes[p].k[i]) * mag[i];
+                for (int d = 0; d < 3; d++) co[d] += planes[p].k[i] * row[i][d];
+            }
+            inside = val - norm3(co) * r - 1e-6 * mg > 0.0;
+        }
+        if (!inside) continue;
+        const double w_min = at[3] - norm3(row[3]) * r, w_max = at[3] + norm3(row[3]) * r;
+        if (!(w_min > 0.0)) continue;
+        const double lhs = cv->W2 * cv->H2 * cl->alt_min * g_min / (w_max * w_max * w_max);
+        const double rhs = 2.0 * (4.0 * cv->eps * cv->K / w_min + 8.0 * cv->eps * cv->eps / cl->edge_min);
+        if (lhs > rhs) {
+            culled[k] = 1;
+            n++;
+        }
+    }
+    return n;
+}
+
+void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, size_t block, uint8_t *need)
+{
+    const size_t blocks = (mesh->vertex_count + block - 1) / block;
+    memset(need, 0, blocks);
+    for (size_t k = 0; k < mesh->cluster_count; k++) {
+        if (culled[k]) continue;
+        const persp_cluster *cl = &mesh->clusters[k];
+        if (!cl->runs) {
+            memset(need, 1, blocks);
+            return;
+        }
+        for (int i = 0; i < cl->runs; i++)
+            memset(need + cl->run[i][0] / block, 1, (cl->run[i][1] - 1) / block - cl->run[i][0] / block + 1);
+    }
+}

@@ -1,0 +1,312 @@
+/* Clusters of back faces culled whole (src/raster/clusters.c) must cull
+ * only what the rasterizer's own test culls: every triangle of a culled
+ * cluster has a negative (or zero) area in the vertex stage's 1/256-pixel
+ * fixed point and all its vertices inside the clip volume. Checked on
+ * clusters built to sit at the edge of the bound (slivers, sub-pixel
+ * triangles, normals close to edge-on) under random perspective, off-centre
+ * and orthographic projections and non-uniform model matrices; and end to
+ * end, renders with and without cluster culling are the same bit for bit. */
+/* ctest-labels: threads (renders with several worker threads) */
+#include "support.h"
+
+#include "core/internal.h"
+#include "geom/scene.h"
+#include "raster/raster.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static persp_mat4 mat_mul(persp_mat4 a, persp_mat4 b) { return persp_mat4_mul(a, b); }
+
+/* The vertex stage's arithmetic (render.c transform_block and
+ * window_block): clip position summed in double from 0.0 and rounded to
+ * float, window position in double, rounded to 1/256 pixel. */
+static unsigned snap(const persp_mat4 *m, const float p[3], double W, double H, double gx, double gy,
+                     int64_t *X, int64_t *Y)
+{
+    float cp[4];
+    for (int r = 0; r < 4; r++) {
+        double o = 0.0;
+        o += m->m[r] * (double)p[0];
+        o += m->m[4 + r] * (double)p[1];
+        o += m->m[8 + r] * (double)p[2];
+        o += m->m[12 + r] * 1.0;
+        cp[r] = (float)o;
+    }
+    const unsigned code = persp__clip_outcode_pos(cp[0], cp[1], cp[2], cp[3], gx, gy);
+    if (code) return code;
+    const double q = 1.0 / cp[3];
+    *X = llround(((cp[0] * q + 1.0) * 0.5 * W) * PERSP_SUBPIXEL);
+    *Y = llround(((cp[1] * q + 1.0) * 0.5 * H) * PERSP_SUBPIXEL);
+    return 0;
+}
+
+/* A random rotation (axis, angle) times a non-uniform scale and a shear. */
+static persp_mat4 random_model(test_rng *rng)
+{
+    persp_mat4 m = persp_mat4_rotate((float)test_rng_uniform(rng, 0, 360), (float)test_rng_uniform(rng, -1, 1),
+                                     (float)test_rng_uniform(rng, -1, 1), (float)test_rng_uniform(rng, 0.1, 1));
+    m = mat_mul(m, persp_mat4_scale((float)test_rng_uniform(rng, 0.3, 3), (float)test_rng_uniform(rng, 0.3, 3),
+                                    (float)test_rng_uniform(rng, 0.3, 3)));
+    persp_mat4 shear = persp_mat4_identity();
+    shear.m[4] = (float)test_rng_uniform(rng, -0.5, 0.5); /* x += s·y */
+    return mat_mul(m, shear);
+}
+
+/* Projections: symmetric perspective, an off-centre frustum (the first two
+ * rows' third column set), and orthographic (w = 1: the eye at infinity). */
+static persp_mat4 random_projection(test_rng *rng, int kind, double aspect)
+{
+    if (kind == 2) {
+        persp_mat4 o = persp_mat4_identity();
+        const double s = test_rng_uniform(rng, 0.05, 0.5);
+        o.m[0] = (float)(s / aspect), o.m[5] = (float)s, o.m[10] = -0.01f, o.m[14] = -0.5f;
+        return o;
+    }
+    persp_mat4 p = persp_perspective(test_rng_uniform(rng, 15, 110), aspect, test_rng_uniform(rng, 0.01, 0.5), 200);
+    if (kind == 1) {
+        p.m[8] = (float)test_rng_uniform(rng, -0.8, 0.8);
+        p.m[9] = (float)test_rng_uniform(rng, -0.8, 0.8);
+    }
+    return p;
+}
+
+/* One mesh of four clusters: each cluster's triangles lie around a plane
+ * through a point near the origin, tilted by up to a degree, of one size
+ * scale per cluster (from a fraction of a pixel to many pixels), and every
+ * third cluster of slivers (the third vertex within 1/100 to 1/1000 of the
+ * size from the opposite edge). */
+static void random_mesh(test_rng *rng, const double eye[3], persp_vertex *v, uint32_t *idx, int tris)
+{
+    for (int c0 = 0; c0 < tris; c0 += PERSP_CLUSTER_TRIANGLES) {
+        const double nx = test_rng_uniform(rng, -1, 1), ny = test_rng_uniform(rng, -1, 1),
+                     nz = test_rng_uniform(rng, -1, 1);
+        const double nl = sqrt(nx * nx + ny * ny + nz * nz) + 1e-12;
+        double n[3] = {nx / nl, ny / nl, nz / nl};
+        const double base[3] = {test_rng_uniform(rng, -0.3, 0.3), test_rng_uniform(rng, -0.3, 0.3),
+                                test_rng_uniform(rng, -0.3, 0.3)};
+        /* Three clusters in four face away from the eye (the ones to cull). */
+        const double away = n[0] * (base[0] - eye[0]) + n[1] * (base[1] - eye[1]) + n[2] * (base[2] - eye[2]);
+        if ((away < 0) == (c0 / PERSP_CLUSTER_TRIANGLES % 4 != 3))
+            for (int k = 0; k < 3; k++) n[k] = -n[k];
+        double a[3] = {n[1], -n[0], 0};
+        if (fabs(n[2]) > 0.9) a[0] = 0, a[1] = n[2], a[2] = -n[1];
+        const double al = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        for (int k = 0; k < 3; k++) a[k] /= al;
+        const double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+        const double scale = pow(10.0, test_rng_uniform(rng, -3.5, -0.5));
+        const int slivers = test_rng_next(rng) % 3 == 0;
+        for (int t = c0; t < c0 + PERSP_CLUSTER_TRIANGLES && t < tris; t++) {
+            const double size = scale * test_rng_uniform(rng, 0.5, 2.0);
+            const double cx = test_rng_uniform(rng, -0.2, 0.2), cy = test_rng_uniform(rng, -0.2, 0.2);
+            double uv[3][2];
+            for (int k = 0; k < 3; k++)
+                uv[k][0] = cx + size * test_rng_uniform(rng, -1, 1), uv[k][1] = cy + size * test_rng_uniform(rng, -1, 1);
+            if (slivers) {
+                const double s = test_rng_uniform(rng, 0, 1), f = size * pow(10.0, test_rng_uniform(rng, -3, -2));
+                uv[2][0] = uv[0][0] + s * (uv[1][0] - uv[0][0]) + f * test_rng_uniform(rng, -1, 1);
+                uv[2][1] = uv[0][1] + s * (uv[1][1] - uv[0][1]) + f * test_rng_uniform(rng, -1, 1);
+            }
+            /* Counter-clockwise about n, so that n is (nearly) the face normal. */
+            const double cross =
+                (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]);
+            if (cross < 0)
+                for (int c = 0; c < 2; c++) {
+                    const double tmp = uv[1][c];
+                    uv[1][c] = uv[2][c], uv[2][c] = tmp;
+                }
+            const double tilt = test_rng_uniform(rng, -0.02, 0.02);
+            for (int k = 0; k < 3; k++) {
+                persp_vertex *p = &v[3 * t + k];
+                memset(p, 0, sizeof *p);
+                for (int c = 0; c < 3; c++)
+                    p->pos[c] = (float)(base[c] + uv[k][0] * a[c] + uv[k][1] * b[c] + tilt * uv[k][0] * n[c]);
+                p->normal[2] = 1.0f;
+                idx[3 * t + k] = (uint32_t)(3 * t + k);
+            }
+        }
+    }
+}
+
+static void test_culled_clusters_are_culled_triangles(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    enum { TRIS = 4 * PERSP_CLUSTER_TRIANGLES };
+    persp_vertex *v = calloc(3 * TRIS, sizeof *v);
+    uint32_t *idx = calloc(3 * TRIS, sizeof *idx);
+    assert_non_null(v);
+    assert_non_null(idx);
+    test_rng rng = {4242};
+    size_t culled_total = 0, checked = 0;
+    for (int trial = 0; trial < 10000; trial++) {
+        /* The eye a few units away, looking near the clusters. */
+        const double d = pow(10.0, test_rng_uniform(&rng, -0.3, 1.3));
+        const double ex = test_rng_uniform(&rng, -1, 1), ey = test_rng_uniform(&rng, -1, 1),
+                     ez = test_rng_uniform(&rng, -1, 1);
+        const double el = sqrt(ex * ex + ey * ey + ez * ez) + 1e-9;
+        const double eye[3] = {d * ex / el, d * ey / el, d * ez / el};
+        random_mesh(&rng, eye, v, idx, TRIS);
+        persp_mesh mesh;
+        memset(&mesh, 0, sizeof mesh);
+        mesh.vertices = v, mesh.indices = idx;
+        mesh.vertex_count = 3 * TRIS, mesh.index_count = 3 * TRIS;
+        if (trial % 5 == 4) {
+            /* The vertices stored in a random order: a cluster's indices
+             * spread over the whole array (sorted into runs, then merged). */
+            for (int i = 3 * TRIS - 1; i > 0; i--) {
+                const int j = (int)(test_rng_next(&rng) % (uint64_t)(i + 1));
+                const persp_vertex tv = v[i];
+                v[i] = v[j], v[j] = tv;
+                for (int k = 0; k < 3 * TRIS; k++)
+                    idx[k] = idx[k] == (uint32_t)i ? (uint32_t)j : idx[k] == (uint32_t)j ? (uint32_t)i : idx[k];
+            }
+        }
+        assert_int_equal(persp__mesh_build_clusters(ctx, &mesh), PERSP_OK);
+        assert_int_equal(mesh.cluster_count, 4);
+        /* Every vertex a cluster uses lies in one of its runs (the frame
+         * leaves the others out of the vertex stage). */
+        for (int k = 0; k < 4; k++) {
+            const persp_cluster *cl = &mesh.clusters[k];
+            assert_true(cl->runs >= 1 && cl->runs <= PERSP_CLUSTER_RUNS);
+            for (int i = 3 * k * PERSP_CLUSTER_TRIANGLES; i < 3 * (k + 1) * PERSP_CLUSTER_TRIANGLES; i++) {
+                int in = 0;
+                for (int r = 0; r < cl->runs; r++) in |= idx[i] >= cl->run[r][0] && idx[i] < cl->run[r][1];
+                if (!in) fail_msg("trial %d cluster %d: vertex %u in no run", trial, k, idx[i]);
+            }
+        }
+        const int W = 64 + (int)(test_rng_next(&rng) % 2000), H = 64 + (int)(test_rng_next(&rng) % 1500);
+        const double gx = PERSP_GUARD_PIXELS / (0.5 * W), gy = PERSP_GUARD_PIXELS / (0.5 * H);
+        const persp_mat4 view = persp_look_at(
+            (persp_vec3){(float)eye[0], (float)eye[1], (float)eye[2]},
+            (persp_vec3){(float)test_rng_uniform(&rng, -0.3, 0.3), (float)test_rng_uniform(&rng, -0.3, 0.3), 0},
+            (persp_vec3){0, 1, 0});
+        const persp_mat4 proj = random_projection(&rng, trial % 3, (double)W / H);
+        const persp_mat4 model = trial % 2 ? random_model(&rng) : persp_mat4_identity();
+        const persp_mat4 mvp = mat_mul(proj, mat_mul(view, model));
+        uint8_t culled[4];
+        persp_cluster_view cv;
+        persp__cluster_view_init(&cv, &mvp, W, H, gx, gy);
+        const size_t n = persp__clusters_cull(&cv, mesh.clusters, mesh.cluster_count, culled);
+        culled_total += n;
+        for (int k = 0; k < 4; k++) {
+            if (!culled[k]) continue;
+            for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
+                int64_t X[3], Y[3];
+                for (int i = 0; i < 3; i++) {
+                    const unsigned code = snap(&mvp, v[idx[3 * t + i]].pos, W, H, gx, gy, &X[i], &Y[i]);
+                    if (code) fail_msg("trial %d cluster %d triangle %d: vertex outside the clip volume", trial, k, t);
+                }
+                const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+                if (area > 0)
+                    fail_msg("trial %d cluster %d triangle %d: culled whole but its area is %lld (front)", trial, k,
+                             t, (long long)area);
+                checked++;
+            }
+        }
+        persp__free(ctx, mesh.clusters);
+    }
+    /* The test means something only if clusters were culled (a bound
+     * without the snapping margin culls clusters of small triangles that
+     * snap to front faces, and fails it). */
+    print_message("culled %zu clusters, %zu triangles checked\n", culled_total, checked);
+    assert_true(culled_total > 500);
+    assert_true(checked > 32000);
+    free(v);
+    free(idx);
+    persp_context_destroy(ctx);
+}
+
+/* Renders scene from view (NULL: its camera) with or without cluster
+ * culling; the colour and depth hashes and the counts. */
+static void render_clusters(const char *scene_name, const persp_mat4 *view, int threads, int off,
+                            persp_shading shading, uint64_t hash[2], persp_render_stats *st)
+{
+    persp_context *ctx = test_context_threads(threads);
+    ctx->no_cluster_cull = off;
+    char path[1024];
+    test_source_path(path, sizeof path, scene_name);
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    persp_framebuffer fb = test_framebuffer(320, 240);
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.view = view;
+    d.shading = shading;
+    if (persp_render(ctx, scene, &d, &fb, st) != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
+    hash[0] = test_hash(fb.color, (size_t)320 * 240 * 4);
+    hash[1] = test_hash(fb.depth, (size_t)320 * 240 * sizeof(float));
+    test_framebuffer_free(&fb);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+}
+
+/* Clusters the renderer culled whole in one frame (the context counts them). */
+static size_t culled_in(const char *scene_name, const persp_mat4 *view, int threads, persp_shading shading)
+{
+    persp_context *ctx = test_context_threads(threads);
+    char path[1024];
+    test_source_path(path, sizeof path, scene_name);
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    persp_framebuffer fb = test_framebuffer(320, 240);
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.view = view;
+    d.shading = shading;
+    persp_render_stats st;
+    assert_int_equal(persp_render(ctx, scene, &d, &fb, &st), PERSP_OK);
+    const size_t n = ctx->clusters_culled;
+    test_framebuffer_free(&fb);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+    return n;
+}
+
+static void test_cluster_culling_keeps_images(void **state)
+{
+    (void)state;
+    const char *scenes[] = {"scenes/bench/torus-20k.json", "scenes/bench/torus-200k.json", "scenes/spheres.json"};
+    const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_PHONG_PC};
+    test_rng rng = {99};
+    int frames_culling = 0;
+    for (int si = 0; si < 3; si++)
+        for (int vi = 0; vi < 6; vi++) {
+            /* The scene's camera, then eyes around the torus at various
+             * distances, one grazing its surface and one inside its tube
+             * (the near plane cuts triangles there). */
+            persp_mat4 view;
+            const persp_mat4 *vp = NULL;
+            if (vi > 0) {
+                const double d = vi == 4 ? 1.5 : vi == 5 ? 1.0 : test_rng_uniform(&rng, 1.8, 8);
+                const double a = test_rng_uniform(&rng, 0, 6.283), b = test_rng_uniform(&rng, -1.2, 1.2);
+                persp_vec3 eye = {(float)(d * cos(a) * cos(b)), (float)(d * sin(b)), (float)(d * sin(a) * cos(b))};
+                if (vi == 5) eye.y = 0.02f;
+                view = persp_look_at(eye, (persp_vec3){0, 0, 0}, (persp_vec3){0, 1, 0});
+                vp = &view;
+            }
+            const int threads = 1 + vi % 2;
+            const persp_shading sh = shadings[(si + vi) % 3];
+            uint64_t on[2], off[2];
+            persp_render_stats st_on, st_off;
+            render_clusters(scenes[si], vp, threads, 0, sh, on, &st_on);
+            render_clusters(scenes[si], vp, threads, 1, sh, off, &st_off);
+            if (on[0] != off[0] || on[1] != off[1])
+                fail_msg("%s view %d: clusters culled whole change the image", scenes[si], vi);
+            assert_int_equal(st_on.triangles_drawn, st_off.triangles_drawn);
+            assert_int_equal(st_on.fragments, st_off.fragments);
+            assert_int_equal(st_on.pixels_written, st_off.pixels_written);
+            frames_culling += culled_in(scenes[si], vp, threads, sh) > 0;
+        }
+    assert_true(frames_culling > 10);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_culled_clusters_are_culled_triangles),
+        cmocka_unit_test(test_cluster_culling_keeps_images),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
