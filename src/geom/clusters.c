@@ -97,7 +97,8 @@ static void vertex_runs(uint32_t *idx, int n, persp_cluster *cl)
 
 /* Triangles [t0, t1) of mesh. Unusable when any triangle has an index out
  * of range (the frame refuses the mesh then), a position that is not
- * finite, zero area, or when the normals spread over a half-space or more. */
+ * finite, zero area or the shape of a needle, or when the normals spread
+ * over a half-space or more. */
 static void build_cluster(const persp_mesh *mesh, size_t t0, size_t t1, persp_cluster *cl)
 {
     memset(cl, 0, sizeof *cl);
@@ -130,7 +131,11 @@ static void build_cluster(const persp_mesh *mesh, size_t t0, size_t t1, persp_cl
         const double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
         const double twice_area = sqrt(dot3(nrm, nrm));
         const double edge = sqrt(greater(dot3(a, a), greater(dot3(b, b), dot3(c, c))));
-        if (!(twice_area > 0.0) || !isfinite(twice_area)) return;
+        /* A sliver thinner than a millionth of its longest edge would have
+         * its normal's direction computed with an error near the 1e-9 the
+         * cone is widened by; such a cluster is never culled anyway (its
+         * least height is too small for the bound). */
+        if (!(twice_area >= 1e-6 * edge * edge) || !isfinite(twice_area)) return;
         alt_min = lesser(alt_min, twice_area / edge);
         edge_min = lesser(edge_min, edge);
         for (int k = 0; k < 3; k++) {
