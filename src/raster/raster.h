@@ -228,8 +228,8 @@ typedef struct persp_row_walk {
     int bw, x;
 } persp_row_walk;
 
-/* A walk of rows rows from row y (rows >= 1; stepping past them is not
- * defined), clipped to columns [x0, x1]. */
+/* A walk of rows rows from row y (t->ymin <= y; rows >= 1; stepping past
+ * them is not defined), clipped to columns [x0, x1]. */
 void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int rows, int x0, int x1);
 
 /* The range of the walk's current row, then advances it by one row. */

@@ -147,8 +147,11 @@ void persp__row_walk_init(persp_row_walk *w, const persp_tri *t, int y, int rows
     if (t->cover) {
         w->bw = t->xmax - t->xmin + 1;
         w->x = t->xmin;
-        w->bits = w->lo <= w->hi ? t->cover >> ((y - t->ymin) * w->bw) : 0;
-        w->cols = w->lo <= w->hi ? ((2u << (w->hi - w->x)) - 1) & ~((1u << (w->lo - w->x)) - 1) : 0;
+        /* Starting below the box, or with columns outside the window:
+         * nothing (and no shift past the mask's width). */
+        const int inside = w->lo <= w->hi && y <= t->ymax;
+        w->bits = inside ? t->cover >> ((y - t->ymin) * w->bw) : 0;
+        w->cols = inside ? ((2u << (w->hi - w->x)) - 1) & ~((1u << (w->lo - w->x)) - 1) : 0;
         return;
     }
     const int64_t Y = (int64_t)y * PERSP_SUBPIXEL + PERSP_SUBPIXEL / 2;

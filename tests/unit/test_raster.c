@@ -265,6 +265,8 @@ static void test_row_walk_matches_row_range(void **state)
         if (!persp__setup_triangle(v, 200, 160, 0, &t, NULL)) continue;
         masked += t.cover != 0;
         const int x0 = (int)(test_rng_next(&rng) % 200), x1 = x0 + (int)(test_rng_next(&rng) % 80);
+        /* From the box's first row or a later one, up to two rows below
+         * a box of one row (no row then). */
         const int ya = t.ymin + (int)(test_rng_next(&rng) % 3);
         /* Every eighth walk of one row, which skips the per-row steps. */
         const int rows = n % 8 == 0 ? 1 : t.ymax - ya + 1;
