@@ -274,7 +274,7 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
  * and the window's bounds. */
 typedef struct persp_cluster_view {
     double row[4][4], E[4];
-    double tx, ty, W2, H2, K, eps;
+    double tx, ty, W2, H2, eps;
 } persp_cluster_view;
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
                               double gy);
