@@ -405,6 +405,7 @@ static persp_status emit_polygon(const tri_sink *sk, const persp_clipvert *poly,
  * and classified independently, so the work is split over the worker
  * threads in ranges of VERTEX_TASK vertices with the same result. */
 #define VERTEX_TASK 4096u
+#define VERTEX_TASK_MIN 256u
 
 typedef struct vertex_job {
     persp_frame *f;
@@ -420,6 +421,7 @@ typedef struct vertex_job {
     int back; /* Gouraud: light the backs too, into the cache's back array (back_colours) */
     int lazy; /* Gouraud: leave the fronts of vertices facing away to set-up (front_colours) */
     const uint8_t *need; /* per block: some triangle not culled with its cluster uses it; NULL: all */
+    size_t task_size; /* vertices a task takes: VERTEX_TASK, fewer for a small mesh (a multiple of VERTEX_BLOCK) */
 } vertex_job;
 
 /* llround for |v| < 2^31: v − trunc(v) is exact, so halves round away
@@ -537,8 +539,8 @@ static void vertex_task(void *user, int task, int worker)
     const vertex_job *j = user;
     struct persp_render_cache *c = j->f->cache;
     const persp_mesh *mesh = j->mesh;
-    const size_t a = (size_t)task * VERTEX_TASK;
-    const size_t b = PERSP_MIN(a + VERTEX_TASK, mesh->vertex_count);
+    const size_t a = (size_t)task * j->task_size;
+    const size_t b = PERSP_MIN(a + j->task_size, mesh->vertex_count);
     const float *nm = j->nm, *uv = j->uv;
     const size_t stride = (size_t)j->nattr;
     const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && persp__shade_is_gouraud(j->ds);
@@ -983,7 +985,13 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     }
     if (!persp_mat4_normal_matrix(job.mv, job.nm)) memset(job.nm, 0, sizeof job.nm);
     f->stats.triangles_in += mesh->index_count / 3;
-    const int tasks = (int)((mesh->vertex_count + VERTEX_TASK - 1) / VERTEX_TASK);
+    /* A mesh too small for two tasks a worker takes smaller ones, down to
+     * VERTEX_TASK_MIN (as set-up does, mesh_triangles_parallel): the 2k
+     * torus's 1000 vertices were lit by one thread while the other waited. */
+    const size_t per = mesh->vertex_count / (2 * (size_t)persp__pool_workers(f->ctx));
+    job.task_size = PERSP_MIN((size_t)VERTEX_TASK, PERSP_MAX((size_t)VERTEX_TASK_MIN, per)) / VERTEX_BLOCK *
+                    VERTEX_BLOCK;
+    const int tasks = (int)((mesh->vertex_count + job.task_size - 1) / job.task_size);
     persp_status vst = persp__pool_run(f->ctx, tasks, vertex_task, &job);
     if (vst != PERSP_OK)
         return persp__fail(f->ctx, vst, "render: cannot start worker threads: %s",
