@@ -13,11 +13,20 @@
 #include <math.h>
 #include <string.h>
 
-static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
 /* fmin and fmax without their NaN rules (every value here is finite), so
  * that they compile to one instruction instead of a libm call. */
-static double lesser(double a, double b) { return a < b ? a : b; }
-static double greater(double a, double b) { return a > b ? a : b; }
+static double lesser(double a, double b)
+{
+    return a < b ? a : b;
+}
+static double greater(double a, double b)
+{
+    return a > b ? a : b;
+}
 
 /* The first bit at or after pos that is set (set) or clear (!set) in the
  * bitmap of nw words, or nw·64. */
@@ -58,13 +67,16 @@ static void vertex_runs(uint32_t *idx, int n, persp_cluster *cl)
     int runs = 0;
     if (n < 1) return;
     uint32_t lo = idx[0], hi = idx[0];
-    for (int i = 1; i < n; i++) lo = idx[i] < lo ? idx[i] : lo, hi = idx[i] > hi ? idx[i] : hi;
+    for (int i = 1; i < n; i++)
+        lo = idx[i] < lo ? idx[i] : lo, hi = idx[i] > hi ? idx[i] : hi;
     if (hi - lo < SPAN_WORDS * 64) {
         uint64_t bits[SPAN_WORDS];
         const size_t nw = (hi - lo) / 64 + 1;
         memset(bits, 0, nw * sizeof bits[0]);
-        for (int i = 0; i < n; i++) bits[(idx[i] - lo) / 64] |= 1ull << ((idx[i] - lo) % 64);
-        for (size_t pos = next_bit(bits, nw, 0, 1); pos < nw * 64; pos = next_bit(bits, nw, pos, 1)) {
+        for (int i = 0; i < n; i++)
+            bits[(idx[i] - lo) / 64] |= 1ull << ((idx[i] - lo) % 64);
+        for (size_t pos = next_bit(bits, nw, 0, 1); pos < nw * 64;
+             pos = next_bit(bits, nw, pos, 1)) {
             const size_t end = next_bit(bits, nw, pos, 0);
             run[runs][0] = lo + (uint32_t)pos;
             run[runs][1] = lo + (uint32_t)end;
@@ -128,7 +140,8 @@ static void build_cluster(const persp_mesh *mesh, size_t t0, size_t t1, persp_cl
         const double a[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
         const double b[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
         const double c[3] = {p[2][0] - p[1][0], p[2][1] - p[1][1], p[2][2] - p[1][2]};
-        const double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        const double nrm[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                               a[0] * b[1] - a[1] * b[0]};
         const double twice_area = sqrt(dot3(nrm, nrm));
         const double edge = sqrt(greater(dot3(a, a), greater(dot3(b, b), dot3(c, c))));
         /* A sliver thinner than a millionth of its longest edge would have
@@ -153,7 +166,8 @@ static void build_cluster(const persp_mesh *mesh, size_t t0, size_t t1, persp_cl
         const double d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
         r2 = greater(r2, dot3(d, d));
     }
-    for (size_t t = 0; t < t1 - t0; t++) cos_a = lesser(cos_a, dot3(unit[t], axis));
+    for (size_t t = 0; t < t1 - t0; t++)
+        cos_a = lesser(cos_a, dot3(unit[t], axis));
     /* Rounding of the bounds above is absorbed by widening them by far more
      * than it can be (relative 1e-9 against double's 1e-16). */
     cos_a -= 1e-9;
@@ -179,8 +193,8 @@ persp_status persp__mesh_build_clusters(persp_context *ctx, persp_mesh *mesh)
     persp_cluster *cl = persp__calloc(ctx, count, sizeof *cl);
     if (!cl) return PERSP_ERR_OUT_OF_MEMORY;
     for (size_t k = 0; k < count; k++)
-        build_cluster(mesh, k * PERSP_CLUSTER_TRIANGLES, PERSP_MIN(ntri, (k + 1) * PERSP_CLUSTER_TRIANGLES),
-                      &cl[k]);
+        build_cluster(mesh, k * PERSP_CLUSTER_TRIANGLES,
+                      PERSP_MIN(ntri, (k + 1) * PERSP_CLUSTER_TRIANGLES), &cl[k]);
     mesh->clusters = cl;
     mesh->cluster_count = count;
     return PERSP_OK;

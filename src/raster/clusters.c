@@ -43,7 +43,10 @@ static double det3(const double a[3], const double b[3], const double c[3])
            a[2] * (b[0] * c[1] - b[1] * c[0]);
 }
 
-static double norm3(const double *v) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+static double norm3(const double *v)
+{
+    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
 /* The planes a cluster's sphere must be inside: w >= PERSP_CLIP_W_EPSILON,
  * −w <= z <= w and |x| <= tx·w, |y| <= ty·w (tx, ty at most the guard
@@ -52,11 +55,12 @@ typedef struct cull_plane {
     double k[4], c;
 } cull_plane;
 
-void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
-                              double gy)
+void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height,
+                              double gx, double gy)
 {
     for (int r = 0; r < 4; r++)
-        for (int c = 0; c < 4; c++) cv->row[r][c] = mvp->m[4 * c + r];
+        for (int c = 0; c < 4; c++)
+            cv->row[r][c] = mvp->m[4 * c + r];
     for (int k = 0; k < 4; k++) {
         double m[3][3];
         for (int i = 0; i < 3; i++) {
@@ -73,14 +77,18 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
     cv->eps = 1.0 / (2.0 * PERSP_SUBPIXEL) + (cv->W2 * cv->tx + cv->H2 * cv->ty) * 4e-7;
 }
 
-size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters, size_t count,
-                            uint8_t *culled)
+size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters,
+                            size_t count, uint8_t *culled)
 {
     const double(*row)[4] = cv->row;
     const double *E = cv->E;
     const cull_plane planes[7] = {
-        {{0, 0, 0, 1}, -PERSP_CLIP_W_EPSILON}, {{0, 0, 1, 1}, 0},       {{0, 0, -1, 1}, 0},
-        {{1, 0, 0, cv->tx}, 0},                {{-1, 0, 0, cv->tx}, 0}, {{0, 1, 0, cv->ty}, 0},
+        {{0, 0, 0, 1}, -PERSP_CLIP_W_EPSILON},
+        {{0, 0, 1, 1}, 0},
+        {{0, 0, -1, 1}, 0},
+        {{1, 0, 0, cv->tx}, 0},
+        {{-1, 0, 0, cv->tx}, 0},
+        {{0, 1, 0, cv->ty}, 0},
         {{0, -1, 0, cv->ty}, 0},
     };
     size_t n = 0;
@@ -110,7 +118,8 @@ size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *c
             for (int i = 0; i < 4; i++) {
                 val += planes[p].k[i] * at[i];
                 mg += fabs(planes[p].k[i]) * mag[i];
-                for (int d = 0; d < 3; d++) co[d] += planes[p].k[i] * row[i][d];
+                for (int d = 0; d < 3; d++)
+                    co[d] += planes[p].k[i] * row[i][d];
             }
             inside = val - norm3(co) * r - 1e-6 * mg > 0.0;
         }
@@ -125,7 +134,8 @@ size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *c
         const double uy = fmin(cv->ty, (fabs(at[1]) + ry * r) / w_min);
         const double K = cv->W2 * (rx + ux * rw) + cv->H2 * (ry + uy * rw);
         const double lhs = cv->W2 * cv->H2 * cl->alt_min * g_min / (w_max * w_max * w_max);
-        const double rhs = 2.0 * (4.0 * cv->eps * K / w_min + 8.0 * cv->eps * cv->eps / cl->edge_min);
+        const double rhs =
+            2.0 * (4.0 * cv->eps * K / w_min + 8.0 * cv->eps * cv->eps / cl->edge_min);
         if (lhs > rhs) {
             culled[k] = 1;
             n++;
@@ -134,7 +144,8 @@ size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *c
     return n;
 }
 
-void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, size_t block, uint8_t *need)
+void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, size_t block,
+                                 uint8_t *need)
 {
     const size_t blocks = (mesh->vertex_count + block - 1) / block;
     memset(need, 0, blocks);
@@ -146,6 +157,7 @@ void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, 
             return;
         }
         for (int i = 0; i < cl->runs; i++)
-            memset(need + cl->run[i][0] / block, 1, (cl->run[i][1] - 1) / block - cl->run[i][0] / block + 1);
+            memset(need + cl->run[i][0] / block, 1,
+                   (cl->run[i][1] - 1) / block - cl->run[i][0] / block + 1);
     }
 }

@@ -17,13 +17,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-static persp_mat4 mat_mul(persp_mat4 a, persp_mat4 b) { return persp_mat4_mul(a, b); }
+static persp_mat4 mat_mul(persp_mat4 a, persp_mat4 b)
+{
+    return persp_mat4_mul(a, b);
+}
 
 /* The vertex stage's arithmetic (render.c transform_block and
  * window_block): clip position summed in double from 0.0 and rounded to
  * float, window position in double, rounded to 1/256 pixel. */
-static unsigned snap(const persp_mat4 *m, const float p[3], double W, double H, double gx, double gy,
-                     int64_t *X, int64_t *Y)
+static unsigned snap(const persp_mat4 *m, const float p[3], double W, double H, double gx,
+                     double gy, int64_t *X, int64_t *Y)
 {
     float cp[4];
     for (int r = 0; r < 4; r++) {
@@ -45,9 +48,11 @@ static unsigned snap(const persp_mat4 *m, const float p[3], double W, double H, 
 /* A random rotation (axis, angle) times a non-uniform scale and a shear. */
 static persp_mat4 random_model(test_rng *rng)
 {
-    persp_mat4 m = persp_mat4_rotate((float)test_rng_uniform(rng, 0, 360), (float)test_rng_uniform(rng, -1, 1),
-                                     (float)test_rng_uniform(rng, -1, 1), (float)test_rng_uniform(rng, 0.1, 1));
-    m = mat_mul(m, persp_mat4_scale((float)test_rng_uniform(rng, 0.3, 3), (float)test_rng_uniform(rng, 0.3, 3),
+    persp_mat4 m = persp_mat4_rotate(
+        (float)test_rng_uniform(rng, 0, 360), (float)test_rng_uniform(rng, -1, 1),
+        (float)test_rng_uniform(rng, -1, 1), (float)test_rng_uniform(rng, 0.1, 1));
+    m = mat_mul(m, persp_mat4_scale((float)test_rng_uniform(rng, 0.3, 3),
+                                    (float)test_rng_uniform(rng, 0.3, 3),
                                     (float)test_rng_uniform(rng, 0.3, 3)));
     persp_mat4 shear = persp_mat4_identity();
     shear.m[4] = (float)test_rng_uniform(rng, -0.5, 0.5); /* x += s·y */
@@ -64,7 +69,8 @@ static persp_mat4 random_projection(test_rng *rng, int kind, double aspect)
         o.m[0] = (float)(s / aspect), o.m[5] = (float)s, o.m[10] = -0.01f, o.m[14] = -0.5f;
         return o;
     }
-    persp_mat4 p = persp_perspective(test_rng_uniform(rng, 15, 110), aspect, test_rng_uniform(rng, 0.01, 0.5), 200);
+    persp_mat4 p = persp_perspective(test_rng_uniform(rng, 15, 110), aspect,
+                                     test_rng_uniform(rng, 0.01, 0.5), 200);
     if (kind == 1) {
         p.m[8] = (float)test_rng_uniform(rng, -0.8, 0.8);
         p.m[9] = (float)test_rng_uniform(rng, -0.8, 0.8);
@@ -77,7 +83,8 @@ static persp_mat4 random_projection(test_rng *rng, int kind, double aspect)
  * scale per cluster (from a fraction of a pixel to many pixels), and every
  * third cluster of slivers (the third vertex within 1/100 to 1/1000 of the
  * size from the opposite edge). */
-static void random_mesh(test_rng *rng, const double eye[3], persp_vertex *v, uint32_t *idx, int tris)
+static void random_mesh(test_rng *rng, const double eye[3], persp_vertex *v, uint32_t *idx,
+                        int tris)
 {
     for (int c0 = 0; c0 < tris; c0 += PERSP_CLUSTER_TRIANGLES) {
         const double nx = test_rng_uniform(rng, -1, 1), ny = test_rng_uniform(rng, -1, 1),
@@ -87,30 +94,37 @@ static void random_mesh(test_rng *rng, const double eye[3], persp_vertex *v, uin
         const double base[3] = {test_rng_uniform(rng, -0.3, 0.3), test_rng_uniform(rng, -0.3, 0.3),
                                 test_rng_uniform(rng, -0.3, 0.3)};
         /* Three clusters in four face away from the eye (the ones to cull). */
-        const double away = n[0] * (base[0] - eye[0]) + n[1] * (base[1] - eye[1]) + n[2] * (base[2] - eye[2]);
+        const double away =
+            n[0] * (base[0] - eye[0]) + n[1] * (base[1] - eye[1]) + n[2] * (base[2] - eye[2]);
         if ((away < 0) == (c0 / PERSP_CLUSTER_TRIANGLES % 4 != 3))
-            for (int k = 0; k < 3; k++) n[k] = -n[k];
+            for (int k = 0; k < 3; k++)
+                n[k] = -n[k];
         double a[3] = {n[1], -n[0], 0};
         if (fabs(n[2]) > 0.9) a[0] = 0, a[1] = n[2], a[2] = -n[1];
         const double al = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        for (int k = 0; k < 3; k++) a[k] /= al;
-        const double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2], n[0] * a[1] - n[1] * a[0]};
+        for (int k = 0; k < 3; k++)
+            a[k] /= al;
+        const double b[3] = {n[1] * a[2] - n[2] * a[1], n[2] * a[0] - n[0] * a[2],
+                             n[0] * a[1] - n[1] * a[0]};
         const double scale = pow(10.0, test_rng_uniform(rng, -3.5, -0.5));
         const int slivers = test_rng_next(rng) % 3 == 0;
         for (int t = c0; t < c0 + PERSP_CLUSTER_TRIANGLES && t < tris; t++) {
             const double size = scale * test_rng_uniform(rng, 0.5, 2.0);
-            const double cx = test_rng_uniform(rng, -0.2, 0.2), cy = test_rng_uniform(rng, -0.2, 0.2);
+            const double cx = test_rng_uniform(rng, -0.2, 0.2),
+                         cy = test_rng_uniform(rng, -0.2, 0.2);
             double uv[3][2];
             for (int k = 0; k < 3; k++)
-                uv[k][0] = cx + size * test_rng_uniform(rng, -1, 1), uv[k][1] = cy + size * test_rng_uniform(rng, -1, 1);
+                uv[k][0] = cx + size * test_rng_uniform(rng, -1, 1),
+                uv[k][1] = cy + size * test_rng_uniform(rng, -1, 1);
             if (slivers) {
-                const double s = test_rng_uniform(rng, 0, 1), f = size * pow(10.0, test_rng_uniform(rng, -3, -2));
+                const double s = test_rng_uniform(rng, 0, 1),
+                             f = size * pow(10.0, test_rng_uniform(rng, -3, -2));
                 uv[2][0] = uv[0][0] + s * (uv[1][0] - uv[0][0]) + f * test_rng_uniform(rng, -1, 1);
                 uv[2][1] = uv[0][1] + s * (uv[1][1] - uv[0][1]) + f * test_rng_uniform(rng, -1, 1);
             }
             /* Counter-clockwise about n, so that n is (nearly) the face normal. */
-            const double cross =
-                (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]);
+            const double cross = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) -
+                                 (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]);
             if (cross < 0)
                 for (int c = 0; c < 2; c++) {
                     const double tmp = uv[1][c];
@@ -121,7 +135,8 @@ static void random_mesh(test_rng *rng, const double eye[3], persp_vertex *v, uin
                 persp_vertex *p = &v[3 * t + k];
                 memset(p, 0, sizeof *p);
                 for (int c = 0; c < 3; c++)
-                    p->pos[c] = (float)(base[c] + uv[k][0] * a[c] + uv[k][1] * b[c] + tilt * uv[k][0] * n[c]);
+                    p->pos[c] = (float)(base[c] + uv[k][0] * a[c] + uv[k][1] * b[c] +
+                                        tilt * uv[k][0] * n[c]);
                 p->normal[2] = 1.0f;
                 idx[3 * t + k] = (uint32_t)(3 * t + k);
             }
@@ -160,7 +175,9 @@ static void test_culled_clusters_are_culled_triangles(void **state)
                 const persp_vertex tv = v[i];
                 v[i] = v[j], v[j] = tv;
                 for (int k = 0; k < 3 * TRIS; k++)
-                    idx[k] = idx[k] == (uint32_t)i ? (uint32_t)j : idx[k] == (uint32_t)j ? (uint32_t)i : idx[k];
+                    idx[k] = idx[k] == (uint32_t)i   ? (uint32_t)j
+                             : idx[k] == (uint32_t)j ? (uint32_t)i
+                                                     : idx[k];
             }
         }
         assert_int_equal(persp__mesh_build_clusters(ctx, &mesh), PERSP_OK);
@@ -170,18 +187,22 @@ static void test_culled_clusters_are_culled_triangles(void **state)
         for (int k = 0; k < 4; k++) {
             const persp_cluster *cl = &mesh.clusters[k];
             assert_true(cl->runs >= 1 && cl->runs <= PERSP_CLUSTER_RUNS);
-            for (int i = 3 * k * PERSP_CLUSTER_TRIANGLES; i < 3 * (k + 1) * PERSP_CLUSTER_TRIANGLES; i++) {
+            for (int i = 3 * k * PERSP_CLUSTER_TRIANGLES; i < 3 * (k + 1) * PERSP_CLUSTER_TRIANGLES;
+                 i++) {
                 int in = 0;
-                for (int r = 0; r < cl->runs; r++) in |= idx[i] >= cl->run[r][0] && idx[i] < cl->run[r][1];
+                for (int r = 0; r < cl->runs; r++)
+                    in |= idx[i] >= cl->run[r][0] && idx[i] < cl->run[r][1];
                 if (!in) fail_msg("trial %d cluster %d: vertex %u in no run", trial, k, idx[i]);
             }
         }
-        const int W = 64 + (int)(test_rng_next(&rng) % 2000), H = 64 + (int)(test_rng_next(&rng) % 1500);
+        const int W = 64 + (int)(test_rng_next(&rng) % 2000),
+                  H = 64 + (int)(test_rng_next(&rng) % 1500);
         const double gx = PERSP_GUARD_PIXELS / (0.5 * W), gy = PERSP_GUARD_PIXELS / (0.5 * H);
-        const persp_mat4 view = persp_look_at(
-            (persp_vec3){(float)eye[0], (float)eye[1], (float)eye[2]},
-            (persp_vec3){(float)test_rng_uniform(&rng, -0.3, 0.3), (float)test_rng_uniform(&rng, -0.3, 0.3), 0},
-            (persp_vec3){0, 1, 0});
+        const persp_mat4 view =
+            persp_look_at((persp_vec3){(float)eye[0], (float)eye[1], (float)eye[2]},
+                          (persp_vec3){(float)test_rng_uniform(&rng, -0.3, 0.3),
+                                       (float)test_rng_uniform(&rng, -0.3, 0.3), 0},
+                          (persp_vec3){0, 1, 0});
         const persp_mat4 proj = random_projection(&rng, trial % 3, (double)W / H);
         const persp_mat4 model = trial % 2 ? random_model(&rng) : persp_mat4_identity();
         const persp_mat4 mvp = mat_mul(proj, mat_mul(view, model));
@@ -195,13 +216,17 @@ static void test_culled_clusters_are_culled_triangles(void **state)
             for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
                 int64_t X[3], Y[3];
                 for (int i = 0; i < 3; i++) {
-                    const unsigned code = snap(&mvp, v[idx[3 * t + i]].pos, W, H, gx, gy, &X[i], &Y[i]);
-                    if (code) fail_msg("trial %d cluster %d triangle %d: vertex outside the clip volume", trial, k, t);
+                    const unsigned code =
+                        snap(&mvp, v[idx[3 * t + i]].pos, W, H, gx, gy, &X[i], &Y[i]);
+                    if (code)
+                        fail_msg("trial %d cluster %d triangle %d: vertex outside the clip volume",
+                                 trial, k, t);
                 }
                 const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
                 if (area > 0)
-                    fail_msg("trial %d cluster %d triangle %d: culled whole but its area is %lld (front)", trial, k,
-                             t, (long long)area);
+                    fail_msg("trial %d cluster %d triangle %d: culled whole but its area is %lld "
+                             "(front)",
+                             trial, k, t, (long long)area);
                 checked++;
             }
         }
@@ -235,7 +260,8 @@ static size_t render_clusters(const char *scene_name, const persp_mat4 *view, in
     memset(&d, 0, sizeof d);
     d.view = view;
     d.shading = shading;
-    if (persp_render(ctx, scene, &d, &fb, st) != PERSP_OK) fail_msg("render: %s", persp_context_error(ctx));
+    if (persp_render(ctx, scene, &d, &fb, st) != PERSP_OK)
+        fail_msg("render: %s", persp_context_error(ctx));
     hash[0] = test_hash(fb.color, (size_t)320 * 240 * 4);
     hash[1] = test_hash(fb.depth, (size_t)320 * 240 * sizeof(float));
     const size_t culled = ctx->clusters_culled;
@@ -248,8 +274,10 @@ static size_t render_clusters(const char *scene_name, const persp_mat4 *view, in
 static void test_cluster_culling_keeps_images(void **state)
 {
     (void)state;
-    const char *scenes[] = {"scenes/bench/torus-20k.json", "scenes/bench/torus-200k.json", "scenes/spheres.json"};
-    const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_PHONG_PC};
+    const char *scenes[] = {"scenes/bench/torus-20k.json", "scenes/bench/torus-200k.json",
+                            "scenes/spheres.json"};
+    const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC,
+                                      PERSP_SHADING_PHONG_PC};
     test_rng rng = {99};
     int frames_culling = 0;
     for (int si = 0; si < 3; si++)
@@ -261,8 +289,10 @@ static void test_cluster_culling_keeps_images(void **state)
             const persp_mat4 *vp = NULL;
             if (vi > 0) {
                 const double d = vi == 4 ? 1.5 : vi == 5 ? 1.0 : test_rng_uniform(&rng, 1.8, 8);
-                const double a = test_rng_uniform(&rng, 0, 6.283), b = test_rng_uniform(&rng, -1.2, 1.2);
-                persp_vec3 eye = {(float)(d * cos(a) * cos(b)), (float)(d * sin(b)), (float)(d * sin(a) * cos(b))};
+                const double a = test_rng_uniform(&rng, 0, 6.283),
+                             b = test_rng_uniform(&rng, -1.2, 1.2);
+                persp_vec3 eye = {(float)(d * cos(a) * cos(b)), (float)(d * sin(b)),
+                                  (float)(d * sin(a) * cos(b))};
                 if (vi == 5) eye.y = 0.02f;
                 view = persp_look_at(eye, (persp_vec3){0, 0, 0}, (persp_vec3){0, 1, 0});
                 vp = &view;
