@@ -25,8 +25,9 @@
  * object length L spans |e|₁ <= K L / w_min in the window,
  * K = (W/2)(|R_x| + t|R_w|) + (H/2)(|R_y| + t|R_w|) (norms of the rows'
  * xyz parts; t for x and for y the least bound on |x/w|, |y/w| known for
- * the cluster's sphere). With 2A >= h L (h: the least height over the longest edge),
- * the snapped area is negative, and the triangle culled, whenever
+ * the cluster's sphere). With 2A >= h L (h: the least height over the
+ * longest edge), the snapped area is negative, and the triangle culled,
+ * whenever
  *     (W/2)(H/2) h g_min / w_max³ > 4εK / w_min + 8ε² / L_min,
  * and the test asks for twice that margin. The sphere inside every clip
  * plane (with margin for the float clip coordinates) puts every vertex in
