@@ -49,13 +49,6 @@ static double norm3(const double *v)
     return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-/* The planes a cluster's sphere must be inside: w >= PERSP_CLIP_W_EPSILON,
- * −w <= z <= w and |x| <= tx·w, |y| <= ty·w (tx, ty at most the guard
- * band's), as coefficients of the rows x, y, z, w and a constant. */
-typedef struct cull_plane {
-    double k[4], c;
-} cull_plane;
-
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height,
                               double gx, double gy)
 {
@@ -73,6 +66,29 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
     }
     cv->tx = fmin(gx, 2.0), cv->ty = fmin(gy, 2.0);
     cv->W2 = 0.5 * width, cv->H2 = 0.5 * height;
+    for (int i = 0; i < 4; i++)
+        cv->row_norm[i] = norm3(cv->row[i]);
+    /* The planes a cluster's sphere must be inside: w >= PERSP_CLIP_W_EPSILON,
+     * −w <= z <= w and |x| <= tx·w, |y| <= ty·w (tx, ty at most the guard
+     * band's), as coefficients of the rows x, y, z, w and a constant; and
+     * the length of each plane's normal in object space. */
+    const double planes[7][5] = {
+        {0, 0, 0, 1, -PERSP_CLIP_W_EPSILON},
+        {0, 0, 1, 1, 0},
+        {0, 0, -1, 1, 0},
+        {1, 0, 0, cv->tx, 0},
+        {-1, 0, 0, cv->tx, 0},
+        {0, 1, 0, cv->ty, 0},
+        {0, -1, 0, cv->ty, 0},
+    };
+    memcpy(cv->plane, planes, sizeof planes);
+    for (int p = 0; p < 7; p++) {
+        double co[3] = {0, 0, 0};
+        for (int i = 0; i < 4; i++)
+            for (int d = 0; d < 3; d++)
+                co[d] += planes[p][i] * cv->row[i][d];
+        cv->plane_norm[p] = norm3(co);
+    }
     /* The clip coordinates are floats: relative 2^-24 in x/w and y/w,
      * times 6 here. */
     cv->eps = 1.0 / (2.0 * PERSP_SUBPIXEL) + (cv->W2 * cv->tx + cv->H2 * cv->ty) * 4e-7;
@@ -82,16 +98,7 @@ size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *c
                             size_t count, uint8_t *culled)
 {
     const double(*row)[4] = cv->row;
-    const double *E = cv->E;
-    const cull_plane planes[7] = {
-        {{0, 0, 0, 1}, -PERSP_CLIP_W_EPSILON},
-        {{0, 0, 1, 1}, 0},
-        {{0, 0, -1, 1}, 0},
-        {{1, 0, 0, cv->tx}, 0},
-        {{-1, 0, 0, cv->tx}, 0},
-        {{0, 1, 0, cv->ty}, 0},
-        {{0, -1, 0, cv->ty}, 0},
-    };
+    const double *E = cv->E, *rn = cv->row_norm;
     size_t n = 0;
     for (size_t k = 0; k < count; k++) {
         const persp_cluster *cl = &clusters[k];
@@ -111,26 +118,25 @@ size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *c
         const double cn = norm3(c) + r;
         for (int i = 0; i < 4; i++) {
             at[i] = row[i][0] * c[0] + row[i][1] * c[1] + row[i][2] * c[2] + row[i][3];
-            mag[i] = norm3(row[i]) * cn + fabs(row[i][3]);
+            mag[i] = rn[i] * cn + fabs(row[i][3]);
         }
         int inside = 1;
         for (int p = 0; p < 7 && inside; p++) {
-            double val = planes[p].c, mg = 0.0, co[3] = {0, 0, 0};
+            const double *pl = cv->plane[p];
+            double val = pl[4], mg = 0.0;
             for (int i = 0; i < 4; i++) {
-                val += planes[p].k[i] * at[i];
-                mg += fabs(planes[p].k[i]) * mag[i];
-                for (int d = 0; d < 3; d++)
-                    co[d] += planes[p].k[i] * row[i][d];
+                val += pl[i] * at[i];
+                mg += fabs(pl[i]) * mag[i];
             }
-            inside = val - norm3(co) * r - 1e-6 * mg > 0.0;
+            inside = val - cv->plane_norm[p] * r - 1e-6 * mg > 0.0;
         }
         if (!inside) continue;
-        const double w_min = at[3] - norm3(row[3]) * r, w_max = at[3] + norm3(row[3]) * r;
+        const double w_min = at[3] - rn[3] * r, w_max = at[3] + rn[3] * r;
         if (!(w_min > 0.0)) continue;
         /* K with this cluster's own bounds on |x/w| and |y/w| where they
          * are tighter than the planes' (a cluster on screen: about 1 against
          * 2, a third off K). */
-        const double rx = norm3(row[0]), ry = norm3(row[1]), rw = norm3(row[3]);
+        const double rx = rn[0], ry = rn[1], rw = rn[3];
         const double ux = fmin(cv->tx, (fabs(at[0]) + rx * r) / w_min);
         const double uy = fmin(cv->ty, (fabs(at[1]) + ry * r) / w_min);
         const double K = cv->W2 * (rx + ux * rw) + cv->H2 * (ry + uy * rw);

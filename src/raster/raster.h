@@ -270,10 +270,13 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
 }
 
 /* What culling a cluster whole needs of a frame (src/raster/clusters.c):
- * the model-view-projection rows, the centre of projection in object space
+ * the model-view-projection rows and their xyz parts' lengths, the centre
+ * of projection in object space, the clip planes a cluster must be inside
+ * (coefficients of the rows and a constant) with their normals' lengths,
  * and the window's bounds. */
 typedef struct persp_cluster_view {
-    double row[4][4], E[4];
+    double row[4][4], row_norm[4], E[4];
+    double plane[7][5], plane_norm[7];
     double tx, ty, W2, H2, eps;
 } persp_cluster_view;
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
