@@ -17,11 +17,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static persp_mat4 mat_mul(persp_mat4 a, persp_mat4 b)
-{
-    return persp_mat4_mul(a, b);
-}
-
 /* The vertex stage's arithmetic (render.c transform_block and
  * window_block): clip position summed in double from 0.0 and rounded to
  * float, window position in double, rounded to 1/256 pixel. */
@@ -51,12 +46,12 @@ static persp_mat4 random_model(test_rng *rng)
     persp_mat4 m = persp_mat4_rotate(
         (float)test_rng_uniform(rng, 0, 360), (float)test_rng_uniform(rng, -1, 1),
         (float)test_rng_uniform(rng, -1, 1), (float)test_rng_uniform(rng, 0.1, 1));
-    m = mat_mul(m, persp_mat4_scale((float)test_rng_uniform(rng, 0.3, 3),
-                                    (float)test_rng_uniform(rng, 0.3, 3),
-                                    (float)test_rng_uniform(rng, 0.3, 3)));
+    m = persp_mat4_mul(m, persp_mat4_scale((float)test_rng_uniform(rng, 0.3, 3),
+                                           (float)test_rng_uniform(rng, 0.3, 3),
+                                           (float)test_rng_uniform(rng, 0.3, 3)));
     persp_mat4 shear = persp_mat4_identity();
     shear.m[4] = (float)test_rng_uniform(rng, -0.5, 0.5); /* x += s·y */
-    return mat_mul(m, shear);
+    return persp_mat4_mul(m, shear);
 }
 
 /* Projections: symmetric perspective, an off-centre frustum (the first two
@@ -205,7 +200,7 @@ static void test_culled_clusters_are_culled_triangles(void **state)
                           (persp_vec3){0, 1, 0});
         const persp_mat4 proj = random_projection(&rng, trial % 3, (double)W / H);
         const persp_mat4 model = trial % 2 ? random_model(&rng) : persp_mat4_identity();
-        const persp_mat4 mvp = mat_mul(proj, mat_mul(view, model));
+        const persp_mat4 mvp = persp_mat4_mul(proj, persp_mat4_mul(view, model));
         uint8_t culled[4];
         persp_cluster_view cv;
         persp__cluster_view_init(&cv, &mvp, W, H, gx, gy);
