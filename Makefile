@@ -12,6 +12,8 @@
 #                        scripts/fuzz-long.sh) at nice 19, nproc at once, with a faster
 #                        build (-O2, UBSan only, build-fuzz-long/); then minimises each
 #                        corpus back into tests/fuzz/corpus/NAME/ and prints a summary
+#   make test-aarch64    cross build for 64-bit ARM (cmake/aarch64-linux-gnu.cmake) and the
+#                        suite under qemu-user (build-aarch64/; not part of `make test`)
 #   make difftest        persp against Mesa llvmpipe on 2000 random scenes (SEEDS=A:B),
 #                        a summary per filter; failing scenes kept in out/difftest/
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -27,7 +29,7 @@ else
 BUILD ?= build
 endif
 
-.PHONY: all deps build demo test bench fuzz fuzz-long difftest clean format
+.PHONY: all deps build demo test test-aarch64 bench fuzz fuzz-long difftest clean format
 
 all: build
 
@@ -49,6 +51,13 @@ ifeq ($(TSAN),1)
 else
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 endif
+
+test-aarch64:
+	@bash scripts/deps.sh --aarch64
+	@cmake -S . -B build-aarch64 -DCMAKE_TOOLCHAIN_FILE=cmake/aarch64-linux-gnu.cmake \
+		-DPERSP_OSMESA=OFF -DPERSP_VIEWER=OFF >/dev/null
+	@cmake --build build-aarch64 -j $(JOBS)
+	@cd build-aarch64 && ctest --output-on-failure -j $(JOBS)
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)/persp out/bench
@@ -77,4 +86,4 @@ format:
 	@clang-format -i include/*.h src/*/*.[ch] tools/persp/*.[ch] tests/*/*.[ch]
 
 clean:
-	rm -rf build build-san build-tsan build-fuzz build-fuzz-long out
+	rm -rf build build-san build-tsan build-fuzz build-fuzz-long build-aarch64 out

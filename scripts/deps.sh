@@ -10,8 +10,14 @@ set -eu
 # xvfb runs it in a real X window in tests/cli/test_view_xvfb.sh.
 required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core libassimp-dev xvfb"
 optional="clang"
+# --aarch64: the cross build of `make test-aarch64` (cmake/aarch64-linux-gnu.cmake):
+# the cross compiler, qemu-user to run its tests, and the arm64 builds of the
+# libraries it links, from Debian's multiarch archive (the window of
+# `persp view` and the Mesa peer are left out of that build).
+aarch64="gcc-aarch64-linux-gnu qemu-user libc6-dev:arm64 libpng-dev:arm64 libjpeg62-turbo-dev:arm64 libjansson-dev:arm64 libcmocka-dev:arm64 libassimp-dev:arm64"
 want="$required"
 [ "${1:-}" = "--optional" ] && want="$required $optional"
+[ "${1:-}" = "--aarch64" ] && want="$required $aarch64"
 missing=""
 for p in $want; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
@@ -21,6 +27,9 @@ echo "deps: installing:$missing"
 sudo=""
 [ "$(id -u)" -ne 0 ] && sudo="sudo"
 export DEBIAN_FRONTEND=noninteractive
+if [ "${1:-}" = "--aarch64" ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
+    $sudo dpkg --add-architecture arm64
+fi
 $sudo apt-get update -qq
 # shellcheck disable=SC2086
 $sudo apt-get install -y -qq --no-install-recommends $missing >/dev/null

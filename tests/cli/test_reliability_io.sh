@@ -64,8 +64,10 @@ expect_not 1 "root:x" -- "$persp" render "$m/c.obj" --any-folder --size 16x16 -o
 
 # ------------------------------------------------------------- out of memory
 # The decoders' own allocations fail (tests/cli/data/fail_alloc.c, preloaded;
-# not with the sanitizers, whose runtime must come first).
-cc_bin=$(command -v cc || command -v gcc || true)
+# not with the sanitizers, whose runtime must come first). A cross build's
+# tests name its compiler in PERSP_TEST_CC, so that the library preloaded
+# into the emulated CLI is of the CLI's architecture.
+cc_bin=${PERSP_TEST_CC:-$(command -v cc || command -v gcc || true)}
 if [ -n "$cc_bin" ] && ! ldd "$persp" 2>/dev/null | grep -q libasan &&
     "$cc_bin" -shared -fPIC -O2 -o "$tmp/fail_alloc.so" "$src/tests/cli/data/fail_alloc.c" -ldl 2>/dev/null; then
     oom() { # oom LIBRARY PATTERN -- command...

@@ -58,7 +58,11 @@ static double bezier_gap(const persp_rat1 *f, double L, double *slope)
         double t = i / 4000.0;
         double x = 2.0 * t * (1.0 - t) * x1 + t * t * L;
         double u = (1 - t) * (1 - t) * u0 + 2.0 * t * (1 - t) * u1 + t * t * u2;
-        gap = fmax(gap, fabs(u - persp__rat1_eval(f, x)));
+        /* Compare and select rather than fmax (the same for these values,
+         * never NaN): GCC 12's aarch64 vectoriser stops with an internal
+         * compiler error (vect_transform_reduction) on fmax reductions here. */
+        const double d = fabs(u - persp__rat1_eval(f, x));
+        if (d > gap) gap = d;
     }
     double cross = fabs(f->beta * f->gamma - f->alpha * f->delta);
     double dmin = fmin(f->delta, f->gamma * L + f->delta);
@@ -80,7 +84,8 @@ static double quadt_xerr(const persp_rat1 *f, double L)
         double t = ts[1] * (X - xs[0]) * (X - xs[2]) / ((xs[1] - xs[0]) * (xs[1] - xs[2])) +
                    ts[2] * (X - xs[0]) * (X - xs[1]) / ((xs[2] - xs[0]) * (xs[2] - xs[1]));
         double x = 2.0 * t * (1.0 - t) * x1 + t * t * L;
-        worst = fmax(worst, fabs(x - X));
+        const double d = fabs(x - X); /* as in bezier_gap */
+        if (d > worst) worst = d;
     }
     return worst;
 }
