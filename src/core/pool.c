@@ -18,10 +18,14 @@
  * torus in the kernel. */
 #define POOL_SPIN 4096
 
+/* The spin-wait hint of each CPU family: it lets a sibling hardware thread
+ * run and, on x86, avoids the memory-order flush when the loop exits. */
 static inline void cpu_relax(void)
 {
 #if defined(__SSE2__)
     _mm_pause();
+#elif defined(__aarch64__)
+    __asm__ __volatile__("yield");
 #endif
 }
 
