@@ -30,6 +30,9 @@ export DEBIAN_FRONTEND=noninteractive
 if [ "${1:-}" = "--aarch64" ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
     $sudo dpkg --add-architecture arm64
 fi
-$sudo apt-get update -qq
+# A mirror caught mid-sync fails one architecture's index ("File has
+# unexpected size"): the install below then says whether the lists that did
+# arrive are enough.
+$sudo apt-get update -qq || echo "deps: apt-get update reported errors; installing from the lists there are"
 # shellcheck disable=SC2086
 $sudo apt-get install -y -qq --no-install-recommends $missing >/dev/null
