@@ -55,6 +55,8 @@ for row in "${rows[@]}"; do
 done
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
+# ARM Linux names no model: its implementer and part numbers stand for it.
+[ -n "$cpu" ] || cpu="$(uname -m), CPU implementer $(sed -n 's/^CPU implementer[[:space:]]*: //p' /proc/cpuinfo | head -1), part $(sed -n 's/^CPU part[[:space:]]*: //p' /proc/cpuinfo | head -1)"
 commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
 dirty=$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null | head -1)
 python3 - "$cpu" "$commit${dirty:+ (modified)}" "$size" "$reps" "${files[@]}" <<'EOF'

@@ -27,6 +27,8 @@ peer_args=(--peer "$peer")
 if "$persp" bench --help | grep -q "not built with OSMesa"; then peer_args=(); fi
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
+# ARM Linux names no model: its implementer and part numbers stand for it.
+[ -n "$cpu" ] || cpu="$(uname -m), CPU implementer $(sed -n 's/^CPU implementer[[:space:]]*: //p' /proc/cpuinfo | head -1), part $(sed -n 's/^CPU part[[:space:]]*: //p' /proc/cpuinfo | head -1)"
 echo "CPU: $cpu, $all threads; REPS=$reps TIME=$run_time"
 
 run() { # out-name, then bench arguments
