@@ -78,9 +78,12 @@ typedef struct persp_draw_state {
     persp_material material;
     persp_lighting lighting;
     int depth_test, depth_write;
-    /* The span shader returns the texel unchanged (texture, no lighting:
-     * [CS300-TexMap]'s "replace"), so the renderer may sample straight into the
-     * destination. */
+    /* The span shader returns the texel unchanged, so the renderer may
+     * sample straight into the destination and light nothing: a texture
+     * without lighting, or with the texture environment replace, whose
+     * colour is the texel's whatever the lighting ([CS300-TexMap]'s
+     * "replace"; GL 1.5 table 3.22; every lit shader ends in combine_soa,
+     * which copies the texel for it). */
     int shade_is_texel;
     /* Decided once when the frame takes the state (persp__frame_add_state,
      * render.c): u, v and the shader's perspective-correct weights from one

@@ -136,8 +136,7 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
     ds->fuse_weights = exact && pc;
     ds->small_lanes = exact && !f->capture && !f->ctx->span_only && ds->tex &&
                       persp__lane_filter(ds->sampler.desc.filter) &&
-                      (ds->shade_is_texel || (pc && !(ds->shading == PERSP_SHADING_GOURAUD_PC &&
-                                                      ds->material.env == PERSP_TEXENV_REPLACE)));
+                      (ds->shade_is_texel || pc);
     *index = (uint32_t)f->state_count++;
     return PERSP_OK;
 }

@@ -785,7 +785,8 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
                                       "shading '%s': method '%s' needs per-triangle preparation",
                                       persp_shading_name(ds->shading), spec);
     }
-    ds->shade_is_texel = ds->shading == PERSP_SHADING_NONE && ds->tex != NULL;
+    ds->shade_is_texel =
+        ds->tex != NULL && (ds->shading == PERSP_SHADING_NONE || ds->material.env == PERSP_TEXENV_REPLACE);
     switch (ds->shading) {
     case PERSP_SHADING_NONE: ds->shade = ds->tex ? shade_replace : shade_vertex_color; break;
     case PERSP_SHADING_FLAT: ds->shade = shade_flat; break;
