@@ -230,6 +230,15 @@ static int vertex_attrs(const persp_frame *f, const persp_draw_state *ds)
     return PERSP_A_BR;
 }
 
+/* Whether a draw whose vertex cache holds nattr attributes lights Gouraud
+ * colours (vertex stage, clipping, set-up): not where its span is the
+ * texel, Gouraud with the texture environment replace included, whose
+ * cache holds only u and v. */
+static int gouraud_lit(const persp_draw_state *ds, int nattr)
+{
+    return nattr > PERSP_A_V + 1 && persp__shade_is_gouraud(ds);
+}
+
 /* Two-sided Gouraud needs a vertex's back colour only for the triangles
  * that show their back (light_side −1). Drawn with culling, a closed mesh
  * has few (along the silhouettes), and lighting each vertex's back in the
@@ -282,8 +291,8 @@ static int setup_record(const persp_frame *f, const persp_draw_state *ds, const 
      * col, Gouraud's back colours come from back_colours; without, with
      * the attributes (clipped polygons: mesh_triangles added them before
      * clipping, which interpolates them). */
-    const int gouraud = persp__shade_is_gouraud(ds);
-    unsigned need = vertex_attrs(f, ds) <= PERSP_A_V + 1 ? 0u
+    const int nattr = vertex_attrs(f, ds), gouraud = gouraud_lit(ds, nattr);
+    unsigned need = nattr <= PERSP_A_V + 1 ? 0u
                     : gouraud && !col                  ? PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS
                                                        : PERSP_SETUP_SHADING;
     if (need && (!ds->shade_method.m || f->capture)) need |= PERSP_SETUP_LINEAR;
@@ -542,7 +551,7 @@ static void vertex_task(void *user, int task, int worker)
     const size_t b = PERSP_MIN(a + j->task_size, mesh->vertex_count);
     const float *nm = j->nm, *uv = j->uv;
     const size_t stride = (size_t)j->nattr;
-    const int lit = j->nattr > PERSP_A_V + 1, gouraud = lit && persp__shade_is_gouraud(j->ds);
+    const int lit = j->nattr > PERSP_A_V + 1, gouraud = gouraud_lit(j->ds, j->nattr);
     const double W = j->f->fb->width, H = j->f->fb->height;
     const int isa = j->f->ctx->isa; /* the context's, as the samplers' (PERSP_ISA_VARIANTS) */
     /* Block by block, each step across the block while it is in L1: a
@@ -771,7 +780,7 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                 float *const ia[3] = {in[0].attr, in[1].attr, in[2].attr};
                 if (j->lazy && !front_colours(j, ix, ia)) continue;
                 const persp_draw_state *ds = &c->states[j->state];
-                if (persp__shade_is_gouraud(ds)) {
+                if (gouraud_lit(ds, j->nattr)) {
                     float *v[3] = {in[0].attr, in[1].attr, in[2].attr};
                     const float *col[3], *back[3];
                     colour_sources(j, ix, col, back);
@@ -944,10 +953,10 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
      * (back_colours). */
     const int back_lighting = f->ctx->back_lighting;
     vertex_job job = {.f = f, .mesh = mesh, .uv = uv, .ds = ds, .nattr = nattr,
-                      .back = persp__shade_is_gouraud(ds) && (back_lighting ? back_lighting == 1 : !cull)};
+                      .back = gouraud_lit(ds, nattr) && (back_lighting ? back_lighting == 1 : !cull)};
     /* Fronts left to set-up where backs are too (front_colours), but not
      * for a capture, whose records the analyses read whole. */
-    job.lazy = persp__shade_is_gouraud(ds) && !job.back && !f->capture && nattr == PERSP_A_BR;
+    job.lazy = gouraud_lit(ds, nattr) && !job.back && !f->capture && nattr == PERSP_A_BR;
     if (job.lazy && persp__reserve(f->ctx, (void **)&c->lazy, &c->lazy_cap, mesh->vertex_count, 1) != PERSP_OK)
         return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
     if (job.back && (!persp__size_mul(mesh->vertex_count, 3, &floats) ||
