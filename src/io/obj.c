@@ -14,10 +14,11 @@
  * stay as they were: one mesh per run of faces between a change of group,
  * object or material; polygons cut the way Assimp's triangulation cuts
  * them; normals, where the file gives none, made the way its
- * GenVertexNormals step makes them (80 degree crease); the MTL defaults of
- * its reader.
+ * GenVertexNormals step makes them (80 degree crease, src/io/obj_vertices.c);
+ * the MTL defaults of its reader. The reader's state is in io/obj_reader.h.
  */
 #include "io/obj.h"
+#include "io/obj_reader.h"
 
 #include "core/internal.h"
 #include "io/text.h"
@@ -33,17 +34,8 @@
  * one is refused rather than buffered without bound. */
 #define OBJ_CHUNK ((size_t)1 << 20)
 #define OBJ_LINE_MAX ((size_t)1 << 20)
-/* Longest group, object or material name compared (a run of faces is split
- * where one changes). */
-#define OBJ_NAME_MAX 1024
-#define NO_INDEX UINT32_MAX
-/* Different mtllib statements read (see mtllib). */
-#define OBJ_LIBS_MAX 64
 /* Largest polygon cut by ear clipping (see emit_polygon). */
 #define OBJ_EAR_MAX 256
-/* Bit 31 of a corner's tuple index marks the corner that stands for its
- * polygon corner in the normals (see emit_polygon). */
-#define OWNER_BIT 0x80000000u
 
 /* ------------------------------------------------------------------ lines */
 
@@ -340,87 +332,7 @@ static int parse_number(const char *p, const char *e, float *out)
 
 /* ------------------------------------------------------------- the reader */
 
-typedef struct obj_run {
-    size_t tris, corners;
-    int normals; /* corners with a normal index: 0 none, 1 all, 2 some */
-} obj_run;
-
-typedef struct obj_mat {
-    size_t name, tex, lib; /* offsets in the name pool; tex NO_NAME: none */
-    size_t tex_line;
-    float kd[3], ks[3], ka[3], ns;
-    int clamp;
-    int scene; /* scene material, -1 not made yet */
-} obj_mat;
-
-#define NO_NAME SIZE_MAX
-
-typedef struct obj_reader {
-    persp_scene *scene;
-    persp_context *ctx;
-    const char *display, *base_dir, *root, *main_name;
-    persp_model *out;
-    size_t part_cap;
-    persp_model_refs refs;
-    size_t max_vertices, vertices_used;
-    int pass; /* 1: counting, 2: reading */
-
-    /* counted in pass 1 */
-    size_t nv, nvt, nvn, max_poly;
-    int colours, bad_vn, force_normals;
-    obj_run *runs;
-    size_t nruns, runs_cap;
-
-    /* attribute arrays (pass 2), filled up to iv, ivt, ivn */
-    float *pos, *col, *tc, *nrm;
-    size_t iv, ivt, ivn;
-
-    /* group, object and material names: a run ends where one changes */
-    char group[OBJ_NAME_MAX], object[OBJ_NAME_MAX], mtl[OBJ_NAME_MAX];
-    int has_group, has_object, has_mtl, split;
-    size_t run; /* runs seen so far in this pass */
-
-    /* materials */
-    obj_mat *mats;
-    size_t nmats, mats_cap;
-    char *pool;
-    size_t pool_len, pool_cap;
-    int default_material; /* scene material for faces without one, -1 not yet */
-    struct {
-        size_t name, len; /* in the name pool */
-    } libs[OBJ_LIBS_MAX]; /* mtllib statements read */
-    int nlibs;
-    const obj_mat *where_mat;
-
-    /* the run being read (pass 2) */
-    int open;         /* a run is being read */
-    int run_mat;      /* material record, -1: the default material */
-    int file_normals; /* the run keeps the file's normals */
-    uint32_t *idx;    /* 3 per triangle: tuple index (| OWNER_BIT) */
-    size_t nidx;
-    uint32_t *tuples; /* 3 per distinct corner: v, vt, vn (NO_INDEX: none) */
-    size_t ntuples, tuples_cap;
-    uint32_t *table; /* hash of tuples: index + 1, 0 empty */
-    size_t table_cap;
-    int area; /* a triangle with area was seen */
-
-    /* scratch for one polygon, max_poly corners */
-    uint32_t *poly;   /* tuple index of each corner */
-    uint32_t *poly_v; /* position index of each corner */
-    int *tri;         /* 3 per triangle of the polygon, corner numbers */
-    int *link;        /* ear clipping: next corner, then previous */
-    float *flat;      /* ear clipping: 2D corners */
-    unsigned char *seen;
-
-    /* generated normals */
-    uint32_t *canon;    /* per position: the first position equal to it */
-    uint32_t *group_of; /* per canonical position: group in the run, NO_INDEX */
-    uint32_t *ctable;   /* hash of the positions read: index + 1, 0 empty */
-    size_t ctable_cap;
-    size_t idx_cap; /* entries of idx (from pass 1) */
-} obj_reader;
-
-static persp_status oom(obj_reader *r)
+persp_status persp__obj_oom(obj_reader *r)
 {
     return persp__fail(r->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", r->display);
 }
@@ -436,7 +348,7 @@ static persp_status line_error(obj_reader *r, size_t line, const char *what, con
     return persp__fail(r->ctx, PERSP_ERR_FORMAT, "%s:%zu: %s", r->display, line, what);
 }
 
-static persp_status too_large(obj_reader *r)
+persp_status persp__obj_too_large(obj_reader *r)
 {
     return persp__fail(r->ctx, PERSP_ERR_TOO_LARGE,
                        "%s: more than %zu vertices or %u triangle corners", r->display,
@@ -448,7 +360,7 @@ static persp_status too_large(obj_reader *r)
 static persp_status pool_add(obj_reader *r, const char *s, size_t n, size_t *off)
 {
     if (persp__grow(r->ctx, (void **)&r->pool, &r->pool_cap, r->pool_len + n + 1, 1) != PERSP_OK)
-        return oom(r);
+        return persp__obj_oom(r);
     memcpy(r->pool + r->pool_len, s, n);
     r->pool[r->pool_len + n] = '\0';
     *off = r->pool_len;
@@ -471,7 +383,7 @@ static persp_status new_material(obj_reader *r, const char *name, size_t n, size
 {
     if (persp__grow(r->ctx, (void **)&r->mats, &r->mats_cap, r->nmats + 1, sizeof *r->mats) !=
         PERSP_OK)
-        return oom(r);
+        return persp__obj_oom(r);
     obj_mat *m = &r->mats[r->nmats];
     memset(m, 0, sizeof *m);
     for (int k = 0; k < 3; k++)
@@ -614,7 +526,7 @@ static persp_status load_library(obj_reader *r, const char *name, size_t n, cons
     char *text = NULL;
     size_t size = 0;
     persp_status st = persp__model_read_ref(r->ctx, r->base_dir, r->root, rel, &text, &size, why);
-    if (st == PERSP_ERR_OUT_OF_MEMORY) return oom(r);
+    if (st == PERSP_ERR_OUT_OF_MEMORY) return persp__obj_oom(r);
     if (st != PERSP_OK) return PERSP_OK;
     st = read_mtl(r, rel, text, size);
     persp__free(r->ctx, text);
@@ -717,7 +629,7 @@ static persp_status scene_material(obj_reader *r, int rec, int *out)
         if (m->tex != NO_NAME) {
             r->where_mat = m;
             pm.texture = persp__model_texture_file(&r->refs, r->pool + m->name, r->pool + m->tex);
-            if (r->refs.out_of_memory) return oom(r);
+            if (r->refs.out_of_memory) return persp__obj_oom(r);
             if (pm.texture >= 0) {
                 pm.env = PERSP_TEXENV_MODULATE;
                 pm.sampler.wrap_s = pm.sampler.wrap_t =
@@ -762,295 +674,6 @@ static void free_run(obj_reader *r)
     r->open = 0;
 }
 
-static void normalize_safe(float *v)
-{
-    /* Assimp's aiVector3D::NormalizeSafe: a zero vector stays zero. */
-    float len = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (len > 0.0f) {
-        float inv = 1.0f / len;
-        v[0] *= inv, v[1] *= inv, v[2] *= inv;
-    }
-}
-
-static void face_normal(const float *a, const float *b, const float *c, float *n)
-{
-    const float u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const float v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    n[0] = u[1] * v[2] - u[2] * v[1];
-    n[1] = u[2] * v[0] - u[0] * v[2];
-    n[2] = u[0] * v[1] - u[1] * v[0];
-    normalize_safe(n);
-}
-
-static void fill_vertex(const obj_reader *r, const uint32_t *t, const float *normal,
-                        persp_vertex *v)
-{
-    memset(v, 0, sizeof *v);
-    memcpy(v->pos, r->pos + 3 * (size_t)t[0], sizeof v->pos);
-    if (t[1] != NO_INDEX && isfinite(r->tc[2 * (size_t)t[1]]) &&
-        isfinite(r->tc[2 * (size_t)t[1] + 1]))
-        memcpy(v->uv, r->tc + 2 * (size_t)t[1], sizeof v->uv);
-    if (normal && isfinite(normal[0]) && isfinite(normal[1]) && isfinite(normal[2]))
-        memcpy(v->normal, normal, sizeof v->normal);
-    for (int k = 0; k < 4; k++)
-        v->color[k] = 1.0f;
-    if (r->col)
-        for (int k = 0; k < 3; k++) {
-            float c = r->col[3 * (size_t)t[0] + (size_t)k];
-            v->color[k] = isfinite(c) ? fminf(fmaxf(c, 0.0f), 1.0f) : 1.0f;
-        }
-}
-
-/* Positions equal to an earlier one map to it: Assimp smoothed normals
- * across corners at one place whatever their position index. Filled as the
- * positions are read (a hash of the positions so far). */
-static persp_status canon_init(obj_reader *r)
-{
-    size_t n = r->nv ? r->nv : 1, cap = 16;
-    while (cap < 2 * n)
-        cap *= 2;
-    r->canon = persp__alloc(r->ctx, n * sizeof *r->canon);
-    r->group_of = persp__alloc(r->ctx, n * sizeof *r->group_of);
-    r->ctable = persp__calloc(r->ctx, cap, sizeof *r->ctable);
-    if (!r->canon || !r->group_of || !r->ctable) return oom(r);
-    r->ctable_cap = cap;
-    return PERSP_OK;
-}
-
-static void canon_add(obj_reader *r, size_t i)
-{
-    float p[3];
-    for (int k = 0; k < 3; k++) /* -0 and +0 are one place */
-        p[k] = r->pos[3 * i + (size_t)k] == 0.0f ? 0.0f : r->pos[3 * i + (size_t)k];
-    uint32_t b[3];
-    memcpy(b, p, sizeof b);
-    uint64_t h = ((uint64_t)b[0] * 0x9e3779b97f4a7c15ull) ^
-                 ((uint64_t)b[1] * 0xc2b2ae3d27d4eb4full) ^
-                 ((uint64_t)b[2] * 0x165667b19e3779f9ull);
-    h ^= h >> 29;
-    r->group_of[i] = NO_INDEX;
-    for (size_t slot = (size_t)h & (r->ctable_cap - 1);; slot = (slot + 1) & (r->ctable_cap - 1)) {
-        if (!r->ctable[slot]) {
-            r->ctable[slot] = (uint32_t)i + 1;
-            r->canon[i] = (uint32_t)i;
-            return;
-        }
-        size_t j = r->ctable[slot] - 1;
-        float q[3];
-        for (int k = 0; k < 3; k++)
-            q[k] = r->pos[3 * j + (size_t)k] == 0.0f ? 0.0f : r->pos[3 * j + (size_t)k];
-        if (!memcmp(p, q, sizeof p)) {
-            r->canon[i] = (uint32_t)j;
-            return;
-        }
-    }
-}
-
-typedef struct extra {
-    uint32_t tuple;
-    float n[3];
-} extra;
-
-typedef struct group_key {
-    float d;        /* along Assimp's SpatialSort direction */
-    uint32_t group; /* of corners at one position */
-    uint32_t pos;   /* that position */
-} group_key;
-
-static int by_distance(const void *a, const void *b)
-{
-    float x = ((const group_key *)a)->d, y = ((const group_key *)b)->d;
-    return (x > y) - (x < y);
-}
-
-/* Normals as Assimp's GenVertexNormals step made them with a crease
- * angle: each polygon corner's normal is the sum of the face normals of the
- * polygon corners at its position whose face turns less than the crease
- * angle from its own (its own always counted), normalised. Corners of one
- * tuple with different results become different vertices. Fills
- * mesh->vertices and rewrites r->idx to vertex numbers. */
-static persp_status generate_normals(obj_reader *r, persp_mesh *mesh)
-{
-    const size_t ntri = r->nidx / 3, U = r->ntuples;
-    const float limit = cosf(PERSP_MODEL_CREASE_DEG * 0.0174532925f);
-    float *fn = persp__alloc(r->ctx, (ntri ? ntri : 1) * 3 * sizeof *fn);
-    float *first = persp__alloc(r->ctx, (U ? U : 1) * 3 * sizeof *first);
-    uint32_t *off = NULL, *list = NULL, *near = NULL;
-    group_key *keys = NULL;
-    extra *extras = NULL;
-    uint32_t *xtable = NULL;
-    size_t nextra = 0, extras_cap = 0, xcap = 0, near_cap = 0;
-    size_t groups = 0;
-    if (!fn || !first) goto nomem;
-    for (size_t t = 0; t < ntri; t++) {
-        const float *p[3];
-        for (int k = 0; k < 3; k++)
-            p[k] = r->pos +
-                   3 * (size_t)r->tuples[3 * (size_t)(r->idx[3 * t + (size_t)k] & ~OWNER_BIT)];
-        face_normal(p[0], p[1], p[2], fn + 3 * t);
-    }
-    /* Corners grouped by position (canonical); the groups sorted along one
-     * direction, so that the groups within eps of one are found by a short
-     * scan, as Assimp's SpatialSort finds them. eps is Assimp's: 1e-4 of
-     * the run's bounding box diagonal. */
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t u = 0; u < U; u++) {
-        uint32_t c = r->canon[r->tuples[3 * u]];
-        if (r->group_of[c] == NO_INDEX) r->group_of[c] = (uint32_t)groups++;
-        for (int k = 0; k < 3; k++) {
-            float v = r->pos[3 * (size_t)c + (size_t)k];
-            lo[k] = fminf(lo[k], v), hi[k] = fmaxf(hi[k], v);
-        }
-    }
-    const float dx = hi[0] - lo[0], dy = hi[1] - lo[1], dz = hi[2] - lo[2];
-    const float eps = sqrtf(dx * dx + dy * dy + dz * dz) * 1e-4f;
-    off = persp__calloc(r->ctx, groups + 2, sizeof *off);
-    list = persp__alloc(r->ctx, (r->nidx ? r->nidx : 1) * sizeof *list);
-    keys = persp__alloc(r->ctx, (groups ? groups : 1) * sizeof *keys);
-    if (!off || !list || !keys) goto nomem;
-    for (size_t u = 0; u < U; u++) {
-        uint32_t c = r->canon[r->tuples[3 * u]], g = r->group_of[c];
-        const float *p = r->pos + 3 * (size_t)c;
-        keys[g].d = 0.8523f * p[0] + 0.34321f * p[1] + 0.5736f * p[2];
-        keys[g].group = g;
-        keys[g].pos = c;
-    }
-    qsort(keys, groups, sizeof *keys, by_distance);
-    for (size_t c = 0; c < r->nidx; c++)
-        off[r->group_of[r->canon[r->tuples[3 * (size_t)(r->idx[c] & ~OWNER_BIT)]]] + 2]++;
-    for (size_t g = 0; g < groups; g++)
-        off[g + 2] += off[g + 1];
-    for (size_t c = 0; c < r->nidx; c++)
-        list[off[r->group_of[r->canon[r->tuples[3 * (size_t)(r->idx[c] & ~OWNER_BIT)]]] + 1]++] =
-            (uint32_t)c;
-    /* off[g] .. off[g + 1] now spans group g. */
-    for (size_t u = 0; u < 3 * U; u++)
-        first[u] = NAN;
-    for (size_t i = 0; i < groups; i++) {
-        const float *p = r->pos + 3 * (size_t)keys[i].pos;
-        size_t nnear = 0;
-        for (size_t j = i + 1; j-- > 0;) {
-            if (j < i && !(keys[i].d - keys[j].d < eps)) break;
-            const float *q = r->pos + 3 * (size_t)keys[j].pos;
-            float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
-            if (j != i && !(ex * ex + ey * ey + ez * ez < eps * eps)) continue;
-            if (persp__grow(r->ctx, (void **)&near, &near_cap, nnear + 1, sizeof *near) != PERSP_OK)
-                goto nomem;
-            near[nnear++] = keys[j].group;
-        }
-        for (size_t j = i + 1; j < groups && keys[j].d - keys[i].d < eps; j++) {
-            const float *q = r->pos + 3 * (size_t)keys[j].pos;
-            float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
-            if (!(ex * ex + ey * ey + ez * ez < eps * eps)) continue;
-            if (persp__grow(r->ctx, (void **)&near, &near_cap, nnear + 1, sizeof *near) != PERSP_OK)
-                goto nomem;
-            near[nnear++] = keys[j].group;
-        }
-        const uint32_t g = keys[i].group;
-        for (uint32_t k = off[g]; k < off[g + 1]; k++) {
-            const size_t c = list[k];
-            uint32_t t = r->idx[c] & ~OWNER_BIT;
-            const float *own = fn + 3 * (c / 3);
-            float sum[3] = {0, 0, 0};
-            /* Only the corner standing for each polygon corner counts. */
-            for (size_t h = 0; h < nnear; h++)
-                for (uint32_t m = off[near[h]]; m < off[near[h] + 1]; m++) {
-                    if (!(r->idx[list[m]] & OWNER_BIT)) continue;
-                    const float *o = fn + 3 * (list[m] / 3);
-                    if (list[m] == c || o[0] * own[0] + o[1] * own[1] + o[2] * own[2] >= limit)
-                        sum[0] += o[0], sum[1] += o[1], sum[2] += o[2];
-                }
-            normalize_safe(sum);
-            float *f = first + 3 * (size_t)t;
-            uint32_t vid = t;
-            if (isnan(f[0])) {
-                memcpy(f, sum, sizeof sum);
-            } else if (memcmp(f, sum, sizeof sum) != 0) {
-                /* Another normal at this tuple: a vertex of its own, found again
-                 * through a small hash of (tuple, normal). */
-                if (nextra * 2 >= xcap) {
-                    size_t ncap = xcap ? 2 * xcap : 64;
-                    uint32_t *nt = persp__calloc(r->ctx, ncap, sizeof *nt);
-                    if (!nt) goto nomem;
-                    for (size_t x = 0; x < nextra; x++) {
-                        uint32_t hb[3];
-                        memcpy(hb, extras[x].n, sizeof hb);
-                        size_t s = (size_t)((extras[x].tuple * 2654435761u) ^ hb[0] ^
-                                            (hb[1] * 31u) ^ (hb[2] * 131u)) &
-                                   (ncap - 1);
-                        while (nt[s])
-                            s = (s + 1) & (ncap - 1);
-                        nt[s] = (uint32_t)x + 1;
-                    }
-                    persp__free(r->ctx, xtable);
-                    xtable = nt;
-                    xcap = ncap;
-                }
-                uint32_t hb[3];
-                memcpy(hb, sum, sizeof hb);
-                size_t s = (size_t)((t * 2654435761u) ^ hb[0] ^ (hb[1] * 31u) ^ (hb[2] * 131u)) &
-                           (xcap - 1);
-                for (;; s = (s + 1) & (xcap - 1)) {
-                    if (!xtable[s]) {
-                        if (persp__grow(r->ctx, (void **)&extras, &extras_cap, nextra + 1,
-                                        sizeof *extras) != PERSP_OK)
-                            goto nomem;
-                        extras[nextra].tuple = t;
-                        memcpy(extras[nextra].n, sum, sizeof sum);
-                        xtable[s] = (uint32_t)++nextra;
-                        vid = (uint32_t)(U + nextra - 1);
-                        break;
-                    }
-                    const extra *x = &extras[xtable[s] - 1];
-                    if (x->tuple == t && !memcmp(x->n, sum, sizeof sum)) {
-                        vid = (uint32_t)(U + xtable[s] - 1);
-                        break;
-                    }
-                }
-            }
-            r->idx[c] = vid | (r->idx[c] & OWNER_BIT);
-        }
-    }
-    for (size_t u = 0; u < U; u++)
-        r->group_of[r->canon[r->tuples[3 * u]]] = NO_INDEX;
-    persp__free(r->ctx, fn);
-    persp__free(r->ctx, off);
-    persp__free(r->ctx, list);
-    persp__free(r->ctx, xtable);
-    persp__free(r->ctx, near);
-    persp__free(r->ctx, keys);
-    fn = NULL, off = list = xtable = near = NULL;
-    keys = NULL;
-    if (U + nextra > PERSP_SCENE_MAX_VERTICES || U + nextra > r->max_vertices - r->vertices_used) {
-        persp__free(r->ctx, first);
-        persp__free(r->ctx, extras);
-        return too_large(r);
-    }
-    mesh->vertex_count = U + nextra;
-    mesh->vertices = persp__alloc(r->ctx, mesh->vertex_count * sizeof *mesh->vertices);
-    if (!mesh->vertices) goto nomem;
-    for (size_t u = 0; u < U; u++)
-        fill_vertex(r, r->tuples + 3 * u, first + 3 * u, &mesh->vertices[u]);
-    for (size_t i = 0; i < nextra; i++)
-        fill_vertex(r, r->tuples + 3 * (size_t)extras[i].tuple, extras[i].n,
-                    &mesh->vertices[U + i]);
-    persp__free(r->ctx, first);
-    persp__free(r->ctx, extras);
-    return PERSP_OK;
-nomem:
-    for (size_t u = 0; u < U && r->group_of; u++)
-        r->group_of[r->canon[r->tuples[3 * u]]] = NO_INDEX;
-    persp__free(r->ctx, fn);
-    persp__free(r->ctx, first);
-    persp__free(r->ctx, off);
-    persp__free(r->ctx, list);
-    persp__free(r->ctx, xtable);
-    persp__free(r->ctx, extras);
-    persp__free(r->ctx, near);
-    persp__free(r->ctx, keys);
-    return oom(r);
-}
-
 /* The run read so far becomes a scene mesh and a model part. */
 static persp_status close_run(obj_reader *r)
 {
@@ -1068,21 +691,7 @@ static persp_status close_run(obj_reader *r)
     persp__free(r->ctx, r->table);
     r->table = NULL;
     r->table_cap = 0;
-    if (r->file_normals) {
-        if (r->ntuples > r->max_vertices - r->vertices_used) {
-            free_run(r);
-            return too_large(r);
-        }
-        mesh.vertex_count = r->ntuples;
-        mesh.vertices = persp__alloc(r->ctx, (r->ntuples ? r->ntuples : 1) * sizeof *mesh.vertices);
-        if (!mesh.vertices) st = oom(r);
-        for (size_t u = 0; st == PERSP_OK && u < r->ntuples; u++) {
-            const uint32_t *t = r->tuples + 3 * u;
-            fill_vertex(r, t, r->nrm + 3 * (size_t)t[2], &mesh.vertices[u]);
-        }
-    } else {
-        st = generate_normals(r, &mesh);
-    }
+    st = persp__obj_run_vertices(r, &mesh);
     if (st != PERSP_OK) {
         persp__mesh_free(r->ctx, &mesh);
         free_run(r);
@@ -1128,7 +737,7 @@ static persp_status open_run(obj_reader *r)
     r->table = persp__calloc(r->ctx, cap, sizeof *r->table);
     if (!r->idx || !r->table) {
         free_run(r);
-        return oom(r);
+        return persp__obj_oom(r);
     }
     r->table_cap = cap;
     r->open = 1;
@@ -1157,10 +766,10 @@ static persp_status corner_tuple(obj_reader *r, uint32_t v, uint32_t t, uint32_t
         }
     }
     if (r->ntuples >= PERSP_SCENE_MAX_VERTICES || r->ntuples >= r->max_vertices - r->vertices_used)
-        return too_large(r);
+        return persp__obj_too_large(r);
     if (persp__grow(r->ctx, (void **)&r->tuples, &r->tuples_cap, 3 * (r->ntuples + 1),
                     sizeof *r->tuples) != PERSP_OK)
-        return oom(r);
+        return persp__obj_oom(r);
     uint32_t *k = r->tuples + 3 * r->ntuples;
     k[0] = v, k[1] = t, k[2] = n;
     r->table[slot] = (uint32_t)++r->ntuples;
@@ -1293,7 +902,7 @@ static void emit_polygon(obj_reader *r, int n)
             float left[3], diag[3], right[3];
             for (int k = 0; k < 3; k++)
                 left[k] = v0[k] - v[k], diag[k] = v1[k] - v[k], right[k] = v2[k] - v[k];
-            normalize_safe(left), normalize_safe(diag), normalize_safe(right);
+            persp__obj_normalize(left), persp__obj_normalize(diag), persp__obj_normalize(right);
             float angle = acosf(left[0] * diag[0] + left[1] * diag[1] + left[2] * diag[2]) +
                           acosf(right[0] * diag[0] + right[1] * diag[1] + right[2] * diag[2]);
             if (angle > 3.14159265358979f) {
@@ -1341,12 +950,12 @@ static persp_status face(obj_reader *r, const char *p, const char *e, size_t lin
                                    r->display, PERSP_SCENE_MAX_OBJECTS);
             if (persp__grow(r->ctx, (void **)&r->runs, &r->runs_cap, r->nruns + 1,
                             sizeof *r->runs) != PERSP_OK)
-                return oom(r);
+                return persp__obj_oom(r);
             memset(&r->runs[r->nruns++], 0, sizeof *r->runs);
             r->split = 0;
         }
         obj_run *run = &r->runs[r->nruns - 1];
-        if (n - 2 > PERSP_SCENE_MAX_INDICES / 3 - run->tris) return too_large(r);
+        if (n - 2 > PERSP_SCENE_MAX_INDICES / 3 - run->tris) return persp__obj_too_large(r);
         run->tris += n - 2;
         run->corners += n;
         if (n > r->max_poly) r->max_poly = n;
@@ -1418,7 +1027,7 @@ static persp_status vertex(obj_reader *r, const char *p, const char *e, size_t l
     if (n != 3 && n != 4 && n != 6)
         return line_error(r, line, "expected 3, 4 or 6 numbers after 'v'", NULL, NULL);
     if (r->pass == 1) {
-        if (r->nv >= PERSP_SCENE_MAX_INDICES) return too_large(r);
+        if (r->nv >= PERSP_SCENE_MAX_INDICES) return persp__obj_too_large(r);
         r->nv++;
         r->colours |= n == 6;
         return PERSP_OK;
@@ -1434,7 +1043,7 @@ static persp_status vertex(obj_reader *r, const char *p, const char *e, size_t l
     if (r->iv >= r->nv)
         return line_error(r, line, "the file changed while it was read", NULL, NULL);
     memcpy(r->pos + 3 * r->iv, v, 3 * sizeof *v);
-    if (r->canon) canon_add(r, r->iv);
+    if (r->canon) persp__obj_canon_add(r, r->iv);
     if (r->col) {
         float *c = r->col + 3 * r->iv;
         /* Vertices without a colour in a file with colours: white. */
@@ -1469,7 +1078,7 @@ static persp_status statement(obj_reader *r, const char *s, const char *e, size_
     if (token_is(p, q, "vt")) {
         float v[3] = {0, 0, 0};
         if (r->pass == 1) {
-            if (r->nvt >= PERSP_SCENE_MAX_INDICES) return too_large(r);
+            if (r->nvt >= PERSP_SCENE_MAX_INDICES) return persp__obj_too_large(r);
             r->nvt++;
             return PERSP_OK;
         }
@@ -1487,7 +1096,7 @@ static persp_status statement(obj_reader *r, const char *s, const char *e, size_
         if ((st = numbers(r, q, e, line, 3, 3, "expected 3 numbers after 'vn'", v)) != PERSP_OK)
             return st;
         if (r->pass == 1) {
-            if (r->nvn >= PERSP_SCENE_MAX_INDICES) return too_large(r);
+            if (r->nvn >= PERSP_SCENE_MAX_INDICES) return persp__obj_too_large(r);
             r->nvn++;
             /* Zero or non-finite normals (some exporters write them) leave
              * a surface unlit: the model's normals are made afresh, as the
@@ -1569,11 +1178,11 @@ static persp_status load(obj_reader *r, obj_lines *l, const char *data, size_t s
     r->seen = persp__alloc(r->ctx, mp);
     if (!r->pos || !r->tc || !r->nrm || (r->colours && !r->col) || !r->poly || !r->poly_v ||
         !r->tri || !r->link || !r->flat || !r->seen)
-        return oom(r);
+        return persp__obj_oom(r);
     int generate = 0;
     for (size_t i = 0; i < r->nruns; i++)
         generate |= r->runs[i].normals != 1 || r->force_normals;
-    if (generate && (st = canon_init(r)) != PERSP_OK) return st;
+    if (generate && (st = persp__obj_canon_init(r)) != PERSP_OK) return st;
     r->pass = 2;
     if ((st = run_pass(r, l, data, size)) != PERSP_OK) return st;
     /* The text is read: the window and the hash that found equal positions
