@@ -21,7 +21,6 @@
  * polygon corner in the normals (see emit_polygon). */
 #define OWNER_BIT 0x80000000u
 
-
 typedef struct obj_run {
     size_t tris, corners;
     int normals; /* corners with a normal index: 0 none, 1 all, 2 some */
