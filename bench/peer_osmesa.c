@@ -65,6 +65,7 @@ typedef struct peer_object {
     persp_scene_material mat;
     GLuint texture, sampler; /* 0: untextured */
     int program;             /* index into programs (PATH_GLSL) */
+    int mirrored;            /* the model matrix mirrors: front faces clockwise */
 } peer_object;
 
 struct bench_peer {
@@ -597,6 +598,7 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
         persp_scene_get_object(scene, i, &so);
         peer_object *o = &p->objects[p->object_count++];
         o->mat = so.material;
+        o->mirrored = persp_mat4_det3(so.model) < 0.0;
         persp_mat4 mv = persp_mat4_mul(view, so.model), mvp = persp_mat4_mul(proj, mv);
         memcpy(o->mv, mv.m, sizeof o->mv);
         memcpy(o->mvp, mvp.m, sizeof o->mvp);
@@ -696,6 +698,8 @@ void bench_peer_render(bench_peer *p, int frames)
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         for (size_t i = 0; i < p->object_count; i++) {
             const peer_object *o = &p->objects[i];
+            /* persp culls a mirrored object's counter-clockwise faces. */
+            glFrontFace(o->mirrored ? GL_CW : GL_CCW);
             if (p->path == PATH_GLSL)
                 draw_glsl(p, o);
             else

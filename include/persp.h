@@ -199,6 +199,10 @@ PERSP_API persp_mat4 persp_perspective(double fovy_deg, double aspect, double n,
 PERSP_API persp_mat4 persp_look_at(persp_vec3 eye, persp_vec3 center, persp_vec3 up);
 /* Inverse-transpose of the upper 3x3, for normals. Returns 0 if singular. */
 PERSP_API int persp_mat4_normal_matrix(persp_mat4 m, float out3x3[9]);
+/* Determinant of the upper 3x3 (in double). Negative: m mirrors, and an
+ * object it places has its front faces clockwise in the window (the glTF
+ * rule), which culling follows. */
+PERSP_API double persp_mat4_det3(persp_mat4 m);
 
 /* ------------------------------------------------------------------ images */
 
@@ -483,7 +487,8 @@ typedef struct persp_scene_info {
     int filter_count;
     persp_filter filter;
     int max_aniso;
-    int cull_backfaces; /* 1: back faces (clockwise in the window) are culled */
+    int cull_backfaces; /* 1: back faces are culled (clockwise in the window;
+                           counter-clockwise for a mirrored object) */
     uint8_t clear[4];   /* the colour the image is cleared to, RGBA */
     float ambient[3];   /* global ambient light (GL_LIGHT_MODEL_AMBIENT) */
 } persp_scene_info;

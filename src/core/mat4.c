@@ -114,6 +114,15 @@ persp_mat4 persp_look_at(persp_vec3 eye, persp_vec3 center, persp_vec3 up)
     return m;
 }
 
+double persp_mat4_det3(persp_mat4 m)
+{
+    double a[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) a[r][c] = M(m, r, c);
+    return a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1]) - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0]) +
+           a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]);
+}
+
 int persp_mat4_normal_matrix(persp_mat4 m, float out[9])
 {
     double a[3][3];

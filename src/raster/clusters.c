@@ -50,7 +50,7 @@ static double norm3(const double *v)
 }
 
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height,
-                              double gx, double gy)
+                              double gx, double gy, int cull)
 {
     for (int r = 0; r < 4; r++)
         for (int c = 0; c < 4; c++)
@@ -62,7 +62,9 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
             for (int c = 0, d = 0; c < 4; c++)
                 if (c != k) m[i][d++] = src[c];
         }
-        cv->E[k] = (k % 2 ? -1.0 : 1.0) * det3(m[0], m[1], m[2]);
+        /* Culling counter-clockwise triangles (a mirrored object) asks for
+         * A2 > 0: the same test with E negated, which negates g and A2. */
+        cv->E[k] = (k % 2 ? -1.0 : 1.0) * (cull == PERSP_CULL_CCW ? -1.0 : 1.0) * det3(m[0], m[1], m[2]);
     }
     cv->tx = fmin(gx, 2.0), cv->ty = fmin(gy, 2.0);
     cv->W2 = 0.5 * width, cv->H2 = 0.5 * height;

@@ -40,7 +40,7 @@ persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, u
  * the vertices' own coordinates when non-NULL (texture-coordinate generation). */
 persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
                                    const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
-                                   const float *uv, int cull);
+                                   const float *uv, int cull /* PERSP_CULL_* */);
 persp_status persp__frame_flush(persp_frame *f);
 /* The set-up triangles of the frame so far (valid until the next frame). */
 const persp_tri *persp__frame_tris(const persp_frame *f);

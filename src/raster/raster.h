@@ -63,8 +63,18 @@ typedef struct persp_winvert {
     const float *attr;
 } persp_winvert;
 
+/* What culling drops, by the triangle's winding in the window (y up): the
+ * `cull` of set-up, the frame's meshes and the cluster test. An object
+ * drawn as modelled has its front faces counter-clockwise
+ * (glFrontFace(GL_CCW)); one whose model matrix mirrors it (negative
+ * determinant of its linear part) has them clockwise, as glTF 2.0 rules
+ * (§3.7.4, "the determinant of the node's global transform defines the
+ * winding order"), so culling its back faces drops counter-clockwise ones.
+ * Only culling reads it: two-sided lighting picks the side by the normals. */
+enum { PERSP_CULL_NONE = 0, PERSP_CULL_CW = 1, PERSP_CULL_CCW = 2 };
+
 /* Sets up one triangle. Returns 0 if it is degenerate (zero area), fully
- * outside the viewport, or culled; 1 otherwise. vv, when not NULL, gets
+ * outside the viewport, or culled (cull: PERSP_CULL_*); 1 otherwise. vv, when not NULL, gets
  * the vertices t->rat was fitted through (in set-up order), which a
  * method's prepare reads; t->bary passes through the same x, y and q with
  * s1 = (0, 1, 0), s2 = (0, 0, 1). */
@@ -104,7 +114,7 @@ static inline int64_t persp__ceil_div(int64_t a, int64_t b)
 typedef struct persp_tri_edges {
     int64_t x[3], y[3];
     int order[3];
-    int back; /* the input was clockwise (a back face) */
+    int back; /* the input was clockwise in the window */
     int64_t bx0, bx1, by0, by1;
     int64_t ea[3], eb[3], ec[3];
     uint32_t cover; /* small box: the covered candidates (persp_tri.cover), else 0 */
@@ -123,8 +133,8 @@ static inline int persp__tri_edges(const int64_t X[3], const int64_t Y[3], int w
 {
     const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
     if (area == 0) return 0;
-    e->back = area < 0; /* counter-clockwise in window space (y up) is front, as glFrontFace(GL_CCW) */
-    if (e->back && cull) return 0;
+    e->back = area < 0; /* clockwise in window space (y up) */
+    if (cull && e->back == (cull == PERSP_CULL_CW)) return 0;
     e->order[0] = 0;
     e->order[1] = e->back ? 2 : 1;
     e->order[2] = e->back ? 1 : 2;
@@ -280,9 +290,10 @@ typedef struct persp_cluster_view {
     double tx, ty, W2, H2, eps;
 } persp_cluster_view;
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
-                              double gy);
+                              double gy, int cull);
 /* culled[k] = 1 for each of clusters[0..count) every triangle of which the
- * frame, drawing with culling, would cull; 0 for the others. Returns how
+ * frame, drawing with culling cull (PERSP_CULL_CW or _CCW, as given to
+ * persp__cluster_view_init), would cull; 0 for the others. Returns how
  * many. */
 size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters, size_t count,
                             uint8_t *culled);

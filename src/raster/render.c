@@ -977,7 +977,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
             persp__reserve(f->ctx, (void **)&c->vertex_need, &c->need_cap, blocks, 1) != PERSP_OK)
             return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         cluster_job cj = {.mesh = mesh, .culled = c->cluster_culled};
-        persp__cluster_view_init(&cj.view, &job.mvp, f->fb->width, f->fb->height, job.gx, job.gy);
+        persp__cluster_view_init(&cj.view, &job.mvp, f->fb->width, f->fb->height, job.gx, job.gy, cull);
         const int ctasks = (int)((mesh->cluster_count + CLUSTER_TASK - 1) / CLUSTER_TASK);
         persp_status cst = persp__pool_run(f->ctx, ctasks, cluster_task, &cj);
         if (cst != PERSP_OK)

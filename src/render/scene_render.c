@@ -94,8 +94,8 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     persp_draw_state ds;
     memset(&ds, 0, sizeof ds);
     eye_lights(scene, &view, &ds.lighting);
-    int cull = dd.cull_backfaces == PERSP_TOGGLE_ON ||
-               (dd.cull_backfaces == PERSP_TOGGLE_DEFAULT && scene->cull_backfaces);
+    const int cull_backfaces = dd.cull_backfaces == PERSP_TOGGLE_ON ||
+                               (dd.cull_backfaces == PERSP_TOGGLE_DEFAULT && scene->cull_backfaces);
 
     for (size_t i = 0; i < scene->object_count; i++) {
         const persp_object *o = &scene->objects[i];
@@ -128,6 +128,10 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
         uint32_t si;
         st = persp__frame_add_state(f, &ds, &si);
         if (st != PERSP_OK) return st;
+        /* A mirrored object's front faces wind clockwise (PERSP_CULL_CCW). */
+        const int cull = !cull_backfaces                  ? PERSP_CULL_NONE
+                         : persp_mat4_det3(o->model) < 0.0 ? PERSP_CULL_CCW
+                                                           : PERSP_CULL_CW;
         st = persp__frame_add_mesh(f, &scene->meshes[o->mesh], &o->model, &view, &proj, si, NULL, cull);
         if (st != PERSP_OK) return st;
     }
@@ -267,7 +271,8 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     if (st != PERSP_OK) return st;
     persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1, 0, NULL, 0};
     persp_mat4 id = persp_mat4_identity();
-    st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL, desc->cull_backfaces == PERSP_TOGGLE_ON);
+    st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL,
+                               desc->cull_backfaces == PERSP_TOGGLE_ON ? PERSP_CULL_CW : PERSP_CULL_NONE);
     if (st != PERSP_OK) return st;
     return persp__frame_flush(&f);
 }

@@ -70,6 +70,17 @@ if [ -r "$lwo" ]; then
         "$tmp/earth.png")
     [ "${colours:-0}" -gt 100 ] && ok || bad "projected texture: $colours colours in earth.png"
 fi
+# Mirrored nodes (a negative scale in the file) keep their front faces with
+# culling on: a scene of closed boxes, two of them mirrored, looks the same
+# culled as not (glTF 2.0's winding rule, docs/SCENES.md).
+fbx=/usr/share/assimp/models/FBX/cubes_with_mirroring_and_pivot.fbx
+if [ -r "$fbx" ]; then
+    for c in on off; do
+        expect 0 "" -- "$persp" render "$fbx" --size 96x72 --shading gouraud-pc --cull "$c" --any-folder \
+            -o "$tmp/mirror-$c.png"
+    done
+    cmp -s "$tmp/mirror-on.png" "$tmp/mirror-off.png" && ok || bad "mirrored FBX nodes: culling changed the image"
+fi
 # Vertex colours tint lit shading as they do unlit (ambient and diffuse
 # times the colour, glColorMaterial's rule): a red-vertex quad lit white is
 # red in every lit mode; the same quad with white vertices is grey.

@@ -149,7 +149,7 @@ static void test_culled_clusters_are_culled_triangles(void **state)
     assert_non_null(v);
     assert_non_null(idx);
     test_rng rng = {4242};
-    size_t culled_total = 0, checked = 0;
+    size_t culled_total = 0, culled_mirrored = 0, checked = 0;
     for (int trial = 0; trial < 10000; trial++) {
         /* The eye a few units away, looking near the clusters. */
         const double d = pow(10.0, test_rng_uniform(&rng, -0.3, 1.3));
@@ -199,13 +199,19 @@ static void test_culled_clusters_are_culled_triangles(void **state)
                                        (float)test_rng_uniform(&rng, -0.3, 0.3), 0},
                           (persp_vec3){0, 1, 0});
         const persp_mat4 proj = random_projection(&rng, trial % 3, (double)W / H);
-        const persp_mat4 model = trial % 2 ? random_model(&rng) : persp_mat4_identity();
+        /* One trial in four mirrors the object: its front faces wind
+         * clockwise, and culling drops counter-clockwise ones. */
+        persp_mat4 model = trial % 2 ? random_model(&rng) : persp_mat4_identity();
+        if (trial % 4 == 3) model = persp_mat4_mul(model, persp_mat4_scale(-1, 1, 1));
+        const int cull = persp_mat4_det3(model) < 0.0 ? PERSP_CULL_CCW : PERSP_CULL_CW;
+        assert_int_equal(cull == PERSP_CULL_CCW, trial % 4 == 3);
         const persp_mat4 mvp = persp_mat4_mul(proj, persp_mat4_mul(view, model));
         uint8_t culled[4];
         persp_cluster_view cv;
-        persp__cluster_view_init(&cv, &mvp, W, H, gx, gy);
+        persp__cluster_view_init(&cv, &mvp, W, H, gx, gy, cull);
         const size_t n = persp__clusters_cull(&cv, mesh.clusters, mesh.cluster_count, culled);
         culled_total += n;
+        if (cull == PERSP_CULL_CCW) culled_mirrored += n;
         for (int k = 0; k < 4; k++) {
             if (!culled[k]) continue;
             for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
@@ -218,7 +224,7 @@ static void test_culled_clusters_are_culled_triangles(void **state)
                                  trial, k, t);
                 }
                 const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
-                if (area > 0)
+                if (cull == PERSP_CULL_CW ? area > 0 : area < 0)
                     fail_msg("trial %d cluster %d triangle %d: culled whole but its area is %lld "
                              "(front)",
                              trial, k, t, (long long)area);
@@ -230,8 +236,10 @@ static void test_culled_clusters_are_culled_triangles(void **state)
     /* The test means something only if clusters were culled (a bound
      * without the snapping margin culls clusters of small triangles that
      * snap to front faces, and fails it). */
-    print_message("culled %zu clusters, %zu triangles checked\n", culled_total, checked);
+    print_message("culled %zu clusters (%zu of mirrored objects), %zu triangles checked\n", culled_total,
+                  culled_mirrored, checked);
     assert_true(culled_total > 500);
+    assert_true(culled_mirrored > 100);
     assert_true(checked > 32000);
     free(v);
     free(idx);

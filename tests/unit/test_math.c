@@ -68,12 +68,24 @@ static void test_normal_matrix(void **state)
     assert_int_equal(persp_mat4_normal_matrix(persp_mat4_scale(0, 1, 1), n), 0);
 }
 
+/* The determinant of the linear part decides a mirrored object's winding:
+ * the product of the scales, unchanged by rotation and translation. */
+static void test_det3(void **state)
+{
+    (void)state;
+    const persp_mat4 rt = persp_mat4_mul(persp_mat4_translate(5, -2, 7), persp_mat4_rotate(40, 1, 2, 3));
+    assert_true(fabs(persp_mat4_det3(persp_mat4_scale(2, 4, 8)) - 64.0) < 1e-9);
+    assert_true(fabs(persp_mat4_det3(persp_mat4_mul(rt, persp_mat4_scale(-1, 2, 3))) + 6.0) < 1e-5);
+    assert_true(persp_mat4_det3(persp_mat4_mul(rt, persp_mat4_scale(-1, -1, 1))) > 0.0);
+    assert_true(fabs(persp_mat4_det3(persp_mat4_translate(1, 2, 3)) - 1.0) < 1e-12);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_frustum_matches_glFrustum), cmocka_unit_test(test_perspective_is_frustum),
         cmocka_unit_test(test_look_at_default_is_identity), cmocka_unit_test(test_look_at_maps_eye_and_target),
-        cmocka_unit_test(test_rotate_and_mul), cmocka_unit_test(test_normal_matrix),
+        cmocka_unit_test(test_rotate_and_mul), cmocka_unit_test(test_normal_matrix), cmocka_unit_test(test_det3),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

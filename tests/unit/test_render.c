@@ -7,6 +7,7 @@
 #include "raster/raster.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -668,6 +669,59 @@ static void test_submission_order_kept(void **state)
     submission_order_kept(1, 3000);
 }
 
+/* An object whose transform mirrors it (negative determinant) has its front
+ * faces clockwise in the window; culling must drop its back faces, not its
+ * front ones (glTF 2.0 §3.7.4). A closed sphere drawn with culling then
+ * shows the same surface as without: the same depth buffer, from fewer
+ * triangles. Four placements: as modelled, mirrored in x, mirrored in x and
+ * y (determinant positive again), mirrored in all three axes. */
+static void test_mirrored_objects_cull_back_faces(void **state)
+{
+    (void)state;
+    const char *scales[] = {"[1, 1, 1]", "[-1, 1, 1]", "[-1, -1, 1]", "[-1, -1, -1]"};
+    char dir[256], path[512];
+    assert_int_equal(test_tmpdir_make(dir, sizeof dir, "mirror"), 0);
+    snprintf(path, sizeof path, "%s/mirror.json", dir);
+    persp_context *ctx = test_context();
+    for (int i = 0; i < 4; i++) {
+        FILE *fp = fopen(path, "w");
+        assert_non_null(fp);
+        fprintf(fp,
+                "{\"camera\": {\"position\": [0.7, 0.9, 3.2], \"target\": [0, 0, 0], \"fov\": 50},\n"
+                " \"render\": {\"shading\": \"gouraud-pc\", \"cull\": true},\n"
+                " \"lights\": [{\"type\": \"point\", \"position\": [2, 3, 4]}],\n"
+                " \"objects\": [{\"mesh\": {\"primitive\": \"sphere\", \"slices\": 24, \"stacks\": 12},\n"
+                "   \"transform\": {\"scale\": %s, \"rotate\": [30, 0, 1, 0.2]}}]}\n",
+                scales[i]);
+        assert_int_equal(fclose(fp), 0);
+        persp_scene *scene = NULL;
+        if (persp_scene_load(ctx, path, &scene) != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
+        float *depth[2];
+        persp_render_stats st[2];
+        for (int on = 0; on < 2; on++) {
+            persp_framebuffer fb = test_framebuffer(160, 120);
+            persp_render_desc d;
+            memset(&d, 0, sizeof d);
+            d.cull_backfaces = on ? PERSP_TOGGLE_ON : PERSP_TOGGLE_OFF;
+            if (persp_render(ctx, scene, &d, &fb, &st[on]) != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
+            depth[on] = fb.depth;
+            fb.depth = NULL;
+            test_framebuffer_free(&fb);
+        }
+        if (memcmp(depth[0], depth[1], (size_t)160 * 120 * sizeof(float)) != 0)
+            fail_msg("scale %s: culling changed the visible surface", scales[i]);
+        /* About half the sphere faces the eye. */
+        assert_true(st[1].triangles_drawn > 0);
+        assert_true(st[1].triangles_drawn * 10 < st[0].triangles_drawn * 7);
+        free(depth[0]);
+        free(depth[1]);
+        persp_scene_destroy(scene);
+    }
+    persp_context_destroy(ctx);
+    assert_int_equal(remove(path), 0);
+    assert_int_equal(test_tmpdir_remove(dir), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -684,6 +738,7 @@ int main(void)
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_mirrored_objects_cull_back_faces),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
