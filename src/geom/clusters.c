@@ -147,8 +147,9 @@ static void build_cluster(const persp_mesh *mesh, size_t t0, size_t t1, persp_cl
         /* A sliver thinner than a millionth of its longest edge would have
          * its normal's direction computed with an error near the 1e-9 the
          * cone is widened by; such a cluster is never culled anyway (its
-         * least height is too small for the bound). */
-        if (!(twice_area >= 1e-6 * edge * edge) || !isfinite(twice_area)) return;
+         * least height is too small for the bound). A point (all three
+         * corners one position, as some STL files hold) has no normal. */
+        if (!(twice_area > 0.0 && twice_area >= 1e-6 * edge * edge) || !isfinite(twice_area)) return;
         alt_min = lesser(alt_min, twice_area / edge);
         edge_min = lesser(edge_min, edge);
         for (int k = 0; k < 3; k++) {

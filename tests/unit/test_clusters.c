@@ -246,6 +246,37 @@ static void test_culled_clusters_are_culled_triangles(void **state)
     persp_context_destroy(ctx);
 }
 
+/* A cluster holding a triangle whose corners are one point (as some STL
+ * files hold) has no normal cone: it is never culled, and building it
+ * divides by nothing (the sanitised build checks that). Its neighbours,
+ * without such a triangle, are still usable. */
+static void test_point_triangle_cluster_unusable(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    enum { TRIS = 2 * PERSP_CLUSTER_TRIANGLES };
+    persp_vertex *v = calloc(3 * TRIS, sizeof *v);
+    uint32_t *idx = calloc(3 * TRIS, sizeof *idx);
+    assert_non_null(v);
+    assert_non_null(idx);
+    test_rng rng = {7};
+    const double eye[3] = {0, 0, 5};
+    random_mesh(&rng, eye, v, idx, TRIS);
+    for (int k = 0; k < 3; k++) memcpy(v[3 * 5 + k].pos, v[3 * 5].pos, sizeof v[0].pos);
+    persp_mesh mesh;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertices = v, mesh.indices = idx;
+    mesh.vertex_count = 3 * TRIS, mesh.index_count = 3 * TRIS;
+    assert_int_equal(persp__mesh_build_clusters(ctx, &mesh), PERSP_OK);
+    assert_int_equal(mesh.cluster_count, 2);
+    assert_false(mesh.clusters[0].usable);
+    assert_true(mesh.clusters[1].usable);
+    persp__free(ctx, mesh.clusters);
+    free(v);
+    free(idx);
+    persp_context_destroy(ctx);
+}
+
 /* Renders scene from view (NULL: its camera) with or without cluster
  * culling; the colour and depth hashes and the counts. Returns how many
  * clusters the frame culled whole (the context counts them). */
@@ -319,6 +350,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_culled_clusters_are_culled_triangles),
+        cmocka_unit_test(test_point_triangle_cluster_unusable),
         cmocka_unit_test(test_cluster_culling_keeps_images),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
