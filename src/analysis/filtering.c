@@ -185,14 +185,8 @@ persp_status persp__filter_reference(persp_context *ctx, const persp_scene *scen
         tile < 1)
         return PERSP_ERR_INVALID_ARGUMENT;
     persp_mat4 proj, view;
-    if (scene->camera.use_matrix) {
-        proj = scene->camera.projection;
-        view = scene->camera.view;
-    } else {
-        proj = persp_perspective(scene->camera.fovy_deg, (double)width / (double)height,
-                                 scene->camera.znear, scene->camera.zfar);
-        view = persp_look_at(scene->camera.eye, scene->camera.target, scene->camera.up);
-    }
+    persp_status cst = persp_scene_get_camera(scene, width, height, &view, &proj);
+    if (cst != PERSP_OK) return cst;
     /* The same scene with an explicit camera; its arrays stay the
      * original's (the copy is never destroyed). */
     persp_scene sub = *scene;

@@ -248,8 +248,11 @@ persp_status persp_scene_get_camera(const persp_scene *s, int width, int height,
         p = s->camera.projection;
         v = s->camera.view;
     } else {
-        p = persp_perspective(s->camera.fovy_deg, (double)width / (double)height, s->camera.znear,
-                              s->camera.zfar);
+        const double aspect = (double)width / (double)height;
+        double fovy = s->camera.fovy_deg;
+        if (s->camera.fov_shorter_side && aspect < 1.0)
+            fovy = atan(tan(fovy * (3.14159265358979323846 / 360.0)) / aspect) * (360.0 / 3.14159265358979323846);
+        p = persp_perspective(fovy, aspect, s->camera.znear, s->camera.zfar);
         v = persp_look_at(s->camera.eye, s->camera.target, s->camera.up);
     }
     if (view) *view = v;

@@ -98,6 +98,10 @@ typedef struct persp_camera {
     persp_mat4 projection, view;
     persp_vec3 eye, target, up;
     float fovy_deg, znear, zfar;
+    /* 1: fovy_deg is the view of the image's shorter side, so that what it
+     * frames (a model's bounding sphere) stays whole in a portrait image
+     * too; 0: of its height, as gluPerspective's. */
+    int fov_shorter_side;
 } persp_camera;
 
 struct persp_scene {

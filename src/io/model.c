@@ -1298,7 +1298,8 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
         return st;
     }
     /* Camera: 30 degrees above and 35 around the front (+z) of the bounding
-     * box, far enough for the bounding sphere to fill a 45-degree view. */
+     * box, far enough for the bounding sphere to fill a 45-degree view of
+     * the image's shorter side. */
     float c[3], r2 = 0;
     for (int k = 0; k < 3; k++) {
         c[k] = 0.5f * (model.bbox_min[k] + model.bbox_max[k]);
@@ -1315,6 +1316,7 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
     s->camera.target = (persp_vec3){c[0], c[1], c[2]};
     s->camera.up = (persp_vec3){0, 1, 0};
     s->camera.fovy_deg = fov;
+    s->camera.fov_shorter_side = 1;
     s->camera.znear = 0.5f * (dist - r);
     s->camera.zfar = 1.5f * (dist + r);
     /* Three-point rig, directions relative to the camera's 35 degrees:

@@ -800,6 +800,20 @@ static void test_scene_from_bare_model_and_json_override(void **state)
     /* the camera looks at the box's centre from above and in front */
     assert_true(s->camera.eye.y > 0 && s->camera.eye.z > 0 && s->camera.eye.x > 0);
     assert_true(s->camera.znear > 0 && s->camera.zfar > s->camera.znear);
+    /* 45 degrees across the image's shorter side, so that a portrait image
+     * frames the model as a landscape one does: gluPerspective's
+     * projection has P00 = cot(fovx/2), P11 = cot(fovy/2). */
+    const double cot = 1.0 / tan(22.5 * 3.14159265358979 / 180.0);
+    const int sizes[3][2] = {{400, 200}, {200, 400}, {300, 300}};
+    for (int i = 0; i < 3; i++) {
+        persp_mat4 proj;
+        assert_int_equal(persp_scene_get_camera(s, sizes[i][0], sizes[i][1], NULL, &proj), PERSP_OK);
+        const int portrait = sizes[i][0] < sizes[i][1];
+        const double shorter = portrait ? proj.m[0] : proj.m[5], longer = portrait ? proj.m[5] : proj.m[0];
+        if (fabs(shorter - cot) > 1e-5 || longer > cot + 1e-5)
+            fail_msg("%dx%d: P00 %g, P11 %g, want the shorter side's %g", sizes[i][0], sizes[i][1], proj.m[0],
+                     proj.m[5], cot);
+    }
     uint8_t color[32 * 32 * 4];
     float depth[32 * 32];
     persp_framebuffer fb = {32, 32, color, depth};
