@@ -40,6 +40,14 @@ if [ "$rc" -eq 0 ] && [ -s "$tmp/untex.png" ] && [ "$(grep -c 'persp: warning: .
     && grep -q "untextured" <<<"$out"
 then ok; else bad "missing texture: rc $rc: $out"; fi
 
+# --texture on a scene with nothing textured: drawn, and a warning that it
+# changed nothing (it replaces textures; it does not add one)
+out=$("$persp" render "$m/t.stl" --size 32x24 --texture "$src/scenes/bench/checker.png" -o "$tmp/t2.png" 2>&1); rc=$?
+if [ "$rc" -eq 0 ] && grep -q "persp: warning: --texture .*checker.png: the scene has no textured object" <<<"$out"
+then ok; else bad "--texture without textured objects: rc $rc: $out"; fi
+out=$("$persp" render "$src/tests/data/models/embedded.gltf" --size 32x24 --texture "$src/scenes/bench/checker.png" -o "$tmp/t3.png" 2>&1)
+grep -q "no textured object" <<<"$out" && bad "--texture on a textured model warned: $out" || ok
+
 # reject PATTERN FILE: exit 1, one line of error naming the file, no image
 reject() {
     local pattern="$1" model="$2" out rc

@@ -30,6 +30,10 @@ int cli_error(int code, const char *fmt, ...)
 void cli_warning(void *user, const char *message);
 /* Reports a failed library call: "persp: what: detail (status)". */
 int cli_status(persp_context *ctx, persp_status st, const char *what);
+/* --texture: the image file path becomes the texture of every textured
+ * object of scene (persp_scene_set_texture); a warning when the scene has
+ * none, as nothing then changes. CLI_OK, or CLI_FAIL after the error. */
+int cli_replace_texture(persp_context *ctx, persp_scene *scene, const char *path);
 /* Parses "WxH" with 1 <= W, H <= PERSP_IMAGE_MAX_SIDE and W·H <= PERSP_IMAGE_MAX_PIXELS. */
 int cli_parse_size(const char *text, int *w, int *h);
 /* Parses a whole decimal integer in [lo, hi]. */

@@ -163,19 +163,7 @@ int cmd_render(int argc, char **argv)
         rc = cli_status(ctx, st, scene_name);
         goto done;
     }
-    if (texture) {
-        persp_image tex;
-        if ((st = persp_image_load(ctx, texture, &tex)) != PERSP_OK) {
-            rc = cli_status(ctx, st, texture);
-            goto done;
-        }
-        st = persp_scene_set_texture(scene, &tex);
-        persp_image_free(ctx, &tex);
-        if (st != PERSP_OK) {
-            rc = cli_status(ctx, st, texture);
-            goto done;
-        }
-    }
+    if (texture && (rc = cli_replace_texture(ctx, scene, texture)) != CLI_OK) goto done;
     if (!width) persp_scene_default_size(scene, &width, &height);
     if (!width) width = 1024, height = 768;
     if ((st = persp_image_alloc(ctx, width, height, &img)) != PERSP_OK) {

@@ -106,15 +106,7 @@ static int load_scene(persp_context *ctx, const char *name, const char *texture,
     else
         st = persp_scene_load_ex(ctx, name, load, out);
     if (st != PERSP_OK) return cli_status(ctx, st, name);
-    if (texture) {
-        persp_image tex;
-        if ((st = persp_image_load(ctx, texture, &tex)) != PERSP_OK)
-            return cli_status(ctx, st, texture);
-        st = persp_scene_set_texture(*out, &tex);
-        persp_image_free(ctx, &tex);
-        if (st != PERSP_OK) return cli_status(ctx, st, texture);
-    }
-    return CLI_OK;
+    return texture ? cli_replace_texture(ctx, *out, texture) : CLI_OK;
 }
 
 static long cpu_count(void)

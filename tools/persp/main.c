@@ -62,6 +62,25 @@ int cli_status(persp_context *ctx, persp_status st, const char *what)
     return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
 }
 
+int cli_replace_texture(persp_context *ctx, persp_scene *scene, const char *path)
+{
+    persp_image tex;
+    persp_status st = persp_image_load(ctx, path, &tex);
+    if (st != PERSP_OK) return cli_status(ctx, st, path);
+    st = persp_scene_set_texture(scene, &tex);
+    persp_image_free(ctx, &tex);
+    if (st != PERSP_OK) return cli_status(ctx, st, path);
+    persp_scene_info info;
+    persp_scene_get_info(scene, &info);
+    if (info.filter_count == 0) {
+        char message[1200];
+        snprintf(message, sizeof message, "--texture %s: the scene has no textured object; nothing was replaced",
+                 path);
+        cli_warning(NULL, message);
+    }
+    return CLI_OK;
+}
+
 double cli_now(void)
 {
     struct timespec ts;

@@ -502,7 +502,8 @@ const cli_spec cli_opt_pipeline = {.name = "pipeline",
 const cli_spec cli_opt_texture = {.name = "texture",
                                   .kind = CLI_KIND_STRING,
                                   .metavar = "FILE",
-                                  .help = "replace the scene's texture with a PNG or JPEG"};
+                                  .help = "replace the texture of every textured object with a PNG or JPEG\n"
+                                          "(warns when nothing is textured)"};
 const cli_spec cli_opt_any_folder = {
     .name = "any-folder",
     .kind = CLI_KIND_FLAG,
