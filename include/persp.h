@@ -323,7 +323,7 @@ typedef enum persp_lod_mode {
 typedef struct persp_sampler_desc {
     persp_wrap wrap_s, wrap_t;
     persp_filter filter;
-    int max_aniso;          /* taps of the anisotropic filters, 1..16; 0: 16 */
+    int max_aniso;          /* taps of the anisotropic filters, 2..16 (as "aniso:N"); 0: 16 */
     float lod_bias;
     persp_toggle lod_clamp; /* ON: clamp lambda to [min_lod, max_lod]; DEFAULT, OFF: only
                                to the mip chain (GL's -1000, 1000) */
@@ -515,7 +515,7 @@ typedef enum persp_pipeline {
 typedef struct persp_render_desc {
     const char *method;      /* texture-coordinate method spec; NULL: the scene's, else "exact" */
     persp_filter filter;     /* every texture's filter */
-    int max_aniso;           /* with an aniso filter: taps 1..16; 0: the texture's, else 16 */
+    int max_aniso;           /* with an aniso filter: taps 2..16; 0: the texture's, else 16 */
     persp_wrap wrap;         /* every texture's wrap mode, both axes */
     persp_shading shading;
     persp_depth_mode depth_mode;

@@ -60,12 +60,20 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     if (desc) dd = *desc;
     if ((unsigned)dd.pipeline > PERSP_PIPELINE_OBJECT)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown pipeline");
-    if ((unsigned)dd.filter >= PERSP_FILTER_COUNT || (unsigned)dd.wrap > PERSP_WRAP_CLAMP_TO_BORDER ||
-        (unsigned)dd.shading >= PERSP_SHADING_COUNT || (unsigned)dd.lod_mode > PERSP_LOD_POLYGON ||
-        (unsigned)dd.lod_clamp > PERSP_TOGGLE_OFF || (unsigned)dd.cull_backfaces > PERSP_TOGGLE_OFF ||
-        (unsigned)dd.count_ops > PERSP_TOGGLE_OFF || dd.max_aniso < 0 || dd.max_aniso > 16 ||
-        !isfinite(dd.lod_bias))
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a render setting is out of range");
+    /* The first setting out of range, named as persp_render_desc names it. */
+    const char *bad = (unsigned)dd.filter >= PERSP_FILTER_COUNT                 ? "filter"
+                      : (unsigned)dd.wrap > PERSP_WRAP_CLAMP_TO_BORDER          ? "wrap"
+                      : (unsigned)dd.shading >= PERSP_SHADING_COUNT             ? "shading"
+                      : (unsigned)dd.lod_mode > PERSP_LOD_POLYGON               ? "lod_mode"
+                      : (unsigned)dd.lod_clamp > PERSP_TOGGLE_OFF               ? "lod_clamp"
+                      : (unsigned)dd.cull_backfaces > PERSP_TOGGLE_OFF          ? "cull_backfaces"
+                      : (unsigned)dd.count_ops > PERSP_TOGGLE_OFF               ? "count_ops"
+                      : dd.max_aniso < 0 || dd.max_aniso == 1 || dd.max_aniso > 16 ? "max_aniso (0, or 2..16)"
+                      : !isfinite(dd.lod_bias)                                  ? "lod_bias (finite)"
+                                                                                : NULL;
+    if (bad)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.%s is out of range",
+                           bad);
     if ((dd.view && !mat4_finite(dd.view)) || (dd.projection && !mat4_finite(dd.projection)))
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a camera matrix is not finite");
     if (dd.lod_clamp == PERSP_TOGGLE_ON &&
@@ -120,7 +128,9 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
                 sd.max_lod = dd.max_lod;
             }
             st = persp__sampler_init_isa(&ds.sampler, ds.tex, &sd, ctx->isa);
-            if (st != PERSP_OK) return persp__fail(ctx, st, "render: bad sampler settings");
+            if (st != PERSP_OK)
+                return persp__fail(ctx, st, "render: sampler setting %s is out of range",
+                                   persp__sampler_desc_problem(&sd) ? persp__sampler_desc_problem(&sd) : "");
         }
         ds.color_material = scene->meshes[o->mesh].colored;
         st = persp__shade_resolve(ctx, &ds);
@@ -262,7 +272,10 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     ds.depth_test = ds.depth_write = desc->depth_test != PERSP_TOGGLE_OFF;
     if (ds.tex) {
         st = persp__sampler_init_isa(&ds.sampler, ds.tex, &desc->sampler, ctx->isa);
-        if (st != PERSP_OK) return persp__fail(ctx, st, "draw: bad sampler settings");
+        if (st != PERSP_OK) {
+            const char *bad = persp__sampler_desc_problem(&desc->sampler);
+            return persp__fail(ctx, st, "draw: persp_draw_desc.sampler.%s is out of range", bad ? bad : "?");
+        }
     }
     st = persp__shade_resolve(ctx, &ds);
     if (st != PERSP_OK) return st;

@@ -172,6 +172,21 @@ persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_tex
     return persp__sampler_init_isa(st, tex, given, persp__cpu_isa());
 }
 
+const char *persp__sampler_desc_problem(const persp_sampler_desc *d)
+{
+    return (unsigned)d->wrap_s > PERSP_WRAP_CLAMP_TO_BORDER             ? "wrap_s"
+           : (unsigned)d->wrap_t > PERSP_WRAP_CLAMP_TO_BORDER           ? "wrap_t"
+           : (unsigned)d->filter >= (unsigned)PERSP_FILTER_COUNT        ? "filter"
+           : d->max_aniso < 0 || d->max_aniso == 1 || d->max_aniso > 16 ? "max_aniso (0, or 2..16)"
+           : !isfinite(d->lod_bias)                                     ? "lod_bias (finite)"
+           : (unsigned)d->lod_mode > PERSP_LOD_POLYGON                  ? "lod_mode"
+           : (unsigned)d->lod_clamp > PERSP_TOGGLE_OFF                  ? "lod_clamp"
+           : d->lod_clamp == PERSP_TOGGLE_ON &&
+                   !(isfinite(d->min_lod) && isfinite(d->max_lod) && d->min_lod <= d->max_lod)
+               ? "min_lod, max_lod (finite, min_lod <= max_lod)"
+               : NULL;
+}
+
 persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp_texture *tex,
                                      const persp_sampler_desc *given, int isa)
 {
@@ -182,14 +197,7 @@ persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp
     if (d.filter == PERSP_FILTER_DEFAULT) d.filter = PERSP_FILTER_BILINEAR;
     if (d.lod_mode == PERSP_LOD_DEFAULT) d.lod_mode = PERSP_LOD_PIXEL;
     if (d.lod_clamp == PERSP_TOGGLE_DEFAULT) d.lod_clamp = PERSP_TOGGLE_OFF;
-    if ((unsigned)d.wrap_s > PERSP_WRAP_CLAMP_TO_BORDER ||
-        (unsigned)d.wrap_t > PERSP_WRAP_CLAMP_TO_BORDER ||
-        (unsigned)d.filter >= (unsigned)PERSP_FILTER_COUNT || d.max_aniso < 0 || d.max_aniso > 16 ||
-        !isfinite(d.lod_bias) || (unsigned)d.lod_mode > PERSP_LOD_POLYGON ||
-        (unsigned)d.lod_clamp > PERSP_TOGGLE_OFF ||
-        (d.lod_clamp == PERSP_TOGGLE_ON &&
-         (!isfinite(d.min_lod) || !isfinite(d.max_lod) || d.min_lod > d.max_lod)))
-        return PERSP_ERR_INVALID_ARGUMENT;
+    if (persp__sampler_desc_problem(&d)) return PERSP_ERR_INVALID_ARGUMENT;
     memset(st, 0, sizeof *st);
     st->tex = tex;
     st->desc = d;

@@ -76,6 +76,9 @@ persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_tex
  * that persp__isa_runs). */
 persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp_texture *tex,
                                      const persp_sampler_desc *given, int isa);
+/* The first field of d (its DEFAULTs resolved or not) out of range, with
+ * the range, for messages; NULL when every field is valid. */
+const char *persp__sampler_desc_problem(const persp_sampler_desc *d);
 /* Fills out[0..n-1] with packed RGBA8, n <= PERSP_LANE_MAX. No allocation. */
 static inline void persp__sample_span(const persp_sampler_state *st, const persp_tex_span_in *in,
                                       uint32_t *out)

@@ -417,6 +417,41 @@ static void test_bad_inputs(void **state)
     assert_int_equal(persp_render(ctx, scene, &d, &ok, NULL), PERSP_ERR_NOT_FOUND);
     d.method = "exact:7";
     assert_int_equal(persp_render(ctx, scene, &d, &ok, NULL), PERSP_ERR_INVALID_ARGUMENT);
+    /* A setting out of range is named, with its range; max_aniso's is that
+     * of "aniso:N" (persp_filter_parse), 0 the default. */
+    d.method = NULL;
+    const int anisos[] = {-1, 1, 17};
+    for (int i = 0; i < 3; i++) {
+        d.max_aniso = anisos[i];
+        assert_int_equal(persp_render(ctx, scene, &d, &ok, NULL), PERSP_ERR_INVALID_ARGUMENT);
+        assert_non_null(strstr(persp_context_error(ctx), "max_aniso (0, or 2..16)"));
+    }
+    d.max_aniso = 2;
+    assert_int_equal(persp_render(ctx, scene, &d, &ok, NULL), PERSP_OK);
+    d.max_aniso = 0;
+    d.lod_bias = NAN;
+    assert_int_equal(persp_render(ctx, scene, &d, &ok, NULL), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "lod_bias"));
+    d.lod_bias = 0;
+    persp_filter f1;
+    int n1 = 0;
+    assert_int_equal(persp_filter_parse("aniso:1", &f1, &n1), PERSP_ERR_INVALID_ARGUMENT);
+    /* persp_draw's sampler: the same range, named. */
+    persp_draw_desc ad;
+    memset(&ad, 0, sizeof ad);
+    ad.mvp = persp_perspective(60, 1, 0.1, 10);
+    ad.texture = persp_scene_get_texture(scene, 0);
+    assert_non_null(ad.texture);
+    ad.sampler.filter = PERSP_FILTER_ANISO;
+    ad.sampler.max_aniso = 1;
+    const persp_vertex av[3] = {{{-1, -1, -2}, {0, 0}, {0, 0, 1}, {1, 1, 1, 1}},
+                                {{1, -1, -2}, {1, 0}, {0, 0, 1}, {1, 1, 1, 1}},
+                                {{-1, 1, -2}, {0, 1}, {0, 0, 1}, {1, 1, 1, 1}}};
+    const uint32_t ai[3] = {0, 1, 2};
+    assert_int_equal(persp_draw(ctx, &ok, &ad, av, 3, ai, 3), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "sampler.max_aniso (0, or 2..16)"));
+    ad.sampler.max_aniso = 2;
+    assert_int_equal(persp_draw(ctx, &ok, &ad, av, 3, ai, 3), PERSP_OK);
     /* NaN and infinite vertices are dropped, not drawn, and cause no UB. */
     persp_vertex v[3];
     memset(v, 0, sizeof v);
