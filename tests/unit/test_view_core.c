@@ -85,6 +85,11 @@ static void test_path_round_trip(void **state)
     view_path q;
     assert_true(view_path_load(path, &q, err, sizeof err));
     remove(path);
+    /* A file that is not there: named, without a line and column. */
+    view_path gone;
+    assert_false(view_path_load(path, &gone, err, sizeof err));
+    assert_non_null(strstr(err, path));
+    assert_null(strstr(err, ":-1"));
     assert_int_equal(q.count, 2);
     view_camera m;
     view_path_sample(&q, 1.0, &m);

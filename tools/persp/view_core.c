@@ -419,7 +419,11 @@ int view_path_load(const char *path, view_path *p, char *err, size_t err_size)
     json_error_t je;
     json_t *root = json_load_file(path, 0, &je);
     if (!root) {
-        snprintf(err, err_size, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        /* Jansson gives no line for a file it could not open or read. */
+        if (je.line < 1)
+            snprintf(err, err_size, "%s: %s", path, je.text);
+        else
+            snprintf(err, err_size, "%s:%d:%d: %s", path, je.line, je.column, je.text);
         return 0;
     }
     json_t *keys = json_object_get(root, "keys");
