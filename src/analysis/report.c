@@ -6,6 +6,7 @@
 #include "analysis/analysis.h"
 #include "core/internal.h"
 
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -294,7 +295,7 @@ persp_status persp_accuracy_read(persp_context *ctx, const char *path, persp_acc
     json_t *root = json_load_file(path, 0, &err);
     if (!root) {
         FILE *f = fopen(path, "rb");
-        if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open", path);
+        if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
         fclose(f);
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: %s", path, err.line, err.column, err.text);
     }

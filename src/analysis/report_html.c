@@ -1028,19 +1028,24 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
     persp__clear_error(ctx);
     if (!desc || !desc->dir)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: no folder");
+    if (strlen(desc->dir) > 1000)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: folder name too long");
+    /* "out/" names the folder "out": its files are "out/index.html", not
+     * "out//index.html" (the root "/" stays). */
+    char dir[1001];
+    snprintf(dir, sizeof dir, "%s", desc->dir);
+    for (size_t n = strlen(dir); n > 1 && dir[n - 1] == '/'; n--) dir[n - 1] = '\0';
     rep r;
     memset(&r, 0, sizeof r);
-    r.ctx = ctx, r.d = desc, r.log = desc->log, r.dir = desc->dir, r.quick = desc->quick;
+    r.ctx = ctx, r.d = desc, r.log = desc->log, r.dir = dir, r.quick = desc->quick;
     r.w = r.quick ? 192 : 512, r.h = r.quick ? 144 : 384;
     r.triangles = r.quick ? 4 : 40;
     char path[1200];
-    if (strlen(desc->dir) > 1000)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "report: folder name too long");
-    snprintf(path, sizeof path, "%s/img", desc->dir);
+    snprintf(path, sizeof path, "%s/img", dir);
     char heatdir[1200];
-    snprintf(heatdir, sizeof heatdir, "%s/heat", desc->dir);
+    snprintf(heatdir, sizeof heatdir, "%s/heat", dir);
     /* The folder that could not be made is named, the report's own first. */
-    const char *dirs[3] = {desc->dir, path, heatdir};
+    const char *dirs[3] = {dir, path, heatdir};
     for (int k = 0; k < 3; k++)
         if (!make_dir(dirs[k]))
             return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create the folder: %s", dirs[k], strerror(errno));
@@ -1078,7 +1083,7 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
         st = persp_accuracy_run(ctx, &ad, &acc);
         if (st != PERSP_OK) return st;
         r.acc = acc;
-        snprintf(path, sizeof path, "%s/accuracy.json", desc->dir);
+        snprintf(path, sizeof path, "%s/accuracy.json", dir);
         persp_outfile j;
         if ((st = persp__outfile_open(ctx, path, &j)) == PERSP_OK)
             st = persp__outfile_close(ctx, &j,
@@ -1086,7 +1091,7 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
     }
     if (st == PERSP_OK) st = render_all(&r);
     /* Written last, through a temporary file: the page appears only whole. */
-    snprintf(path, sizeof path, "%s/index.html", desc->dir);
+    snprintf(path, sizeof path, "%s/index.html", dir);
     persp_outfile page;
     if (st == PERSP_OK && (st = persp__outfile_open(ctx, path, &page)) == PERSP_OK) r.f = page.f;
     if (st == PERSP_OK) {

@@ -55,7 +55,7 @@ persp_status persp__method_resolve(persp_context *ctx, const char *spec, persp_m
         return PERSP_OK;
     }
     return persp__fail(ctx, PERSP_ERR_NOT_FOUND,
-                              "unknown method '%s' (see `persp methods`)",
+                              "unknown method '%s' (persp_method_get lists them; `persp methods` prints them)",
                               persp__quote(spec, strlen(spec), q, sizeof q));
 }
 

@@ -436,7 +436,7 @@ static persp_status parse_render(jctx *j, json_t *r)
         if (st == PERSP_OK && strlen(str) >= sizeof s->method)
             st = jfail(j, 0, PERSP_ERR_FORMAT, "method spec too long");
         if (st == PERSP_OK && (st = persp_method_check(str)) != PERSP_OK)
-            st = jfail(j, 0, st, "unknown method or bad parameters '%s' (see persp methods)",
+            st = jfail(j, 0, st, "unknown method or bad parameters '%s' (`persp methods` prints them)",
                        qs(str, q));
         if (st == PERSP_OK) snprintf(s->method, sizeof s->method, "%s", str);
         pop(j);

@@ -16,8 +16,10 @@ start=$(date +%s)
 "$persp" report --quick -o "$tmp/r" 2>"$tmp/log" || bad "report --quick failed: $(cat "$tmp/log")"
 echo "report --quick took $(($(date +%s) - start)) s"
 # --max-memory with room: the same page data and images (timings aside).
-"$persp" report --quick --max-memory 256M -o "$tmp/rb" 2>"$tmp/log_b" ||
+# (and a folder given with a trailing slash names its files without "//")
+"$persp" report --quick --max-memory 256M -o "$tmp/rb/" 2>"$tmp/log_b" ||
     bad "report --quick --max-memory 256M failed: $(cat "$tmp/log_b")"
+grep -q "^report: wrote $tmp/rb/index.html$" "$tmp/log_b" && ok || bad "-o DIR/: $(grep wrote "$tmp/log_b")"
 same=1
 for f in $(cd "$tmp/r" && find . -type f \( -name '*.png' -o -name accuracy.json -o -name '*.svg' \) | sort); do
     cmp -s "$tmp/r/$f" "$tmp/rb/$f" || { same=0; echo "differs with --max-memory: $f"; }

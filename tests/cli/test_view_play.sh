@@ -24,7 +24,9 @@ done
 
 # The thread count does not change the frames (the library's guarantee).
 "$persp" view corridor --play "$path" --frames 4 --size 96x72 --method affine --layout split \
-    --threads 1 -q -o "$tmp/c" && ok || bad "play with one thread"
+    --threads 1 -o "$tmp/c/" >"$tmp/out_c" 2>&1 && ok || bad "play with one thread"
+# (-o DIR/ names the frames without "//")
+grep -q "$tmp/c/frame_0003.png" "$tmp/out_c" && ! grep -q "//" "$tmp/out_c" && ok || bad "-o DIR/: $(cat "$tmp/out_c")"
 if cmp -s "$tmp/a/frame_0002.png" "$tmp/c/frame_0002.png"; then ok; else bad "threads changed a frame"; fi
 
 # The diff layout of a method against itself is the dimmed image only, and

@@ -30,6 +30,12 @@ int cli_error(int code, const char *fmt, ...)
 void cli_warning(void *user, const char *message);
 /* Reports a failed library call: "persp: what: detail (status)". */
 int cli_status(persp_context *ctx, persp_status st, const char *what);
+/* 1 if name is a built-in scene's (persp_builtin_scene_name). */
+int cli_is_builtin(const char *name);
+/* CLI_OK if name is a built-in scene or an existing file; otherwise CLI_FAIL
+ * after "persp: COMMAND: 'name' is neither a built-in scene (...) nor a
+ * file: reason". */
+int cli_check_scene(const char *command, const char *name);
 /* --texture: the image file path becomes the texture of every textured
  * object of scene (persp_scene_set_texture); a warning when the scene has
  * none, as nothing then changes. CLI_OK, or CLI_FAIL after the error. */

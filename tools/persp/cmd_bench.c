@@ -93,13 +93,6 @@ static void bench_usage(FILE *out, const cli_command *cmd)
 #endif
 }
 
-static int is_builtin(const char *name)
-{
-    for (size_t i = 0; i < persp_builtin_scene_count(); i++)
-        if (!strcmp(name, persp_builtin_scene_name(i))) return 1;
-    return 0;
-}
-
 static double peak_rss_mib(int who)
 {
     struct rusage ru;
@@ -227,7 +220,7 @@ static int peer_child(const bench_opts *o)
     persp_scene *scene = NULL;
     persp_status st = persp_context_create(NULL, &ctx);
     if (st == PERSP_OK)
-        st = is_builtin(o->scene) ? persp_scene_builtin(ctx, o->scene, &scene)
+        st = cli_is_builtin(o->scene) ? persp_scene_builtin(ctx, o->scene, &scene)
                                   : persp_scene_load_ex(ctx, o->scene, &o->load, &scene);
     if (st != PERSP_OK) {
         int rc = cli_status(ctx, st, o->scene);
@@ -829,6 +822,7 @@ int cmd_bench(int argc, char **argv)
 #endif
 
     if ((rc = cli_check_output("bench", "--peer-image", o.peer_image)) != CLI_OK) return rc;
+    if ((rc = cli_check_scene("bench", o.scene)) != CLI_OK) return rc;
     method_result *results = calloc(BENCH_MAX_METHODS, sizeof *results);
     if (!results) return cli_error(CLI_FAIL, "bench: out of memory");
     size_t count = 0;
@@ -860,7 +854,7 @@ int cmd_bench(int argc, char **argv)
     o.simd = persp_context_simd(b.ctx);
     persp_context_set_temp_file_handler(b.ctx, cli_temp_file, NULL);
     persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
-    if (is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
+    if (cli_is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
     else st = persp_scene_load_ex(b.ctx, o.scene, &o.load, &b.scene);
     if (st != PERSP_OK) {
         rc = cli_status(b.ctx, st, o.scene);

@@ -19,13 +19,6 @@ static void render_usage(FILE *out, const cli_command *cmd)
         fprintf(out, "  %-10s %s\n", persp_builtin_scene_name(i), persp_builtin_scene_summary(i));
 }
 
-static int is_builtin(const char *name)
-{
-    for (size_t i = 0; i < persp_builtin_scene_count(); i++)
-        if (!strcmp(name, persp_builtin_scene_name(i))) return 1;
-    return 0;
-}
-
 /* The encoding of the output: --format, else the -o file's extension (PNG
  * for standard output and for a device or pipe without one); a known
  * extension that --format contradicts is refused. */
@@ -128,16 +121,7 @@ int cmd_render(int argc, char **argv)
     FILE *summary = to_stdout ? stderr : stdout;
 
     const char *scene_name = scene_arg[0] ? scene_arg[0] : "corridor";
-    if (!is_builtin(scene_name) && access(scene_name, F_OK) != 0) {
-        char names[256] = "";
-        for (size_t i = 0; i < persp_builtin_scene_count(); i++) {
-            size_t used = strlen(names);
-            snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "",
-                     persp_builtin_scene_name(i));
-        }
-        return cli_error(CLI_FAIL, "render: '%s' is neither a built-in scene (%s) nor a file: %s",
-                         scene_name, names, strerror(errno));
-    }
+    if ((rc = cli_check_scene("render", scene_name)) != CLI_OK) return rc;
     int width = size.width, height = size.height;
     persp_status st;
     desc.method = method;
@@ -157,7 +141,7 @@ int cmd_render(int argc, char **argv)
     persp_scene *scene = NULL;
     persp_framebuffer fb = {0, 0, NULL, NULL};
     persp_image img = {0, 0, 0, NULL}, depth_img = {0, 0, 0, NULL};
-    if (is_builtin(scene_name)) st = persp_scene_builtin(ctx, scene_name, &scene);
+    if (cli_is_builtin(scene_name)) st = persp_scene_builtin(ctx, scene_name, &scene);
     else st = persp_scene_load_ex(ctx, scene_name, &load, &scene);
     if (st != PERSP_OK) {
         rc = cli_status(ctx, st, scene_name);

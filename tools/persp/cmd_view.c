@@ -22,13 +22,6 @@ static void view_usage(FILE *out, const cli_command *cmd)
 #endif
 }
 
-static int is_builtin(const char *name)
-{
-    for (size_t i = 0; i < persp_builtin_scene_count(); i++)
-        if (!strcmp(name, persp_builtin_scene_name(i))) return 1;
-    return 0;
-}
-
 static const char *const layout_names[] = {"single", "split", "diff", "texel", NULL};
 static const int layout_values[] = {VIEW_LAYOUT_SINGLE, VIEW_LAYOUT_SPLIT, VIEW_LAYOUT_DIFF,
                                     VIEW_LAYOUT_TEXEL};
@@ -101,7 +94,7 @@ static int load_scene(persp_context *ctx, const char *name, const char *texture,
                       const persp_scene_load_desc *load, persp_scene **out)
 {
     persp_status st;
-    if (is_builtin(name))
+    if (cli_is_builtin(name))
         st = persp_scene_builtin(ctx, name, out);
     else
         st = persp_scene_load_ex(ctx, name, load, out);
@@ -144,7 +137,10 @@ static int play_path(persp_context *ctx, const view_scenes *scenes, const view_p
             break;
         }
         char name[4096];
-        snprintf(name, sizeof name, "%s/frame_%04ld.png", dir, i);
+        /* "frames/" names the folder: no doubled slash in the names. */
+        const size_t dl = strlen(dir);
+        const int sep = !(dl > 0 && dir[dl - 1] == '/');
+        snprintf(name, sizeof name, "%s%sframe_%04ld.png", dir, sep ? "/" : "", i);
         persp_image img = {f.width, f.height, (size_t)f.width * 4, f.out};
         if ((st = persp_image_write_png(ctx, name, &img)) != PERSP_OK) {
             rc = cli_status(ctx, st, "view");
@@ -247,9 +243,8 @@ int cmd_view(int argc, char **argv)
         return cli_error(CLI_USAGE, "view: method spec too long");
 
     const char *scene_name = scene_arg[0] ? scene_arg[0] : "corridor";
-    if (!is_builtin(scene_name) && access(scene_name, F_OK) != 0)
-        return cli_error(CLI_FAIL, "view: '%s' is neither a built-in scene nor a file: %s",
-                         scene_name, strerror(errno));
+    int checked = cli_check_scene("view", scene_name);
+    if (checked != CLI_OK) return checked;
     view_path path;
     memset(&path, 0, sizeof path);
     if (play) {
@@ -293,8 +288,9 @@ int cmd_view(int argc, char **argv)
         rc = play_path(ctx, &scenes, &path, &left, &right, layout, divider, heat_max, width, height,
                        n, output, quiet);
         if (rc == CLI_OK && !quiet)
-            printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s/\n", play, n, n == 1 ? "" : "s",
-                   width, height, cli_now() - t0, output);
+            printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s%s\n", play, n, n == 1 ? "" : "s",
+                   width, height, cli_now() - t0, output,
+                   output[0] && output[strlen(output) - 1] == '/' ? "" : "/");
     } else {
         view_window_args a = {
             ctx,   scene,  tinted,      coords,  scene_name,

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 static const struct {
     const char *name;
@@ -55,11 +56,38 @@ int cli_status(persp_context *ctx, persp_status st, const char *what)
      * failing disk: the hint replaces it. */
     const char *hint = folder_hint(detail);
     const char *kind = hint[0] ? "refused" : persp_status_string(st);
+    /* An I/O failure's detail already gives the system's reason ("cannot
+     * open: No such file or directory"), which "(input/output error)"
+     * after it would contradict. */
+    if (st == PERSP_ERR_IO && !hint[0]) {
+        if (detail && !strncmp(detail, what, wl) && detail[wl] == ':') return cli_error(CLI_FAIL, "%s", detail);
+        if (detail && detail[0]) return cli_error(CLI_FAIL, "%s: %s", what, detail);
+    }
     if (detail && !strncmp(detail, what, wl) && detail[wl] == ':')
         return cli_error(CLI_FAIL, "%s (%s%s)", detail, kind, hint);
     if (detail && detail[0])
         return cli_error(CLI_FAIL, "%s: %s (%s%s)", what, detail, kind, hint);
     return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
+}
+
+int cli_is_builtin(const char *name)
+{
+    for (size_t i = 0; i < persp_builtin_scene_count(); i++)
+        if (!strcmp(name, persp_builtin_scene_name(i))) return 1;
+    return 0;
+}
+
+int cli_check_scene(const char *command, const char *name)
+{
+    if (cli_is_builtin(name) || access(name, F_OK) == 0) return CLI_OK;
+    const int err = errno;
+    char names[256] = "";
+    for (size_t i = 0; i < persp_builtin_scene_count(); i++) {
+        size_t used = strlen(names);
+        snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "", persp_builtin_scene_name(i));
+    }
+    return cli_error(CLI_FAIL, "%s: '%s' is neither a built-in scene (%s) nor a file: %s", command, name, names,
+                     strerror(err));
 }
 
 int cli_replace_texture(persp_context *ctx, persp_scene *scene, const char *path)
