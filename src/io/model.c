@@ -419,6 +419,17 @@ void persp__model_set_colours(persp_material *m, const float *kd, const float *k
     }
 }
 
+/* Prefixes the context's detail of a texture refused for want of memory
+ * (what was refused, the budget) with the model, texture and material. */
+static void model_texture_oom(persp_context *ctx, const char *display, const char *texture,
+                              const char *material)
+{
+    char detail[PERSP_ERRMSG_BYTES];
+    snprintf(detail, sizeof detail, "%s", persp_context_error(ctx));
+    persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: texture '%s' of material '%s': %s", display, texture,
+                material, detail);
+}
+
 /* The scene texture for a texture file a material names, or -1 with a
  * warning: the candidates of persp__model_read_ref, each inside the load
  * root, decoded once per load (the cache). */
@@ -456,7 +467,10 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
         }
         st = persp__texcache_load(r->scene, r->cache, path, &index);
         if (st == PERSP_ERR_OUT_OF_MEMORY) {
+            /* The caller fails with this detail, which says what was
+             * refused and the budget, prefixed with where. */
             r->out_of_memory = 1;
+            model_texture_oom(r->scene->ctx, r->display, qr, qm);
             return -1;
         }
         if (st != PERSP_OK && k == 0)
@@ -784,6 +798,7 @@ static int material_texture(importer *im, const char *material, const char *file
         persp_status est = *slot == -1 ? embedded_texture(im, (unsigned)emb, slot) : PERSP_OK;
         if (est == PERSP_ERR_OUT_OF_MEMORY) {
             im->out_of_memory = 1;
+            model_texture_oom(im->ctx, im->display, persp__quote(file, strlen(file), qf, sizeof qf), qm);
             return -1;
         }
         if (est != PERSP_OK) {
@@ -1181,8 +1196,7 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     /* A texture refused for want of memory is not drawn untextured with a
      * warning, as a missing file is: the allocator's refusal is the caller's
      * to see (PERSP_ERR_OUT_OF_MEMORY). */
-    if (st == PERSP_OK && im.out_of_memory)
-        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
+    if (st == PERSP_OK && im.out_of_memory) st = PERSP_ERR_OUT_OF_MEMORY; /* detail: model_texture_oom */
     if (st == PERSP_OK && out->part_count == 0)
         st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", display);
     if (st == PERSP_OK && !(out->bbox_min[0] <= out->bbox_max[0]))

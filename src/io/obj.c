@@ -629,7 +629,8 @@ static persp_status scene_material(obj_reader *r, int rec, int *out)
         if (m->tex != NO_NAME) {
             r->where_mat = m;
             pm.texture = persp__model_texture_file(&r->refs, r->pool + m->name, r->pool + m->tex);
-            if (r->refs.out_of_memory) return persp__obj_oom(r);
+            /* The detail names the texture and the budget. */
+            if (r->refs.out_of_memory) return PERSP_ERR_OUT_OF_MEMORY;
             if (pm.texture >= 0) {
                 pm.env = PERSP_TEXENV_MODULATE;
                 pm.sampler.wrap_s = pm.sampler.wrap_t =

@@ -62,6 +62,18 @@ for help in "accuracy --help" "accuracy --filter --help" "accuracy --shading --h
     expect 0 "--max-memory SIZE" -- "$persp" $help
 done
 
+# A model's texture refused for want of memory: the error names the model,
+# the texture, its material and the budget (not only "out of memory").
+mkdir -p "$tmp/mt"
+cp "$root/scenes/textures/skymap.png" "$tmp/mt/"
+printf 'mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl sky\nf 1/1 2/2 3/3 4/4\n' \
+    >"$tmp/mt/q.obj"
+printf 'newmtl sky\nmap_Kd skymap.png\n' >"$tmp/mt/q.mtl"
+expect 1 "q.obj: texture 'skymap.png' of material 'sky': .*needs .*over the memory budget of 256.0 KiB" -- \
+    "$persp" render "$tmp/mt/q.obj" --size 32x24 --max-memory 256K -o "$tmp/mt.png"
+[ ! -e "$tmp/mt.png" ] && ok || bad "a refused texture left $tmp/mt.png"
+expect 0 "filter bilinear" -- "$persp" render "$tmp/mt/q.obj" --size 32x24 --max-memory 4M -o "$tmp/mt.png"
+
 if command -v python3 >/dev/null; then
     python3 "$root/scripts/gen_grid.py" 50 100 "$tmp/grid.obj"
     # persp's OBJ reader holds the mesh, not the file: refused while loading
