@@ -85,9 +85,13 @@ cmp -s "$tmp/w-repeat.png" "$tmp/w-clamp-to-edge.png" && bad "--wrap clamp-to-ed
 
 # Instrumented render: exact is one division per fragment; midpoint none per
 # pixel (one per span at most).
-expect 0 "operations per fragment: 1\.000 div" -- "$persp" render corridor --size 64x48 --count-ops -o "$tmp/ops.png"
+expect 0 "operations per pixel computed \(3072 of 3072 fragments\): 1\.000 div" -- "$persp" render corridor --size 64x48 --count-ops -o "$tmp/ops.png"
+# With overdraw (the soup), spans hidden whole run
+# no method: still one division per pixel the method computed.
+expect 0 "operations per pixel computed \([0-9]+ of [0-9]+ fragments\): 1\.000 div" -- \
+    "$persp" render "$PERSP_SOURCE_DIR/scenes/bench/soup-200k.json" --size 64x48 --count-ops -o "$tmp/ops2.png"
 out=$("$persp" render corridor --size 64x48 --method midpoint --count-ops -o "$tmp/ops.png" 2>&1)
-d=$(sed -nE 's/.*per fragment: ([0-9.]+) div.*/\1/p' <<<"$out")
+d=$(sed -nE 's/.*per pixel computed [^:]*: ([0-9.]+) div.*/\1/p' <<<"$out")
 awk -v d="${d:-9}" 'BEGIN { exit !(d < 0.5) }' && ok || bad "midpoint --count-ops: $out"
 
 echo "$pass passed, $fail failed"

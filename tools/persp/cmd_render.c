@@ -231,13 +231,16 @@ int cmd_render(int argc, char **argv)
                     (unsigned long long)stats.objspace_holes,
                     (unsigned long long)stats.objspace_visited);
         if (desc.count_ops == PERSP_TOGGLE_ON) {
-            /* Per fragment the method was run for (covered and not hidden at
-             * the time it was drawn). */
-            double fr = stats.fragments ? (double)stats.fragments : 1.0;
+            /* Per pixel the method computed coordinates for (ops.pixels):
+             * spans hidden whole and untextured objects run no method, so
+             * dividing by all fragments understated the cost. */
+            double px = stats.ops.pixels ? (double)stats.ops.pixels : 1.0;
             fprintf(summary,
-                    "  method operations per fragment: %.3f div, %.3f mul, %.3f add, %.3f cmp\n",
-                    (double)stats.ops.div / fr, (double)stats.ops.mul / fr,
-                    (double)stats.ops.add / fr, (double)stats.ops.cmp / fr);
+                    "  method operations per pixel computed (%llu of %llu fragments): %.3f div, "
+                    "%.3f mul, %.3f add, %.3f cmp\n",
+                    (unsigned long long)stats.ops.pixels, (unsigned long long)stats.fragments,
+                    (double)stats.ops.div / px, (double)stats.ops.mul / px, (double)stats.ops.add / px,
+                    (double)stats.ops.cmp / px);
         }
         fprintf(summary, "  %.2f ms (%.1f Mpixels/s) -> %s\n", (t1 - t0) * 1e3,
                 (double)width * height / ((t1 - t0) * 1e6), to_stdout ? "standard output" : output);
