@@ -537,6 +537,7 @@ static persp_status load_library(obj_reader *r, const char *name, size_t n, cons
 static void warn_library(obj_reader *r, size_t line, const char *name, size_t n, const char *why)
 {
     char q[PERSP_QUOTE_BYTES];
+    r->libs_failed = 1;
     persp__warn(r->ctx, "%s:%zu: cannot read '%s' (%s); going on without it", r->display, line,
                 persp__quote(name, n, q, sizeof q), why);
 }
@@ -715,7 +716,7 @@ static persp_status close_run(obj_reader *r)
     return persp__model_add_part(r->scene, r->out, &r->part_cap, mi, material, &id, r->display);
 }
 
-static persp_status open_run(obj_reader *r)
+static persp_status open_run(obj_reader *r, size_t line)
 {
     persp_status st = close_run(r);
     if (st != PERSP_OK) return st;
@@ -725,9 +726,15 @@ static persp_status open_run(obj_reader *r)
         size_t n = strlen(r->mtl);
         r->run_mat = find_material(r, r->mtl, n);
         /* A material no library defines: Assimp made an empty one of that
-         * name (grey), not its default. */
-        if (r->run_mat < 0 && (st = new_material(r, r->mtl, n, 0, &r->run_mat)) != PERSP_OK)
-            return st;
+         * name (grey), not its default. Said once, at the first face that
+         * uses it, unless a library could not be read (that was said). */
+        if (r->run_mat < 0) {
+            char q[PERSP_QUOTE_BYTES];
+            if (!r->libs_failed)
+                persp__warn(r->ctx, "%s:%zu: material '%s' is defined by no material library; drawn grey",
+                            r->display, line, persp__quote(r->mtl, n, q, sizeof q));
+            if ((st = new_material(r, r->mtl, n, 0, &r->run_mat)) != PERSP_OK) return st;
+        }
     }
     r->file_normals = run->normals == 1 && !r->force_normals;
     size_t cap = 16;
@@ -941,8 +948,11 @@ static persp_status face(obj_reader *r, const char *p, const char *e, size_t lin
 {
     size_t n = count_tokens(p, e);
     /* Fewer than three corners draw nothing (Assimp dropped them with the
-     * points and lines). */
-    if (n < 3) return PERSP_OK;
+     * points and lines); counted for one warning a file. */
+    if (n < 3) {
+        if (r->pass == 1 && !r->short_faces++) r->short_line = line;
+        return PERSP_OK;
+    }
     persp_status st;
     if (r->pass == 1) {
         if (r->split || r->nruns == 0) {
@@ -978,7 +988,7 @@ static persp_status face(obj_reader *r, const char *p, const char *e, size_t lin
     if (r->split || !r->open) {
         if (r->run >= r->nruns)
             return line_error(r, line, "the file changed while it was read", NULL, NULL);
-        if ((st = open_run(r)) != PERSP_OK) return st;
+        if ((st = open_run(r, line)) != PERSP_OK) return st;
         r->run++;
         r->split = 0;
     }
@@ -1184,6 +1194,9 @@ static persp_status load(obj_reader *r, obj_lines *l, const char *data, size_t s
     for (size_t i = 0; i < r->nruns; i++)
         generate |= r->runs[i].normals != 1 || r->force_normals;
     if (generate && (st = persp__obj_canon_init(r)) != PERSP_OK) return st;
+    if (r->short_faces)
+        persp__warn(r->ctx, "%s:%zu: %zu face%s of fewer than three corners dropped (the first here)", r->display,
+                    r->short_line, r->short_faces, r->short_faces == 1 ? "" : "s");
     r->pass = 2;
     if ((st = run_pass(r, l, data, size)) != PERSP_OK) return st;
     /* The text is read: the window and the hash that found equal positions

@@ -72,6 +72,9 @@ typedef struct obj_reader {
     } libs[OBJ_LIBS_MAX]; /* mtllib statements read */
     int nlibs;
     const obj_mat *where_mat;
+    /* faces of fewer than three corners (pass 1): how many, the first's line */
+    size_t short_faces, short_line;
+    int libs_failed; /* a material library could not be read (warned) */
 
     /* the run being read (pass 2) */
     int open;         /* a run is being read */

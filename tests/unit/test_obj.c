@@ -104,6 +104,23 @@ static void test_statement_forms(void **state)
     /* Every corner form in one file, generated normals. */
     load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1 2/1 3/\n", "mixed.obj");
     assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    assert_int_equal(l.warn.count, 0);
+    unload(&l);
+
+    /* Faces of fewer than three corners are dropped with one warning a
+     * file, at the first; a material no library defines is drawn grey with
+     * one warning, where it is first used. */
+    load_text(&l,
+              "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\nf 1 2\nusemtl ghost\nf 1 2 3\nf 3\n"
+              "usemtl ghost\nf 1 2 3\n",
+              "short.obj");
+    assert_int_equal(mesh_of(&l, 0)->index_count, 6);
+    assert_int_equal(l.warn.count, 2);
+    assert_non_null(strstr(l.warn.last, "short.obj:7: material 'ghost' is defined by no material library"));
+    unload(&l);
+    load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 2 3\nf 1\n", "short2.obj");
+    assert_int_equal(l.warn.count, 1);
+    assert_non_null(strstr(l.warn.last, "short2.obj:5: 2 faces of fewer than three corners dropped"));
     unload(&l);
 }
 
