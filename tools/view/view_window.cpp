@@ -1234,6 +1234,20 @@ int run(state &s)
 
 extern "C" int view_window_run(const view_window_args *args)
 {
+    const char *asked = getenv("SDL_VIDEODRIVER");
+#if defined(__linux__)
+    /* No X11 or Wayland display and no driver asked for: said before SDL
+     * starts, as SDL's own Wayland probe would first print "error:
+     * XDG_RUNTIME_DIR is invalid" and then fall back to the offscreen
+     * driver refused below. */
+    const char *x11 = getenv("DISPLAY"), *wayland = getenv("WAYLAND_DISPLAY");
+    if ((!asked || !asked[0]) && !(x11 && x11[0]) && !(wayland && wayland[0])) {
+        fprintf(stderr, "persp: view: cannot open a window: no display (DISPLAY and WAYLAND_DISPLAY "
+                        "are unset); --play renders camera paths without one, SDL_VIDEODRIVER=offscreen "
+                        "runs the window invisibly\n");
+        return 1;
+    }
+#endif
     if (SDL_Init(SDL_INIT_VIDEO | SDL_INIT_EVENTS) != 0) {
         fprintf(stderr,
                 "persp: view: cannot open a window: %s (SDL_VIDEODRIVER=%s); "
@@ -1245,7 +1259,6 @@ extern "C" int view_window_run(const view_window_args *args)
      * and the window then runs invisibly until killed. Those drivers are
      * for a caller who asks for them (SDL_VIDEODRIVER, as the tests do). */
     const char *driver = SDL_GetCurrentVideoDriver();
-    const char *asked = getenv("SDL_VIDEODRIVER");
     if (driver && (!asked || !asked[0]) && (!strcmp(driver, "offscreen") || !strcmp(driver, "dummy"))) {
         const char *display = getenv("DISPLAY");
         fprintf(stderr,
