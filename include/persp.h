@@ -462,8 +462,20 @@ PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, pe
  * elsewhere fails with PERSP_ERR_IO ("file:line:col: 'name' is outside the
  * folder ..."); a model's file elsewhere is skipped with a warning, like a
  * missing one. */
+/* The direction a model file's "up" points along, for a model loaded
+ * without a scene (persp_scene_load on the model itself): glTF and most
+ * OBJ files are +y up; STL, 3DS and CAD exports are often +z up, which is
+ * turned to +y (a rotation of −90° about x), so that the model stands on
+ * the floor the default camera looks down on. A scene file turns its
+ * objects with "transform" instead. */
+typedef enum persp_model_up {
+    PERSP_MODEL_UP_DEFAULT = 0, /* +y */
+    PERSP_MODEL_UP_Y,
+    PERSP_MODEL_UP_Z
+} persp_model_up;
 typedef struct persp_scene_load_desc {
     persp_toggle any_folder; /* ON: referenced files may lie anywhere; DEFAULT, OFF: restricted */
+    persp_model_up model_up; /* a model file's up axis; DEFAULT: +y */
 } persp_scene_load_desc;
 /* persp_scene_load with settings; desc NULL: all defaults (restricted), as
  * persp_scene_load does. */

@@ -1280,7 +1280,8 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
 }
 
 persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
-                                     const char *base_dir, const char *root, persp_scene **out)
+                                     const char *base_dir, const char *root, int up_z,
+                                     persp_scene **out)
 {
     *out = NULL;
     persp_scene *s = NULL;
@@ -1297,6 +1298,18 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
               : persp__obj_load(s, NULL, 0, name, base_dir, &cache, 0, &model);
     s->load_root = NULL;
     persp__texcache_free(ctx, &cache);
+    if (st == PERSP_OK && up_z) {
+        /* −90° about x: +z becomes +y, +y becomes −z; the box turns with
+         * it exactly (a quarter turn keeps it axis-aligned). */
+        persp_mat4 turn = persp_mat4_identity(); /* exact: y' = z, z' = −y */
+        turn.m[1 * 4 + 1] = 0.0f, turn.m[2 * 4 + 1] = 1.0f;
+        turn.m[1 * 4 + 2] = -1.0f, turn.m[2 * 4 + 2] = 0.0f;
+        for (size_t i = 0; i < model.part_count; i++)
+            model.parts[i].transform = persp_mat4_mul(turn, model.parts[i].transform);
+        const float ymin = model.bbox_min[1], ymax = model.bbox_max[1];
+        model.bbox_min[1] = model.bbox_min[2], model.bbox_max[1] = model.bbox_max[2];
+        model.bbox_min[2] = -ymax, model.bbox_max[2] = -ymin;
+    }
     for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {
         persp_object o;
         memset(&o, 0, sizeof o);

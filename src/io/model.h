@@ -69,9 +69,11 @@ int persp__model_is_model(const char *path, const char *data, size_t size);
  * (docs/SCENES.md, "Models without a scene file"). Takes data, a buffer
  * from persp__read_file (NUL-terminated, size + 1 bytes), and frees it;
  * data NULL: name is an OBJ file to stream (persp__model_streams).
- * root: the folder the model's references must stay in, NULL: anywhere. */
+ * root: the folder the model's references must stay in, NULL: anywhere.
+ * up_z: the model is +z up (PERSP_MODEL_UP_Z), turned to +y. */
 persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
-                                     const char *base_dir, const char *root, persp_scene **out);
+                                     const char *base_dir, const char *root, int up_z,
+                                     persp_scene **out);
 
 /* JSON scene from memory. name appears in errors; base_dir resolves the
  * files the scene names; NULL: any file reference is refused. max_vertices

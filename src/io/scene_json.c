@@ -1116,6 +1116,9 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     *out = NULL;
     if (desc && (unsigned)desc->any_folder > (unsigned)PERSP_TOGGLE_OFF)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.any_folder");
+    if (desc && (unsigned)desc->model_up > (unsigned)PERSP_MODEL_UP_Z)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.model_up");
+    const int up_z = desc && desc->model_up == PERSP_MODEL_UP_Z;
     char root[PERSP_PATH_MAX];
     const int restricted = !desc || desc->any_folder != PERSP_TOGGLE_ON;
     char *data = NULL;
@@ -1132,7 +1135,7 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     if (stream || persp__model_is_model(path, data, size))
-        return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, out);
+        return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, up_z, out);
     st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, out);
     persp__free(ctx, data);
     return st;

@@ -30,6 +30,13 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty floa
 expect 0 "1 triangles in" -- "$persp" render "$m/t.ply" --size 32x24 -o "$tmp/p.png"
 printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$m/t.stl"
 expect 0 "1 triangles in" -- "$persp" render "$m/t.stl" --size 32x24 -o "$tmp/s.png"
+# --up z turns a +z-up model (STL, 3DS) to stand on +y: another image; a
+# bad axis is a usage error
+printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 2\nendloop\nendfacet\nendsolid t\n' >"$m/up.stl"
+expect 0 "1 triangles in" -- "$persp" render "$m/up.stl" --size 32x24 -o "$tmp/up_y.png"
+expect 0 "1 triangles in" -- "$persp" render "$m/up.stl" --size 32x24 --up z -o "$tmp/up_z.png"
+cmp -s "$tmp/up_y.png" "$tmp/up_z.png" && bad "--up z changed nothing" || ok
+expect 2 "bad --up 'x'" -- "$persp" render "$m/up.stl" --up x -o "$tmp/up_x.png"
 # bench takes models too
 expect 0 "^bench .*box.obj 32x24" -- "$persp" bench "$m/box.obj" --size 32x24 --frames 1 --reps 1
 

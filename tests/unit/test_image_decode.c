@@ -211,7 +211,7 @@ static void test_render_output_opaque(void **state)
         fclose(f);
         persp_scene *s = NULL;
         /* The texture stays in the source tree, outside the scene's folder. */
-        persp_scene_load_desc load = {PERSP_TOGGLE_ON};
+        persp_scene_load_desc load = {.any_folder = PERSP_TOGGLE_ON};
         persp_status st = persp_scene_load_ex(ctx, scene_path, &load, &s);
         if (st != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
         uint8_t color[16 * 16 * 4];

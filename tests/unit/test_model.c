@@ -814,6 +814,28 @@ static void test_scene_from_bare_model_and_json_override(void **state)
             fail_msg("%dx%d: P00 %g, P11 %g, want the shorter side's %g", sizes[i][0], sizes[i][1], proj.m[0],
                      proj.m[5], cot);
     }
+    /* --up z: the model turned so that its +z points up (+y), the camera
+     * framing the turned box: the same view of the box from another side. */
+    {
+        write_text("tall.obj", "v 0 0 0\nv 1 0 0\nv 0 0 3\nf 1 2 3\n");
+        char tall[256];
+        tmp_path(tall, sizeof tall, "tall.obj");
+        persp_scene_load_desc up = {.model_up = PERSP_MODEL_UP_Z};
+        persp_scene *t = NULL;
+        assert_int_equal(persp_scene_load_ex(ctx, tall, &up, &t), PERSP_OK);
+        persp_scene_object so;
+        assert_int_equal(persp_scene_get_object(t, 0, &so), PERSP_OK);
+        const persp_vec4 top = persp_mat4_apply(so.model, (persp_vec4){0, 0, 3, 1});
+        const persp_vec4 side = persp_mat4_apply(so.model, (persp_vec4){0, 1, 0, 1});
+        assert_true(top.x == 0.0f && top.y == 3.0f && top.z == 0.0f);
+        assert_true(side.x == 0.0f && side.y == 0.0f && side.z == -1.0f);
+        /* the camera looks at the turned triangle's centre, (0.5, 1.5, 0) */
+        assert_true(fabsf(t->camera.target.y - 1.5f) < 1e-6f && fabsf(t->camera.target.z) < 1e-6f);
+        persp_scene_destroy(t);
+        up.model_up = (persp_model_up)7;
+        assert_int_equal(persp_scene_load_ex(ctx, tall, &up, &t), PERSP_ERR_INVALID_ARGUMENT);
+        assert_null(t);
+    }
     uint8_t color[32 * 32 * 4];
     float depth[32 * 32];
     persp_framebuffer fb = {32, 32, color, depth};

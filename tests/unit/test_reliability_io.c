@@ -76,7 +76,7 @@ static persp_status load_scene_naming(persp_context *ctx, const char *texture, p
     snprintf(scene, sizeof scene, "%s/s.json", sub);
     snprintf(text, sizeof text, scene_fmt, texture);
     write_text(scene, text);
-    persp_scene_load_desc desc = {any};
+    persp_scene_load_desc desc = {.any_folder = any};
     persp_scene *s = NULL;
     persp_status st = persp_scene_load_ex(ctx, scene, &desc, &s);
     persp_scene_destroy(s);

@@ -313,6 +313,7 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
     if (o->load.any_folder == PERSP_TOGGLE_ON) argv[argc++] = "--any-folder";
+    if (o->load.model_up == PERSP_MODEL_UP_Z) argv[argc++] = "--up", argv[argc++] = "z";
     argv[argc] = NULL;
 
     size_t nenv = 0;
@@ -768,6 +769,7 @@ int cmd_bench(int argc, char **argv)
     cli_option opts[] = {
         CLI_OPT(opt_bench_method, &o.method),
         CLI_OPT(cli_opt_any_folder, &o.load.any_folder),
+        CLI_OPT(cli_opt_up, &o.load.model_up),
         CLI_OPT_HELP(cli_opt_filter, &filter,
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),

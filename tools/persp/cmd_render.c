@@ -81,6 +81,7 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_pipeline, &desc.pipeline),
         CLI_OPT(cli_opt_texture, &texture),
         CLI_OPT(cli_opt_any_folder, &load.any_folder),
+        CLI_OPT(cli_opt_up, &load.model_up),
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(cli_opt_simd, &simd),

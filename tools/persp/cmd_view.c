@@ -202,6 +202,7 @@ int cmd_view(int argc, char **argv)
         CLI_OPT(cli_opt_pipeline, &left.pipeline),
         CLI_OPT(cli_opt_texture, &texture),
         CLI_OPT(cli_opt_any_folder, &load.any_folder),
+        CLI_OPT(cli_opt_up, &load.model_up),
         CLI_OPT(cli_opt_count_ops, &count_ops),
         CLI_OPT(opt_mip_levels, &mip_levels),
         CLI_OPT(opt_layout, &layout),

@@ -525,6 +525,14 @@ const cli_spec cli_opt_simd = {.name = "simd",
                                        "vertex and lighting loops: auto, baseline, avx2,\n"
                                        "avx2-gather, avx512, avx512-gather (same images;\n"
                                        "default auto: chosen for the CPU)"};
+static const char *const up_names[] = {"y", "z", NULL};
+static const int up_values[] = {PERSP_MODEL_UP_Y, PERSP_MODEL_UP_Z};
+const cli_spec cli_opt_up = {.name = "up",
+                             .kind = CLI_KIND_ENUM,
+                             .metavar = "y|z",
+                             .names = up_names,
+                             .values = up_values,
+                             .help = "a model file's up axis (default y; z: STL, 3DS, CAD exports)"};
 const cli_spec cli_opt_cull = {.name = "cull",
                                .kind = CLI_KIND_ENUM,
                                .metavar = "on|off",
