@@ -64,6 +64,7 @@ typedef struct ref_level {
 
 typedef struct ref_object {
     int textured;
+    int mirrored; /* the model matrix's linear part has a negative determinant */
     persp_sampler_desc sampler;
     int levels;
     ref_level *level;
@@ -143,6 +144,11 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
         }
         double M[16], MVP[16];
         to_double(so.model, M);
+        /* Culling follows the winding a mirror reverses (docs/SCENES.md,
+         * `cull`): the sign of the linear part's determinant. */
+        ro->mirrored = M[0] * (M[5] * M[10] - M[9] * M[6]) - M[4] * (M[1] * M[10] - M[9] * M[2]) +
+                           M[8] * (M[1] * M[6] - M[5] * M[2]) <
+                       0.0;
         mat_mul(PV, M, MVP);
         for (size_t i = 0; i + 2 < so.index_count; i += 3) {
             ref_tri *t = &r->tris[r->ntris++];
@@ -234,7 +240,7 @@ static int hit(const diff_ref *r, const ref_tri *t, double x, double y, double *
         double d = c[0][0] * (c[1][1] * c[2][3] - c[1][3] * c[2][1]) -
                    c[0][1] * (c[1][0] * c[2][3] - c[1][3] * c[2][0]) +
                    c[0][3] * (c[1][0] * c[2][1] - c[1][1] * c[2][0]);
-        if (d < 0.0) return MISS;
+        if (r->objects[t->object].mirrored ? d > 0.0 : d < 0.0) return MISS;
     }
     double f[5], fx[5], fy[5], zx, zy;
     if (!bounds_at(r, t, x, y, f, z) || !bounds_at(r, t, x + h, y, fx, &zx) || !bounds_at(r, t, x, y + h, fy, &zy))
