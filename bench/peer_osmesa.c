@@ -352,8 +352,8 @@ static int get_program(bench_peer *p, const persp_scene_material *m, char *err, 
  * triangle corner carrying the face normal, so that GL_FLAT lights each
  * triangle with its plane's normal as persp does (GL 2.1 §2.14.7: a flat
  * primitive takes the provoking vertex's colour). */
-static int build_buffers(bench_peer *p, const persp_scene_object *so, peer_object *o, int colour_array,
-                         char *err, size_t err_size)
+static int build_buffers(bench_peer *p, const persp_scene_object *so, const float *uv, peer_object *o,
+                         int colour_array, char *err, size_t err_size)
 {
     size_t nv = p->flat ? so->index_count : so->vertex_count;
     float *buf = malloc((nv ? nv : 1) * VERTEX_FLOATS * sizeof(float));
@@ -366,7 +366,7 @@ static int build_buffers(bench_peer *p, const persp_scene_object *so, peer_objec
         float *out = buf + i * VERTEX_FLOATS;
         memcpy(out, v->pos, 3 * sizeof(float));
         memcpy(out + 3, v->normal, 3 * sizeof(float));
-        memcpy(out + 6, v->uv, 2 * sizeof(float));
+        memcpy(out + 6, uv + 2 * (p->flat ? so->indices[i] : i), 2 * sizeof(float));
         /* Unlit, untextured: persp shows the vertex colour times the
          * material's diffuse colour. */
         for (int c = 0; c < 3; c++) out[8 + c] = v->color[c] * so->material.diffuse[c];
@@ -616,7 +616,18 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
                 return NULL;
             }
         }
-        if (!build_buffers(p, &so, o, p->path == PATH_UNLIT && !textured, err, err_size)) {
+        /* The coordinates persp draws with: its texgen applied (the
+         * reflection map for this camera). */
+        float *uv = malloc((so.vertex_count ? so.vertex_count : 1) * 2 * sizeof(float));
+        if (!uv) {
+            snprintf(err, err_size, "peer: out of memory for %zu vertices", so.vertex_count);
+            bench_peer_destroy(p);
+            return NULL;
+        }
+        persp_scene_object_texcoords(scene, i, &view, uv);
+        const int built = build_buffers(p, &so, uv, o, p->path == PATH_UNLIT && !textured, err, err_size);
+        free(uv);
+        if (!built) {
             bench_peer_destroy(p);
             return NULL;
         }

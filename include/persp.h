@@ -628,7 +628,9 @@ typedef struct persp_scene_material {
 } persp_scene_material;
 
 /* One drawn object: an indexed triangle mesh (counter-clockwise = front)
- * in object space, placed by model. */
+ * in object space, placed by model. Its vertices' uv are the mesh's own;
+ * an object with texture-coordinate generation (a scene's "texgen") is
+ * drawn with persp_scene_object_texcoords' instead. */
 typedef struct persp_scene_object {
     const persp_vertex *vertices;
     size_t vertex_count;
@@ -650,6 +652,12 @@ PERSP_API size_t persp_scene_object_count(const persp_scene *scene);
 /* PERSP_ERR_NOT_FOUND past the end. */
 PERSP_API persp_status persp_scene_get_object(const persp_scene *scene, size_t index,
                                               persp_scene_object *out);
+/* The texture coordinates persp draws object index with, seen through view
+ * (the camera's view matrix: the reflection map depends on it): the
+ * object's texgen applied to its vertices, or their own uv. uv_out:
+ * 2 × vertex_count floats, caller-owned. PERSP_ERR_NOT_FOUND past the end. */
+PERSP_API persp_status persp_scene_object_texcoords(const persp_scene *scene, size_t index,
+                                                    const persp_mat4 *view, float *uv_out);
 PERSP_API size_t persp_scene_light_count(const persp_scene *scene);
 PERSP_API persp_status persp_scene_get_light(const persp_scene *scene, size_t index,
                                              persp_scene_light *out);

@@ -218,6 +218,18 @@ persp_status persp_scene_get_object(const persp_scene *s, size_t index, persp_sc
     return PERSP_OK;
 }
 
+persp_status persp_scene_object_texcoords(const persp_scene *s, size_t index, const persp_mat4 *view,
+                                          float *uv_out)
+{
+    if (!s || !view || !uv_out) return PERSP_ERR_INVALID_ARGUMENT;
+    if (index >= s->object_count) return PERSP_ERR_NOT_FOUND;
+    const persp_object *o = &s->objects[index];
+    const persp_mesh *mesh = &s->meshes[o->mesh];
+    const persp_mat4 mv = persp_mat4_mul(*view, o->model);
+    persp__texgen_apply(o, &mv, mesh->vertices, mesh->vertex_count, uv_out);
+    return PERSP_OK;
+}
+
 size_t persp_scene_light_count(const persp_scene *s) { return s ? s->light_count : 0; }
 
 persp_status persp_scene_get_light(const persp_scene *s, size_t index, persp_scene_light *out)

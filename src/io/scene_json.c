@@ -759,6 +759,19 @@ static persp_status parse_texgen(jctx *j, json_t *v, persp_object *o)
     }
     o->texgen = (persp_texgen)found;
     if (!obj) return PERSP_OK;
+    /* A key the mode does not read would do nothing: refused, as a
+     * misspelt one is. Per mode (the order of names): s, t, axis, center,
+     * scale. */
+    static const char used[6][5] = {{0, 0, 0, 0, 0}, {1, 1, 0, 0, 1}, {0, 0, 1, 1, 1},
+                                    {0, 0, 1, 1, 1}, {0, 0, 0, 1, 1}, {0, 0, 0, 0, 1}};
+    static const char *const mode_keys[] = {"s", "t", "axis", "center", "scale"};
+    for (int k = 0; k < 5; k++)
+        if (!used[found][k] && json_object_get(obj, mode_keys[k])) {
+            push_key(j, mode_keys[k]);
+            st = jfail(j, 1, PERSP_ERR_FORMAT, "not used by mode %s", mode);
+            pop(j);
+            return st;
+        }
     if ((st = field_vec(j, obj, "s", 4, -LARGE, LARGE, o->texgen_s)) != PERSP_OK ||
         (st = field_vec(j, obj, "t", 4, -LARGE, LARGE, o->texgen_t)) != PERSP_OK ||
         (st = field_vec(j, obj, "center", 3, -LARGE, LARGE, o->texgen_center)) != PERSP_OK)
@@ -771,6 +784,8 @@ static persp_status parse_texgen(jctx *j, json_t *v, persp_object *o)
         } else {
             st = read_vec(j, s, 2, -LARGE, LARGE, o->texgen_scale);
         }
+        if (st == PERSP_OK && (o->texgen_scale[0] == 0.0f || o->texgen_scale[1] == 0.0f))
+            st = jfail(j, 0, PERSP_ERR_FORMAT, "expected non-zero repeats");
         pop(j);
         if (st != PERSP_OK) return st;
     }

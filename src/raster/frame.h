@@ -38,6 +38,11 @@ void persp__frame_clear(persp_frame *f, const uint8_t rgba[4]);
 persp_status persp__frame_add_state(persp_frame *f, const persp_draw_state *s, uint32_t *index);
 /* Vertex stage, clipping and setup of one mesh. uv (2 per vertex) replaces
  * the vertices' own coordinates when non-NULL (texture-coordinate generation). */
+/* Room for 2 floats a vertex of a mesh about to be added, for its
+ * generated texture coordinates (the uv of persp__frame_add_mesh, which
+ * reads them before it returns, so one buffer serves every mesh); NULL
+ * when out of memory. */
+float *persp__frame_uv_buffer(persp_frame *f, size_t vertices);
 persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,
                                    const persp_mat4 *view, const persp_mat4 *proj, uint32_t state,
                                    const float *uv, int cull /* PERSP_CULL_* */);

@@ -69,6 +69,8 @@ struct persp_render_cache {
     size_t state_cap;
     persp_render_stats *worker_stats;
     size_t worker_cap;
+    float *uv; /* generated texture coordinates of the mesh being added (persp__frame_uv_buffer) */
+    size_t uv_cap;
 };
 
 /* Draws the frame's binned batch: every tile on the worker threads, then

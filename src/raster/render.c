@@ -44,6 +44,7 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->cluster_culled);
     persp__free(ctx, c->vertex_need);
     persp__free(ctx, c->worker_stats);
+    persp__free(ctx, c->uv);
     persp__free(ctx, c);
     ctx->render = NULL;
     ctx->render_free = NULL;
@@ -934,6 +935,16 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
         }
     }
     return PERSP_OK;
+}
+
+float *persp__frame_uv_buffer(persp_frame *f, size_t vertices)
+{
+    struct persp_render_cache *c = f->cache;
+    size_t floats;
+    if (!persp__size_mul(vertices ? vertices : 1, 2, &floats) ||
+        persp__reserve(f->ctx, (void **)&c->uv, &c->uv_cap, floats, sizeof *c->uv) != PERSP_OK)
+        return NULL;
+    return c->uv;
 }
 
 persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const persp_mat4 *model,

@@ -142,7 +142,18 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
         const int cull = !cull_backfaces                  ? PERSP_CULL_NONE
                          : persp_mat4_det3(o->model) < 0.0 ? PERSP_CULL_CCW
                                                            : PERSP_CULL_CW;
-        st = persp__frame_add_mesh(f, &scene->meshes[o->mesh], &o->model, &view, &proj, si, NULL, cull);
+        /* Texture-coordinate generation ([CS300-TexMap] map shapes and the
+         * sphere map, src/geom/texgen.c) per frame: the reflection map
+         * follows the view. */
+        const persp_mesh *mesh = &scene->meshes[o->mesh];
+        float *uv = NULL;
+        if (o->texgen != PERSP_TEXGEN_UV) {
+            if (!(uv = persp__frame_uv_buffer(f, mesh->vertex_count)))
+                return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+            const persp_mat4 mv = persp_mat4_mul(view, o->model);
+            persp__texgen_apply(o, &mv, mesh->vertices, mesh->vertex_count, uv);
+        }
+        st = persp__frame_add_mesh(f, mesh, &o->model, &view, &proj, si, uv, cull);
         if (st != PERSP_OK) return st;
     }
     return persp__frame_flush(f);

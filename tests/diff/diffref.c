@@ -142,6 +142,16 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
                 ro->level[l] = (ref_level){v.width, v.height, v.stride, v.pixels};
             }
         }
+        /* The object's texture coordinates as persp draws them (its
+         * texgen applied: persp_scene_object_texcoords); the reference
+         * judges rasterization and filtering, the generation itself is
+         * test_texgen's. */
+        float *uv = malloc((so.vertex_count ? so.vertex_count : 1) * 2 * sizeof(float));
+        if (!uv) {
+            diff_ref_destroy(r);
+            return NULL;
+        }
+        persp_scene_object_texcoords(scene, o, &view, uv);
         double M[16], MVP[16];
         to_double(so.model, M);
         /* Culling follows the winding a mirror reverses (docs/SCENES.md,
@@ -163,7 +173,8 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
                     for (int c = 0; c < 4; c++) s += MVP[c * 4 + row] * p[c];
                     t->c[k][row] = s;
                 }
-                t->uv[k][0] = v->uv[0], t->uv[k][1] = v->uv[1];
+                const size_t vi = so.indices[i + (size_t)k];
+                t->uv[k][0] = uv[2 * vi], t->uv[k][1] = uv[2 * vi + 1];
                 for (int c = 0; c < 3; c++) t->rgb[k][c] = 255.0 * v->color[c] * so.material.diffuse[c];
                 if (t->c[k][3] > 0.0) {
                     double x = (t->c[k][0] / t->c[k][3] + 1.0) * 0.5 * width;
@@ -176,6 +187,7 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
             }
             if (!bounded) t->xmin = t->ymin = -INFINITY, t->xmax = t->ymax = INFINITY;
         }
+        free(uv);
     }
     return r;
 }

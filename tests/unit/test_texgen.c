@@ -5,6 +5,8 @@
 #include "geom/scene.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PI_ 3.14159265358979323846
@@ -191,12 +193,90 @@ static void test_reflection(void **state)
     NEAR(u, 0.5), NEAR(v, 0.5);
 }
 
+/* Renders the scene text written to dir/s.json at 96x72; returns the colour
+ * buffer (caller frees). */
+static uint8_t *render_text(persp_context *ctx, const char *dir, const char *text, persp_scene **keep)
+{
+    char path[512];
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    assert_int_equal(fclose(f), 0);
+    persp_scene *scene = NULL;
+    if (persp_scene_load(ctx, path, &scene) != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
+    persp_framebuffer fb = test_framebuffer(96, 72);
+    if (persp_render(ctx, scene, NULL, &fb, NULL) != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
+    free(fb.depth);
+    if (keep)
+        *keep = scene;
+    else
+        persp_scene_destroy(scene);
+    return fb.color;
+}
+
+/* The renderer draws an object with its generated coordinates, in both
+ * pipelines: the cube map on the cube gives the cube's own image (the same
+ * coordinates, test_matches_primitives), twice the repeats another one,
+ * and persp_scene_object_texcoords hands out what was drawn. */
+static void test_render_applies_texgen(void **state)
+{
+    (void)state;
+    char dir[256], png[512];
+    assert_int_equal(test_tmpdir_make(dir, sizeof dir, "texgen"), 0);
+    persp_context *ctx = test_context();
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, 8, 8, &img), PERSP_OK);
+    for (int y = 0; y < 8; y++)
+        for (int x = 0; x < 8; x++) {
+            uint8_t *p = img.pixels + (size_t)y * img.stride + 4 * (size_t)x;
+            p[0] = (uint8_t)(((x ^ y) & 1) ? 230 : 20), p[1] = (uint8_t)(32 * x), p[2] = (uint8_t)(32 * y);
+            p[3] = 255;
+        }
+    snprintf(png, sizeof png, "%s/t.png", dir);
+    assert_int_equal(persp_image_write_png(ctx, png, &img), PERSP_OK);
+    persp_image_free(ctx, &img);
+    const char *head = "{\"camera\": {\"position\": [2.2, 1.8, 3.0], \"target\": [0, 0, 0]},"
+                       " \"render\": {\"filter\": \"nearest\"}, \"materials\": {\"m\": {\"texture\": \"t.png\"}},"
+                       " \"objects\": [{\"mesh\": \"cube\", \"material\": \"m\"%s}]}";
+    const char *modes[3] = {"", ", \"texgen\": \"cube\"", ", \"texgen\": {\"mode\": \"cube\", \"scale\": 2}"};
+    uint8_t *px[3];
+    persp_scene *scene = NULL;
+    for (int i = 0; i < 3; i++) {
+        char text[1024];
+        snprintf(text, sizeof text, head, modes[i]);
+        px[i] = render_text(ctx, dir, text, i == 2 ? &scene : NULL);
+    }
+    const size_t bytes = (size_t)96 * 72 * 4;
+    assert_memory_equal(px[0], px[1], bytes);
+    assert_memory_not_equal(px[1], px[2], bytes);
+    persp_scene_object so;
+    assert_int_equal(persp_scene_get_object(scene, 0, &so), PERSP_OK);
+    float *uv = malloc(so.vertex_count * 2 * sizeof *uv);
+    assert_non_null(uv);
+    const persp_mat4 id = persp_mat4_identity();
+    assert_int_equal(persp_scene_object_texcoords(scene, 0, &id, uv), PERSP_OK);
+    for (size_t k = 0; k < so.vertex_count; k++)
+        NEAR(uv[2 * k], 2.0 * so.vertices[k].uv[0]), NEAR(uv[2 * k + 1], 2.0 * so.vertices[k].uv[1]);
+    assert_int_equal(persp_scene_object_texcoords(scene, 1, &id, uv), PERSP_ERR_NOT_FOUND);
+    free(uv);
+    persp_scene_destroy(scene);
+    for (int i = 0; i < 3; i++) free(px[i]);
+    char path[512];
+    snprintf(path, sizeof path, "%s/s.json", dir);
+    assert_int_equal(remove(path), 0);
+    assert_int_equal(remove(png), 0);
+    assert_int_equal(test_tmpdir_remove(dir), 0);
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_uv_and_planar), cmocka_unit_test(test_cylindrical),
         cmocka_unit_test(test_spherical),     cmocka_unit_test(test_matches_primitives),
         cmocka_unit_test(test_cube_faces),    cmocka_unit_test(test_reflection),
+        cmocka_unit_test(test_render_applies_texgen),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
