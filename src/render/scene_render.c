@@ -121,6 +121,10 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
             if (dd.max_aniso != 0) sd.max_aniso = dd.max_aniso;
             if (dd.wrap != PERSP_WRAP_DEFAULT) sd.wrap_s = sd.wrap_t = dd.wrap;
             if (dd.lod_mode != PERSP_LOD_DEFAULT) sd.lod_mode = dd.lod_mode;
+            /* Scene surfaces are opaque (textures are made so at load): the
+             * border colour too, or clamp-to-border would draw see-through
+             * pixels with the default border (0, 0, 0, 0). */
+            sd.border[3] = 255;
             sd.lod_bias += dd.lod_bias;
             if (dd.lod_clamp != PERSP_TOGGLE_DEFAULT) {
                 sd.lod_clamp = dd.lod_clamp;

@@ -757,6 +757,27 @@ static void test_mirrored_objects_cull_back_faces(void **state)
     assert_int_equal(test_tmpdir_remove(dir), 0);
 }
 
+/* Scene surfaces are opaque, clamp-to-border's colour too: the default
+ * border (0, 0, 0, 0) drew see-through pixels where the corridor's walls
+ * run past the texture's edge. */
+static void test_border_is_opaque(void **state)
+{
+    (void)state;
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.wrap = PERSP_WRAP_CLAMP_TO_BORDER;
+    d.filter = PERSP_FILTER_TRILINEAR;
+    uint8_t *px = NULL;
+    render_hash_batched("corridor", &d, 1, 0, 160, 120, &px, NULL);
+    size_t black = 0;
+    for (size_t i = 0; i < (size_t)160 * 120; i++) {
+        assert_int_equal(px[4 * i + 3], 255);
+        black += px[4 * i] == 0 && px[4 * i + 1] == 0 && px[4 * i + 2] == 0;
+    }
+    assert_true(black > 1000); /* the border is drawn (black), not the texture repeated */
+    free(px);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -774,6 +795,7 @@ int main(void)
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_mirrored_objects_cull_back_faces),
+        cmocka_unit_test(test_border_is_opaque),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
