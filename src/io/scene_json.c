@@ -458,7 +458,8 @@ static persp_status parse_render(jctx *j, json_t *r)
     if ((v = field(j, r, "clear"))) {
         float c[4] = {0, 0, 0, 1};
         if (json_is_array(v) && json_array_size(v) == 3) st = read_vec(j, v, 3, 0, 1, c);
-        else st = read_vec(j, v, 4, 0, 1, c);
+        else if (json_is_array(v) && json_array_size(v) == 4) st = read_vec(j, v, 4, 0, 1, c);
+        else st = jfail(j, 0, PERSP_ERR_FORMAT, "expected an array of 3 or 4 numbers in [0, 1]");
         for (int i = 0; i < 4; i++) s->clear[i] = (uint8_t)lrintf(c[i] * 255.0f);
         pop(j);
         if (st != PERSP_OK) return st;
@@ -491,6 +492,9 @@ static persp_status parse_light(jctx *j, json_t *l)
     int point = !strcmp(type, "point");
     light.type = point ? PERSP_LIGHT_POINT : PERSP_LIGHT_DIRECTIONAL;
     const char *need = point ? "position" : "direction", *forbid = point ? "direction" : "position";
+    /* A directional light is not attenuated (GL 1.5 §2.14.1): the key
+     * would do nothing, and is refused as the wrong position key is. */
+    if (!point && json_object_get(l, "attenuation")) forbid = "attenuation";
     if (json_object_get(l, forbid)) {
         push_key(j, forbid);
         st = jfail(j, 1, PERSP_ERR_FORMAT, "a %s light has no '%s'", type, forbid);
@@ -664,6 +668,9 @@ static persp_status parse_materials(jctx *j, json_t *o)
     const char *key;
     json_t *v;
     json_object_foreach(o, key, v) {
+        /* "Any object may carry a comment": here a string named comment is
+         * one, not a material. */
+        if (!strcmp(key, "comment") && json_is_string(v)) continue;
         persp_material m;
         int filter_given = 0;
         push_key(j, key);
@@ -694,22 +701,25 @@ static persp_status parse_transform(jctx *j, json_t *t, persp_mat4 *model)
     if ((st = field_vec(j, t, "translate", 3, -LARGE, LARGE, tr)) != PERSP_OK) return st;
     json_t *v;
     if ((v = field(j, t, "scale"))) {
+        /* One number or three: the same range, any sign but zero (a
+         * negative one mirrors, SCENES.md `cull`). */
         if (json_is_number(v)) {
-            st = read_float(j, v, 1e-20, LARGE, &sc[0]);
+            st = read_float(j, v, -LARGE, LARGE, &sc[0]);
             sc[1] = sc[2] = sc[0];
         } else {
             st = read_vec(j, v, 3, -LARGE, LARGE, sc);
-            if (st == PERSP_OK && (sc[0] == 0.0f || sc[1] == 0.0f || sc[2] == 0.0f))
-                st = jfail(j, 0, PERSP_ERR_FORMAT, "expected non-zero scale factors");
         }
+        if (st == PERSP_OK && (sc[0] == 0.0f || sc[1] == 0.0f || sc[2] == 0.0f))
+            st = jfail(j, 0, PERSP_ERR_FORMAT, "expected non-zero scale factors");
         pop(j);
         if (st != PERSP_OK) return st;
     }
     persp_mat4 m = persp_mat4_scale(sc[0], sc[1], sc[2]);
     if ((v = field(j, t, "rotate"))) {
         /* One rotation [degrees, ax, ay, az] or a list of them. */
+        const int none = json_is_array(v) && json_array_size(v) == 0; /* an empty list */
         int list = json_is_array(v) && json_array_size(v) > 0 && json_is_array(json_array_get(v, 0));
-        size_t n = list ? json_array_size(v) : 1;
+        size_t n = none ? 0 : list ? json_array_size(v) : 1;
         for (size_t i = 0; i < n && st == PERSP_OK; i++) {
             json_t *r = list ? json_array_get(v, i) : v;
             if (list) push_index(j, i);

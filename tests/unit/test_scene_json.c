@@ -196,6 +196,13 @@ static void test_malformed(void **state)
         {"{\"a\": 1, \"a\": 2}", PERSP_ERR_FORMAT, "s.json:1:12: invalid JSON: duplicate object key"},
         {"{\n\"camera\": {\"fov\": 1e999}}", PERSP_ERR_FORMAT, "s.json:2:23: invalid JSON: real number overflow"},
         {"", PERSP_ERR_FORMAT, "s.json:1:0: invalid JSON"},
+        {"{\"lights\": [{\"type\": \"directional\", \"direction\": [0, -1, 0], \"attenuation\": [0, 0, 5]}],"
+         " \"objects\": [{\"mesh\": \"cube\"}]}",
+         PERSP_ERR_FORMAT, "s.json:1:62: lights[0].attenuation: a directional light has no 'attenuation'"},
+        {"{\"render\": {\"clear\": [1, 0]}, \"objects\": [{\"mesh\": \"cube\"}]}", PERSP_ERR_FORMAT,
+         "s.json:1:22: render.clear: expected an array of 3 or 4 numbers in [0, 1]"},
+        {"{\"objects\": [{\"mesh\": \"cube\", \"transform\": {\"scale\": 0}}]}", PERSP_ERR_FORMAT,
+         "objects[0].transform.scale: expected non-zero scale factors"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         persp_context *ctx = test_context();
@@ -285,6 +292,28 @@ static void test_vertex_budget(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Forms the documentation allows: a negative scale as one number (a
+ * mirror), an empty list of rotations, a comment among the materials. */
+static void test_allowed_forms(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    persp_scene *s = NULL;
+    persp_status st = load(ctx,
+                           "{\"materials\": {\"comment\": \"shared\", \"m\": {\"diffuse\": [1, 0, 0]}},"
+                           " \"objects\": [{\"mesh\": \"cube\", \"material\": \"m\","
+                           " \"transform\": {\"scale\": -2, \"rotate\": []}}]}",
+                           &s);
+    if (st != PERSP_OK) fail_msg("%s", persp_context_error(ctx));
+    const double p[3] = {1, 1, 1};
+    double got[3];
+    apply(&s->objects[0].model, p, got);
+    for (int k = 0; k < 3; k++) assert_true(got[k] == -2.0);
+    assert_true(s->materials[s->objects[0].material].diffuse[1] == 0.0f);
+    persp_scene_destroy(s);
+    persp_context_destroy(ctx);
+}
+
 static void test_example_scenes(void **state)
 {
     (void)state;
@@ -326,6 +355,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_full_scene), cmocka_unit_test(test_malformed),      cmocka_unit_test(test_files),
         cmocka_unit_test(test_vertex_budget), cmocka_unit_test(test_example_scenes),
+        cmocka_unit_test(test_allowed_forms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
