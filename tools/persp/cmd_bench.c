@@ -779,7 +779,7 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT(opt_frames, &o.frames),
         CLI_OPT(opt_reps, &o.reps),
         CLI_OPT(opt_time, &o.run_seconds),
-        CLI_OPT_HELP(cli_opt_size, &size, "image size (default: the scene's, corridor 1024x768)"),
+        CLI_OPT_HELP(cli_opt_size, &size, "image size (default: the scene's, else 1024x768)"),
         CLI_OPT(opt_peer, &o.peer),
         CLI_OPT(opt_peer_threads, &o.peer_threads),
         CLI_OPT(opt_peer_image, &o.peer_image),

@@ -72,7 +72,7 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_filter, &filter),
         CLI_OPT(cli_opt_wrap, &desc.wrap),
         CLI_OPT(cli_opt_shading, &shading),
-        CLI_OPT_HELP(cli_opt_size, &size, "image size (default: the scene's, corridor 1024x768)"),
+        CLI_OPT_HELP(cli_opt_size, &size, "image size (default: the scene's, else 1024x768)"),
         CLI_OPT(cli_opt_depth, &desc.depth_mode),
         CLI_OPT(cli_opt_lod, &desc.lod_mode),
         CLI_OPT(cli_opt_lod_bias, &desc.lod_bias),
