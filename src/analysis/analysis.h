@@ -147,10 +147,13 @@ uint64_t persp__tri_pixels(const persp_tri *t);
 
 /* Writes err (w×h floats, row 0 = bottom, NaN = not covered) as a PNG with
  * a logarithmic colour scale and a legend (colour bar with labelled decade
- * ticks in texels). The image is enlarged by an integer factor so that it
+ * ticks, caption naming the quantity and its unit; the top decade at least
+ * floor_value's). The image is enlarged by an integer factor so that it
  * is at least 256 pixels wide. */
+#define PERSP_HEATMAP_TEXELS "max(|du|,|dv|) in texels"
+#define PERSP_HEATMAP_LEVELS "|error| in 8-bit levels"
 persp_status persp__heatmap_write(persp_context *ctx, const char *path, const float *err, int w,
-                                  int h);
+                                  int h, const char *caption, double floor_value);
 /* Colour of value t in [0, 1] on the heat-map scale. */
 void persp__heatmap_color(double t, uint8_t rgb[3]);
 /* Draws text (digits, '.', '-', 'e', '+') with the built-in 3×5 font at

@@ -1,9 +1,9 @@
 /*
  * Heat maps of per-pixel error for persp accuracy --heatmap: a logarithmic
  * colour scale over five decades ending at the decade above the largest
- * error, with a legend (colour bar, decade tick labels in texels and a
- * caption naming the quantity: max(|Δu|, |Δv|) per pixel) drawn with a small
- * built-in bitmap font.
+ * error, with a legend (colour bar, decade tick labels and a caption naming
+ * the quantity: max(|Δu|, |Δv|) in texels for the methods, the error in
+ * 8-bit levels for the filters) drawn with a small built-in bitmap font.
  */
 #include "analysis/analysis.h"
 #include "core/internal.h"
@@ -27,10 +27,8 @@ static const struct {
     {'s', {0, 3, 4, 1, 6}}, {'t', {2, 7, 2, 2, 3}}, {'u', {0, 0, 5, 5, 7}},
     {'v', {0, 0, 5, 5, 2}}, {'x', {0, 0, 5, 2, 5}}, {'(', {1, 2, 2, 2, 1}},
     {')', {4, 2, 2, 2, 4}}, {'|', {2, 2, 2, 2, 2}}, {',', {0, 0, 0, 2, 4}},
+    {'r', {0, 0, 6, 4, 4}}, {'o', {0, 0, 7, 5, 7}}, {'b', {4, 4, 7, 5, 7}},
 };
-
-/* The quantity mapped, printed under the scale. */
-#define HEATMAP_CAPTION "max(|du|,|dv|) in texels"
 
 static const uint8_t *glyph(char c)
 {
@@ -99,7 +97,7 @@ static void decade_label(int k, char *buf, size_t size)
 }
 
 persp_status persp__heatmap_write(persp_context *ctx, const char *path, const float *err, int w,
-                                  int h)
+                                  int h, const char *caption, double floor_value)
 {
     if (!path || !err || w <= 0 || h <= 0 || w > PERSP_IMAGE_MAX_SIDE || h > PERSP_IMAGE_MAX_SIDE)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "heatmap: bad arguments");
@@ -107,9 +105,10 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
     size_t n = (size_t)w * (size_t)h;
     for (size_t i = 0; i < n; i++)
         if (isfinite(err[i]) && err[i] > vmax) vmax = err[i];
-    /* The top decade holds the largest finite error; below 1e-3 texels all
-     * errors look alike on an 8-bit texture, so the scale never ends lower. */
-    int hi = (int)ceil(log10(vmax > 1e-3 ? vmax : 1e-3));
+    /* The top decade holds the largest finite error, and never ends below
+     * floor_value (1e-3 texels: smaller errors look alike on an 8-bit
+     * texture). */
+    int hi = (int)ceil(log10(vmax > floor_value ? vmax : floor_value));
     if (hi > 6) hi = 6;
     int lo = hi - DECADES;
 
@@ -163,8 +162,8 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
         if (tx + tw > iw - 1) tx = iw - 1 - tw;
         persp__heatmap_text(&img, tx, by + bar_h + 4, ts, label, white);
     }
-    int cw = persp__heatmap_text_width(HEATMAP_CAPTION, ts);
-    persp__heatmap_text(&img, (iw - cw) / 2, by + bar_h + 4 + 5 * ts + 6, ts, HEATMAP_CAPTION, white);
+    int cw = persp__heatmap_text_width(caption, ts);
+    persp__heatmap_text(&img, (iw - cw) / 2, by + bar_h + 4 + 5 * ts + 6, ts, caption, white);
     st = persp_image_write_png(ctx, path, &img);
     persp_image_free(ctx, &img);
     return st;

@@ -398,7 +398,7 @@ static void test_heatmap_legend(void **state)
     persp_context *ctx = test_context();
     char path[256];
     snprintf(path, sizeof path, "/tmp/persp-heatmap-%ld.png", (long)getpid());
-    assert_int_equal(persp__heatmap_write(ctx, path, err, W, H), PERSP_OK);
+    assert_int_equal(persp__heatmap_write(ctx, path, err, W, H, PERSP_HEATMAP_TEXELS, 1e-3), PERSP_OK);
     persp_image img;
     assert_int_equal(persp_image_load(ctx, path, &img), PERSP_OK);
     remove(path);
@@ -447,6 +447,33 @@ static void test_heatmap_legend(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Both captions (methods: texels; filters: 8-bit levels) are drawn whole:
+ * every character but a space has a glyph of the built-in font, which
+ * skips the ones it lacks. */
+static void test_heatmap_captions(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    const char *captions[] = {PERSP_HEATMAP_TEXELS, PERSP_HEATMAP_LEVELS};
+    const uint8_t white[3] = {255, 255, 255};
+    for (int c = 0; c < 2; c++) {
+        const char *text = captions[c];
+        persp_image img;
+        assert_int_equal(persp_image_alloc(ctx, persp__heatmap_text_width(text, 1) + 2, 7, &img), PERSP_OK);
+        memset(img.pixels, 0, img.stride * (size_t)img.height);
+        persp__heatmap_text(&img, 0, 0, 1, text, white);
+        for (size_t i = 0; text[i]; i++) {
+            if (text[i] == ' ') continue;
+            int lit = 0;
+            for (int y = 0; y < img.height; y++)
+                for (int x = 4 * (int)i; x < 4 * (int)i + 3; x++) lit |= img.pixels[(size_t)y * img.stride + 4u * (size_t)x] != 0;
+            if (!lit) fail_msg("caption \"%s\": no glyph for '%c'", text, text[i]);
+        }
+        persp_image_free(ctx, &img);
+    }
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -454,7 +481,7 @@ int main(void)
         cmocka_unit_test(test_paper_quad_corners),  cmocka_unit_test(test_exact_is_exact),
         cmocka_unit_test(test_affine_far_off),      cmocka_unit_test(test_writers_parse),
         cmocka_unit_test(test_scene_case),         cmocka_unit_test(test_bad_input),
-        cmocka_unit_test(test_heatmap_legend),
+        cmocka_unit_test(test_heatmap_legend),      cmocka_unit_test(test_heatmap_captions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
