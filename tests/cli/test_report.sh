@@ -13,7 +13,7 @@ expect 2 "unknown option" -- "$persp" report -o "$tmp/x" --bogus
 expect 1 "$tmp/none/r: cannot create the folder" -- "$persp" report --quick -o "$tmp/none/r"
 
 start=$(date +%s)
-"$persp" report --quick -o "$tmp/r" 2>"$tmp/log" || bad "report --quick failed: $(cat "$tmp/log")"
+(cd "$tmp" && "$persp" report --quick -o "$tmp/r") 2>"$tmp/log" || bad "report --quick failed: $(cat "$tmp/log")"
 echo "report --quick took $(($(date +%s) - start)) s"
 # --max-memory with room: the same page data and images (timings aside).
 # (and a folder given with a trailing slash names its files without "//")
@@ -28,6 +28,11 @@ done
   "$(sed -E 's/"(ms|ns_px)": [0-9.e+-]+//g' "$tmp/rb/filter.json")" ] || { same=0; echo "filter.json differs"; }
 [ "$same" = 1 ] && ok || bad "the memory budget changed the report"
 page="$tmp/r/index.html"
+# The page names the commit persp was built from (its source tree's), not
+# that of the folder the report is run in.
+if head=$(git -C "$PERSP_SOURCE_DIR" rev-parse --short=12 HEAD 2>/dev/null); then
+    grep -q "git commit<td>$head" "$page" && ok || bad "page's commit: $(grep -o 'git commit<td>[^<]*' "$page")"
+fi
 [ -s "$page" ] && ok || bad "no index.html"
 grep -q "^report: method accuracy" "$tmp/log" && grep -q "^report: wrote" "$tmp/log" && ok ||
     bad "progress lines missing on stderr: $(cat "$tmp/log")"

@@ -1,5 +1,6 @@
 /* persp report: the whole study as one web page (persp_report_html). */
 #include "options.h"
+#include "persp_build_commit.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -26,17 +27,6 @@ static const cli_spec opt_from = {.name = "from",
                                       "read the method accuracy from DIR/accuracy.json (e.g.\n"
                                       "`persp merge` of a sharded sweep) instead of measuring it"};
 
-/* The commit of the working directory's repository, if git knows one. */
-static void git_commit(char *buf, size_t size)
-{
-    buf[0] = '\0';
-    FILE *p = popen("git rev-parse --short=12 HEAD 2>/dev/null", "r");
-    if (!p) return;
-    if (!fgets(buf, (int)size, p)) buf[0] = '\0';
-    buf[strcspn(buf, "\n")] = '\0';
-    pclose(p);
-}
-
 int cmd_report(int argc, char **argv)
 {
     const char *output = NULL, *from = NULL;
@@ -62,8 +52,8 @@ int cmd_report(int argc, char **argv)
         size_t len = strlen(line);
         snprintf(line + len, sizeof line - len, " %s", i == 0 ? "report" : argv[i]);
     }
-    char commit[64];
-    git_commit(commit, sizeof commit);
+    /* The build's commit, not the current folder's (a user's project). */
+    const char *commit = PERSP_BUILD_COMMIT;
     persp_report_html_desc desc;
     memset(&desc, 0, sizeof desc);
     desc.dir = output;
