@@ -32,6 +32,11 @@ fi
 w=$(od -An -tu1 -j16 -N8 "$tmp/win.png" | awk '{print $3*256+$4 "x" $7*256+$8}')
 [ "$w" = 400x300 ] && ok || bad "window shot is $w, expected 400x300"
 expect 1 "no-such-dir" -- "$persp" view floor --frames 1 --size 64x48 --window-shot "$tmp/no-such-dir/x.png" -q
+# A script's first action is taken on the first frame shown (a screenshot
+# then was lost), into the default folder out/frames, made with its parent.
+mkdir -p "$tmp/shot" && printf 'key P\n' >"$tmp/shot/s.txt"
+(cd "$tmp/shot" && "$persp" view corridor --size 96x72 --script s.txt -q) && [ -s "$tmp/shot/out/frames/view_0000.png" ] &&
+    ok || bad "first-action screenshot: $(ls -R "$tmp/shot")"
 # Free-running (the render thread, no --frames): SIGTERM arrives as SDL's
 # quit event and the window closes cleanly.
 if command -v timeout >/dev/null; then

@@ -110,7 +110,7 @@ static long cpu_count(void)
 
 static int make_dir(const char *dir)
 {
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+    if (view_make_dirs(dir) != 0)
         return cli_error(CLI_FAIL, "view: cannot create the folder '%s': %s", dir, strerror(errno));
     return CLI_OK;
 }

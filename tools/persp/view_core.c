@@ -1,10 +1,12 @@
 #include "view_core.h"
 
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 #define DEG (3.14159265358979323846 / 180.0)
@@ -526,4 +528,22 @@ void view_path_sample(const view_path *p, double t, view_camera *cam)
     clamp_pitch(cam);
     view_camera_set_orbit(cam, 1.0);
     cam->scene_own = 0;
+}
+
+int view_make_dirs(const char *path)
+{
+    char buf[4096];
+    const size_t n = strlen(path);
+    if (n == 0 || n >= sizeof buf) {
+        errno = n ? ENAMETOOLONG : ENOENT;
+        return -1;
+    }
+    memcpy(buf, path, n + 1);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/') continue;
+        *p = '\0';
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST) return -1;
+        *p = '/';
+    }
+    return mkdir(buf, 0777) == 0 || errno == EEXIST ? 0 : -1;
 }

@@ -128,6 +128,9 @@ void view_path_free(view_path *p);
 /* Loads / saves {"version": 1, "keys": [{"t", "eye", "yaw", "pitch", "fovy",
  * "near", "far"}, ...]}; on failure writes a message into err. */
 int view_path_load(const char *path, view_path *p, char *err, size_t err_size);
+/* Creates the folder path and the folders above it that are missing (the
+ * default out/frames where out/ is missing too); 0, or -1 with errno. */
+int view_make_dirs(const char *path);
 int view_path_save(const char *path, const view_path *p, char *err, size_t err_size);
 /* The camera at time t (keys interpolated linearly, clamped at the ends). */
 void view_path_sample(const view_path *p, double t, view_camera *cam);

@@ -411,15 +411,10 @@ void heat_legend(int heat_max, bool texel)
                             "equal pixels show the left image dimmed");
 }
 
-bool ensure_dir(const char *dir)
-{
-    return mkdir(dir, 0777) == 0 || errno == EEXIST;
-}
-
 void screenshot(state &s)
 {
     if (!s.have_frame) return;
-    if (!ensure_dir(s.args->shot_dir)) {
+    if (view_make_dirs(s.args->shot_dir) != 0) {
         s.status = std::string("cannot create ") + s.args->shot_dir + ": " + strerror(errno);
         return;
     }
@@ -1168,7 +1163,9 @@ int run(state &s)
         if (s.scripted) dt = script_dt;
         int out_w, out_h;
         SDL_GetRendererOutputSize(s.renderer, &out_w, &out_h);
-        if (s.scripted) step_script(s, &quit, out_w, out_h);
+        /* A script starts once the window shows its first frame: an action
+         * on nothing (a screenshot before any frame) would be lost. */
+        if (s.scripted && s.have_frame) step_script(s, &quit, out_w, out_h);
         SDL_Event e;
         while (SDL_PollEvent(&e)) {
             ImGui_ImplSDL2_ProcessEvent(&e);
