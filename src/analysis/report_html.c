@@ -12,6 +12,7 @@
 #include "core/internal.h"
 #include "io/outfile.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
@@ -1006,11 +1007,6 @@ static persp_status filters(rep *r)
 
 /* ------------------------------------------------------------------ entry */
 
-static int make_dir(const char *path)
-{
-    return mkdir(path, 0777) == 0 || errno == EEXIST;
-}
-
 /* Every method that runs without parameters, and the second approach of
  * [Romanyuk-PCF] §4.7, which the claims need. */
 static void default_methods(rep *r)
@@ -1020,6 +1016,115 @@ static void default_methods(rep *r)
     for (size_t i = 0; persp_method_get(i, &info) == PERSP_OK && r->nspecs < MAX_METHODS - 1; i++)
         if (persp_method_check(info.name) == PERSP_OK) r->specs[r->nspecs++] = info.name;
     if (persp_method_check("bezier:quadt") == PERSP_OK) r->specs[r->nspecs++] = "bezier:quadt";
+}
+
+/* Removes the files in folder (not in folders below it) and then folder
+ * itself if that leaves it empty: a folder persp_report_html made, whose
+ * every file is the failed call's. */
+static void remove_made(const char *folder)
+{
+    DIR *d = opendir(folder);
+    if (d) {
+        struct dirent *e;
+        char file[1400];
+        while ((e = readdir(d)) != NULL) {
+            struct stat sb;
+            snprintf(file, sizeof file, "%s/%s", folder, e->d_name);
+            if (lstat(file, &sb) == 0 && S_ISREG(sb.st_mode)) (void)unlink(file);
+        }
+        closedir(d);
+    }
+    (void)rmdir(folder);
+}
+
+/* The page and its files into the folders persp_report_html made: dir,
+ * with img/ and heatdir (its heat/). */
+static persp_status report_files(rep *r, const persp_report_html_desc *desc, const char *dir,
+                                 const char *heatdir)
+{
+    char path[1200];
+    persp_accuracy_result *acc = NULL;
+    persp_status st;
+    if (desc->from_dir) {
+        snprintf(path, sizeof path, "%s/accuracy.json", desc->from_dir);
+        say(r, "reading %s", path);
+        st = persp_accuracy_read(r->ctx, path, &acc);
+        if (st != PERSP_OK) return st;
+        r->acc = acc;
+        methods_of_result(r);
+        /* The images are rendered at the size the sweep measured its scenes at. */
+        for (size_t i = 0; i < persp_accuracy_row_count(acc); i++) {
+            const char *at = strchr(persp_accuracy_row_at(acc, i)->case_name, '@');
+            int w, h;
+            if (at && sscanf(at + 1, "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 4096 &&
+                h <= 4096) {
+                r->w = w, r->h = h;
+                break;
+            }
+        }
+    } else {
+        default_methods(r);
+        static const char *const cases[] = {"paper-quad", "random-triangles", "corridor", "floor"};
+        persp_accuracy_desc ad;
+        memset(&ad, 0, sizeof ad);
+        ad.methods = r->specs, ad.method_count = r->nspecs;
+        ad.cases = cases, ad.case_count = 4;
+        ad.width = r->w, ad.height = r->h;
+        ad.triangles = r->triangles;
+        ad.heatmap_dir = heatdir;
+        say(r, "method accuracy: %zu methods, %d triangles per depth ratio, scenes at %dx%d",
+            r->nspecs, r->triangles, r->w, r->h);
+        st = persp_accuracy_run(r->ctx, &ad, &acc);
+        if (st != PERSP_OK) return st;
+        r->acc = acc;
+        snprintf(path, sizeof path, "%s/accuracy.json", dir);
+        persp_outfile j;
+        if ((st = persp__outfile_open(r->ctx, path, &j)) == PERSP_OK)
+            st = persp__outfile_close(r->ctx, &j,
+                                      persp_accuracy_write(r->ctx, acc, PERSP_REPORT_JSON, j.f));
+    }
+    if (st == PERSP_OK) st = render_all(r);
+    /* Written last, through a temporary file: the page appears only whole. */
+    snprintf(path, sizeof path, "%s/index.html", dir);
+    persp_outfile page;
+    if (st == PERSP_OK && (st = persp__outfile_open(r->ctx, path, &page)) == PERSP_OK) r->f = page.f;
+    if (st == PERSP_OK) {
+        head(r);
+        fputs("<p><a href=#methods>methods</a> · <a href=#claims>claims</a> · <a "
+              "href=#images>images</a> · "
+              "<a href=#shading>shading</a> · <a href=#filters>filters</a> · <a "
+              "href=#env>environment</a> · "
+              "<a href=\"accuracy.json\">accuracy.json</a></p>\n",
+              r->f);
+        method_table(r);
+        if (desc->from_dir)
+            cmd(r, "persp accuracy --case paper-quad,random-triangles,corridor,floor --json "
+                    "--shard K/N; persp merge; "
+                    "persp report --from DIR");
+        else {
+            char ml[700] = "";
+            for (size_t i = 0; i < r->nspecs; i++)
+                if (strlen(ml) + strlen(r->specs[i]) + 2 < sizeof ml)
+                    strcat(ml, i ? "," : ""), strcat(ml, r->specs[i]);
+            cmd(r,
+                "persp accuracy --method %s --case paper-quad,random-triangles,corridor,floor "
+                "--size %dx%d "
+                "--triangles %d --json",
+                ml, r->w, r->h, r->triangles);
+        }
+        claims(r);
+        images(r);
+        st = shading(r);
+        if (st == PERSP_OK) st = filters(r);
+        if (st == PERSP_OK) {
+            environment(r);
+            fputs("</body></html>\n", r->f);
+        }
+        st = persp__outfile_close(r->ctx, &page, st);
+        if (st == PERSP_OK) say(r, "wrote %s", path);
+    }
+    persp_accuracy_destroy(acc);
+    return st;
 }
 
 persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc *desc)
@@ -1044,91 +1149,21 @@ persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc 
     snprintf(path, sizeof path, "%s/img", dir);
     char heatdir[1200];
     snprintf(heatdir, sizeof heatdir, "%s/heat", dir);
-    /* The folder that could not be made is named, the report's own first. */
+    /* The folder that could not be made is named, the report's own first.
+     * Those this call made are removed again, with the files it wrote into
+     * them, if it fails: a refused report leaves nothing half-written. (In
+     * folders that were there before, the files written up to the failure
+     * stay; the page itself appears only whole.) */
     const char *dirs[3] = {dir, path, heatdir};
-    for (int k = 0; k < 3; k++)
-        if (!make_dir(dirs[k]))
-            return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create the folder: %s", dirs[k], strerror(errno));
-    persp_accuracy_result *acc = NULL;
-    persp_status st;
-    if (desc->from_dir) {
-        snprintf(path, sizeof path, "%s/accuracy.json", desc->from_dir);
-        say(&r, "reading %s", path);
-        st = persp_accuracy_read(ctx, path, &acc);
-        if (st != PERSP_OK) return st;
-        r.acc = acc;
-        methods_of_result(&r);
-        /* The images are rendered at the size the sweep measured its scenes at. */
-        for (size_t i = 0; i < persp_accuracy_row_count(acc); i++) {
-            const char *at = strchr(persp_accuracy_row_at(acc, i)->case_name, '@');
-            int w, h;
-            if (at && sscanf(at + 1, "%dx%d", &w, &h) == 2 && w > 0 && h > 0 && w <= 4096 &&
-                h <= 4096) {
-                r.w = w, r.h = h;
-                break;
-            }
-        }
-    } else {
-        default_methods(&r);
-        static const char *const cases[] = {"paper-quad", "random-triangles", "corridor", "floor"};
-        persp_accuracy_desc ad;
-        memset(&ad, 0, sizeof ad);
-        ad.methods = r.specs, ad.method_count = r.nspecs;
-        ad.cases = cases, ad.case_count = 4;
-        ad.width = r.w, ad.height = r.h;
-        ad.triangles = r.triangles;
-        ad.heatmap_dir = heatdir;
-        say(&r, "method accuracy: %zu methods, %d triangles per depth ratio, scenes at %dx%d",
-            r.nspecs, r.triangles, r.w, r.h);
-        st = persp_accuracy_run(ctx, &ad, &acc);
-        if (st != PERSP_OK) return st;
-        r.acc = acc;
-        snprintf(path, sizeof path, "%s/accuracy.json", dir);
-        persp_outfile j;
-        if ((st = persp__outfile_open(ctx, path, &j)) == PERSP_OK)
-            st = persp__outfile_close(ctx, &j,
-                                      persp_accuracy_write(ctx, acc, PERSP_REPORT_JSON, j.f));
+    int made[3] = {0, 0, 0};
+    persp_status st = PERSP_OK;
+    for (int k = 0; k < 3 && st == PERSP_OK; k++) {
+        made[k] = mkdir(dirs[k], 0777) == 0;
+        if (!made[k] && errno != EEXIST)
+            st = persp__fail(ctx, PERSP_ERR_IO, "%s: cannot create the folder: %s", dirs[k], strerror(errno));
     }
-    if (st == PERSP_OK) st = render_all(&r);
-    /* Written last, through a temporary file: the page appears only whole. */
-    snprintf(path, sizeof path, "%s/index.html", dir);
-    persp_outfile page;
-    if (st == PERSP_OK && (st = persp__outfile_open(ctx, path, &page)) == PERSP_OK) r.f = page.f;
-    if (st == PERSP_OK) {
-        head(&r);
-        fputs("<p><a href=#methods>methods</a> · <a href=#claims>claims</a> · <a "
-              "href=#images>images</a> · "
-              "<a href=#shading>shading</a> · <a href=#filters>filters</a> · <a "
-              "href=#env>environment</a> · "
-              "<a href=\"accuracy.json\">accuracy.json</a></p>\n",
-              r.f);
-        method_table(&r);
-        if (desc->from_dir)
-            cmd(&r, "persp accuracy --case paper-quad,random-triangles,corridor,floor --json "
-                    "--shard K/N; persp merge; "
-                    "persp report --from DIR");
-        else {
-            char ml[700] = "";
-            for (size_t i = 0; i < r.nspecs; i++)
-                if (strlen(ml) + strlen(r.specs[i]) + 2 < sizeof ml)
-                    strcat(ml, i ? "," : ""), strcat(ml, r.specs[i]);
-            cmd(&r,
-                "persp accuracy --method %s --case paper-quad,random-triangles,corridor,floor "
-                "--size %dx%d "
-                "--triangles %d --json",
-                ml, r.w, r.h, r.triangles);
-        }
-        claims(&r);
-        images(&r);
-        st = shading(&r);
-        if (st == PERSP_OK) st = filters(&r);
-        if (st == PERSP_OK) {
-            environment(&r);
-            fputs("</body></html>\n", r.f);
-        }
-        st = persp__outfile_close(ctx, &page, st);
-        if (st == PERSP_OK) say(&r, "wrote %s", path);
-    }
-    persp_accuracy_destroy(acc);
+    if (st == PERSP_OK) st = report_files(&r, desc, dir, heatdir);
+    for (int k = 2; k >= 0 && st != PERSP_OK; k--)
+        if (made[k]) remove_made(dirs[k]);
     return st;
 }

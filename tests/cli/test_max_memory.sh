@@ -55,6 +55,10 @@ cmp -s "$tmp/shad_b.txt" "$tmp/shad_c.txt" && ok || bad "the budget changed accu
 expect 1 "report: .*over the memory budget of 64.0 KiB" -- \
     "$persp" report --quick --max-memory 64K -o "$tmp/rep"
 [ -z "$(find "$tmp/rep" -type f 2>/dev/null)" ] && ok || bad "a refused report wrote $(find "$tmp/rep" -type f)"
+# Refused later (1M: after some heat maps were written): the folders it made
+# go, with what it wrote into them.
+expect 1 "report: .*over the memory budget of 1.0 MiB" -- "$persp" report --quick --max-memory 1M -o "$tmp/rep1"
+[ ! -e "$tmp/rep1" ] && ok || bad "a refused report left $(find "$tmp/rep1")"
 expect 2 "bad --max-memory '5X'" -- "$persp" accuracy --max-memory 5X
 expect 2 "bad --max-memory '0'" -- "$persp" report --max-memory 0 -o "$tmp/rep"
 for help in "accuracy --help" "accuracy --filter --help" "accuracy --shading --help" "report --help"; do
