@@ -219,7 +219,8 @@ int cmd_render(int argc, char **argv)
                 desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", threads,
                 threads == 1 ? "" : "s");
         fprintf(summary,
-                "  %llu triangles in, %llu drawn, %llu fragments, %llu pixels written\n",
+                "  %llu triangles in, %llu drawn (clipping may split one), %llu fragments, %llu pixels "
+                "written\n",
                 (unsigned long long)stats.triangles_in, (unsigned long long)stats.triangles_drawn,
                 (unsigned long long)stats.fragments, (unsigned long long)stats.pixels_written);
         if (desc.pipeline == PERSP_PIPELINE_OBJECT)
