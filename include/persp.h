@@ -193,11 +193,14 @@ PERSP_API persp_vec4 persp_mat4_apply(persp_mat4 m, persp_vec4 v);
 PERSP_API persp_mat4 persp_mat4_translate(float x, float y, float z);
 PERSP_API persp_mat4 persp_mat4_scale(float x, float y, float z);
 PERSP_API persp_mat4 persp_mat4_rotate(float degrees, float ax, float ay, float az); /* glRotate */
-/* glFrustum / gluPerspective (fovy in degrees) / gluLookAt. */
+/* glFrustum / gluPerspective (fovy in degrees) / gluLookAt. Arguments GL
+ * refuses (n or f not positive, l = r, b = t, n = f) give a matrix of NaN,
+ * which persp_render and persp_draw refuse as not finite. */
 PERSP_API persp_mat4 persp_frustum(double l, double r, double b, double t, double n, double f);
 PERSP_API persp_mat4 persp_perspective(double fovy_deg, double aspect, double n, double f);
 PERSP_API persp_mat4 persp_look_at(persp_vec3 eye, persp_vec3 center, persp_vec3 up);
-/* Inverse-transpose of the upper 3x3, for normals. Returns 0 if singular. */
+/* Inverse-transpose of the upper 3x3, for normals. Returns 0 if singular
+ * or out3x3 is NULL. */
 PERSP_API int persp_mat4_normal_matrix(persp_mat4 m, float out3x3[9]);
 /* Determinant of the upper 3x3 (in double). Negative: m mirrors, and an
  * object it places has its front faces clockwise in the window (the glTF
@@ -423,7 +426,8 @@ typedef enum persp_depth_mode {
 /* Caller-owned buffers: color is width*height RGBA8 pixels (row 0 = bottom),
  * depth is width*height floats. Any alignment works; buffers aligned to 64
  * bytes render faster with several threads (tiles drawn at once then share
- * no cache line). */
+ * no cache line). The size limits are an image's (PERSP_IMAGE_MAX_SIDE,
+ * PERSP_IMAGE_MAX_PIXELS: PERSP_ERR_TOO_LARGE beyond them). */
 typedef struct persp_framebuffer {
     int width, height;
     uint8_t *color;
@@ -514,7 +518,7 @@ PERSP_API persp_status persp_scene_tint_mip_levels(persp_scene *scene);
 /* The colour of a level in persp_scene_tint_mip_levels: level 0 white, then
  * red, orange, yellow-green, green, cyan, blue, violet, magenta; grey from
  * level 9 on. */
-PERSP_API void persp_mip_level_color(int level, uint8_t rgba[4]);
+PERSP_API void persp_mip_level_color(int level, uint8_t rgba[4]); /* rgba NULL: nothing */
 
 typedef enum persp_pipeline {
     PERSP_PIPELINE_DEFAULT = 0, /* SCREEN */

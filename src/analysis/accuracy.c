@@ -437,18 +437,24 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     persp__clear_error(ctx);
     if (!desc || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: no desc");
     *out = NULL;
-    if (desc->triangles < 0 || desc->triangles > 100000 || desc->width < 0 || desc->height < 0 ||
-        desc->width > PERSP_IMAGE_MAX_SIDE || desc->height > PERSP_IMAGE_MAX_SIDE ||
-        !(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor))
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                                  "accuracy: triangles, size or relative floor out of range");
+    const char *bad = desc->triangles < 0 || desc->triangles > 100000 ? "triangles (0..100000)"
+                      : desc->width < 0 || desc->height < 0 || desc->width > PERSP_IMAGE_MAX_SIDE ||
+                              desc->height > PERSP_IMAGE_MAX_SIDE
+                          ? "width, height (0..16384)"
+                      : !(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor) ? "rel_floor (finite, >= 0)"
+                                                                                  : NULL;
+    if (bad)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: persp_accuracy_desc.%s is out of range",
+                           bad);
     if (desc->shard_count < 0 || desc->shard_count > 1000000 ||
         (desc->shard_count > 0 && (desc->shard_index < 0 || desc->shard_index >= desc->shard_count)))
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: shard %d of %d", desc->shard_index,
                            desc->shard_count);
     static const char *const default_cases[] = {"paper-quad", "random-triangles"};
-    const char *const *cases = desc->case_count ? desc->cases : default_cases;
-    size_t ncases = desc->case_count ? desc->case_count : 2;
+    /* "NULL or none": a NULL list is none, whatever its count says. */
+    const int given_cases = desc->cases && desc->case_count;
+    const char *const *cases = given_cases ? desc->cases : default_cases;
+    size_t ncases = given_cases ? desc->case_count : 2;
     size_t groups = 0;
     for (size_t i = 0; i < ncases; i++) {
         if (!cases[i] || persp_accuracy_case_check(cases[i]) != PERSP_OK)
@@ -457,7 +463,8 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         groups += strcmp(cases[i], "random-triangles") ? 1 : PERSP_HBAR_COUNT;
     }
     /* Methods: validate every spec before any work. */
-    size_t nmeth = desc->method_count ? desc->method_count : persp__method_count();
+    const int given_methods = desc->methods && desc->method_count;
+    size_t nmeth = given_methods ? desc->method_count : persp__method_count();
     const char **specs = persp__calloc(ctx, nmeth ? nmeth : 1, sizeof *specs);
     persp_method_sel *sels = persp__calloc(ctx, nmeth ? nmeth : 1, sizeof *sels);
     persp_accuracy_result *res = persp__calloc(ctx, 1, sizeof *res);
@@ -475,7 +482,7 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     }
     size_t used = 0;
     for (size_t i = 0; i < nmeth; i++) {
-        if (desc->method_count) {
+        if (given_methods) {
             specs[used] = desc->methods[i];
             if (!specs[used]) {
                 st = persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: NULL method");

@@ -450,7 +450,9 @@ static persp_status measure(persp_context *ctx, const persp_filter_accuracy_desc
 persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_accuracy_desc *desc_in,
                                        persp_filter_accuracy_result **out)
 {
-    if (!ctx || !desc_in || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!desc_in || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: no desc or result");
     *out = NULL;
     persp_filter_accuracy_desc d = *desc_in;
     if (!d.width && !d.height) d.width = FA_DEFAULT_W, d.height = FA_DEFAULT_H;
@@ -459,20 +461,30 @@ persp_status persp_filter_accuracy_run(persp_context *ctx, const persp_filter_ac
     if (d.width <= 0 || d.height <= 0 || d.width > 4096 || d.height > 4096)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                                   "filter accuracy: size %dx%d out of range (1..4096)", d.width, d.height);
-    if (d.samples < 1 || d.samples > 64 || d.repeats < 1 || d.repeats > 100 ||
-        (unsigned)d.lod_mode > PERSP_LOD_POLYGON || !isfinite(d.lod_bias))
+    const char *bad = d.samples < 1 || d.samples > 64                 ? "samples (1..64)"
+                      : d.repeats < 1 || d.repeats > 100              ? "repeats (1..100)"
+                      : (unsigned)d.lod_mode > PERSP_LOD_POLYGON      ? "lod_mode"
+                      : !isfinite(d.lod_bias)                         ? "lod_bias (finite)"
+                                                                      : NULL;
+    if (bad)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                           "filter accuracy: samples must be 1..64, repeats 1..100");
-    const char *const *filters = d.filter_count ? d.filters : default_filters;
-    size_t nf = d.filter_count ? d.filter_count : sizeof default_filters / sizeof default_filters[0];
+                           "filter accuracy: persp_filter_accuracy_desc.%s is out of range", bad);
+    /* "NULL or none": a NULL list is none, whatever its count says. */
+    const char *const *filters = d.filters && d.filter_count ? d.filters : default_filters;
+    size_t nf = d.filters && d.filter_count ? d.filter_count : sizeof default_filters / sizeof default_filters[0];
     static const char *const default_cases[] = {"corridor", "floor",   "tilt-0", "tilt-45",
                                                 "tilt-70",  "tilt-80", "tilt-85"};
-    const char *const *cases = d.case_count ? d.cases : default_cases;
-    size_t nc = d.case_count ? d.case_count : sizeof default_cases / sizeof default_cases[0];
-    for (size_t i = 0; i < nf; i++)
-        if (!filters[i] || persp_filter_accuracy_filter_check(filters[i]) != PERSP_OK)
-            return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "filter accuracy: unknown filter '%s'",
-                                      filters[i] ? filters[i] : "(null)");
+    const char *const *cases = d.cases && d.case_count ? d.cases : default_cases;
+    size_t nc = d.cases && d.case_count ? d.case_count : sizeof default_cases / sizeof default_cases[0];
+    for (size_t i = 0; i < nf; i++) {
+        /* The status persp_filter_parse gives: an unknown name, or a bad
+         * count ("aniso:99") as INVALID_ARGUMENT. */
+        const persp_status fst = persp_filter_accuracy_filter_check(filters[i]);
+        if (fst != PERSP_OK)
+            return persp__fail(ctx, fst, "filter accuracy: %s filter '%s'",
+                               fst == PERSP_ERR_NOT_FOUND ? "unknown" : "bad",
+                               filters[i] ? filters[i] : "(null)");
+    }
     for (size_t i = 0; i < nc; i++)
         if (!cases[i] || persp_filter_accuracy_case_check(cases[i]) != PERSP_OK)
             return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "filter accuracy: unknown case '%s'",
@@ -558,7 +570,11 @@ persp_status persp_filter_accuracy_write(persp_context *ctx, const persp_filter_
                                          persp_report_format format, void *stream)
 {
     FILE *f = stream;
-    if (!ctx || !res || !f) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!res || !f) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: no result or stream");
+    if ((unsigned)format > PERSP_REPORT_JSON)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: unknown format %d", (int)format);
     char ps[16];
     if (format == PERSP_REPORT_CSV) {
         fprintf(f, "case,pipeline,filter,pixels,samples,psnr_db,ssim,max_err,mean_err,fetches_px,ms,ns_px,"

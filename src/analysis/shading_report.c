@@ -125,7 +125,19 @@ static persp_status write_svg(persp_context *ctx, const char *path)
 persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
                                            void *stream)
 {
-    if (!ctx || !desc || !stream) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!desc || !stream) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "shading report: no desc or stream");
+    /* Checked before anything runs (a billion triangles would run for hours). */
+    const char *bad = desc->triangles < 0 || desc->triangles > 100000 ? "triangles (0..100000)"
+                      : desc->width < 0 || desc->height < 0 || desc->width > PERSP_IMAGE_MAX_SIDE ||
+                              desc->height > PERSP_IMAGE_MAX_SIDE
+                          ? "width, height (0..16384)"
+                      : (unsigned)desc->any_folder > PERSP_TOGGLE_OFF ? "any_folder"
+                                                                      : NULL;
+    if (bad)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                           "shading report: persp_shading_accuracy_desc.%s is out of range", bad);
     FILE *f = stream;
     const uint64_t seed = desc->seed ? desc->seed : 1;
     const int tris = desc->triangles > 0 ? desc->triangles : 20;

@@ -25,7 +25,9 @@ persp_status persp__image_check_size(persp_context *ctx, const char *name, long 
 
 persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out)
 {
-    if (!ctx || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "image: no image to fill");
     memset(out, 0, sizeof *out);
     if (width <= 0 || height <= 0)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "image: invalid size %dx%d", width,

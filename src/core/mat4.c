@@ -77,6 +77,13 @@ persp_mat4 persp_mat4_rotate(float degrees, float ax, float ay, float az)
 persp_mat4 persp_frustum(double l, double r, double b, double t, double n, double f)
 {
     persp_mat4 m = {{0}};
+    /* glFrustum refuses these (GL_INVALID_VALUE); the matrix is then NaN,
+     * which persp_render refuses as not finite, rather than a division by
+     * zero. */
+    if (!(n > 0.0 && f > 0.0) || l == r || b == t || n == f) {
+        for (int i = 0; i < 16; i++) m.m[i] = NAN;
+        return m;
+    }
     M(m, 0, 0) = (float)(2.0 * n / (r - l));
     M(m, 0, 2) = (float)((r + l) / (r - l));
     M(m, 1, 1) = (float)(2.0 * n / (t - b));
@@ -125,6 +132,7 @@ double persp_mat4_det3(persp_mat4 m)
 
 int persp_mat4_normal_matrix(persp_mat4 m, float out[9])
 {
+    if (!out) return 0;
     double a[3][3];
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) a[r][c] = M(m, r, c);

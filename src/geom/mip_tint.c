@@ -19,6 +19,7 @@ static const uint8_t palette[][3] = {
 
 void persp_mip_level_color(int level, uint8_t rgba[4])
 {
+    if (!rgba) return;
     int n = (int)(sizeof palette / sizeof palette[0]);
     int i = level < 0 ? 0 : level >= n ? n - 1 : level;
     memcpy(rgba, palette[i], 3);

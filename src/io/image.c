@@ -464,8 +464,10 @@ static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size,
 persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
                                      const char *name, persp_image *out)
 {
-    if (!ctx || !out || (!data && size)) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
+    if (!out || (!data && size))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: no data or no image to fill", name ? name : "image");
     memset(out, 0, sizeof *out);
     static const unsigned char png_sig[8] = {0x89, 'P', 'N', 'G', 0x0d, 0x0a, 0x1a, 0x0a};
     const unsigned char *b = data;

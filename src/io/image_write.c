@@ -34,10 +34,16 @@ static const char *stream_name(const char *name)
 
 static persp_status check_image(persp_context *ctx, const char *name, const persp_image *img)
 {
-    if (!img->pixels || img->width <= 0 || img->height <= 0 ||
-        img->stride < (size_t)img->width * 4u || img->stride > 0x7fffffffu)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: invalid image to write", name);
-    return PERSP_OK;
+    if (!img->pixels) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: the image has no pixels", name);
+    if (img->width <= 0 || img->height <= 0)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: invalid image size %dx%d", name, img->width,
+                           img->height);
+    if (img->stride < (size_t)img->width * 4u || img->stride > 0x7fffffffu)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "%s: image stride %zu is not 4·width (%d) .. 2^31",
+                           name, img->stride, img->width);
+    /* What persp_image_load takes back: no file persp writes is one it
+     * refuses to read. */
+    return persp__image_check_size(ctx, name, img->width, img->height);
 }
 
 /* The quality to encode with, 0 standing for the default. */
@@ -211,8 +217,9 @@ persp_status persp_image_format_from_path(const char *path, persp_image_format *
 persp_status persp_image_write(persp_context *ctx, const char *path, const persp_image *img,
                                const persp_image_write_desc *desc)
 {
-    if (!ctx || !path || !img) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
+    if (!path || !img) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "image write: no path or image");
     persp_image_write_desc d = {PERSP_IMAGE_FORMAT_DEFAULT, 0};
     if (desc) d = *desc;
     persp_status st = check_image(ctx, path, img);
@@ -221,8 +228,11 @@ persp_status persp_image_write(persp_context *ctx, const char *path, const persp
     int in_place = stat(path, &sb) == 0 && !S_ISREG(sb.st_mode);
     if (d.format == PERSP_IMAGE_FORMAT_DEFAULT &&
         persp_image_format_from_path(path, &d.format) != PERSP_OK) {
-        /* A device or pipe is a stream with a name. */
-        if (in_place && !S_ISDIR(sb.st_mode))
+        /* A device or pipe is a stream with a name; a folder is refused as
+         * one with an extension is (persp.h). */
+        if (in_place && S_ISDIR(sb.st_mode))
+            return persp__fail(ctx, PERSP_ERR_IO, "%s: is a directory", path);
+        if (in_place)
             d.format = PERSP_IMAGE_FORMAT_PNG;
         else
             return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,

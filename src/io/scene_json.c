@@ -1136,8 +1136,9 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
 persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
                                  const persp_scene_load_desc *desc, persp_scene **out)
 {
-    if (!ctx || !path || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
+    if (!path || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: no path or no scene to fill");
     *out = NULL;
     if (desc && (unsigned)desc->any_folder > (unsigned)PERSP_TOGGLE_OFF)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.any_folder");

@@ -87,11 +87,12 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
                                 persp_frame *f)
 {
     memset(f, 0, sizeof *f);
-    if (!ctx || !fb || !fb->color || !fb->depth || fb->width <= 0 || fb->height <= 0 ||
-        fb->width > PERSP_IMAGE_MAX_SIDE || fb->height > PERSP_IMAGE_MAX_SIDE)
+    if (!ctx || !fb || !fb->color || !fb->depth || fb->width <= 0 || fb->height <= 0)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                                  "framebuffer: size must be 1..%d on each side with colour and depth buffers",
-                                  PERSP_IMAGE_MAX_SIDE);
+                           "framebuffer: needs a size of at least 1x1 and colour and depth buffers");
+    /* The limits of an image (persp_image_alloc's), with the same status. */
+    persp_status sz = persp__image_check_size(ctx, "framebuffer", fb->width, fb->height);
+    if (sz != PERSP_OK) return sz;
     if (!ctx->render) {
         ctx->render = persp__calloc(ctx, 1, sizeof(struct persp_render_cache));
         if (!ctx->render) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");

@@ -59,7 +59,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     memset(&dd, 0, sizeof dd);
     if (desc) dd = *desc;
     if ((unsigned)dd.pipeline > PERSP_PIPELINE_OBJECT)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown pipeline");
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.pipeline is out of range");
     /* The first setting out of range, named as persp_render_desc names it. */
     const char *bad = (unsigned)dd.filter >= PERSP_FILTER_COUNT                 ? "filter"
                       : (unsigned)dd.wrap > PERSP_WRAP_CLAMP_TO_BORDER          ? "wrap"
@@ -86,7 +86,7 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     if (st != PERSP_OK) return st;
     if (dd.depth_mode == PERSP_DEPTH_DEFAULT) dd.depth_mode = PERSP_DEPTH_Z;
     if (dd.depth_mode != PERSP_DEPTH_Z && dd.depth_mode != PERSP_DEPTH_INVW)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: unknown depth mode");
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.depth_mode is out of range");
 
     st = persp__frame_begin(ctx, fb, dd.depth_mode, f);
     if (st != PERSP_OK) return st;
@@ -270,6 +270,20 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
                                   "draw: need a framebuffer, a desc and 3 indices per triangle");
     if (vertex_count > PERSP_IMAGE_MAX_PIXELS || index_count > 3u * PERSP_IMAGE_MAX_PIXELS)
         return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "draw: too many vertices or indices");
+    if (index_count && !vertex_count)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: indices given, but no vertices");
+    /* The settings as persp_render checks its own, each named. */
+    const char *bad = (unsigned)desc->depth_mode > PERSP_DEPTH_INVW          ? "depth_mode"
+                      : (unsigned)desc->depth_test > PERSP_TOGGLE_OFF        ? "depth_test"
+                      : (unsigned)desc->cull_backfaces > PERSP_TOGGLE_OFF    ? "cull_backfaces"
+                      : !mat4_finite(&desc->mvp)                             ? "mvp (not finite)"
+                                                                             : NULL;
+    if (bad) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: persp_draw_desc.%s is out of range", bad);
+    /* The sampler only with a texture, which alone reads it. */
+    const char *bad_sampler = desc->texture ? persp__sampler_desc_problem(&desc->sampler) : NULL;
+    if (bad_sampler)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: persp_draw_desc.sampler.%s is out of range",
+                           bad_sampler);
     persp_frame f;
     persp_depth_mode dm = desc->depth_mode == PERSP_DEPTH_DEFAULT ? PERSP_DEPTH_Z : desc->depth_mode;
     persp_status st = persp__frame_begin(ctx, fb, dm, &f);
@@ -282,15 +296,10 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     ds.material.diffuse[0] = ds.material.diffuse[1] = ds.material.diffuse[2] = 1.0f;
     ds.tex = desc->texture;
     ds.force_opaque = 1;
-    if ((unsigned)desc->depth_test > PERSP_TOGGLE_OFF || (unsigned)desc->cull_backfaces > PERSP_TOGGLE_OFF)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "draw: a toggle is out of range");
     ds.depth_test = ds.depth_write = desc->depth_test != PERSP_TOGGLE_OFF;
     if (ds.tex) {
         st = persp__sampler_init_isa(&ds.sampler, ds.tex, &desc->sampler, ctx->isa);
-        if (st != PERSP_OK) {
-            const char *bad = persp__sampler_desc_problem(&desc->sampler);
-            return persp__fail(ctx, st, "draw: persp_draw_desc.sampler.%s is out of range", bad ? bad : "?");
-        }
+        if (st != PERSP_OK) return persp__fail(ctx, st, "draw: bad sampler settings");
     }
     st = persp__shade_resolve(ctx, &ds);
     if (st != PERSP_OK) return st;

@@ -167,7 +167,9 @@ static void downsample(const uint32_t *src, int sw, int sh, uint32_t *dst, int d
 
 persp_status persp_texture_create(persp_context *ctx, const persp_image *img, persp_texture **out)
 {
-    if (!ctx || !img || !out) return PERSP_ERR_INVALID_ARGUMENT;
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!img || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "texture: no image or no texture to fill");
     *out = NULL;
     if (!img->pixels || img->width <= 0 || img->height <= 0 ||
         img->stride < (size_t)img->width * 4u)

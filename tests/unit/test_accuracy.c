@@ -372,7 +372,26 @@ static void test_bad_input(void **state)
     d.case_count = 0;
     d.rel_floor = NAN;
     assert_int_equal(persp_accuracy_run(ctx, &d, &res), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "persp_accuracy_desc.rel_floor"));
     assert_int_equal(persp_accuracy_run(ctx, NULL, &res), PERSP_ERR_INVALID_ARGUMENT);
+    /* "NULL or none": a NULL list with a count is none (it was read). */
+    d.rel_floor = 0.0;
+    d.triangles = 1;
+    d.methods = NULL;
+    d.method_count = 1;
+    const char *pq = "paper-quad";
+    d.cases = &pq;
+    d.case_count = 1;
+    assert_int_equal(persp_accuracy_run(ctx, &d, &res), PERSP_OK);
+    assert_true(persp_accuracy_row_count(res) > 5); /* every method */
+    persp_accuracy_destroy(res);
+    res = NULL;
+    d.methods = &m;
+    d.cases = NULL;
+    d.case_count = 1;
+    assert_int_equal(persp_accuracy_run(ctx, &d, &res), PERSP_OK);
+    assert_true(persp_accuracy_row_count(res) > 1); /* paper-quad and the random groups */
+    persp_accuracy_destroy(res);
     assert_int_equal(persp_accuracy_case_check("paper-quad"), PERSP_OK);
     assert_int_equal(persp_accuracy_case_check("corridor"), PERSP_OK);
     persp_context_destroy(ctx);

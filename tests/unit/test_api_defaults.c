@@ -5,6 +5,7 @@
 #include "io/model.h"
 #include "support.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -275,6 +276,59 @@ static void test_scene_method_and_filter(void **state)
     persp_context_destroy(ctx);
 }
 
+/* persp_draw's settings are checked as persp_render's, each named; indices
+ * without vertices, NULL outputs and degenerate projections are refused
+ * rather than crashing or dividing by zero; a failure on a NULL argument
+ * leaves its own detail, not the previous call's. */
+static void test_draw_and_helpers_refuse(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    uint8_t color[16 * 4];
+    float depth[16];
+    persp_framebuffer fb = {4, 4, color, depth};
+    const persp_vertex v[3] = {{{-1, -1, -2}, {0, 0}, {0, 0, 1}, {1, 1, 1, 1}},
+                               {{1, -1, -2}, {1, 0}, {0, 0, 1}, {1, 1, 1, 1}},
+                               {{-1, 1, -2}, {0, 1}, {0, 0, 1}, {1, 1, 1, 1}}};
+    const uint32_t ix[3] = {0, 1, 2};
+    persp_draw_desc d;
+    memset(&d, 0, sizeof d);
+    d.mvp = persp_perspective(60, 1, 0.1, 10);
+    assert_int_equal(persp_draw(ctx, &fb, &d, v, 3, ix, 3), PERSP_OK);
+    d.depth_mode = (persp_depth_mode)3;
+    assert_int_equal(persp_draw(ctx, &fb, &d, v, 3, ix, 3), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "persp_draw_desc.depth_mode"));
+    d.depth_mode = PERSP_DEPTH_DEFAULT;
+    d.depth_test = (persp_toggle)5;
+    assert_int_equal(persp_draw(ctx, &fb, &d, v, 3, ix, 3), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "persp_draw_desc.depth_test"));
+    d.depth_test = PERSP_TOGGLE_DEFAULT;
+    d.mvp.m[3] = INFINITY;
+    assert_int_equal(persp_draw(ctx, &fb, &d, v, 3, ix, 3), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "mvp"));
+    d.mvp = persp_perspective(60, 1, 0.1, 10);
+    assert_int_equal(persp_draw(ctx, &fb, &d, NULL, 0, ix, 3), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "no vertices"));
+    /* GL refuses these frustums: NaN, refused by the draw, no division. */
+    const persp_mat4 bad[3] = {persp_frustum(1, 1, -1, 1, 1, 10), persp_perspective(90, 1, 1, 1),
+                               persp_perspective(90, 1, 0, 10)};
+    for (int i = 0; i < 3; i++) {
+        assert_true(isnan(bad[i].m[0]) && isnan(bad[i].m[15]));
+        d.mvp = bad[i];
+        assert_int_equal(persp_draw(ctx, &fb, &d, v, 3, ix, 3), PERSP_ERR_INVALID_ARGUMENT);
+    }
+    assert_int_equal(persp_mat4_normal_matrix(persp_mat4_identity(), NULL), 0);
+    persp_mip_level_color(0, NULL);
+    /* A NULL argument's own detail. */
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, 0, 0, &img), PERSP_ERR_INVALID_ARGUMENT);
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_load(ctx, NULL, &scene), PERSP_ERR_INVALID_ARGUMENT);
+    assert_null(strstr(persp_context_error(ctx), "invalid size"));
+    assert_non_null(strstr(persp_context_error(ctx), "no path"));
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -282,6 +336,7 @@ int main(void)
         cmocka_unit_test(test_lod_clamp_toggle),    cmocka_unit_test(test_cull_toggle),
         cmocka_unit_test(test_out_of_range_refused), cmocka_unit_test(test_sampler_defaults),
         cmocka_unit_test(test_draw_defaults),       cmocka_unit_test(test_scene_method_and_filter),
+        cmocka_unit_test(test_draw_and_helpers_refuse),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
