@@ -326,6 +326,18 @@ static void test_draw_and_helpers_refuse(void **state)
     assert_int_equal(persp_scene_load(ctx, NULL, &scene), PERSP_ERR_INVALID_ARGUMENT);
     assert_null(strstr(persp_context_error(ctx), "invalid size"));
     assert_non_null(strstr(persp_context_error(ctx), "no path"));
+    /* Writers keep what persp_image_load takes back; a folder is IO. */
+    uint8_t *wide = calloc(20000, 4);
+    assert_non_null(wide);
+    const persp_image long_row = {20000, 1, 80000, wide};
+    assert_int_equal(persp_image_write_png(ctx, "/tmp/persp-never.png", &long_row), PERSP_ERR_TOO_LARGE);
+    const persp_image one = {1, 1, 4, wide};
+    assert_int_equal(persp_image_write(ctx, "/tmp", &one, NULL), PERSP_ERR_IO);
+    free(wide);
+    /* A framebuffer over an image's side: TOO_LARGE, as persp_image_alloc. */
+    persp_framebuffer huge = {PERSP_IMAGE_MAX_SIDE + 1, 1, color, depth};
+    d.mvp = persp_perspective(60, 1, 0.1, 10);
+    assert_int_equal(persp_draw(ctx, &huge, &d, v, 3, ix, 3), PERSP_ERR_TOO_LARGE);
     persp_context_destroy(ctx);
 }
 
