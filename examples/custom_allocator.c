@@ -6,10 +6,10 @@
  *                                 or model file: a name with a / or a .)
  *
  * Everything persp allocates for a context — scenes, textures, images, the
- * per-frame buffers, the worker threads' state, libpng's memory — goes
- * through the allocator given to persp_context_create. (libjpeg and jansson
- * use malloc for their transient working memory: their APIs offer no
- * per-call allocator.)
+ * per-frame buffers, the worker threads' state — goes through the allocator
+ * given to persp_context_create. (libpng's simplified API, libjpeg, jansson
+ * and the model importer use malloc for their transient working memory:
+ * their APIs offer no per-call allocator.)
  *
  * The program renders a scene with two threads and prints the counts, then
  * does it again under a budget too small for the scene, to show that an
@@ -35,8 +35,9 @@ typedef union block_header {
     unsigned char pad[16];
 } block_header;
 
-/* persp may call the allocator from its worker threads too (the header does
- * not promise otherwise), so the counts are atomic. */
+/* persp calls the allocator only from the thread that called into it, never
+ * from a worker (persp.h); the counts are atomic all the same, so that a
+ * program whose threads each have a context can share one allocator. */
 typedef struct counting_allocator {
     atomic_size_t allocs, frees, refused;
     atomic_size_t live_bytes, peak_bytes;

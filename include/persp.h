@@ -35,7 +35,11 @@
  *   are read-only while rendering: one may be shared by any number of
  *   contexts and threads at once, provided nothing modifies or destroys it
  *   meanwhile (persp_scene_set_texture modifies). Functions without a
- *   context argument are safe to call from any thread. A context's own
+ *   context argument are safe to call from any thread, except those that
+ *   create or free memory of a scene or texture (persp_scene_set_texture,
+ *   persp_scene_tint_mip_levels, persp_scene_destroy, persp_texture_destroy):
+ *   they use the context that made it, so call them where that context
+ *   may be used (not while it renders on another thread). A context's own
  *   worker threads (persp_context_desc.threads) parallelise one render; the
  *   image is bit-identical for any thread count. persp keeps no global
  *   mutable state of its own; the one process-wide object is the mutex that
@@ -364,7 +368,8 @@ PERSP_API persp_status persp_texture_level(const persp_texture *tex, int level, 
 
 /* Samples one texel colour at (u, v) with the given screen-space derivatives
  * of u and v (normalised coordinates). For tests and tools; the renderer
- * samples whole spans internally. */
+ * samples whole spans internally. A NULL texture or sampler, or a sampler
+ * out of range, gives transparent black (0, 0, 0, 0). */
 PERSP_API void persp_texture_sample(const persp_texture *tex, const persp_sampler_desc *sampler, float u,
                           float v, float dudx, float dvdx, float dudy, float dvdy,
                           uint8_t rgba_out[4]);
