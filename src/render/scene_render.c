@@ -78,7 +78,8 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a camera matrix is not finite");
     if (dd.lod_clamp == PERSP_TOGGLE_ON &&
         (!isfinite(dd.min_lod) || !isfinite(dd.max_lod) || dd.min_lod > dd.max_lod))
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: min_lod %g is above max_lod %g",
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                           "render: persp_render_desc.min_lod %g, max_lod %g: both finite, min_lod <= max_lod",
                            (double)dd.min_lod, (double)dd.max_lod);
     persp_status st;
     persp_method_sel method;
