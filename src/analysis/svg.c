@@ -101,6 +101,20 @@ static int panel(FILE *f, const persp_svg_panel *p, double ox, double w, double 
             open = 1;
         }
         if (open) fputs("\"/>\n", f);
+    }
+    /* The legend over the curves on a white, slightly translucent box, so
+     * that lines under it do not cross its text. */
+    size_t longest = 0;
+    for (int s = 0; s < p->series_count; s++)
+        if (p->series[s].label && strlen(p->series[s].label) > longest) longest = strlen(p->series[s].label);
+    if (p->series_count > 0)
+        fprintf(f,
+                "<rect x=\"%.2f\" y=\"%.2f\" width=\"%.2f\" height=\"%.2f\" fill=\"#fff\" "
+                "fill-opacity=\"0.85\" stroke=\"#ccc\"/>\n",
+                x0 + 4, y1 + 3, 34 + 6.2 * (double)longest, 15.0 * p->series_count + 4);
+    for (int s = 0; s < p->series_count; s++) {
+        const persp_svg_series *se = &p->series[s];
+        const char *col = palette[s % PERSP_SVG_MAX_SERIES];
         double ly = y1 + 14 + 15 * s;
         fprintf(f, "<line x1=\"%.2f\" y1=\"%.2f\" x2=\"%.2f\" y2=\"%.2f\" stroke=\"%s\" stroke-width=\"2\"/>\n",
                 x0 + 8, ly - 4, x0 + 28, ly - 4, col);
