@@ -380,8 +380,9 @@ PERSP_API void persp_texture_sample(const persp_texture *tex, const persp_sample
 typedef struct persp_opcount {
     uint64_t div, mul, add, cmp; /* divisions (incl. reciprocals), multiplications,
                                     additions/subtractions, comparisons */
-    uint64_t pixels, spans, triangles; /* in a render: the pixels the method computed
-                                          coordinates for (spans hidden whole run none) */
+    uint64_t pixels, spans, triangles; /* in a render: the pixels and spans the method
+                                          computed coordinates for (spans hidden whole run
+                                          none); triangles only in the analyses */
 } persp_opcount;
 
 typedef struct persp_method_info {

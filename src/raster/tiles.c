@@ -107,7 +107,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
     /* The pixels the method computed coordinates for (persp_opcount.pixels):
      * a traversal every fragment it emits, a span method only the spans
      * with a pixel in front. */
-    if (sc->ops && b->s1) sc->ops->pixels += (uint64_t)n;
+    if (sc->ops && b->s1) sc->ops->pixels += (uint64_t)n, sc->ops->spans++;
     if (!any) return;
 
     float u[PERSP_SPAN_MAX], v[PERSP_SPAN_MAX], w1[PERSP_SPAN_MAX], w2[PERSP_SPAN_MAX];
@@ -128,7 +128,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         fused.w2 = w2;
         b = &fused;
     } else {
-        if (sc->ops) sc->ops->pixels += (uint64_t)n;
+        if (sc->ops) sc->ops->pixels += (uint64_t)n, sc->ops->spans++;
         ds->method.m->span(&t->rat, &ds->method.params, sc->prep, b->x0, b->y, n, u, v, sc->ops);
     }
     /* A contiguous span whose pixels all pass is coloured in place in the

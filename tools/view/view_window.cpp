@@ -613,12 +613,18 @@ void upload(state &s)
 
 void hud(state &s, int out_w)
 {
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+    /* A narrow window starts with the panel folded into a title bar across
+     * the top (panel()): the HUD goes below it, and its lines wrap at the
+     * window's edge instead of running past it. */
+    const ImGuiIO &io = ImGui::GetIO();
+    const bool narrow = io.DisplaySize.x < 900.0f;
+    ImGui::SetNextWindowPos(ImVec2(8, narrow && s.panel ? 14 + ImGui::GetFrameHeight() : 8), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.6f);
     ImGui::Begin("hud", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
                      ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
+    ImGui::PushTextWrapPos(io.DisplaySize.x - 24.0f);
     const view_frame &f = s.frame;
     ImGui::Text("%.0f fps   render %dx%d%s", s.fps, f.width, f.height,
                 f.width < out_w ? " (reduced while moving)" : "");
@@ -634,13 +640,13 @@ void hud(state &s, int out_w)
                 (unsigned long long)st.triangles_in, (unsigned long long)st.triangles_drawn,
                 (unsigned long long)st.fragments);
     if (s.left.count_ops) {
-        double fr = st.fragments ? (double)st.fragments : 1.0;
-        ImGui::Text("left method per fragment: %.2f div  %.2f mul  %.2f add  %.2f cmp",
-                    (double)st.ops.div / fr, (double)st.ops.mul / fr, (double)st.ops.add / fr,
-                    (double)st.ops.cmp / fr);
-        ImGui::Text("  per span: %.2f px; spans %llu, triangles %llu",
-                    st.ops.spans ? (double)st.ops.pixels / (double)st.ops.spans : 0.0,
-                    (unsigned long long)st.ops.spans, (unsigned long long)st.ops.triangles);
+        /* Per pixel the method computed, as `persp render --count-ops`. */
+        double px_done = st.ops.pixels ? (double)st.ops.pixels : 1.0;
+        ImGui::Text("left method per pixel: %.2f div  %.2f mul  %.2f add  %.2f cmp",
+                    (double)st.ops.div / px_done, (double)st.ops.mul / px_done, (double)st.ops.add / px_done,
+                    (double)st.ops.cmp / px_done);
+        ImGui::Text("  %.2f px per span; %llu spans", st.ops.spans ? (double)st.ops.pixels / (double)st.ops.spans : 0.0,
+                    (unsigned long long)st.ops.spans);
     }
     if (f.have_err && f.layout == VIEW_LAYOUT_TEXEL) {
         ImGui::Text("texel error (of %dx%d): max %.2f, mean %.3f where the sides differ, %.2f%% of "
@@ -667,6 +673,7 @@ void hud(state &s, int out_w)
     if (!s.render_error.empty())
         ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", s.render_error.c_str());
     if (!s.status.empty()) ImGui::TextDisabled("%s", s.status.c_str());
+    ImGui::PopTextWrapPos();
     ImGui::End();
 }
 
