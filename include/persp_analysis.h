@@ -17,6 +17,35 @@
 extern "C" {
 #endif
 
+/* ------------------------------------------------- one triangle, per pixel */
+
+/* A vertex for persp_method_triangle: window position in pixels (y up,
+ * pixel (x, y) has its centre at (x + 0.5, y + 0.5)), w of clip space
+ * (> 0) and texture coordinates (1 = the texture's width or height). */
+typedef struct persp_method_vertex {
+    double x, y, w;
+    float u, v;
+} persp_method_vertex;
+
+/* The texture coordinates method spec gives every covered pixel of one
+ * triangle, computed as persp_render computes them: the same set-up
+ * (positions snapped to 1/256 pixel, the planes of u/w, v/w and 1/w
+ * fitted through them in double precision, no culling), the same spans
+ * (a row's covered pixels within one 64-pixel tile) or traversal, for a
+ * texture of tex_w × tex_h texels (the lattice a method such as midpoint
+ * works on; 0: 1). A reference for checking an implementation of a method
+ * pixel by pixel (docs/METHODS.md, "Checking an implementation").
+ * u_out, v_out: width × height floats each, row 0 at the bottom, written
+ * at covered pixels only; covered (may be NULL): width × height bytes, set
+ * to 1 at covered pixels and 0 elsewhere; ops (may be NULL): the method's
+ * operation counts are added to it. A triangle that covers no pixel centre
+ * (or is degenerate) covers nothing and is PERSP_OK. Sizes as an image's
+ * (PERSP_ERR_TOO_LARGE beyond). */
+PERSP_API persp_status persp_method_triangle(persp_context *ctx, const char *spec,
+                                             const persp_method_vertex v[3], int width, int height,
+                                             int tex_w, int tex_h, float *u_out, float *v_out,
+                                             uint8_t *covered, persp_opcount *ops);
+
 /* ------------------------------------------------------- method accuracy */
 
 /* persp accuracy: every texture-coordinate method measured against the exact
