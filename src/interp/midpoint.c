@@ -471,7 +471,8 @@ const persp_method persp__method_midpoint = {
     .summary = "improved Barenbrug midpoint search: lattice u within half a texel, "
                "additions and comparisons per pixel (int: fixed-point model)",
     .source = "[Romanyuk-PCF] §4.5, (4.10)-(4.15)",
-    .cost = "0 div, 0 mul, 5 add, 4 cmp /px + 3 add, 1 cmp per texel step; 1 div /span",
+    .cost = "0 div, 5 add, 4 cmp /px + 3 add, 1 cmp per texel step, + 2 mul, 2 add to output u, v; "
+            "1 div /span (int: 2)",
     .parse = mp_parse,
     .prepare = mp_prepare,
     .span = mp_span,
