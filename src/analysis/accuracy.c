@@ -430,6 +430,14 @@ static persp_status run_case(acc_run *a, persp_accuracy_result *res, const char 
     return case_scene(a, res, c);
 }
 
+const char *persp__analysis_size_problem(int triangles, int width, int height)
+{
+    if (triangles < 0 || triangles > 100000) return "triangles (0..100000)";
+    if (width < 0 || height < 0 || width > PERSP_IMAGE_MAX_SIDE || height > PERSP_IMAGE_MAX_SIDE)
+        return "width, height (0..16384)";
+    return NULL;
+}
+
 persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *desc,
                                 persp_accuracy_result **out)
 {
@@ -437,12 +445,8 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     persp__clear_error(ctx);
     if (!desc || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: no desc");
     *out = NULL;
-    const char *bad = desc->triangles < 0 || desc->triangles > 100000 ? "triangles (0..100000)"
-                      : desc->width < 0 || desc->height < 0 || desc->width > PERSP_IMAGE_MAX_SIDE ||
-                              desc->height > PERSP_IMAGE_MAX_SIDE
-                          ? "width, height (0..16384)"
-                      : !(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor) ? "rel_floor (finite, >= 0)"
-                                                                                  : NULL;
+    const char *bad = persp__analysis_size_problem(desc->triangles, desc->width, desc->height);
+    if (!bad && (!(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor))) bad = "rel_floor (finite, >= 0)";
     if (bad)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: persp_accuracy_desc.%s is out of range",
                            bad);

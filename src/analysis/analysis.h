@@ -150,6 +150,10 @@ uint64_t persp__tri_pixels(const persp_tri *t);
  * ticks, caption naming the quantity and its unit; the top decade at least
  * floor_value's). The image is enlarged by an integer factor so that it
  * is at least 256 pixels wide. */
+/* The analyses' shared limits: the first of triangles (0..100000) and
+ * width, height (0..PERSP_IMAGE_MAX_SIDE) out of range, named as their
+ * descs name them, or NULL. */
+const char *persp__analysis_size_problem(int triangles, int width, int height);
 #define PERSP_HEATMAP_TEXELS "max(|du|,|dv|) in texels"
 #define PERSP_HEATMAP_LEVELS "|error| in 8-bit levels"
 persp_status persp__heatmap_write(persp_context *ctx, const char *path, const float *err, int w,

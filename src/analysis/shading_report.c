@@ -129,12 +129,8 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     persp__clear_error(ctx);
     if (!desc || !stream) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "shading report: no desc or stream");
     /* Checked before anything runs (a billion triangles would run for hours). */
-    const char *bad = desc->triangles < 0 || desc->triangles > 100000 ? "triangles (0..100000)"
-                      : desc->width < 0 || desc->height < 0 || desc->width > PERSP_IMAGE_MAX_SIDE ||
-                              desc->height > PERSP_IMAGE_MAX_SIDE
-                          ? "width, height (0..16384)"
-                      : (unsigned)desc->any_folder > PERSP_TOGGLE_OFF ? "any_folder"
-                                                                      : NULL;
+    const char *bad = persp__analysis_size_problem(desc->triangles, desc->width, desc->height);
+    if (!bad && (unsigned)desc->any_folder > PERSP_TOGGLE_OFF) bad = "any_folder";
     if (bad)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                            "shading report: persp_shading_accuracy_desc.%s is out of range", bad);

@@ -133,9 +133,11 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
                 sd.max_lod = dd.max_lod;
             }
             st = persp__sampler_init_isa(&ds.sampler, ds.tex, &sd, ctx->isa);
-            if (st != PERSP_OK)
+            if (st != PERSP_OK) {
+                const char *bad_sampler = persp__sampler_desc_problem(&sd);
                 return persp__fail(ctx, st, "render: sampler setting %s is out of range",
-                                   persp__sampler_desc_problem(&sd) ? persp__sampler_desc_problem(&sd) : "");
+                                   bad_sampler ? bad_sampler : "?");
+            }
         }
         ds.color_material = scene->meshes[o->mesh].colored;
         st = persp__shade_resolve(ctx, &ds);
@@ -149,14 +151,14 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
                                                            : PERSP_CULL_CW;
         /* Texture-coordinate generation ([CS300-TexMap] map shapes and the
          * sphere map, src/geom/texgen.c) per frame: the reflection map
-         * follows the view. */
+         * follows the view. The coordinates persp_scene_object_texcoords
+         * hands to other renderers. */
         const persp_mesh *mesh = &scene->meshes[o->mesh];
         float *uv = NULL;
         if (o->texgen != PERSP_TEXGEN_UV) {
             if (!(uv = persp__frame_uv_buffer(f, mesh->vertex_count)))
                 return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-            const persp_mat4 mv = persp_mat4_mul(view, o->model);
-            persp__texgen_apply(o, &mv, mesh->vertices, mesh->vertex_count, uv);
+            (void)persp_scene_object_texcoords(scene, i, &view, uv);
         }
         st = persp__frame_add_mesh(f, mesh, &o->model, &view, &proj, si, uv, cull);
         if (st != PERSP_OK) return st;
