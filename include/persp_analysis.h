@@ -46,6 +46,59 @@ PERSP_API persp_status persp_method_triangle(persp_context *ctx, const char *spe
                                              int tex_w, int tex_h, float *u_out, float *v_out,
                                              uint8_t *covered, persp_opcount *ops);
 
+/* ------------------------------------- midpoint:int, register by register */
+
+/* The fixed-point state of `midpoint:int` ([Romanyuk-PCF] §4.5; the format
+ * and recurrences are in docs/METHODS.md, "Fixed-point model"), for checking
+ * a hardware design of the division-free interpolator cycle by cycle rather
+ * than by its outputs only. Index [0] is u, [1] is v. */
+typedef struct persp_midpoint_format {
+    int in_format;        /* 0: the planes do not fit the format; every span runs the double path */
+    int shift;            /* s: G = round(g·2^s), A = round(P·a·2^s), ... */
+    int lattice2;         /* 2o: 1 texel centres (midpoint:int), 0 texel edges (midpoint:int,edge) */
+    int64_t G, H, I;
+    int64_t A[2], B[2], C[2];
+    int64_t X2max, Y2max; /* the integer path covers X2 = 2x + 1 < X2max, Y2 < Y2max */
+    double P[2];          /* texels per unit of u and v (the texture's level 0) */
+    double plane[9];      /* set-up's planes a, b, c (u/w), d, e, f (v/w), g, h, i (1/w) in double */
+} persp_midpoint_format;
+
+/* One span: its start values and where the integer path ended. */
+typedef struct persp_midpoint_span {
+    int x0, y, n;   /* pixels x0 … x0 + n − 1 of row y (a row's covered pixels in one 64-pixel tile) */
+    int int_pixels; /* pixels 0 … int_pixels − 1 ran the integer path, the rest the double path */
+    int64_t E0;     /* G·X2 + H·Y2 + 2I at pixel 0 */
+    int64_t N2[2];  /* A·X2 + B·Y2 + 2C at pixel 0 */
+    int64_t n0[2];  /* floor_div(2·N2 + (1 − 2o)·E0, 2·E0) */
+    int64_t W0[2], T0[2], K[2];
+} persp_midpoint_span;
+
+/* One pixel of a span. n, W, steps and reseed are 0 at pixels of the
+ * double path. */
+typedef struct persp_midpoint_pixel {
+    int64_t n[2];  /* the accepted lattice index */
+    int64_t W[2];  /* W after the search: 0 < W ≤ 2E */
+    int steps[2];  /* lattice steps of the search, + up and − down (after a re-seed: from the re-seeded index) */
+    int reseed[2]; /* 1: the search passed 32 steps and the index was re-seeded by a division */
+    float u, v;    /* the method's outputs, as persp_method_triangle gives them */
+} persp_midpoint_pixel;
+
+/* Called once per span in the renderer's order; pixels has span->n entries. */
+typedef void (*persp_midpoint_span_fn)(void *user, const persp_midpoint_span *span,
+                                       const persp_midpoint_pixel *pixels);
+
+/* The triangle of persp_method_triangle (same vertices, window, texture size
+ * and set-up) through spec "midpoint:int" or "midpoint:int,edge": *format
+ * receives the triangle's fixed-point planes, then fn is called for each span
+ * with its integer state (fn may be NULL). Its u and v equal
+ * persp_method_triangle's bit for bit. A triangle covering no pixel centre
+ * leaves format->in_format 0 and calls fn never. Other specs:
+ * PERSP_ERR_INVALID_ARGUMENT. */
+PERSP_API persp_status persp_midpoint_trace(persp_context *ctx, const char *spec,
+                                            const persp_method_vertex v[3], int width, int height,
+                                            int tex_w, int tex_h, persp_midpoint_format *format,
+                                            persp_midpoint_span_fn fn, void *user);
+
 /* ------------------------------------------------------- method accuracy */
 
 /* persp accuracy: every texture-coordinate method measured against the exact

@@ -67,5 +67,15 @@ extern const persp_method persp__method_adaptive; /* adaptive.c */
 /* midpoint.c: r with its planes rounded to the fixed-point format of
  * midpoint:int at den_bits (42 there). */
 void persp__midpoint_quantize(const persp_rational *r, int den_bits, persp_rational *out);
+/* midpoint.c: midpoint:int's (edge: midpoint:int,edge's) fixed-point
+ * planes of r, and one span of it with its integer state recorded; s1, s2
+ * receive the outputs as the method's span does (persp_midpoint_trace). */
+struct persp_midpoint_format;
+struct persp_midpoint_span;
+struct persp_midpoint_pixel;
+void persp__midpoint_format(const persp_rational *r, int edge, struct persp_midpoint_format *out);
+void persp__midpoint_trace_span(const persp_rational *r, int edge, int x0, int y, int n, float *s1,
+                                float *s2, struct persp_midpoint_span *span,
+                                struct persp_midpoint_pixel *px);
 
 #endif

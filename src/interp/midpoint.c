@@ -75,6 +75,7 @@
  */
 #include "interp/method.h"
 #include "interp/methods.h"
+#include "persp_analysis.h"
 
 #include <math.h>
 #include <string.h>
@@ -363,9 +364,14 @@ static int mp_icoord_search(mp_icoord *c, int64_t twoE, int64_t G4, persp_opcoun
     return it < MP_ITER_CAP || (c->W > 0 && c->W <= twoE);
 }
 
+/* ts, tp (NULL in the renderer): the span's and each integer pixel's state
+ * for persp_midpoint_trace; ts->int_pixels is set to where the integer path
+ * ended. */
 static void mp_span_fixed(const persp_rational *r, const mp_fixed *fx, int edge, int x0, int y,
-                          int n, float *s1, float *s2, persp_opcount *ops)
+                          int n, float *s1, float *s2, persp_opcount *ops, persp_midpoint_span *ts,
+                          persp_midpoint_pixel *tp)
 {
+    if (ts) ts->int_pixels = 0;
     if (!fx->ok || x0 < 0 || y < 0 || 2 * ((int64_t)x0 + n) - 1 >= fx->X2max ||
         2 * (int64_t)y + 1 >= fx->Y2max) {
         mp_span_double(r, edge, x0, y, n, s1, s2, ops);
@@ -393,6 +399,10 @@ static void mp_span_fixed(const persp_rational *r, const mp_fixed *fx, int edge,
             mp_span_double(r, edge, x0, y, n, s1, s2, ops);
             return;
         }
+        if (ts) {
+            ts->E0 = E, ts->N2[j] = N2, ts->n0[j] = c[j].n;
+            ts->W0[j] = c[j].W, ts->T0[j] = c[j].T, ts->K[j] = c[j].K;
+        }
     }
     const double inv[2] = {1.0 / P[0], 1.0 / P[1]};
     const double off = 0.5 * o2;
@@ -405,26 +415,70 @@ static void mp_span_fixed(const persp_rational *r, const mp_fixed *fx, int edge,
         }
         const int64_t twoE = 2 * E;
         for (int j = 0; j < 2; j++) {
+            int64_t from = c[j].n;
+            int reseed = 0;
             if (!mp_icoord_search(&c[j], twoE, G4, ops)) {
                 int64_t N2 = fx->A[j] * (X2 + 2 * k) + fx->B[j] * Y2 + 2 * fx->C[j];
                 PERSP_OPS(ops, mul, 3);
                 PERSP_OPS(ops, add, 3);
                 if (!mp_icoord_start(&c[j], fx->G, fx->A[j], N2, E, o2, ops)) {
                     mp_span_double(r, edge, x0 + k, y, n - k, s1 + k, s2 + k, ops);
+                    if (ts) ts->int_pixels = k;
                     return;
                 }
+                from = c[j].n, reseed = 1;
                 (void)mp_icoord_search(&c[j], twoE, G4, ops);
             }
             if (c[j].n <= -MP_N_LIMIT || c[j].n >= MP_N_LIMIT) {
                 /* Out of the format's texel range: finish in double. */
                 mp_span_double(r, edge, x0 + k, y, n - k, s1 + k, s2 + k, ops);
+                if (ts) ts->int_pixels = k;
                 return;
+            }
+            if (tp) {
+                tp[k].n[j] = c[j].n, tp[k].W[j] = c[j].W;
+                tp[k].steps[j] = (int)(c[j].n - from), tp[k].reseed[j] = reseed;
             }
             out[j][k] = (float)(((double)c[j].n + off) * inv[j]);
         }
     }
+    if (ts) ts->int_pixels = n;
     PERSP_OPS(ops, add, 5 * (n - 1) + 2 * n);
     PERSP_OPS(ops, mul, 2 * n);
+}
+
+/* ------------------------------------------------------ persp_midpoint_trace */
+
+void persp__midpoint_format(const persp_rational *r, int edge, persp_midpoint_format *out)
+{
+    mp_fixed fx;
+    int s = 0;
+    mp_quantize_fixed(r, MP_DEN_BITS, &fx, &s);
+    memset(out, 0, sizeof *out);
+    out->in_format = fx.ok;
+    out->shift = fx.ok ? s : 0;
+    out->lattice2 = edge ? 0 : 1;
+    if (fx.ok) {
+        out->G = fx.G, out->H = fx.H, out->I = fx.I;
+        for (int j = 0; j < 2; j++) out->A[j] = fx.A[j], out->B[j] = fx.B[j], out->C[j] = fx.C[j];
+        out->X2max = fx.X2max, out->Y2max = fx.Y2max;
+    }
+    out->P[0] = mp_scale(r->scale1), out->P[1] = mp_scale(r->scale2);
+    const double pl[9] = {r->a, r->b, r->c, r->d, r->e, r->f, r->g, r->h, r->i};
+    memcpy(out->plane, pl, sizeof pl);
+}
+
+void persp__midpoint_trace_span(const persp_rational *r, int edge, int x0, int y, int n, float *s1,
+                                float *s2, persp_midpoint_span *span, persp_midpoint_pixel *px)
+{
+    mp_fixed fx;
+    mp_quantize_fixed(r, MP_DEN_BITS, &fx, NULL);
+    memset(span, 0, sizeof *span);
+    memset(px, 0, sizeof *px * (size_t)(n > 0 ? n : 0));
+    span->x0 = x0, span->y = y, span->n = n;
+    if (n <= 0) return;
+    mp_span_fixed(r, &fx, edge, x0, y, n, s1, s2, NULL, span, px);
+    for (int k = 0; k < n; k++) px[k].u = s1[k], px[k].v = s2[k];
 }
 
 /* ---------------------------------------------------------------- the entry */
@@ -462,7 +516,7 @@ static void mp_span(const persp_rational *r, const persp_method_params *params,
         PERSP_OPS(ops, add, 2);
         PERSP_OPS(ops, cmp, 9);
     }
-    mp_span_fixed(r, &fx, p.edge, x0, y, n, s1, s2, ops);
+    mp_span_fixed(r, &fx, p.edge, x0, y, n, s1, s2, ops, NULL, NULL);
 }
 
 const persp_method persp__method_midpoint = {

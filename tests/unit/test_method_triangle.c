@@ -153,12 +153,92 @@ static void test_bad_input(void **state)
     persp_context_destroy(ctx);
 }
 
+/* persp_midpoint_trace: the same pixels and outputs as persp_method_triangle
+ * bit for bit, and integer states that satisfy the acceptance test
+ * 0 < W <= 2E at every pixel of the integer path. */
+typedef struct trace_check {
+    const persp_midpoint_format *f;
+    float *u, *v;
+    uint8_t *seen;
+    size_t pixels, int_pixels;
+} trace_check;
+
+static void trace_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px)
+{
+    trace_check *c = user;
+    assert_true(s->n >= 1 && s->n <= 64 && s->int_pixels >= 0 && s->int_pixels <= s->n);
+    for (int k = 0; k < s->n; k++) {
+        const size_t at = (size_t)s->y * W + (size_t)(s->x0 + k);
+        assert_int_equal(c->seen[at], 0);
+        c->seen[at] = 1;
+        c->pixels++;
+        assert_memory_equal(&px[k].u, &c->u[at], sizeof(float));
+        assert_memory_equal(&px[k].v, &c->v[at], sizeof(float));
+        if (k >= s->int_pixels) continue;
+        c->int_pixels++;
+        const int64_t E = s->E0 + 2 * c->f->G * k;
+        for (int j = 0; j < 2; j++) {
+            assert_true(px[k].W[j] > 0 && px[k].W[j] <= 2 * E);
+            const double out = ((double)px[k].n[j] + 0.5 * c->f->lattice2) * (1.0 / c->f->P[j]);
+            assert_true((float)out == (j ? px[k].v : px[k].u));
+        }
+    }
+}
+
+static void test_midpoint_trace(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    test_rng rng = {23};
+    float *u = malloc(W * H * sizeof *u), *v = malloc(W * H * sizeof *v);
+    uint8_t cov[W * H], seen[W * H];
+    assert_non_null(u);
+    assert_non_null(v);
+    size_t total = 0, int_total = 0;
+    for (int trial = 0; trial < 40; trial++) {
+        persp_method_vertex t[3];
+        for (int k = 0; k < 3; k++)
+            t[k] = (persp_method_vertex){test_rng_uniform(&rng, -10, W + 10), test_rng_uniform(&rng, -10, H + 10),
+                                         test_rng_uniform(&rng, 0.5, 8.0), (float)test_rng_uniform(&rng, -1, 2),
+                                         (float)test_rng_uniform(&rng, -1, 2)};
+        const char *spec = trial % 2 ? "midpoint:int,edge" : "midpoint:int";
+        assert_int_equal(persp_method_triangle(ctx, spec, t, W, H, 256, 128, u, v, cov, NULL), PERSP_OK);
+        persp_midpoint_format f;
+        memset(seen, 0, sizeof seen);
+        trace_check c = {&f, u, v, seen, 0, 0};
+        assert_int_equal(persp_midpoint_trace(ctx, spec, t, W, H, 256, 128, &f, trace_span, &c), PERSP_OK);
+        assert_memory_equal(seen, cov, sizeof cov);
+        assert_int_equal(f.lattice2, trial % 2 ? 0 : 1);
+        if (c.pixels) assert_int_equal(f.in_format, 1);
+        assert_true(f.P[0] == 256.0 && f.P[1] == 128.0);
+        total += c.pixels, int_total += c.int_pixels;
+    }
+    assert_true(total > 20000);
+    assert_true(int_total == total); /* texture coordinates in [-1, 2] stay inside the format */
+    persp_midpoint_format f;
+    const persp_method_vertex t[3] = {{2, 3, 1.0, 0, 0}, {90, 8, 4.0, 1, 0}, {20, 70, 2.0, 0, 1}};
+    assert_int_equal(persp_midpoint_trace(ctx, "midpoint", t, W, H, 256, 128, &f, NULL, NULL),
+                     PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "midpoint:int"));
+    assert_int_equal(persp_midpoint_trace(ctx, "exact", t, W, H, 256, 128, &f, NULL, NULL),
+                     PERSP_ERR_INVALID_ARGUMENT);
+    assert_int_equal(persp_midpoint_trace(ctx, "midpoint:int", t, W, H, 256, 128, NULL, NULL, NULL),
+                     PERSP_ERR_INVALID_ARGUMENT);
+    assert_int_equal(persp_midpoint_trace(ctx, "midpoint:int", t, W, H, 256, 128, &f, NULL, NULL), PERSP_OK);
+    assert_int_equal(f.in_format, 1);
+    assert_true(f.shift > 0 && f.G != 0 && f.X2max == 2 * 89 + 2);
+    free(u);
+    free(v);
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_matches_renderer_and_exact),
         cmocka_unit_test(test_midpoint_lattice),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_midpoint_trace),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -18,6 +18,7 @@ int cmd_bench(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_view(int argc, char **argv);
+int cmd_vectors(int argc, char **argv);
 
 /* Prints "persp: " + message to stderr and returns code. */
 int cli_error(int code, const char *fmt, ...)

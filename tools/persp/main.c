@@ -19,6 +19,7 @@ static const struct {
     {"bench", cmd_bench, "measure fill rate, optionally against Mesa llvmpipe"},
     {"merge", cmd_merge, "combine the JSON slices of a sharded accuracy sweep"},
     {"report", cmd_report, "the whole study as one web page"},
+    {"vectors", cmd_vectors, "test vectors of midpoint:int for simulating a hardware design"},
     {"view", cmd_view, "interactive side-by-side viewer; --play renders camera paths"},
 };
 

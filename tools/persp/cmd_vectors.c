@@ -1,0 +1,280 @@
+/* persp vectors: test vectors of midpoint:int (the fixed-point model of
+ * [Romanyuk-PCF] §4.5) for simulating a hardware design against persp,
+ * register by register (persp_midpoint_trace; format in docs/METHODS.md,
+ * "Test vectors"). */
+#include "options.h"
+
+#include <errno.h>
+#include <inttypes.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void usage(FILE *out, const cli_command *cmd)
+{
+    fprintf(out, "usage: persp vectors [options]\n\n"
+                 "Writes test vectors of midpoint:int, the fixed-point model of the\n"
+                 "division-free method ([Romanyuk-PCF] Section 4.5): for each triangle its\n"
+                 "vertices, set-up's planes and the fixed-point planes, then for each span its\n"
+                 "start values and for each pixel the accepted lattice indices, W after the\n"
+                 "search, the lattice steps taken, re-seeds and the output u, v, exactly as\n"
+                 "persp_render computes them. Triangles are seeded random ones, or read from\n"
+                 "--input (one triangle per line: x y w u v of each vertex, window pixels,\n"
+                 "y up). The format is in docs/METHODS.md, \"Test vectors\".\n\n"
+                 "options:\n");
+    cli_print_options(out, cmd);
+}
+
+static const char *const method_names[] = {"midpoint:int", "midpoint:int,edge", NULL};
+static const cli_spec opt_method = {.name = "method",
+                                    .kind = CLI_KIND_STRING,
+                                    .metavar = "M",
+                                    .names = method_names,
+                                    .help = "midpoint:int (texel centres, default) or\n"
+                                            "midpoint:int,edge (the chapter's lattice)"};
+static const cli_spec opt_triangles = {.name = "triangles",
+                                       .kind = CLI_KIND_INT,
+                                       .metavar = "N",
+                                       .lo = 1,
+                                       .hi = 100000,
+                                       .help = "random triangles (default 8)"};
+static const cli_spec opt_depth_ratio = {.name = "depth-ratio",
+                                         .kind = CLI_KIND_REAL,
+                                         .metavar = "R",
+                                         .lo = 1.0,
+                                         .hi = 1.0e6,
+                                         .help = "random vertices' w lie in [1, R], log-uniform\n"
+                                                 "(default 8)"};
+static const cli_spec opt_uv_range = {.name = "uv-range",
+                                      .kind = CLI_KIND_REAL,
+                                      .metavar = "R",
+                                      .lo = 1.0e-3,
+                                      .hi = 1.0e4,
+                                      .help = "random u, v lie in [0, R] (default 1; above 1 the texture\n"
+                                              "repeats, and large R reaches the format's limits)"};
+static const cli_spec opt_texture_size = {.name = "texture-size",
+                                          .kind = CLI_KIND_SIZE,
+                                          .metavar = "WxH",
+                                          .help = "texture level 0 in texels: P of u and v (default 256x256)"};
+static const cli_spec opt_input = {.name = "input",
+                                   .kind = CLI_KIND_STRING,
+                                   .metavar = "FILE",
+                                   .help = "triangles from FILE instead of random ones: 15 numbers a\n"
+                                           "line (x y w u v per vertex), '#' starts a comment"};
+
+typedef struct vec_out {
+    FILE *f;
+    long spans, pixels, int_pixels, reseeds, steps;
+} vec_out;
+
+static void put_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px)
+{
+    vec_out *o = user;
+    o->spans++;
+    fprintf(o->f, "span %d %d %d %d %" PRId64, s->x0, s->y, s->n, s->int_pixels, s->E0);
+    for (int j = 0; j < 2; j++)
+        fprintf(o->f, " %" PRId64 " %" PRId64 " %" PRId64 " %" PRId64 " %" PRId64, s->N2[j], s->n0[j],
+                s->W0[j], s->T0[j], s->K[j]);
+    fputc('\n', o->f);
+    for (int k = 0; k < s->n; k++) {
+        uint32_t ub, vb;
+        memcpy(&ub, &px[k].u, sizeof ub);
+        memcpy(&vb, &px[k].v, sizeof vb);
+        o->pixels++;
+        if (k >= s->int_pixels) {
+            fprintf(o->f, "dpx %08" PRIx32 " %08" PRIx32 "\n", ub, vb);
+            continue;
+        }
+        o->int_pixels++;
+        fputs("px", o->f);
+        for (int j = 0; j < 2; j++) {
+            fprintf(o->f, " %" PRId64 " %" PRId64 " %d %d", px[k].n[j], px[k].W[j], px[k].steps[j],
+                    px[k].reseed[j]);
+            o->reseeds += px[k].reseed[j];
+            o->steps += abs(px[k].steps[j]);
+        }
+        fprintf(o->f, " %08" PRIx32 " %08" PRIx32 "\n", ub, vb);
+    }
+}
+
+static int put_triangle(persp_context *ctx, const char *method, const persp_method_vertex v[3], int width,
+                        int height, int tex_w, int tex_h, long index, vec_out *o)
+{
+    persp_midpoint_format f;
+    fprintf(o->f, "tri %ld", index);
+    for (int k = 0; k < 3; k++)
+        fprintf(o->f, " %a %a %a %a %a", v[k].x, v[k].y, v[k].w, (double)v[k].u, (double)v[k].v);
+    fputc('\n', o->f);
+    /* The planes come before the spans in the file; the trace gives them
+     * first, so a first pass without spans writes them. */
+    persp_status st = persp_midpoint_trace(ctx, method, v, width, height, tex_w, tex_h, &f, NULL, NULL);
+    if (st != PERSP_OK) return cli_status(ctx, st, "vectors");
+    fputs("plane", o->f);
+    for (int k = 0; k < 9; k++) fprintf(o->f, " %a", f.plane[k]);
+    fprintf(o->f, "\nfmt %d %d %d %" PRId64 " %" PRId64 " %" PRId64, f.in_format, f.shift, f.lattice2, f.G, f.H,
+            f.I);
+    for (int j = 0; j < 2; j++) fprintf(o->f, " %" PRId64 " %" PRId64 " %" PRId64, f.A[j], f.B[j], f.C[j]);
+    fprintf(o->f, " %" PRId64 " %" PRId64 " %.17g %.17g\n", f.X2max, f.Y2max, f.P[0], f.P[1]);
+    vec_out spans = {o->f, 0, 0, 0, 0, 0};
+    st = persp_midpoint_trace(ctx, method, v, width, height, tex_w, tex_h, &f, put_span, &spans);
+    if (st != PERSP_OK) return cli_status(ctx, st, "vectors");
+    o->spans += spans.spans, o->pixels += spans.pixels, o->int_pixels += spans.int_pixels;
+    o->reseeds += spans.reseeds, o->steps += spans.steps;
+    return CLI_OK;
+}
+
+/* One vertex set per line; CLI_OK at the end of the file, 1 with a
+ * triangle, or an exit code after naming the file and line. */
+static int read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3])
+{
+    char text[4096];
+    while (fgets(text, sizeof text, in)) {
+        ++*line;
+        size_t n = strlen(text);
+        if (n == sizeof text - 1 && text[n - 1] != '\n')
+            return cli_error(CLI_FAIL, "vectors: %s:%ld: line longer than %zu characters", path, *line,
+                             sizeof text - 2);
+        char *hash = strchr(text, '#');
+        if (hash) *hash = '\0';
+        double x[15];
+        int count = 0;
+        char *s = text, *end;
+        for (;;) {
+            while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n') s++;
+            if (!*s) break;
+            if (count == 15)
+                return cli_error(CLI_FAIL, "vectors: %s:%ld: more than 15 numbers (x y w u v per vertex)",
+                                 path, *line);
+            errno = 0;
+            x[count] = strtod(s, &end);
+            if (end == s || (*end && *end != ' ' && *end != '\t' && *end != '\r' && *end != '\n'))
+                return cli_error(CLI_FAIL, "vectors: %s:%ld: number %d is not a number", path, *line, count + 1);
+            if (!isfinite(x[count]))
+                return cli_error(CLI_FAIL, "vectors: %s:%ld: number %d is not finite", path, *line, count + 1);
+            count++, s = end;
+        }
+        if (count == 0) continue;
+        if (count != 15)
+            return cli_error(CLI_FAIL, "vectors: %s:%ld: %d numbers, expected 15 (x y w u v per vertex)", path,
+                             *line, count);
+        for (int k = 0; k < 3; k++) {
+            const double *p = x + 5 * k;
+            if (!(p[2] > 0.0))
+                return cli_error(CLI_FAIL, "vectors: %s:%ld: vertex %d has w = %g (must be > 0)", path, *line, k + 1,
+                                 p[2]);
+            if (fabs(p[3]) > 3.0e38 || fabs(p[4]) > 3.0e38)
+                return cli_error(CLI_FAIL, "vectors: %s:%ld: vertex %d: u or v beyond a float's range", path, *line,
+                                 k + 1);
+            v[k] = (persp_method_vertex){p[0], p[1], p[2], (float)p[3], (float)p[4]};
+        }
+        return 1;
+    }
+    if (ferror(in)) return cli_error(CLI_FAIL, "vectors: %s: read error", path);
+    return CLI_OK;
+}
+
+/* splitmix64 (Steele, Lea, Flood 2014): the stream depends on the seed only. */
+static double rnd(uint64_t *state, double lo, double hi)
+{
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return lo + (hi - lo) * ((double)(z >> 11) * (1.0 / 9007199254740992.0));
+}
+
+/* A triangle a few to a few hundred pixels across, somewhere in the
+ * window, w log-uniform up to the depth ratio. */
+static void random_triangle(uint64_t *state, int width, int height, double depth_ratio, double uv_range,
+                            persp_method_vertex v[3])
+{
+    const double radius = exp(rnd(state, log(3.0), log(0.4 * (width < height ? width : height) + 3.0)));
+    const double cx = rnd(state, 0.0, width), cy = rnd(state, 0.0, height);
+    for (int k = 0; k < 3; k++) {
+        const double th = rnd(state, 0.0, 6.283185307179586), r = radius * rnd(state, 0.3, 1.0);
+        v[k].x = cx + r * cos(th), v[k].y = cy + r * sin(th);
+        v[k].w = exp(rnd(state, 0.0, log(depth_ratio)));
+        v[k].u = (float)rnd(state, 0.0, uv_range), v[k].v = (float)rnd(state, 0.0, uv_range);
+    }
+}
+
+int cmd_vectors(int argc, char **argv)
+{
+    const char *method = "midpoint:int", *output = NULL, *input = NULL;
+    uint64_t seed = 1;
+    int triangles = 8;
+    double depth_ratio = 8.0, uv_range = 1.0;
+    cli_size size = {1024, 768}, tex = {256, 256};
+    cli_option opts[] = {
+        CLI_OPT(opt_method, &method),
+        CLI_OPT(opt_triangles, &triangles),
+        CLI_OPT(cli_opt_seed, &seed),
+        CLI_OPT(opt_depth_ratio, &depth_ratio),
+        CLI_OPT(opt_uv_range, &uv_range),
+        CLI_OPT_HELP(cli_opt_size, &size, "window in pixels (default 1024x768)"),
+        CLI_OPT(opt_texture_size, &tex),
+        CLI_OPT(opt_input, &input),
+        CLI_OPT_HELP(cli_opt_output, &output, "write the vectors to FILE (default, and -: standard output)"),
+        CLI_OPT_NO_DEST(cli_opt_help),
+    };
+    cli_command cmd = {"vectors", "persp vectors --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
+    int rc = cli_parse_or_usage(&cmd, argc, argv, usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
+    if (input && (cli_given(&cmd, &opt_triangles) || cli_given(&cmd, &cli_opt_seed) ||
+                  cli_given(&cmd, &opt_depth_ratio) || cli_given(&cmd, &opt_uv_range)))
+        return cli_error(CLI_USAGE, "vectors: --input takes the triangles from its file: --triangles, --seed, "
+                                    "--depth-ratio and --uv-range shape random ones");
+    FILE *in = NULL;
+    if (input && !(in = fopen(input, "r")))
+        return cli_error(CLI_FAIL, "vectors: %s: cannot open: %s", input, strerror(errno));
+    persp_context *ctx = NULL;
+    persp_status st = persp_context_create(NULL, &ctx);
+    if (st != PERSP_OK) {
+        if (in) fclose(in);
+        return cli_status(NULL, st, "vectors: context");
+    }
+    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
+    cli_output out;
+    if ((rc = cli_output_open("vectors", output, &out)) != CLI_OK) {
+        if (in) fclose(in);
+        persp_context_destroy(ctx);
+        return rc;
+    }
+    vec_out o = {out.f, 0, 0, 0, 0, 0};
+    fprintf(out.f, "# persp test vectors of %s, format 1 (docs/METHODS.md, \"Test vectors\")\n", method);
+    fprintf(out.f, "# window %dx%d, texture %dx%d, ", size.width, size.height, tex.width, tex.height);
+    if (in)
+        fprintf(out.f, "triangles from %s\n", input);
+    else
+        fprintf(out.f, "%d random triangle%s, seed %" PRIu64 ", depth ratio %g, u and v in [0, %g]\n", triangles,
+                triangles == 1 ? "" : "s", seed, depth_ratio, uv_range);
+    uint64_t state = seed;
+    long line = 0, index = 0;
+    for (;;) {
+        persp_method_vertex v[3];
+        if (in) {
+            int got = read_triangle(in, input, &line, v);
+            if (got != 1) {
+                rc = got;
+                break;
+            }
+        } else {
+            if (index == triangles) break;
+            random_triangle(&state, size.width, size.height, depth_ratio, uv_range, v);
+        }
+        if ((rc = put_triangle(ctx, method, v, size.width, size.height, tex.width, tex.height, index, &o)) != CLI_OK)
+            break;
+        index++;
+    }
+    if (in) fclose(in);
+    if (rc == CLI_OK)
+        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld on the integer path), %ld lattice steps, %ld re-seeds\n",
+                index, o.spans, o.pixels, o.int_pixels, o.steps, o.reseeds);
+    int out_rc = cli_output_close("vectors", &out, rc == CLI_OK);
+    if (rc == CLI_OK) rc = out_rc;
+    if (rc == CLI_OK && output && strcmp(output, "-"))
+        fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld integer) to %s\n", index, o.spans,
+                o.pixels, o.int_pixels, output);
+    persp_context_destroy(ctx);
+    return rc;
+}
