@@ -42,6 +42,15 @@ static size_t drawn(persp_context *ctx, const persp_method_vertex v[3], uint8_t 
     return n;
 }
 
+/* Vertices a little beyond the window, w in [0.5, 8], u and v in [-1, 2]. */
+static void random_triangle(test_rng *rng, persp_method_vertex t[3])
+{
+    for (int k = 0; k < 3; k++)
+        t[k] = (persp_method_vertex){test_rng_uniform(rng, -10, W + 10), test_rng_uniform(rng, -10, H + 10),
+                                     test_rng_uniform(rng, 0.5, 8.0), (float)test_rng_uniform(rng, -1, 2),
+                                     (float)test_rng_uniform(rng, -1, 2)};
+}
+
 static void test_matches_renderer_and_exact(void **state)
 {
     (void)state;
@@ -54,10 +63,7 @@ static void test_matches_renderer_and_exact(void **state)
     size_t checked = 0;
     for (int trial = 0; trial < 40; trial++) {
         persp_method_vertex t[3];
-        for (int k = 0; k < 3; k++)
-            t[k] = (persp_method_vertex){test_rng_uniform(&rng, -10, W + 10), test_rng_uniform(&rng, -10, H + 10),
-                                         test_rng_uniform(&rng, 0.5, 8.0), (float)test_rng_uniform(&rng, -1, 2),
-                                         (float)test_rng_uniform(&rng, -1, 2)};
+        random_triangle(&rng, t);
         persp_opcount ops;
         memset(&ops, 0, sizeof ops);
         assert_int_equal(persp_method_triangle(ctx, "exact", t, W, H, 64, 64, u, v, cov, &ops), PERSP_OK);
@@ -197,10 +203,7 @@ static void test_midpoint_trace(void **state)
     size_t total = 0, int_total = 0;
     for (int trial = 0; trial < 40; trial++) {
         persp_method_vertex t[3];
-        for (int k = 0; k < 3; k++)
-            t[k] = (persp_method_vertex){test_rng_uniform(&rng, -10, W + 10), test_rng_uniform(&rng, -10, H + 10),
-                                         test_rng_uniform(&rng, 0.5, 8.0), (float)test_rng_uniform(&rng, -1, 2),
-                                         (float)test_rng_uniform(&rng, -1, 2)};
+        random_triangle(&rng, t);
         const char *spec = trial % 2 ? "midpoint:int,edge" : "midpoint:int";
         assert_int_equal(persp_method_triangle(ctx, spec, t, W, H, 256, 128, u, v, cov, NULL), PERSP_OK);
         persp_midpoint_format f;
