@@ -179,7 +179,7 @@ void persp_scene_get_info(const persp_scene *s, persp_scene_info *out)
     memcpy(out->ambient, s->ambient, sizeof out->ambient);
     for (size_t i = 0; i < s->object_count; i++) {
         const persp_material *m = &s->materials[s->objects[i].material];
-        if (m->texture < 0) continue;
+        if (persp__object_texture(s, &s->objects[i]) < 0) continue;
         persp_filter f = m->sampler.filter == PERSP_FILTER_DEFAULT ? PERSP_FILTER_BILINEAR : m->sampler.filter;
         if (out->filter_count == 0) {
             out->filter = f;
@@ -189,6 +189,13 @@ void persp_scene_get_info(const persp_scene *s, persp_scene_info *out)
             out->filter_count = 2;
         }
     }
+}
+
+int persp__object_texture(const persp_scene *s, const persp_object *o)
+{
+    const persp_material *m = &s->materials[o->material];
+    if (m->texture < 0 || (size_t)m->texture >= s->texture_count) return -1;
+    return s->meshes[o->mesh].no_uv && o->texgen == PERSP_TEXGEN_UV ? -1 : m->texture;
 }
 
 size_t persp_scene_object_count(const persp_scene *s) { return s ? s->object_count : 0; }
@@ -211,8 +218,8 @@ persp_status persp_scene_get_object(const persp_scene *s, size_t index, persp_sc
     memcpy(om->diffuse, m->diffuse, sizeof om->diffuse);
     memcpy(om->specular, m->specular, sizeof om->specular);
     om->shininess = m->shininess;
-    om->texture = m->texture >= 0 && (size_t)m->texture < s->texture_count ? m->texture : -1;
-    om->specular_texture = m->specular_texture >= 0;
+    om->texture = persp__object_texture(s, o);
+    om->specular_texture = om->texture >= 0 && m->specular_texture >= 0;
     om->env = m->env == PERSP_TEXENV_MODULATE ? PERSP_SCENE_TEXENV_MODULATE : PERSP_SCENE_TEXENV_REPLACE;
     om->sampler = m->sampler;
     return PERSP_OK;

@@ -43,6 +43,7 @@ typedef struct persp_mesh {
     size_t vertex_count, index_count;
     int has_normals;   /* 0: normals were computed by persp */
     int colored;       /* some vertex colour is not white (persp__scene_add_mesh) */
+    int no_uv;         /* the model file gave no texture coordinates (persp__object_texture) */
     persp_cluster *clusters; /* index_count / 3 / PERSP_CLUSTER_TRIANGLES rounded up, or NULL */
     size_t cluster_count;
 } persp_mesh;
@@ -135,6 +136,11 @@ struct persp_scene {
 persp_status persp__scene_new(persp_context *ctx, persp_scene **out);
 /* Appends (the scene takes ownership; on failure the item is freed). */
 persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index);
+/* The texture object o is drawn with: its material's, or -1 where the
+ * material has none or would read it through coordinates its mesh does not
+ * have (a model file without them, texgen "uv"): every vertex would then
+ * fetch the texel at (0, 0), one colour over the whole surface. */
+int persp__object_texture(const persp_scene *s, const persp_object *o);
 persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *index);
 persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index);
 persp_status persp__scene_add_object(persp_scene *s, const persp_object *o);

@@ -112,6 +112,7 @@ typedef struct model_io {
     } kept[4];
     int nkept;
     int out_of_memory; /* a file could not be opened for want of memory */
+    int uri;           /* glTF: the names are URIs (persp__uri_decode) */
 } model_io;
 
 typedef struct model_file {
@@ -170,6 +171,25 @@ void persp__model_clean_rel(const char *in, char *out, size_t size)
     out[n] = '\0';
     while (out[0] == '.' && out[1] == '/')
         memmove(out, out + 2, strlen(out + 2) + 1);
+}
+
+int persp__uri_decode(const char *in, char *out, size_t size)
+{
+    size_t n = 0;
+    int changed = 0;
+    for (const char *p = in; *p; p++) {
+        int c = (unsigned char)*p;
+        if (c == '%' && isxdigit((unsigned char)p[1]) && isxdigit((unsigned char)p[2])) {
+            const char hex[3] = {p[1], p[2], '\0'};
+            c = (int)strtol(hex, NULL, 16);
+            if (c == 0) return 0;
+            p += 2, changed = 1;
+        }
+        if (n + 1 >= size) return 0;
+        out[n++] = (char)c;
+    }
+    out[n] = '\0';
+    return changed;
 }
 
 /* Models made on systems blind to case name their files in a case the
@@ -351,8 +371,23 @@ static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const ch
             return NULL;
         }
         const char *why = NULL;
-        persp_status st =
-            persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, &size, &why);
+        char decoded[PERSP_PATH_MAX];
+        persp_status st = PERSP_ERR_IO;
+        /* A glTF names its buffers by URI; the name as written is the
+         * fallback, should a reader have decoded it already. */
+        if (io->uri && persp__uri_decode(rel, decoded, sizeof decoded)) {
+            st = persp__model_read_ref(io->ctx, io->base_dir, io->root, decoded, &owned, &size, &why);
+            if (st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY) {
+                const char *raw_why = NULL;
+                if (persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, &size, &raw_why) ==
+                    PERSP_OK)
+                    st = PERSP_OK;
+                else
+                    memcpy(rel, decoded, strlen(decoded) + 1);
+            }
+        } else {
+            st = persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, &size, &why);
+        }
         if (st == PERSP_ERR_OUT_OF_MEMORY) {
             io->out_of_memory = 1;
             return NULL;
@@ -433,16 +468,40 @@ static void model_texture_oom(persp_context *ctx, const char *display, const cha
 /* The scene texture for a texture file a material names, or -1 with a
  * warning: the candidates of persp__model_read_ref, each inside the load
  * root, decoded once per load (the cache). */
+static int texture_file(persp_model_refs *r, const char *material, const char *file, const char *shown);
+
 int persp__model_texture_file(persp_model_refs *r, const char *material, const char *file)
+{
+    /* A URI's decoded name first (glTF), the name as written after it. */
+    char decoded[PERSP_PATH_MAX];
+    if (r->uri && persp__uri_decode(file, decoded, sizeof decoded)) {
+        persp_model_refs quiet = *r;
+        quiet.quiet = 1;
+        int index = texture_file(&quiet, material, decoded, file);
+        if (quiet.out_of_memory) r->out_of_memory = 1;
+        if (index >= 0 || quiet.out_of_memory) return index;
+        int raw = texture_file(&quiet, material, file, file);
+        if (quiet.out_of_memory) r->out_of_memory = 1;
+        if (raw >= 0 || quiet.out_of_memory) return raw;
+        return texture_file(r, material, decoded, file);
+    }
+    return texture_file(r, material, file, file);
+}
+
+/* persp__model_texture_file for one spelling of the name; shown: the name
+ * as the model writes it, where the warning looks for its line. */
+static int texture_file(persp_model_refs *r, const char *material, const char *file, const char *shown)
 {
     int index = -1;
     char qm[PERSP_QUOTE_BYTES];
     persp__quote(material, strlen(material), qm, sizeof qm);
-    char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX];
+    char rel[PERSP_PATH_MAX], path[PERSP_PATH_MAX], shown_rel[PERSP_PATH_MAX];
     persp__model_clean_rel(file, rel, sizeof rel);
+    persp__model_clean_rel(shown, shown_rel, sizeof shown_rel);
     char qr[PERSP_QUOTE_BYTES];
     persp__quote(rel, strlen(rel), qr, sizeof qr);
     if (!r->base_dir) {
+        if (r->quiet) return -1;
         persp__warn(r->scene->ctx,
                     "%s: material '%s': texture '%s' not read (no folder to read it from)",
                     r->display, qm, qr);
@@ -477,11 +536,12 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
             snprintf(why, sizeof why, "%s", persp_context_error(r->scene->ctx));
     }
     if (st != PERSP_OK) {
+        if (r->quiet) return -1;
         /* The texture's name usually sits in a material library, not in the
          * model's own text: the line is given only where it is found. */
         char at[PERSP_PATH_MAX + 32];
         if (r->where)
-            r->where(r->where_user, rel, at, sizeof at);
+            r->where(r->where_user, shown_rel, at, sizeof at);
         else
             snprintf(at, sizeof at, "%s", r->display);
         if (outside && !why[0])
@@ -501,7 +561,8 @@ int persp__model_texture_file(persp_model_refs *r, const char *material, const c
 }
 
 persp_status persp__model_add_part(persp_scene *scene, persp_model *o, size_t *cap, int mesh,
-                                   int material, const persp_mat4 *xf, const char *display)
+                                   int material, const char *material_name, const persp_mat4 *xf,
+                                   const char *display)
 {
     if (o->part_count >= PERSP_SCENE_MAX_OBJECTS)
         return persp__fail(scene->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %d mesh instances",
@@ -514,6 +575,8 @@ persp_status persp__model_add_part(persp_scene *scene, persp_model *o, size_t *c
     p->material = material;
     p->transform = *xf;
     const persp_mesh *pm = &scene->meshes[mesh];
+    if (pm->no_uv && scene->materials[material].texture >= 0 && o->no_uv_parts++ == 0)
+        snprintf(o->no_uv_material, sizeof o->no_uv_material, "%s", material_name ? material_name : "");
     for (size_t i = 0; i < pm->vertex_count; i++) {
         const float *q = pm->vertices[i].pos;
         persp_vec4 w = persp_mat4_apply(*xf, (persp_vec4){q[0], q[1], q[2], 1.0f});
@@ -527,6 +590,35 @@ persp_status persp__model_add_part(persp_scene *scene, persp_model *o, size_t *c
         }
     }
     return PERSP_OK;
+}
+
+void persp__model_warn_no_uv(const persp_scene *scene, const persp_model *model, const char *display,
+                             int material, int texgen)
+{
+    if (texgen != PERSP_TEXGEN_UV) return;
+    char q[PERSP_QUOTE_BYTES];
+    if (material >= 0) {
+        size_t bare = 0;
+        for (size_t i = 0; i < model->part_count; i++) bare += scene->meshes[model->parts[i].mesh].no_uv != 0;
+        if (bare && scene->materials[material].texture >= 0)
+            persp__warn(scene->ctx,
+                        "%s: %zu of its %zu meshes have no texture coordinates for the object's textured "
+                        "material; drawing them untextured (a \"texgen\" would generate some)",
+                        display, bare, model->part_count);
+        return;
+    }
+    if (!model->no_uv_parts) return;
+    persp__quote(model->no_uv_material, strlen(model->no_uv_material), q, sizeof q);
+    if (model->no_uv_parts == 1)
+        persp__warn(scene->ctx,
+                    "%s: material '%s' has a texture, but the mesh it is on has no texture coordinates; "
+                    "drawing it untextured",
+                    display, q);
+    else
+        persp__warn(scene->ctx,
+                    "%s: material '%s' and others have a texture, but %zu meshes they are on have no "
+                    "texture coordinates; drawing those untextured",
+                    display, q, model->no_uv_parts);
 }
 
 int persp__model_triangle_has_area(const float *a, const float *b, const float *c)
@@ -556,6 +648,7 @@ typedef struct importer {
     size_t part_cap;
     persp_model_refs refs; /* texture files */
     int out_of_memory;     /* a texture could not be loaded for want of memory */
+    int stand_in;          /* every material is the reader's stand-in (ply_has_materials) */
 } importer;
 
 static void where_io(const void *user, const char *rel, char *out, size_t cap)
@@ -734,6 +827,7 @@ static persp_status convert_mesh(importer *im, unsigned index, int *out)
         }
     }
     persp__free(im->ctx, remap);
+    mesh.no_uv = tc == NULL;
     mesh.has_normals = am->mNormals != NULL;
     if (!mesh.has_normals) persp__mesh_compute_normals(&mesh);
     return persp__scene_add_mesh(im->scene, &mesh, out);
@@ -835,7 +929,7 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
     if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
         name.length = 0, name.data[0] = '\0';
     /* Assimp's stand-in for geometry without a material: persp's default. */
-    if (strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0) {
+    if (!im->stand_in && strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0) {
         struct aiColor4D c;
         float kd[3], ks[3], ka[3], shin = 0;
         int has_kd = aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS;
@@ -869,9 +963,10 @@ static persp_status convert_material(importer *im, unsigned index, int *out)
     return persp__scene_add_material(im->scene, &m, out);
 }
 
-static persp_status add_part(importer *im, int mesh, int material, const persp_mat4 *xf)
+static persp_status add_part(importer *im, int mesh, int material, const char *material_name,
+                             const persp_mat4 *xf)
 {
-    return persp__model_add_part(im->scene, im->out, &im->part_cap, mesh, material, xf,
+    return persp__model_add_part(im->scene, im->out, &im->part_cap, mesh, material, material_name, xf,
                                  im->display);
 }
 
@@ -891,7 +986,11 @@ static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 par
         if (im->mesh_index[mi] < 0) continue;
         unsigned mat = im->ai->mMeshes[mi]->mMaterialIndex;
         int material;
+        struct aiString name;
+        name.length = 0, name.data[0] = '\0';
         if (mat < im->ai->mNumMaterials) {
+            if (aiGetMaterialString(im->ai->mMaterials[mat], AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
+                name.length = 0, name.data[0] = '\0';
             if (im->material_index[mat] == -1 &&
                 (st = convert_material(im, mat, &im->material_index[mat])) != PERSP_OK)
                 return st;
@@ -900,11 +999,93 @@ static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 par
             persp_material d = persp__material_default();
             if ((st = persp__scene_add_material(im->scene, &d, &material)) != PERSP_OK) return st;
         }
-        if ((st = add_part(im, im->mesh_index[mi], material, &xf)) != PERSP_OK) return st;
+        if ((st = add_part(im, im->mesh_index[mi], material, name.data, &xf)) != PERSP_OK) return st;
     }
     for (unsigned i = 0; i < node->mNumChildren; i++)
         if ((st = walk(im, node->mChildren[i], xf, depth + 1)) != PERSP_OK) return st;
     return PERSP_OK;
+}
+
+/* A number of the scene's metadata, as Assimp stores it by type; 0 when
+ * the key is missing or not a number. */
+static int meta_number(const struct aiScene *ai, const char *key, double *out)
+{
+    const struct aiMetadata *md = ai->mMetaData;
+    if (!md || !md->mKeys || !md->mValues) return 0;
+    for (unsigned i = 0; i < md->mNumProperties; i++) {
+        if (strcmp(md->mKeys[i].data, key) != 0) continue;
+        const struct aiMetadataEntry *e = &md->mValues[i];
+        if (!e->mData) return 0;
+        switch (e->mType) {
+        case AI_INT32: *out = *(const int32_t *)e->mData; return 1;
+        case AI_UINT64: *out = (double)*(const uint64_t *)e->mData; return 1;
+        case AI_FLOAT: *out = *(const float *)e->mData; return 1;
+        case AI_DOUBLE: *out = *(const double *)e->mData; return 1;
+        default: return 0;
+        }
+    }
+    return 0;
+}
+
+/* FBX files declare their axes and unit (GlobalSettings: UpAxis, FrontAxis,
+ * CoordAxis with their signs, UnitScaleFactor in centimetres per unit),
+ * which Assimp 5.2 passes on as metadata without applying them: a file
+ * exported with +z up lay on its side, and one in centimetres (Blender's
+ * default FBX) came out 100 times the size of the same model as glTF. The
+ * root transform turns the declared axes into persp's (x right, y up, z
+ * towards the viewer: CoordAxis, UpAxis, FrontAxis) and the unit into
+ * metres, glTF's. Axes that are not three distinct ones with signs ±1 are
+ * left as they are. */
+static persp_mat4 fbx_root(const struct aiScene *ai)
+{
+    persp_mat4 m = persp_mat4_identity();
+    static const char *const axis_keys[3][2] = {
+        {"CoordAxis", "CoordAxisSign"}, {"UpAxis", "UpAxisSign"}, {"FrontAxis", "FrontAxisSign"}};
+    int axis[3], sign[3], used = 0, ok = 1;
+    for (int k = 0; k < 3 && ok; k++) {
+        double a, s;
+        ok = meta_number(ai, axis_keys[k][0], &a) && meta_number(ai, axis_keys[k][1], &s) &&
+             (a == 0 || a == 1 || a == 2) && (s == 1 || s == -1) && !(used & (1 << (int)a));
+        if (!ok) break;
+        axis[k] = (int)a, sign[k] = (int)s;
+        used |= 1 << axis[k];
+    }
+    if (ok) {
+        memset(m.m, 0, sizeof m.m);
+        for (int k = 0; k < 3; k++) m.m[axis[k] * 4 + k] = (float)sign[k];
+        m.m[15] = 1.0f;
+    }
+    double unit;
+    if (meta_number(ai, "UnitScaleFactor", &unit) && isfinite(unit) && unit > 0.0 && unit != 100.0) {
+        const float s = (float)(unit / 100.0);
+        for (int c = 0; c < 3; c++)
+            for (int r = 0; r < 3; r++) m.m[c * 4 + r] *= s;
+    }
+    return m;
+}
+
+/* Whether a PLY file defines materials ("element material" in its header).
+ * Without one, Assimp 5.2's PLY reader makes a stand-in that is not named
+ * as its others are (AI_DEFAULT_MATERIAL_NAME) and is white in ambient,
+ * diffuse and specular: the same mesh drew washed out next to its STL,
+ * which gets persp's default material. */
+static int ply_has_materials(const char *data, size_t size)
+{
+    const char *end = NULL;
+    for (size_t i = 0; i + 10 <= size && !end; i++)
+        if (!memcmp(data + i, "end_header", 10)) end = data + i;
+    const size_t header = end ? (size_t)(end - data) : size;
+    static const char key[] = "element material";
+    for (size_t i = 0; i + sizeof key - 1 <= header; i++)
+        if (!memcmp(data + i, key, sizeof key - 1)) return 1;
+    return 0;
+}
+
+/* FBX by its name or its first bytes (binary, or ASCII's comment line). */
+static int is_fbx(const char *name, const char *data, size_t size)
+{
+    return persp__model_has_ext(name, "fbx") || (size >= 18 && !memcmp(data, "Kaydara FBX Binary", 18)) ||
+           (size >= 5 && !memcmp(data, "; FBX", 5));
 }
 
 static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
@@ -1069,6 +1250,9 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     io.size = size;
     io.base_dir = base_dir;
     io.root = scene->load_root;
+    /* glTF 2.0 §3.3.1: URIs are RFC 3986, so "%20" in a name is a space. */
+    io.uri = persp__model_has_ext(main_name, "gltf") || persp__model_has_ext(main_name, "glb") ||
+             (size >= 4 && !memcmp(buf, "glTF", 4));
     struct aiFileIO fio = {file_open, file_close, (aiUserData)(void *)&io};
 
     /* Assimp allocates with new/malloc and its C API has no allocator hook:
@@ -1185,6 +1369,7 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     im.refs.root = scene->load_root;
     im.refs.where = where_io;
     im.refs.where_user = &io;
+    im.refs.uri = io.uri;
     for (int k = 0; k < 3; k++)
         out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
     persp_status st = PERSP_OK;
@@ -1192,7 +1377,11 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
         fill_slots(ctx, &im.material_index, ai->mNumMaterials) != PERSP_OK ||
         fill_slots(ctx, &im.embedded_index, ai->mNumTextures) != PERSP_OK)
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
-    if (st == PERSP_OK && ai->mRootNode) st = walk(&im, ai->mRootNode, persp_mat4_identity(), 0);
+    im.stand_in = (persp__model_has_ext(main_name, "ply") || (size >= 4 && !memcmp(buf, "ply", 3) &&
+                                                                (buf[3] == '\n' || buf[3] == '\r'))) &&
+                  !ply_has_materials(buf, size);
+    const persp_mat4 root = is_fbx(main_name, buf, size) ? fbx_root(ai) : persp_mat4_identity();
+    if (st == PERSP_OK && ai->mRootNode) st = walk(&im, ai->mRootNode, root, 0);
     /* A texture refused for want of memory is not drawn untextured with a
      * warning, as a missing file is: the allocator's refusal is the caller's
      * to see (PERSP_ERR_OUT_OF_MEMORY). */
@@ -1298,6 +1487,7 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
               : persp__obj_load(s, NULL, 0, name, base_dir, &cache, 0, &model);
     s->load_root = NULL;
     persp__texcache_free(ctx, &cache);
+    if (st == PERSP_OK) persp__model_warn_no_uv(s, &model, name ? name : "<model>", -1, PERSP_TEXGEN_UV);
     if (st == PERSP_OK && up_z) {
         /* −90° about x: +z becomes +y, +y becomes −z; the box turns with
          * it exactly (a quarter turn keeps it axis-aligned). */

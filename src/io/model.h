@@ -40,6 +40,10 @@ typedef struct persp_model {
     persp_model_part *parts;
     size_t part_count;
     float bbox_min[3], bbox_max[3]; /* of the transformed parts */
+    /* Parts whose textured material meets a mesh without texture
+     * coordinates, and the first such material's name (persp__model_warn_no_uv). */
+    size_t no_uv_parts;
+    char no_uv_material[64];
 } persp_model;
 
 /* Imports a model from memory into scene: appends its meshes, materials and
@@ -91,6 +95,10 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
 
 /* 1 when name ends in "." ext, in any case (ext in lower case). */
 int persp__model_has_ext(const char *name, const char *ext);
+/* A URI's percent-encoding decoded ("%20" a space; RFC 3986 §2.1) into out:
+ * 1 when something was decoded, 0 when nothing was or the result would be
+ * cut or hold a NUL (out then unusable). */
+int persp__uri_decode(const char *in, char *out, size_t size);
 /* Windows separators and "./" prefixes of a name a model gives. */
 void persp__model_clean_rel(const char *in, char *out, size_t size);
 /* Reads a file a model names (rel, cleaned): relative to base_dir, then its
@@ -110,6 +118,8 @@ typedef struct persp_model_refs {
     void (*where)(const void *user, const char *rel, char *out, size_t cap);
     const void *where_user;
     int out_of_memory; /* set when a texture was refused for want of memory */
+    int uri;           /* names are URIs (glTF): decoded first (persp__uri_decode) */
+    int quiet;         /* no warning when the texture cannot be loaded */
 } persp_model_refs;
 
 /* The scene texture of a texture file a material names, or -1 after a
@@ -120,9 +130,18 @@ int persp__model_texture_file(persp_model_refs *refs, const char *material, cons
  * positive (at most 1000), all clamped to [0, 1000]. */
 void persp__model_set_colours(persp_material *m, const float *kd, const float *ks,
                               const float *ka, float shininess);
-/* Appends a part and grows out's bounding box by its transformed vertices. */
+/* Appends a part and grows out's bounding box by its transformed vertices;
+ * material_name: the material's name in the file, for messages. */
 persp_status persp__model_add_part(persp_scene *scene, persp_model *out, size_t *cap, int mesh,
-                                   int material, const persp_mat4 *xf, const char *display);
+                                   int material, const char *material_name, const persp_mat4 *xf,
+                                   const char *display);
+/* Warns once where the model's meshes lack the texture coordinates a
+ * texture would be read through, as exporters write a mesh whose UV layer
+ * was removed: persp__object_texture draws those parts untextured.
+ * material: the scene's material replacing the model's own, -1: none;
+ * texgen: the objects' (coordinates generated: nothing to say). */
+void persp__model_warn_no_uv(const persp_scene *scene, const persp_model *model, const char *display,
+                             int material, int texgen);
 /* 1 when the triangle spans an area, relative to its edges' lengths. */
 int persp__model_triangle_has_area(const float *a, const float *b, const float *c);
 

@@ -705,6 +705,7 @@ static persp_status close_run(obj_reader *r)
     mesh.indices = r->idx;
     mesh.index_count = r->nidx;
     mesh.has_normals = 1;
+    mesh.no_uv = !r->run_uv;
     r->idx = NULL;
     r->vertices_used += mesh.vertex_count;
     int rec = r->run_mat;
@@ -713,7 +714,8 @@ static persp_status close_run(obj_reader *r)
     if ((st = persp__scene_add_mesh(r->scene, &mesh, &mi)) != PERSP_OK) return st;
     if ((st = scene_material(r, rec, &material)) != PERSP_OK) return st;
     persp_mat4 id = persp_mat4_identity();
-    return persp__model_add_part(r->scene, r->out, &r->part_cap, mi, material, &id, r->display);
+    const char *name = rec >= 0 ? r->pool + r->mats[rec].name : "";
+    return persp__model_add_part(r->scene, r->out, &r->part_cap, mi, material, name, &id, r->display);
 }
 
 static persp_status open_run(obj_reader *r, size_t line)
@@ -722,6 +724,7 @@ static persp_status open_run(obj_reader *r, size_t line)
     if (st != PERSP_OK) return st;
     const obj_run *run = &r->runs[r->run];
     r->run_mat = -1;
+    r->run_uv = 0;
     if (r->has_mtl) {
         size_t n = strlen(r->mtl);
         r->run_mat = find_material(r, r->mtl, n);
@@ -1004,6 +1007,7 @@ static persp_status face(obj_reader *r, const char *p, const char *e, size_t lin
             if (te > s1 + 1 &&
                 (st = resolve(r, line, s1 + 1, te, r->ivt, "texture coordinate", &t)) != PERSP_OK)
                 return st;
+            r->run_uv |= t != NO_INDEX;
         }
         if (s2 && s2 + 1 < q) {
             if (memchr(s2 + 1, '/', (size_t)(q - s2 - 1)))

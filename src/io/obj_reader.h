@@ -80,6 +80,7 @@ typedef struct obj_reader {
     int open;         /* a run is being read */
     int run_mat;      /* material record, -1: the default material */
     int file_normals; /* the run keeps the file's normals */
+    int run_uv;       /* a face corner of the run names a texture coordinate */
     uint32_t *idx;    /* 3 per triangle: tuple index (| OWNER_BIT) */
     size_t nidx;
     uint32_t *tuples; /* 3 per distinct corner: v, vt, vn (NO_INDEX: none) */

@@ -1009,6 +1009,7 @@ static persp_status parse_object(jctx *j, json_t *o)
         st = count_vertices(j, j->scene->meshes[i].vertex_count);
         pop(j);
     }
+    if (st == PERSP_OK) persp__model_warn_no_uv(j->scene, &res, path, material, (int)obj.texgen);
     persp_mat4 placed = obj.model;
     for (size_t i = 0; i < res.part_count && st == PERSP_OK; i++) {
         obj.mesh = res.parts[i].mesh;

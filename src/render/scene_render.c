@@ -113,9 +113,9 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
         ds.material = *mat;
         ds.shading = dd.shading != PERSP_SHADING_DEFAULT ? dd.shading : scene->shading;
         ds.depth_test = ds.depth_write = 1;
-        ds.tex = mat->texture >= 0 && (size_t)mat->texture < scene->texture_count
-                     ? scene->textures[mat->texture]
-                     : NULL;
+        const int tex = persp__object_texture(scene, o);
+        ds.tex = tex >= 0 ? scene->textures[tex] : NULL;
+        if (!ds.tex) ds.material.texture = ds.material.specular_texture = -1;
         if (ds.tex) {
             persp_sampler_desc sd = mat->sampler;
             if (dd.filter != PERSP_FILTER_DEFAULT) sd.filter = dd.filter;
@@ -309,7 +309,11 @@ persp_status persp_draw(persp_context *ctx, persp_framebuffer *fb, const persp_d
     uint32_t si;
     st = persp__frame_add_state(&f, &ds, &si);
     if (st != PERSP_OK) return st;
-    persp_mesh mesh = {(persp_vertex *)(uintptr_t)vertices, (uint32_t *)(uintptr_t)indices, vertex_count, index_count, 1, 0, NULL, 0};
+    persp_mesh mesh = {.vertices = (persp_vertex *)(uintptr_t)vertices,
+                       .indices = (uint32_t *)(uintptr_t)indices,
+                       .vertex_count = vertex_count,
+                       .index_count = index_count,
+                       .has_normals = 1};
     persp_mat4 id = persp_mat4_identity();
     st = persp__frame_add_mesh(&f, &mesh, &id, &id, &desc->mvp, si, NULL,
                                desc->cull_backfaces == PERSP_TOGGLE_ON ? PERSP_CULL_CW : PERSP_CULL_NONE);

@@ -425,6 +425,12 @@ static void test_ply_vertex_colours(void **state)
         blue += c[0] == 0.0f && c[1] == 0.0f && c[2] == 1.0f;
     }
     assert_true(red == 1 && green == 1 && blue == 1);
+    /* No material in the file: persp's default, as for STL (not Assimp's
+     * white stand-in, ambient and specular 1 too). */
+    const persp_material *mat = material_of(&l, 0), def = persp__material_default();
+    assert_memory_equal(mat->diffuse, def.diffuse, sizeof def.diffuse);
+    assert_memory_equal(mat->specular, def.specular, sizeof def.specular);
+    assert_memory_equal(mat->ambient, def.ambient, sizeof def.ambient);
     unload(&l);
 }
 
@@ -857,12 +863,220 @@ static void test_scene_from_bare_model_and_json_override(void **state)
     remove_tmp();
 }
 
+/* The text of a file of tests/data/models, for tests that edit it. */
+static void source_text(const char *file, char *text, size_t size)
+{
+    char path[1024];
+    test_source_path(path, sizeof path, file);
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    size_t n = fread(text, 1, size - 1, f);
+    fclose(f);
+    text[n] = '\0';
+}
+
+/* text with every `from` replaced by `to` into out. */
+static void replaced(const char *text, const char *from, const char *to, char *out, size_t size)
+{
+    size_t n = 0;
+    const size_t fl = strlen(from), tl = strlen(to);
+    int found = 0;
+    for (const char *p = text; *p;) {
+        if (!strncmp(p, from, fl)) {
+            assert_true(n + tl < size);
+            memcpy(out + n, to, tl), n += tl, p += fl, found = 1;
+        } else {
+            assert_true(n + 1 < size);
+            out[n++] = *p++;
+        }
+    }
+    out[n] = '\0';
+    assert_true(found);
+}
+
+/* FBX declares its axes and unit (GlobalSettings): persp applies them, so
+ * a file exported with +z up stands up and one in centimetres has the size
+ * the same model has in metres. tests/data/models/triangle.fbx: metres, y
+ * up, the triangle's node translated by (0, 0, -1). */
+static void test_fbx_axes_and_unit(void **state)
+{
+    (void)state;
+    static char text[4096], a[4096], b[4096];
+    source_text("tests/data/models/triangle.fbx", text, sizeof text);
+    static const struct {
+        const char *what, *from[3], *to[3];
+        float t[3];   /* the part's translation */
+        float top[3]; /* where the file's vertex (0, 1, 0) lands */
+    } cases[] = {
+        {"metres, y up", {NULL}, {NULL}, {0, 0, -1}, {0, 1, -1}},
+        {"centimetres", {"\"\",100"}, {"\"\",1"}, {0, 0, -0.01f}, {0, 0.01f, -0.01f}},
+        /* Blender's "Up: Z, Forward: Y": z is up, -y towards the viewer */
+        {"z up",
+         {"\"UpAxis\", \"int\", \"Integer\", \"\",1", "\"FrontAxis\", \"int\", \"Integer\", \"\",2",
+          "\"FrontAxisSign\", \"int\", \"Integer\", \"\",1"},
+         {"\"UpAxis\", \"int\", \"Integer\", \"\",2", "\"FrontAxis\", \"int\", \"Integer\", \"\",1",
+          "\"FrontAxisSign\", \"int\", \"Integer\", \"\",-1"},
+         {0, -1, 0},
+         {0, -1, -1}},
+        /* not three distinct axes: left as the file has them */
+        {"bad axes", {"\"FrontAxis\", \"int\", \"Integer\", \"\",2"}, {"\"FrontAxis\", \"int\", \"Integer\", \"\",1"},
+         {0, 0, -1}, {0, 1, -1}},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(a, sizeof a, "%s", text);
+        for (int k = 0; k < 3 && cases[i].from[k]; k++) {
+            replaced(a, cases[i].from[k], cases[i].to[k], b, sizeof b);
+            snprintf(a, sizeof a, "%s", b);
+        }
+        loaded l;
+        load_text(&l, a, "t.fbx");
+        if (l.st != PERSP_OK) fail_msg("%s: %s", cases[i].what, persp_context_error(l.ctx));
+        const persp_mat4 *t = &l.model.parts[0].transform;
+        persp_vec4 top = persp_mat4_apply(*t, (persp_vec4){0, 1, 0, 1});
+        const float got[3] = {top.x, top.y, top.z};
+        for (int k = 0; k < 3; k++)
+            if (fabsf(t->m[12 + k] - cases[i].t[k]) > 1e-6f || fabsf(got[k] - cases[i].top[k]) > 1e-6f)
+                fail_msg("%s: translation (%g %g %g), top (%g %g %g)", cases[i].what, (double)t->m[12],
+                         (double)t->m[13], (double)t->m[14], (double)got[0], (double)got[1], (double)got[2]);
+        unload(&l);
+    }
+}
+
+/* glTF names its buffers and images by URI (glTF 2.0 §3.3.1): "%20" is a
+ * space, "%C3%A9" an é, as exporters write them. */
+static void test_gltf_uri_names(void **state)
+{
+    (void)state;
+    static char text[8192], a[8192];
+    embedded_gltf(text, sizeof text);
+    const char *uri = strstr(text, "\"data:application/octet-stream;base64,");
+    assert_non_null(uri);
+    const char *b64 = uri + strlen("\"data:application/octet-stream;base64,");
+    const char *end = strchr(b64, '"');
+    /* the buffer's bytes into "my buffer é.bin" */
+    static unsigned char bin[4096];
+    size_t n = 0;
+    unsigned acc = 0;
+    int bits = 0;
+    for (const char *p = b64; p < end; p++) {
+        const char *alpha = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const char *at = strchr(alpha, *p);
+        if (*p == '=' || !at) break;
+        acc = (acc << 6) | (unsigned)(at - alpha), bits += 6;
+        if (bits >= 8) bits -= 8, bin[n++] = (unsigned char)(acc >> bits);
+    }
+    make_tmp();
+    write_file("my buffer \xc3\xa9.bin", bin, n);
+    snprintf(a, sizeof a, "%.*s\"my%%20buffer%%20%%C3%%A9.bin\"%s", (int)(uri - text), text, end + 1);
+    /* the image, moved out to a file with a space in its name */
+    const char *img = strstr(a, "\"data:image/png;base64,");
+    assert_non_null(img);
+    static char b[8192];
+    snprintf(b, sizeof b, "%.*s\"tex%%20one.png\"%s", (int)(img - a), a, strchr(img + 1, '"') + 1);
+    persp_context *ctx = NULL;
+    assert_int_equal(persp_context_create(NULL, &ctx), PERSP_OK);
+    write_png(ctx, "tex one.png", 3, 3);
+    persp_context_destroy(ctx);
+    write_text("uri.gltf", b);
+    char path[1024];
+    tmp_path(path, sizeof path, "uri.gltf");
+    loaded l;
+    load_path(&l, path);
+    if (l.st != PERSP_OK) fail_msg("%s", persp_context_error(l.ctx));
+    assert_int_equal(l.warn.count, 0);
+    assert_int_equal(mesh_of(&l, 0)->index_count, 3);
+    assert_true(material_of(&l, 0)->texture >= 0);
+    assert_int_equal(persp_texture_width(l.scene->textures[material_of(&l, 0)->texture]), 3);
+    unload(&l);
+    /* A name whose file is missing is named decoded, with the line. */
+    static char c[8192];
+    replaced(b, "tex%20one.png", "tex%20two.png", c, sizeof c);
+    write_text("uri2.gltf", c);
+    tmp_path(path, sizeof path, "uri2.gltf");
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_int_equal(l.warn.count, 1);
+    assert_non_null(strstr(l.warn.last, "uri2.gltf:"));
+    assert_non_null(strstr(l.warn.last, "cannot load texture 'tex two.png'"));
+    assert_true(material_of(&l, 0)->texture < 0);
+    unload(&l);
+    remove_tmp();
+}
+
+/* A textured material on a mesh that has no texture coordinates (a UV
+ * layer removed before export) would fetch one texel everywhere: drawn
+ * untextured, with a warning naming the material; a scene's texgen gives
+ * such a mesh coordinates and keeps the texture. */
+static void test_texture_without_coordinates(void **state)
+{
+    (void)state;
+    persp_context *ctx = NULL;
+    assert_int_equal(persp_context_create(NULL, &ctx), PERSP_OK);
+    make_tmp();
+    write_png(ctx, "t.png", 2, 2);
+    persp_context_destroy(ctx);
+    write_text("t.mtl", "newmtl skin\nmap_Kd t.png\n");
+    write_text("bare.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl skin\nf 1 2 3\n");
+    write_text("uv.obj", "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl skin\n"
+                         "f 1/1 2/2 3/3\n");
+    char path[1024];
+    tmp_path(path, sizeof path, "bare.obj");
+    loaded l;
+    load_path(&l, path);
+    assert_int_equal(l.st, PERSP_OK);
+    assert_true(mesh_of(&l, 0)->no_uv);
+    unload(&l);
+    /* The scene around the bare model: the warning, and no texture drawn. */
+    persp_context_desc cd = {0};
+    assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
+    warnings w = {0};
+    persp_context_set_warning_handler(ctx, on_warning, &w);
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    assert_int_equal(w.count, 1);
+    assert_non_null(strstr(w.last, "bare.obj: material 'skin' has a texture, but the mesh it is on has no texture "
+                                   "coordinates; drawing it untextured"));
+    persp_scene_object o;
+    assert_int_equal(persp_scene_get_object(scene, 0, &o), PERSP_OK);
+    assert_int_equal(o.material.texture, -1);
+    persp_scene_destroy(scene);
+    /* With coordinates: no warning, textured. */
+    tmp_path(path, sizeof path, "uv.obj");
+    w.count = 0;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    assert_int_equal(w.count, 0);
+    assert_int_equal(persp_scene_get_object(scene, 0, &o), PERSP_OK);
+    assert_true(o.material.texture >= 0);
+    persp_scene_destroy(scene);
+    /* A scene that generates coordinates for the bare mesh keeps the texture. */
+    write_text("gen.json", "{\"objects\": [{\"mesh\": \"bare.obj\", \"texgen\": {\"mode\": \"spherical\"}}]}");
+    write_text("nogen.json", "{\"objects\": [{\"mesh\": \"bare.obj\"}]}");
+    tmp_path(path, sizeof path, "gen.json");
+    w.count = 0;
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    assert_int_equal(w.count, 0);
+    assert_int_equal(persp_scene_get_object(scene, 0, &o), PERSP_OK);
+    assert_true(o.material.texture >= 0);
+    persp_scene_destroy(scene);
+    tmp_path(path, sizeof path, "nogen.json");
+    assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+    assert_int_equal(w.count, 1);
+    assert_int_equal(persp_scene_get_object(scene, 0, &o), PERSP_OK);
+    assert_int_equal(o.material.texture, -1);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+    remove_tmp();
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_quad_from_memory),
         cmocka_unit_test(test_gltf_texture_transform_warned),
         cmocka_unit_test(test_gltf_missing_buffer),
+        cmocka_unit_test(test_gltf_uri_names),
+        cmocka_unit_test(test_fbx_axes_and_unit),
+        cmocka_unit_test(test_texture_without_coordinates),
         cmocka_unit_test(test_obj_indices_colours_polygons),
         cmocka_unit_test(test_obj_smooth_normals_when_missing),
         cmocka_unit_test(test_obj_mtl_texture_and_quirks),
