@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -22,26 +23,34 @@ static void tell_temp(persp_context *ctx, const char *tmp)
  * takes meanwhile is an error, never a file of theirs overwritten. */
 static int create_temp(persp_context *ctx, char *tmp, size_t len)
 {
+    /* The file exists from inside mkstemp on, but the handler hears of it
+     * only once mkstemp has returned: a signal handled in between (on a
+     * loaded machine the process is often descheduled right there) found
+     * nothing to remove and left the file behind. Signals to this thread
+     * wait until the file is announced, or is gone. */
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_BLOCK, &all, &old);
+    int fd = -1, err = EEXIST;
     for (int tries = 0; tries < 8; tries++) {
         memcpy(tmp + len, ".tmp-XXXXXX", 12);
-        int fd = mkstemp(tmp);
-        if (fd < 0) return -1;
-        /* Announced as soon as it exists, so that a signal from here on
-         * finds it (removing a name that is briefly absent is harmless). */
+        fd = mkstemp(tmp);
+        if (fd < 0) {
+            err = errno;
+            break;
+        }
         tell_temp(ctx, tmp);
         close(fd);
         unlink(tmp);
         fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        if (fd >= 0) return fd;
-        int err = errno;
+        if (fd >= 0) break;
+        err = errno;
         tell_temp(ctx, NULL);
-        if (err != EEXIST) {
-            errno = err;
-            return -1;
-        }
+        if (err != EEXIST) break;
     }
-    errno = EEXIST;
-    return -1;
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    if (fd < 0) errno = err;
+    return fd;
 }
 
 persp_status persp__outfile_open(persp_context *ctx, const char *path, persp_outfile *out)

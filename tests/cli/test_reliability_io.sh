@@ -135,11 +135,14 @@ expect 1 "/dev/full" -- "$persp" render cube --size 8x8 -q --format jpeg -o /dev
 # in place after a signal that did arrive, fails at once.
 sig_case() { # sig_case SIGNAL FILE -- command...
     local sig="$1" file="$2"; shift 3
-    local try rc pid
+    local try rc pid seen
     for try in 1 2 3; do
         "$@" & pid=$!
-        for _ in $(seq 1 3000); do compgen -G "$file.tmp-*" >/dev/null && break; sleep 0.01; done
-        if ! compgen -G "$file.tmp-*" >/dev/null; then wait "$pid"; bad "$sig: no temporary file seen"; return; fi
+        # Seen once is enough: persp re-creates the file mkstemp made, so a
+        # second look can fall in the moment it is absent.
+        seen=
+        for _ in $(seq 1 3000); do compgen -G "$file.tmp-*" >/dev/null && { seen=1; break; }; sleep 0.01; done
+        if [ -z "$seen" ]; then wait "$pid"; bad "$sig: no temporary file seen"; return; fi
         kill -"$sig" "$pid" 2>/dev/null; wait "$pid"; rc=$?
         if [ "$rc" -eq 0 ] && [ -s "$file" ] && ! compgen -G "$file.tmp-*" >/dev/null; then
             echo "$sig: the command finished before the signal (try $try)"; rm -f "$file"; continue

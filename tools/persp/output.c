@@ -16,6 +16,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <pthread.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,8 +47,20 @@ void cli_temp_file(void *user, const char *path)
     temp_register(0, path);
 }
 
+/* The thread that installed the handlers: the one that writes the files. */
+static pthread_t writer;
+
 static void on_signal(int sig)
 {
+    /* While the writer holds signals off (a temporary file created and not
+     * yet registered) the kernel gives them to another thread, a render
+     * worker for one, where the unlink below would come too early and the
+     * file stay: passed on, the signal waits for the registration.
+     * pthread_self and pthread_kill are async-signal-safe as well. */
+    if (!pthread_equal(pthread_self(), writer)) {
+        pthread_kill(writer, sig);
+        return;
+    }
     for (int i = 0; i < TEMP_SLOTS; i++)
         if (temp_set[i]) unlink(temp_path[i]);
     /* Die of the signal itself, so the parent sees how the command ended. */
@@ -57,6 +70,7 @@ static void on_signal(int sig)
 
 void cli_install_signal_handlers(void)
 {
+    writer = pthread_self();
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
@@ -143,12 +157,16 @@ int cli_output_open(const char *command, const char *path, cli_output *out)
     memcpy(out->tmp, target, len);
     /* As in the library: mkstemp finds a free name, which is re-created
      * with O_EXCL and mode 0666 so that the umask applies as for any new
-     * file. */
+     * file; and as there, signals wait until the file that mkstemp created
+     * is registered, or gone. */
+    sigset_t all, old;
+    sigfillset(&all);
+    pthread_sigmask(SIG_BLOCK, &all, &old);
     int fd = -1;
     for (int tries = 0; tries < 8 && fd < 0; tries++) {
         memcpy(out->tmp + len, ".tmp-XXXXXX", 12);
         if ((fd = mkstemp(out->tmp)) < 0) break;
-        temp_register(1, out->tmp); /* from the moment it exists */
+        temp_register(1, out->tmp);
         close(fd);
         unlink(out->tmp);
         fd = open(out->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
@@ -159,6 +177,9 @@ int cli_output_open(const char *command, const char *path, cli_output *out)
             if (err != EEXIST) break;
         }
     }
+    int mask_err = errno;
+    pthread_sigmask(SIG_SETMASK, &old, NULL);
+    errno = mask_err;
     if (fd >= 0 && exists) {
         (void)fchmod(fd, sb.st_mode & 07777);
         if (fchown(fd, sb.st_uid, sb.st_gid) != 0) {
