@@ -288,17 +288,20 @@ static void test_gltf_embedded_texture_and_nodes(void **state)
     unload(&l);
 }
 
-/* The text of tests/data/models/embedded.gltf, for tests that edit it. */
-static void embedded_gltf(char *text, size_t size)
+/* The text of a file of tests/data/models, for tests that edit it. */
+static void source_text(const char *file, char *text, size_t size)
 {
     char path[1024];
-    test_source_path(path, sizeof path, "tests/data/models/embedded.gltf");
+    test_source_path(path, sizeof path, file);
     FILE *f = fopen(path, "rb");
     assert_non_null(f);
     size_t n = fread(text, 1, size - 1, f);
     fclose(f);
     text[n] = '\0';
 }
+
+/* The text of tests/data/models/embedded.gltf, for tests that edit it. */
+static void embedded_gltf(char *text, size_t size) { source_text("tests/data/models/embedded.gltf", text, size); }
 
 /* A file the import cannot do without (a glTF buffer) is the error itself,
  * named with the line that names it, not a warning that persp goes on
@@ -863,18 +866,6 @@ static void test_scene_from_bare_model_and_json_override(void **state)
     remove_tmp();
 }
 
-/* The text of a file of tests/data/models, for tests that edit it. */
-static void source_text(const char *file, char *text, size_t size)
-{
-    char path[1024];
-    test_source_path(path, sizeof path, file);
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    size_t n = fread(text, 1, size - 1, f);
-    fclose(f);
-    text[n] = '\0';
-}
-
 /* text with every `from` replaced by `to` into out. */
 static void replaced(const char *text, const char *from, const char *to, char *out, size_t size)
 {
@@ -1010,9 +1001,8 @@ static void test_gltf_uri_names(void **state)
 static void test_texture_without_coordinates(void **state)
 {
     (void)state;
-    persp_context *ctx = NULL;
-    assert_int_equal(persp_context_create(NULL, &ctx), PERSP_OK);
     make_tmp();
+    persp_context *ctx = test_context();
     write_png(ctx, "t.png", 2, 2);
     persp_context_destroy(ctx);
     write_text("t.mtl", "newmtl skin\nmap_Kd t.png\n");
