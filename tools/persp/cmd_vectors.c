@@ -123,8 +123,12 @@ static int put_triangle(persp_context *ctx, const char *method, const persp_meth
     return CLI_OK;
 }
 
-/* One vertex set per line; CLI_OK at the end of the file, 1 with a
- * triangle, or an exit code after naming the file and line. */
+/* One vertex set per line: 1 with a triangle, 0 at the end of the file,
+ * -1 after naming the file, line and problem. */
+/* cli_error's message, then -1 (read_triangle's failure, which must not
+ * read as a triangle). */
+#define read_error(...) (cli_error(CLI_FAIL, __VA_ARGS__), -1)
+
 static int read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3])
 {
     char text[4096];
@@ -132,7 +136,7 @@ static int read_triangle(FILE *in, const char *path, long *line, persp_method_ve
         ++*line;
         size_t n = strlen(text);
         if (n == sizeof text - 1 && text[n - 1] != '\n')
-            return cli_error(CLI_FAIL, "vectors: %s:%ld: line longer than %zu characters", path, *line,
+            return read_error("vectors: %s:%ld: line longer than %zu characters", path, *line,
                              sizeof text - 2);
         char *hash = strchr(text, '#');
         if (hash) *hash = '\0';
@@ -143,34 +147,34 @@ static int read_triangle(FILE *in, const char *path, long *line, persp_method_ve
             while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n') s++;
             if (!*s) break;
             if (count == 15)
-                return cli_error(CLI_FAIL, "vectors: %s:%ld: more than 15 numbers (x y w u v per vertex)",
+                return read_error("vectors: %s:%ld: more than 15 numbers (x y w u v per vertex)",
                                  path, *line);
             errno = 0;
             x[count] = strtod(s, &end);
             if (end == s || (*end && *end != ' ' && *end != '\t' && *end != '\r' && *end != '\n'))
-                return cli_error(CLI_FAIL, "vectors: %s:%ld: number %d is not a number", path, *line, count + 1);
+                return read_error("vectors: %s:%ld: number %d is not a number", path, *line, count + 1);
             if (!isfinite(x[count]))
-                return cli_error(CLI_FAIL, "vectors: %s:%ld: number %d is not finite", path, *line, count + 1);
+                return read_error("vectors: %s:%ld: number %d is not finite", path, *line, count + 1);
             count++, s = end;
         }
         if (count == 0) continue;
         if (count != 15)
-            return cli_error(CLI_FAIL, "vectors: %s:%ld: %d numbers, expected 15 (x y w u v per vertex)", path,
+            return read_error("vectors: %s:%ld: %d numbers, expected 15 (x y w u v per vertex)", path,
                              *line, count);
         for (int k = 0; k < 3; k++) {
             const double *p = x + 5 * k;
             if (!(p[2] > 0.0))
-                return cli_error(CLI_FAIL, "vectors: %s:%ld: vertex %d has w = %g (must be > 0)", path, *line, k + 1,
+                return read_error("vectors: %s:%ld: vertex %d has w = %g (must be > 0)", path, *line, k + 1,
                                  p[2]);
             if (fabs(p[3]) > 3.0e38 || fabs(p[4]) > 3.0e38)
-                return cli_error(CLI_FAIL, "vectors: %s:%ld: vertex %d: u or v beyond a float's range", path, *line,
+                return read_error("vectors: %s:%ld: vertex %d: u or v beyond a float's range", path, *line,
                                  k + 1);
             v[k] = (persp_method_vertex){p[0], p[1], p[2], (float)p[3], (float)p[4]};
         }
         return 1;
     }
-    if (ferror(in)) return cli_error(CLI_FAIL, "vectors: %s: read error", path);
-    return CLI_OK;
+    if (ferror(in)) return read_error("vectors: %s: read error", path);
+    return 0;
 }
 
 /* splitmix64 (Steele, Lea, Flood 2014): the stream depends on the seed only. */
@@ -255,7 +259,7 @@ int cmd_vectors(int argc, char **argv)
         if (in) {
             int got = read_triangle(in, input, &line, v);
             if (got != 1) {
-                rc = got;
+                rc = got < 0 ? CLI_FAIL : CLI_OK;
                 break;
             }
         } else {
