@@ -178,8 +178,12 @@ PERSP_API void persp_context_set_warning_handler(persp_context *ctx, persp_warni
  * the target at the end. The handler hears the temporary file's path once
  * it exists and NULL once it is renamed or removed, so that a program can
  * remove it when a signal ends it mid-write (the path is valid until the
- * NULL call; copy it). persp installs no signal handlers itself. Called on
- * the thread that called into persp; fn NULL removes the handler. */
+ * NULL call; copy it). persp installs no signal handlers itself, but holds
+ * every signal off the calling thread from the moment it creates the file
+ * until the handler has heard of it, so that a handler never misses a file
+ * that exists (a program whose other threads may receive the signal should
+ * pass it on to this one). Called on the thread that called into persp; fn
+ * NULL removes the handler. */
 typedef void (*persp_temp_file_fn)(void *user, const char *path);
 PERSP_API void persp_context_set_temp_file_handler(persp_context *ctx, persp_temp_file_fn fn,
                                                    void *user);
