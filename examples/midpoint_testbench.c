@@ -110,10 +110,9 @@ int main(int argc, char **argv)
                                          (float)uniform(&seed, 0, 1)};
         persp_midpoint_format f;
         b.f = &f;
-        /* The format first (no callback), as a design loads G, H, I, A, B,
-         * C once per triangle; then the spans. */
-        persp_status st = persp_midpoint_trace(ctx, "midpoint:int", v, 640, 480, 256, 256, &f, NULL, NULL);
-        if (st == PERSP_OK) st = persp_midpoint_trace(ctx, "midpoint:int", v, 640, 480, 256, 256, &f, check_span, &b);
+        /* f is filled before the first span, as a design loads G, H, I, A,
+         * B, C once per triangle. */
+        persp_status st = persp_midpoint_trace(ctx, "midpoint:int", v, 640, 480, 256, 256, &f, check_span, &b);
         if (st != PERSP_OK) {
             fprintf(stderr, "midpoint_testbench: %s: %s\n", persp_status_string(st), persp_context_error(ctx));
             persp_context_destroy(ctx);

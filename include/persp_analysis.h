@@ -89,8 +89,8 @@ typedef void (*persp_midpoint_span_fn)(void *user, const persp_midpoint_span *sp
 
 /* The triangle of persp_method_triangle (same vertices, window, texture size
  * and set-up) through spec "midpoint:int" or "midpoint:int,edge": *format
- * receives the triangle's fixed-point planes, then fn is called for each span
- * with its integer state (fn may be NULL). Its u and v equal
+ * receives the triangle's fixed-point planes before fn is first called,
+ * then fn is called for each span with its integer state (fn may be NULL). Its u and v equal
  * persp_method_triangle's bit for bit. A triangle covering no pixel centre
  * leaves format->in_format 0 and calls fn never. Other specs:
  * PERSP_ERR_INVALID_ARGUMENT. */

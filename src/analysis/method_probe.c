@@ -151,7 +151,7 @@ persp_status persp_midpoint_trace(persp_context *ctx, const char *spec, const pe
                 float s1[PERSP_SPAN_MAX], s2[PERSP_SPAN_MAX];
                 persp_midpoint_pixel px[PERSP_SPAN_MAX];
                 persp_midpoint_span span;
-                persp__midpoint_trace_span(&t.rat, edge, lo, y, hi - lo + 1, s1, s2, &span, px);
+                persp__midpoint_trace_span(&t.rat, format, lo, y, hi - lo + 1, s1, s2, &span, px);
                 if (fn) fn(user, &span, px);
             }
         }

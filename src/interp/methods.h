@@ -68,14 +68,15 @@ extern const persp_method persp__method_adaptive; /* adaptive.c */
  * midpoint:int at den_bits (42 there). */
 void persp__midpoint_quantize(const persp_rational *r, int den_bits, persp_rational *out);
 /* midpoint.c: midpoint:int's (edge: midpoint:int,edge's) fixed-point
- * planes of r, and one span of it with its integer state recorded; s1, s2
- * receive the outputs as the method's span does (persp_midpoint_trace). */
+ * planes of r, and one span of it in that format with its integer state
+ * recorded; s1, s2 receive the outputs as the method's span does
+ * (persp_midpoint_trace). */
 struct persp_midpoint_format;
 struct persp_midpoint_span;
 struct persp_midpoint_pixel;
 void persp__midpoint_format(const persp_rational *r, int edge, struct persp_midpoint_format *out);
-void persp__midpoint_trace_span(const persp_rational *r, int edge, int x0, int y, int n, float *s1,
-                                float *s2, struct persp_midpoint_span *span,
+void persp__midpoint_trace_span(const persp_rational *r, const struct persp_midpoint_format *f, int x0, int y,
+                                int n, float *s1, float *s2, struct persp_midpoint_span *span,
                                 struct persp_midpoint_pixel *px);
 
 #endif

@@ -468,11 +468,16 @@ void persp__midpoint_format(const persp_rational *r, int edge, persp_midpoint_fo
     memcpy(out->plane, pl, sizeof pl);
 }
 
-void persp__midpoint_trace_span(const persp_rational *r, int edge, int x0, int y, int n, float *s1,
-                                float *s2, persp_midpoint_span *span, persp_midpoint_pixel *px)
+void persp__midpoint_trace_span(const persp_rational *r, const persp_midpoint_format *f, int x0, int y, int n,
+                                float *s1, float *s2, persp_midpoint_span *span, persp_midpoint_pixel *px)
 {
+    /* The triangle's format, quantised once by persp__midpoint_format. */
     mp_fixed fx;
-    mp_quantize_fixed(r, MP_DEN_BITS, &fx, NULL);
+    memset(&fx, 0, sizeof fx);
+    fx.G = f->G, fx.H = f->H, fx.I = f->I;
+    for (int j = 0; j < 2; j++) fx.A[j] = f->A[j], fx.B[j] = f->B[j], fx.C[j] = f->C[j];
+    fx.X2max = f->X2max, fx.Y2max = f->Y2max, fx.ok = f->in_format;
+    const int edge = f->lattice2 == 0;
     memset(span, 0, sizeof *span);
     memset(px, 0, sizeof *px * (size_t)(n > 0 ? n : 0));
     span->x0 = x0, span->y = y, span->n = n;

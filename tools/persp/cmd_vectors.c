@@ -65,11 +65,26 @@ static const cli_spec opt_input = {.name = "input",
 typedef struct vec_out {
     FILE *f;
     long spans, pixels, int_pixels, reseeds, steps;
+    const persp_midpoint_format *format; /* the triangle's, filled before its first span */
+    int head;                            /* its plane and fmt lines are written */
 } vec_out;
+
+static void put_head(vec_out *o)
+{
+    const persp_midpoint_format *f = o->format;
+    o->head = 1;
+    fputs("plane", o->f);
+    for (int k = 0; k < 9; k++) fprintf(o->f, " %a", f->plane[k]);
+    fprintf(o->f, "\nfmt %d %d %d %" PRId64 " %" PRId64 " %" PRId64, f->in_format, f->shift, f->lattice2, f->G,
+            f->H, f->I);
+    for (int j = 0; j < 2; j++) fprintf(o->f, " %" PRId64 " %" PRId64 " %" PRId64, f->A[j], f->B[j], f->C[j]);
+    fprintf(o->f, " %" PRId64 " %" PRId64 " %.17g %.17g\n", f->X2max, f->Y2max, f->P[0], f->P[1]);
+}
 
 static void put_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px)
 {
     vec_out *o = user;
+    if (!o->head) put_head(o);
     o->spans++;
     fprintf(o->f, "span %d %d %d %d %" PRId64, s->x0, s->y, s->n, s->int_pixels, s->E0);
     for (int j = 0; j < 2; j++)
@@ -105,29 +120,21 @@ static int put_triangle(persp_context *ctx, const char *method, const persp_meth
     for (int k = 0; k < 3; k++)
         fprintf(o->f, " %a %a %a %a %a", v[k].x, v[k].y, v[k].w, (double)v[k].u, (double)v[k].v);
     fputc('\n', o->f);
-    /* The planes come before the spans in the file; the trace gives them
-     * first, so a first pass without spans writes them. */
-    persp_status st = persp_midpoint_trace(ctx, method, v, width, height, tex_w, tex_h, &f, NULL, NULL);
+    /* The planes come before the spans: written at the first span, or
+     * after the trace for a triangle that has none. */
+    o->format = &f, o->head = 0;
+    persp_status st = persp_midpoint_trace(ctx, method, v, width, height, tex_w, tex_h, &f, put_span, o);
     if (st != PERSP_OK) return cli_status(ctx, st, "vectors");
-    fputs("plane", o->f);
-    for (int k = 0; k < 9; k++) fprintf(o->f, " %a", f.plane[k]);
-    fprintf(o->f, "\nfmt %d %d %d %" PRId64 " %" PRId64 " %" PRId64, f.in_format, f.shift, f.lattice2, f.G, f.H,
-            f.I);
-    for (int j = 0; j < 2; j++) fprintf(o->f, " %" PRId64 " %" PRId64 " %" PRId64, f.A[j], f.B[j], f.C[j]);
-    fprintf(o->f, " %" PRId64 " %" PRId64 " %.17g %.17g\n", f.X2max, f.Y2max, f.P[0], f.P[1]);
-    vec_out spans = {o->f, 0, 0, 0, 0, 0};
-    st = persp_midpoint_trace(ctx, method, v, width, height, tex_w, tex_h, &f, put_span, &spans);
-    if (st != PERSP_OK) return cli_status(ctx, st, "vectors");
-    o->spans += spans.spans, o->pixels += spans.pixels, o->int_pixels += spans.int_pixels;
-    o->reseeds += spans.reseeds, o->steps += spans.steps;
+    if (!o->head) put_head(o);
     return CLI_OK;
 }
 
-/* One vertex set per line: 1 with a triangle, 0 at the end of the file,
- * -1 after naming the file, line and problem. */
 /* cli_error's message, then -1 (read_triangle's failure, which must not
  * read as a triangle). */
 #define read_error(...) (cli_error(CLI_FAIL, __VA_ARGS__), -1)
+
+/* One vertex set per line: 1 with a triangle, 0 at the end of the file,
+ * -1 after naming the file, line and problem. */
 
 static int read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3])
 {
@@ -244,7 +251,7 @@ int cmd_vectors(int argc, char **argv)
         persp_context_destroy(ctx);
         return rc;
     }
-    vec_out o = {out.f, 0, 0, 0, 0, 0};
+    vec_out o = {out.f, 0, 0, 0, 0, 0, NULL, 0};
     fprintf(out.f, "# persp test vectors of %s, format 1 (docs/METHODS.md, \"Test vectors\")\n", method);
     fprintf(out.f, "# window %dx%d, texture %dx%d, ", size.width, size.height, tex.width, tex.height);
     if (in)
