@@ -10,6 +10,8 @@
 
 #include "geom/scene.h"
 
+#include <math.h>
+
 /* Textures loaded by one scene load, so a file used twice is decoded once. */
 typedef struct persp_texcache_entry {
     char *path;
@@ -87,7 +89,12 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
                                       const char *name, const char *base_dir, size_t max_vertices,
                                       persp_scene **out);
 
-/* ------------------------------------------ shared by model.c and obj.c */
+/* --------------------- shared by model.c and obj.c (src/io/model_refs.c) */
+
+static inline int persp__model_finite3(float x, float y, float z)
+{
+    return isfinite(x) && isfinite(y) && isfinite(z);
+}
 
 /* Faces meeting at more than this angle keep separate normals where the
  * file has none: cube edges stay sharp, tessellated curves come out smooth. */
@@ -122,6 +129,10 @@ typedef struct persp_model_refs {
     int quiet;         /* no warning when the texture cannot be loaded */
 } persp_model_refs;
 
+/* Fails ctx with PERSP_ERR_OUT_OF_MEMORY: its detail (what the budget
+ * refused) prefixed with the model, texture and material. */
+void persp__model_texture_oom(persp_context *ctx, const char *display, const char *texture,
+                              const char *material);
 /* The scene texture of a texture file a material names, or -1 after a
  * warning (the material is drawn untextured). */
 int persp__model_texture_file(persp_model_refs *refs, const char *material, const char *file);
