@@ -70,13 +70,13 @@ difftest: build
 
 fuzz:
 	@bash scripts/deps.sh --optional
-	@cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DPERSP_FUZZ=ON -DCMAKE_BUILD_TYPE=Debug >/dev/null
+	@cmake -S . -B build-fuzz -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DPERSP_FUZZ=ON -DCMAKE_BUILD_TYPE=Debug >/dev/null
 	@cmake --build build-fuzz -j $(JOBS)
 	@bash scripts/fuzz.sh build-fuzz
 
 fuzz-long:
 	@bash scripts/deps.sh --optional
-	@cmake -S . -B build-fuzz-long -DCMAKE_C_COMPILER=clang -DPERSP_FUZZ=ON \
+	@cmake -S . -B build-fuzz-long -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DPERSP_FUZZ=ON \
 		-DPERSP_FUZZ_SANITIZERS=undefined -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 		-DPERSP_BUILD_TESTS=OFF -DPERSP_BUILD_CLI=OFF -DPERSP_BUILD_EXAMPLES=OFF >/dev/null
 	@cmake --build build-fuzz-long -j $(JOBS)

@@ -43,8 +43,9 @@
  *   worker threads (persp_context_desc.threads) parallelise one render; the
  *   image is bit-identical for any thread count. persp keeps no global
  *   mutable state of its own; the one process-wide object is the mutex that
- *   makes model imports take turns, because the model importer's C API
- *   reports errors through one process-wide message (persp_scene_load).
+ *   makes model imports in the caller's process take turns, because the
+ *   model importer's C API reports errors through one process-wide message
+ *   (persp_scene_load; imports in persp-import, the default, run at once).
  */
 #ifndef PERSP_H
 #define PERSP_H
@@ -463,8 +464,8 @@ PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name,
  * file in any format Assimp reads (OBJ, glTF/GLB, PLY, STL, FBX, ...) shown
  * with a default camera and lights (docs/SCENES.md). Problems worked around
  * (a model's missing texture or material file) go to the warning handler.
- * Model imports from several threads take turns (Assimp's C API reports
- * errors through one process-wide message). The files a scene or model
+ * Models other than OBJ are read in a helper process with limits
+ * (persp_model_import). The files a scene or model
  * names must lie in the loaded file's folder or below it; see
  * persp_scene_load_ex to allow more. */
 PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, persp_scene **out);
@@ -487,9 +488,46 @@ typedef enum persp_model_up {
     PERSP_MODEL_UP_Y,
     PERSP_MODEL_UP_Z
 } persp_model_up;
+/* Where model files other than OBJ are read (docs/RELIABILITY.md, "Model
+ * files from strangers"). persp reads them through Assimp, whose readers
+ * were not written for hostile input: by default they run in persp-import,
+ * a helper process installed with the library (PREFIX/libexec/persp/, or
+ * beside the library in a build tree), held to the memory the budget
+ * leaves (persp_context_desc.max_memory; half the machine's memory without
+ * a budget) and to a time limit, with no files of its own: a reader that
+ * crashes, loops or allocates without bound on a file ends that process,
+ * and the load fails with a one-line message. IN_PROCESS runs the readers
+ * on a thread of the caller's process instead: a few milliseconds faster
+ * per model, but a crash in a reader ends the program, no time limit
+ * applies and the memory limit is an estimate. Use it for files you
+ * trust. */
+typedef enum persp_model_import {
+    PERSP_MODEL_IMPORT_DEFAULT = 0, /* ISOLATED */
+    PERSP_MODEL_IMPORT_ISOLATED,
+    PERSP_MODEL_IMPORT_IN_PROCESS
+} persp_model_import;
+/* The model formats read. COMMON (the default): OBJ, glTF 2.0 / GLB, PLY,
+ * STL, OFF, FBX, COLLADA and 3DS, the formats users bring and persp's tests
+ * cover, each only when the file's content is what its name says. ALL:
+ * every format Assimp reads (X, 3MF, AMF, ASE, LWO, MD5, Blender, ...),
+ * still isolated as set above. */
+typedef enum persp_model_formats {
+    PERSP_MODEL_FORMATS_DEFAULT = 0, /* COMMON */
+    PERSP_MODEL_FORMATS_COMMON,
+    PERSP_MODEL_FORMATS_ALL
+} persp_model_formats;
+/* Default limit on one model import's wall-clock time. */
+#define PERSP_IMPORT_TIME_LIMIT_MS 60000u
 typedef struct persp_scene_load_desc {
     persp_toggle any_folder; /* ON: referenced files may lie anywhere; DEFAULT, OFF: restricted */
     persp_model_up model_up; /* a model file's up axis; DEFAULT: +y */
+    persp_model_import import;
+    persp_model_formats formats;
+    /* Wall-clock limit of each model import in milliseconds (isolated
+     * imports only); 0: PERSP_IMPORT_TIME_LIMIT_MS. */
+    unsigned import_time_limit_ms;
+    /* persp-import's path; NULL: beside the library, then PREFIX/libexec/persp/. */
+    const char *import_helper;
 } persp_scene_load_desc;
 /* persp_scene_load with settings; desc NULL: all defaults (restricted), as
  * persp_scene_load does. */

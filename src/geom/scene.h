@@ -130,6 +130,8 @@ struct persp_scene {
      * path of the loaded file's folder), NULL when any file may be read
      * (persp_scene_load_desc). Not used after the load. */
     const char *load_root;
+    /* While a file loads: how models are imported (NULL: the defaults). */
+    const persp_scene_load_desc *load_desc;
 };
 
 /* Allocates an empty scene with defaults (camera at origin looking down -z). */

@@ -1,39 +1,41 @@
 /*
- * Models through Assimp's C API: every format Assimp reads (glTF 2.0 and
- * GLB, PLY, STL, FBX, COLLADA, 3DS, ...) becomes persp meshes, materials
- * and textures. OBJ/MTL goes to persp's own reader (src/io/obj.c); what
- * the two share (the files a model names, colours, parts) is in
+ * Models through Assimp: every format Assimp reads (glTF 2.0 and GLB, PLY,
+ * STL, FBX, COLLADA, 3DS, ...) becomes persp meshes, materials and
+ * textures. OBJ/MTL goes to persp's own reader (src/io/obj.c); what the
+ * two share (the files a model names, colours, parts) is in
  * src/io/model_refs.c.
  *
- * Assimp reads the model through persp's own file callbacks: the main file
- * is served from memory (so that loading from a file and from memory take
- * the same path, and text files can be normalised first), the files it
- * refers to are opened relative to the model's folder, and a file that
- * cannot be opened becomes a warning, Assimp carrying on without it.
- * Textures are decoded by persp (persp_image_load / _load_memory), so the
- * image limits and decoders are the same as everywhere else.
+ * Assimp itself runs in persp-import, a process of its own with limits
+ * (src/io/import_run.c), or on request on a thread of this one; the two
+ * talk over a socket (src/io/import_wire.h). This side picks the reader
+ * (the formats enabled, the content agreeing with the name), sends the
+ * model, serves the files the model names from the model's folder (Assimp
+ * opens none itself), checks everything that comes back before it is used
+ * and builds the scene from it. Textures are decoded here by persp
+ * (persp_image_load / _load_memory), so the image limits and decoders are
+ * the same as everywhere else.
  */
 #include "core/internal.h"
+#include "io/import_run.h"
+#include "io/import_wire.h"
 #include "io/model.h"
 #include "io/obj.h"
 #include "io/text.h"
 
-#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
-#include <assimp/config.h>
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 
 #include <ctype.h>
 #include <math.h>
 #include <pthread.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* Assimp's C API keeps the last error message in a process-wide string;
- * imports are serialised so that each reads its own. */
+ * imports in this process (PERSP_MODEL_IMPORT_IN_PROCESS) take turns so
+ * that each reads its own. Imports in persp-import need no turn. */
 static pthread_mutex_t import_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* ---------------------------------------------------------- text cleanup */
@@ -65,12 +67,15 @@ static size_t normalise_text(char *buf, size_t size, int lines)
  * persp__model_load_memory). */
 #define MODEL_IMPORT_PER_BYTE 6u
 
+/* Bytes of Assimp's working memory reserved per byte of a model file for
+ * an import in this process (persp-import is held by its own limit). */
+#define MODEL_IMPORT_PER_BYTE 6u
+
 /* ------------------------------------------------------------ file access */
 
 typedef struct model_io {
     persp_context *ctx;
     const char *display;   /* the model's name in messages */
-    const char *main_name; /* what Assimp is asked to read */
     const char *data;      /* the main file */
     size_t size;
     const char *base_dir; /* NULL: no other files */
@@ -82,7 +87,7 @@ typedef struct model_io {
      * open" after persp had said it goes on without it. */
     char notes[8][PERSP_ERRMSG_BYTES];
     int nmissing;
-    int others;           /* files other than the main one were opened */
+    int others;           /* files other than the main one were served */
     /* Text files the model named (material libraries, glTF), kept until the
      * load ends: for the line a texture is named on, and to tell whether
      * Assimp's message quotes one of them. */
@@ -92,69 +97,9 @@ typedef struct model_io {
         size_t size;
     } kept[4];
     int nkept;
-    int out_of_memory; /* a file could not be opened for want of memory */
+    int out_of_memory; /* a file could not be served for want of memory */
     int uri;           /* glTF: the names are URIs (persp__uri_decode) */
 } model_io;
-
-typedef struct model_file {
-    const char *data;
-    size_t size, pos;
-    char *owned;
-} model_file;
-
-static size_t file_read(struct aiFile *f, char *buf, size_t size, size_t count)
-{
-    model_file *mf = (model_file *)(void *)f->UserData;
-    if (size == 0 || count == 0) return 0;
-    size_t left = mf->size - mf->pos, n = left / size;
-    if (n > count) n = count;
-    memcpy(buf, mf->data + mf->pos, n * size);
-    mf->pos += n * size;
-    return n;
-}
-
-static size_t file_write(struct aiFile *f, const char *buf, size_t size, size_t count)
-{
-    (void)f, (void)buf, (void)size, (void)count;
-    return 0;
-}
-
-static size_t file_tell(struct aiFile *f)
-{
-    return ((model_file *)(void *)f->UserData)->pos;
-}
-static size_t file_size(struct aiFile *f)
-{
-    return ((model_file *)(void *)f->UserData)->size;
-}
-static void file_flush(struct aiFile *f)
-{
-    (void)f;
-}
-
-static enum aiReturn file_seek(struct aiFile *f, size_t offset, enum aiOrigin origin)
-{
-    model_file *mf = (model_file *)(void *)f->UserData;
-    size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? mf->pos : mf->size;
-    if (origin != aiOrigin_SET && origin != aiOrigin_CUR && origin != aiOrigin_END)
-        return aiReturn_FAILURE;
-    if (offset > mf->size - base) return aiReturn_FAILURE;
-    mf->pos = base + offset;
-    return aiReturn_SUCCESS;
-}
-
-/* Assimp's OBJ reader, when a material library is missing, tries the
- * model's own name with .mtl: a guess, not a reference worth a warning. */
-static int is_guess(const model_io *io, const char *rel)
-{
-    const char *dot = strrchr(io->main_name, '.');
-    size_t stem = dot ? (size_t)(dot - io->main_name) : strlen(io->main_name);
-    if (strncmp(rel, io->main_name, stem) != 0 || strcmp(rel + stem, ".mtl") != 0) return 0;
-    size_t n = strlen(rel);
-    for (size_t i = 0; i + n <= io->size; i++)
-        if (memcmp(io->data + i, rel, n) == 0) return 0;
-    return 1;
-}
 
 /* The line of the model's text where name first appears, 0 when it does
  * not (binary formats, names Assimp built): where the user should look. */
@@ -223,9 +168,30 @@ static void free_kept(model_io *io)
     io->nkept = 0;
 }
 
-static void warn_missing(model_io *io, const char *rel, const char *why)
+
+/* Whether the model's own bytes, or a text file it named, hold name (or
+ * its last part): a file the user's model names. Readers also look for
+ * files nobody named (an .md5anim beside an .md5mesh, SMD animation lists,
+ * a model's own name with .mtl); those are no business of the user's. */
+static int named(const model_io *io, const char *name)
 {
-    if (is_guess(io, rel)) return;
+    const char *base = persp__path_base(name);
+    const char *const look[2] = {name, base};
+    for (int k = 0; k < 2; k++) {
+        size_t n = strlen(look[k]);
+        if (!n) continue;
+        for (size_t i = 0; i + n <= io->size; i++)
+            if (io->data[i] == look[k][0] && !memcmp(io->data + i, look[k], n)) return 1;
+        for (int t = 0; t < io->nkept; t++)
+            for (size_t i = 0; i + n <= io->kept[t].size; i++)
+                if (!memcmp(io->kept[t].text + i, look[k], n)) return 1;
+    }
+    return 0;
+}
+
+static void warn_missing(model_io *io, const char *asked, const char *rel, const char *why)
+{
+    if (!named(io, asked) && !named(io, rel)) return;
     for (int i = 0; i < io->nmissing; i++)
         if (!strcmp(io->missing[i], rel)) return;
     if (io->nmissing >= (int)(sizeof io->missing / sizeof io->missing[0])) return;
@@ -237,635 +203,537 @@ static void warn_missing(model_io *io, const char *rel, const char *why)
     io->nmissing++;
 }
 
-static struct aiFile *file_open(struct aiFileIO *fio, const char *name, const char *mode)
+/* A file the importer asks for: its bytes (the context's, *size of them)
+ * or NULL after noting why. Resolved relative to the model's folder,
+ * inside the load root, regular files only (persp__model_read_ref). */
+static char *serve_file(model_io *io, const char *name, size_t *size)
 {
-    model_io *io = (model_io *)(void *)fio->UserData;
-    if (!name || !mode || mode[0] != 'r') return NULL;
-    const char *data = NULL;
-    size_t size = 0;
+    char rel[PERSP_PATH_MAX];
     char *owned = NULL;
-    if (!strcmp(name, io->main_name)) {
-        data = io->data;
-        size = io->size;
-    } else {
-        char rel[PERSP_PATH_MAX];
-        persp__model_clean_rel(name, rel, sizeof rel);
-        if (!io->base_dir) {
-            warn_missing(io, rel, "no folder to read it from");
-            return NULL;
-        }
-        const char *why = NULL;
-        char decoded[PERSP_PATH_MAX];
-        persp_status st = PERSP_ERR_IO;
-        /* A glTF names its buffers by URI; the name as written is the
-         * fallback, should a reader have decoded it already. */
-        if (io->uri && persp__uri_decode(rel, decoded, sizeof decoded)) {
-            st = persp__model_read_ref(io->ctx, io->base_dir, io->root, decoded, &owned, &size, &why);
-            if (st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY) {
-                const char *raw_why = NULL;
-                if (persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, &size, &raw_why) ==
-                    PERSP_OK)
-                    st = PERSP_OK;
-                else
-                    memcpy(rel, decoded, strlen(decoded) + 1);
-            }
-        } else {
-            st = persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, &size, &why);
-        }
-        if (st == PERSP_ERR_OUT_OF_MEMORY) {
-            io->out_of_memory = 1;
-            return NULL;
-        }
-        if (st != PERSP_OK) {
-            warn_missing(io, rel, why);
-            return NULL;
-        }
-        io->others = 1;
-        if (is_line_text(rel) || persp__model_has_ext(rel, "gltf")) {
-            size = normalise_text(owned, size, is_line_text(rel));
-            keep_text(io, rel, owned, size);
-        }
-        data = owned;
+    *size = 0;
+    persp__model_clean_rel(name, rel, sizeof rel);
+    if (!io->base_dir) {
+        warn_missing(io, name, rel, "no folder to read it from");
+        return NULL;
     }
-    struct aiFile *f = persp__calloc(io->ctx, 1, sizeof *f);
-    model_file *mf = persp__calloc(io->ctx, 1, sizeof *mf);
-    if (!f || !mf) {
-        persp__free(io->ctx, f);
-        persp__free(io->ctx, mf);
-        persp__free(io->ctx, owned);
+    const char *why = NULL;
+    char decoded[PERSP_PATH_MAX];
+    persp_status st = PERSP_ERR_IO;
+    /* A glTF names its buffers by URI; the name as written is the
+     * fallback, should a reader have decoded it already. */
+    if (io->uri && persp__uri_decode(rel, decoded, sizeof decoded)) {
+        st = persp__model_read_ref(io->ctx, io->base_dir, io->root, decoded, &owned, size, &why);
+        if (st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY) {
+            const char *raw_why = NULL;
+            if (persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, size, &raw_why) ==
+                PERSP_OK)
+                st = PERSP_OK;
+            else
+                memcpy(rel, decoded, strlen(decoded) + 1);
+        }
+    } else {
+        st = persp__model_read_ref(io->ctx, io->base_dir, io->root, rel, &owned, size, &why);
+    }
+    if (st == PERSP_ERR_OUT_OF_MEMORY) {
         io->out_of_memory = 1;
         return NULL;
     }
-    mf->data = data ? data : "";
-    mf->size = size;
-    mf->owned = owned;
-    f->ReadProc = file_read;
-    f->WriteProc = file_write;
-    f->TellProc = file_tell;
-    f->FileSizeProc = file_size;
-    f->SeekProc = file_seek;
-    f->FlushProc = file_flush;
-    f->UserData = (aiUserData)(void *)mf;
-    return f;
+    if (st != PERSP_OK) {
+        warn_missing(io, name, rel, why);
+        return NULL;
+    }
+    io->others = 1;
+    if (is_line_text(rel) || persp__model_has_ext(rel, "gltf")) {
+        *size = normalise_text(owned, *size, is_line_text(rel));
+        keep_text(io, rel, owned, *size);
+    }
+    return owned;
 }
-
-static void file_close(struct aiFileIO *fio, struct aiFile *f)
-{
-    model_io *io = (model_io *)(void *)fio->UserData;
-    if (!f) return;
-    model_file *mf = (model_file *)(void *)f->UserData;
-    if (mf) persp__free(io->ctx, mf->owned);
-    persp__free(io->ctx, mf);
-    persp__free(io->ctx, f);
-}
-
-/* ------------------------------------------------------------- conversion */
-
-typedef struct importer {
-    persp_scene *scene;
-    persp_context *ctx;
-    const struct aiScene *ai;
-    const char *display, *base_dir, *root;
-    const model_io *io; /* the model's text and the text files it named */
-    persp_texcache *cache;
-    size_t max_vertices, vertices;
-    int *mesh_index;     /* per aiMesh: scene mesh, -1 not yet, -2 nothing to draw */
-    int *material_index; /* per aiMaterial: scene material, -1 not yet */
-    int *embedded_index; /* per aiTexture: scene texture, -1 not yet, -2 failed */
-    persp_model *out;
-    size_t part_cap;
-    persp_model_refs refs; /* texture files */
-    int out_of_memory;     /* a texture could not be loaded for want of memory */
-    int stand_in;          /* every material is the reader's stand-in (ply_has_materials) */
-} importer;
 
 static void where_io(const void *user, const char *rel, char *out, size_t cap)
 {
     where((const model_io *)user, rel, out, cap);
 }
 
-static persp_mat4 to_mat4(const struct aiMatrix4x4 *a)
+/* ------------------------------------------------------ the importer's answer */
+
+typedef struct receiver {
+    persp_scene *scene;
+    persp_context *ctx;
+    wire_chan *chan;
+    model_io *io;
+    const char *display;
+    size_t max_vertices, vertices;
+    uint32_t counts[3];  /* meshes, materials, embedded textures of the importer's scene */
+    int header;          /* 'H' came */
+    int *mesh_index;     /* per importer mesh: scene mesh, -1 not yet */
+    int *material_index; /* per importer material: scene material, -1 not yet */
+    /* per embedded texture: scene texture, -1 not yet, -2 not decodable,
+     * -3 refused for want of memory */
+    int *embedded_index;
+    persp_model *out;
+    size_t part_cap;
+    persp_model_refs refs;
+    int out_of_memory; /* a texture could not be loaded for want of memory */
+    int malformed;     /* the answer broke the protocol: the importer is not trusted further */
+    int lost;          /* a read or write failed: the importer ended or the time ran out */
+} receiver;
+
+static persp_status bad_answer(receiver *r, const char *what)
 {
-    const float rows[4][4] = {{a->a1, a->a2, a->a3, a->a4},
-                              {a->b1, a->b2, a->b3, a->b4},
-                              {a->c1, a->c2, a->c3, a->c4},
-                              {a->d1, a->d2, a->d3, a->d4}};
-    persp_mat4 m;
-    for (int r = 0; r < 4; r++)
-        for (int c = 0; c < 4; c++)
-            m.m[c * 4 + r] = rows[r][c];
-    return m;
+    r->malformed = 1;
+    return persp__fail(r->ctx, PERSP_ERR_FORMAT,
+                       "%s: the model importer's answer is malformed (%s); the file is malformed or "
+                       "hostile",
+                       r->display, what);
 }
 
-/* The UV channel the material's diffuse texture reads, or 0. */
-static unsigned material_uv(const struct aiMaterial *mat)
+/* A failed read: the importer ended or the time ran out (the caller tells
+ * which from the channel and the helper's end). */
+#define LOST PERSP_ERR_IO
+
+static int get(receiver *r, void *p, size_t n)
 {
-    struct aiString path;
-    unsigned uv = 0;
-    enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
-    for (int t = 0; t < 2; t++)
-        if (aiGetMaterialTexture(mat, types[t], 0, &path, NULL, &uv, NULL, NULL, NULL, NULL) ==
-            aiReturn_SUCCESS)
-            return uv < AI_MAX_NUMBER_OF_TEXTURECOORDS ? uv : 0;
+    if (persp__wire_read(r->chan, p, n)) return 1;
+    r->lost = 1;
     return 0;
 }
 
-/* Vertex i of an Assimp mesh as persp stores it; 0 if its position is
- * not finite. */
-static int convert_vertex(const struct aiMesh *am, unsigned i, const struct aiVector3D *tc,
-                          const struct aiColor4D *col, persp_vertex *v)
+/* A name or message: at most WIRE_MAX_TEXT bytes, no NUL inside. */
+static persp_status get_text(receiver *r, char out[WIRE_MAX_TEXT + 1])
 {
-    memset(v, 0, sizeof *v);
-    const struct aiVector3D *p = &am->mVertices[i];
-    if (!persp__model_finite3(p->x, p->y, p->z)) return 0;
-    v->pos[0] = p->x, v->pos[1] = p->y, v->pos[2] = p->z;
-    if (am->mNormals && persp__model_finite3(am->mNormals[i].x, am->mNormals[i].y, am->mNormals[i].z)) {
-        v->normal[0] = am->mNormals[i].x, v->normal[1] = am->mNormals[i].y,
-        v->normal[2] = am->mNormals[i].z;
-    }
-    if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v->uv[0] = tc[i].x, v->uv[1] = tc[i].y;
-    if (col) {
-        const float c[4] = {col[i].r, col[i].g, col[i].b, col[i].a};
-        for (int k = 0; k < 3; k++)
-            v->color[k] = isfinite(c[k]) ? fminf(fmaxf(c[k], 0.0f), 1.0f) : 1.0f;
-        v->color[3] = 1.0f; /* opaque surfaces: no coverage into the image */
-    } else {
-        v->color[0] = v->color[1] = v->color[2] = v->color[3] = 1.0f;
-    }
-    return 1;
-}
-
-static uint64_t vertex_hash(const persp_vertex *v)
-{
-    const unsigned char *b = (const unsigned char *)v;
-    uint64_t h = 1469598103934665603ull; /* FNV-1a */
-    for (size_t k = 0; k < sizeof *v; k++) h = (h ^ b[k]) * 1099511628211ull;
-    return h;
-}
-
-#define NO_VERTEX UINT32_MAX
-
-/* Identical vertices joined here rather than by Assimp's
- * aiProcess_JoinIdenticalVertices: on a million-triangle OBJ that step
- * doubled the importer's peak (311 MB to 608 MB) for 44 bytes of index
- * tables per corner here. One hash table of the first occurrence of each
- * distinct vertex (compared byte for byte as persp stores it) gives
- * remap[i], the distinct vertex of corner vertex i, numbered in order of
- * first occurrence as Assimp numbers them; *unique is the distinct count. */
-static persp_status join_vertices(importer *im, unsigned index, const struct aiVector3D *tc,
-                                  const struct aiColor4D *col, uint32_t *remap, size_t *unique)
-{
-    const struct aiMesh *am = im->ai->mMeshes[index];
-    const size_t n = am->mNumVertices;
-    size_t cap = 16;
-    while (cap < 2 * n) cap *= 2;
-    uint32_t *table = persp__alloc(im->ctx, cap * sizeof *table);
-    if (!table) return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
-    memset(table, 0xff, cap * sizeof *table);
-    size_t count = 0;
-    for (size_t i = 0; i < n; i++) {
-        persp_vertex v, r;
-        if (!convert_vertex(am, (unsigned)i, tc, col, &v)) {
-            persp__free(im->ctx, table);
-            return persp__fail(im->ctx, PERSP_ERR_FORMAT,
-                               "%s: mesh %u has a vertex position that is not finite", im->display,
-                               index);
-        }
-        size_t slot = (size_t)vertex_hash(&v) & (cap - 1);
-        for (;; slot = (slot + 1) & (cap - 1)) {
-            uint32_t first = table[slot];
-            if (first == NO_VERTEX) {
-                table[slot] = (uint32_t)i;
-                remap[i] = (uint32_t)count++;
-                break;
-            }
-            (void)convert_vertex(am, first, tc, col, &r);
-            if (!memcmp(&r, &v, sizeof v)) {
-                remap[i] = remap[first];
-                break;
-            }
-        }
-    }
-    persp__free(im->ctx, table);
-    *unique = count;
+    uint32_t n;
+    if (!get(r, &n, sizeof n)) return LOST;
+    if (n > WIRE_MAX_TEXT) return bad_answer(r, "a name too long");
+    if (!get(r, out, n)) return LOST;
+    out[n] = '\0';
+    if (strlen(out) != n) return bad_answer(r, "a name with a NUL byte");
     return PERSP_OK;
 }
 
-static persp_status convert_mesh(importer *im, unsigned index, int *out)
+static persp_status answer_file(receiver *r)
 {
-    const struct aiMesh *am = im->ai->mMeshes[index];
-    size_t tris = 0;
-    for (unsigned f = 0; f < am->mNumFaces; f++)
-        if (am->mFaces[f].mNumIndices == 3) tris++;
-    if (tris == 0 || am->mNumVertices == 0) {
-        *out = -2;
-        return PERSP_OK;
-    }
-    if (tris > PERSP_SCENE_MAX_INDICES / 3 || am->mNumVertices > PERSP_SCENE_MAX_INDICES)
-        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE,
-                           "%s: more than %zu vertices or %u triangle corners", im->display,
-                           im->max_vertices, PERSP_SCENE_MAX_INDICES);
-    unsigned uv = am->mMaterialIndex < im->ai->mNumMaterials
-                      ? material_uv(im->ai->mMaterials[am->mMaterialIndex])
-                      : 0;
-    const struct aiVector3D *tc =
-        am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
-    const struct aiColor4D *col = am->mColors[0];
-    uint32_t *remap = persp__calloc(im->ctx, am->mNumVertices, sizeof *remap);
-    if (!remap) return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
-    size_t unique = 0;
-    persp_status st = join_vertices(im, index, tc, col, remap, &unique);
-    if (st == PERSP_OK && (unique > PERSP_SCENE_MAX_VERTICES || unique > im->max_vertices - im->vertices))
-        st = persp__fail(im->ctx, PERSP_ERR_TOO_LARGE,
-                         "%s: more than %zu vertices or %u triangle corners", im->display,
-                         im->max_vertices, PERSP_SCENE_MAX_INDICES);
-    if (st != PERSP_OK) {
-        persp__free(im->ctx, remap);
-        return st;
-    }
-    im->vertices += unique;
-    persp_mesh mesh;
-    memset(&mesh, 0, sizeof mesh);
-    mesh.vertex_count = unique;
-    mesh.index_count = 3 * tris;
-    mesh.vertices = persp__calloc(im->ctx, mesh.vertex_count, sizeof *mesh.vertices);
-    mesh.indices = persp__calloc(im->ctx, mesh.index_count, sizeof *mesh.indices);
-    if (!mesh.vertices || !mesh.indices) {
-        persp__free(im->ctx, remap);
-        persp__mesh_free(im->ctx, &mesh);
-        return persp__fail(im->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", im->display);
-    }
-    /* Each distinct vertex is stored at its first occurrence. */
-    size_t emitted = 0;
-    for (unsigned i = 0; i < am->mNumVertices; i++)
-        if (remap[i] == emitted) (void)convert_vertex(am, i, tc, col, &mesh.vertices[emitted++]);
-    size_t k = 0;
-    for (unsigned f = 0; f < am->mNumFaces; f++) {
-        const struct aiFace *face = &am->mFaces[f];
-        if (face->mNumIndices != 3) continue;
-        for (int c = 0; c < 3; c++) {
-            if (face->mIndices[c] >= am->mNumVertices) {
-                persp__free(im->ctx, remap);
-                persp__mesh_free(im->ctx, &mesh);
-                return persp__fail(im->ctx, PERSP_ERR_FORMAT,
-                                   "%s: mesh %u has a vertex index out of range", im->display,
-                                   index);
-            }
-            mesh.indices[k++] = remap[face->mIndices[c]];
-        }
-    }
-    persp__free(im->ctx, remap);
-    mesh.no_uv = tc == NULL;
-    mesh.has_normals = am->mNormals != NULL;
-    if (!mesh.has_normals) persp__mesh_compute_normals(&mesh);
-    return persp__scene_add_mesh(im->scene, &mesh, out);
+    char name[WIRE_MAX_TEXT + 1];
+    persp_status st = get_text(r, name);
+    if (st != PERSP_OK) return st;
+    size_t size = 0;
+    char *data = name[0] ? serve_file(r->io, name, &size) : NULL;
+    uint8_t reply = data ? WIRE_FILE_OK : WIRE_FILE_MISSING;
+    uint64_t n = size;
+    int ok = persp__wire_write(r->chan, &reply, 1) && (!data || (persp__wire_write(r->chan, &n, sizeof n) &&
+                                                                persp__wire_write(r->chan, data, size)));
+    persp__free(r->ctx, data);
+    if (!ok) r->lost = 1;
+    return ok ? PERSP_OK : LOST;
 }
 
-/* An embedded texture: compressed (PNG, JPEG bytes) or raw BGRA texels. */
-static persp_status embedded_texture(importer *im, unsigned index, int *out)
+static persp_status take_header(receiver *r)
 {
-    const struct aiTexture *t = im->ai->mTextures[index];
+    if (r->header) return bad_answer(r, "a second header");
+    if (!get(r, r->counts, sizeof r->counts)) return LOST;
+    /* Slots for what the importer made: no more than a scene can hold of
+     * meshes, and the texture limit of embedded textures, so that a count
+     * cannot size the tables by itself. */
+    if (r->counts[0] > PERSP_SCENE_MAX_INDICES || r->counts[1] > PERSP_SCENE_MAX_INDICES ||
+        r->counts[2] > PERSP_SCENE_MAX_INDICES)
+        return persp__fail(r->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %u meshes, materials or textures",
+                           r->display, PERSP_SCENE_MAX_INDICES);
+    int **slots[3] = {&r->mesh_index, &r->material_index, &r->embedded_index};
+    for (int k = 0; k < 3; k++) {
+        *slots[k] = persp__calloc(r->ctx, r->counts[k] ? r->counts[k] : 1, sizeof(int));
+        if (!*slots[k])
+            return persp__fail(r->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", r->display);
+        for (uint32_t i = 0; i < r->counts[k]; i++) (*slots[k])[i] = -1;
+    }
+    r->header = 1;
+    return PERSP_OK;
+}
+
+static persp_status take_mesh(receiver *r)
+{
+    uint32_t index;
+    uint8_t flags;
+    uint64_t nv, ni;
+    if (!get(r, &index, sizeof index) || !get(r, &flags, 1) || !get(r, &nv, sizeof nv) ||
+        !get(r, &ni, sizeof ni))
+        return LOST;
+    if (!r->header || index >= r->counts[0] || r->mesh_index[index] != -1)
+        return bad_answer(r, "a mesh out of order");
+    if (nv == 0 || ni == 0 || ni % 3 != 0) return bad_answer(r, "an empty mesh");
+    if (nv > PERSP_SCENE_MAX_VERTICES || nv > r->max_vertices - r->vertices || ni > PERSP_SCENE_MAX_INDICES)
+        return persp__fail(r->ctx, PERSP_ERR_TOO_LARGE, "%s: more than %zu vertices or %u triangle corners",
+                           r->display, r->max_vertices, PERSP_SCENE_MAX_INDICES);
+    persp_mesh mesh;
+    memset(&mesh, 0, sizeof mesh);
+    mesh.vertex_count = (size_t)nv;
+    mesh.index_count = (size_t)ni;
+    mesh.vertices = persp__calloc(r->ctx, mesh.vertex_count, sizeof *mesh.vertices);
+    mesh.indices = persp__calloc(r->ctx, mesh.index_count, sizeof *mesh.indices);
+    if (!mesh.vertices || !mesh.indices) {
+        persp__mesh_free(r->ctx, &mesh);
+        return persp__fail(r->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", r->display);
+    }
+    persp_status st = PERSP_OK;
+    float v[256][12];
+    for (size_t i = 0; i < mesh.vertex_count && st == PERSP_OK;) {
+        size_t n = mesh.vertex_count - i < 256 ? mesh.vertex_count - i : 256;
+        if (!get(r, v, n * sizeof v[0])) {
+            st = LOST;
+            break;
+        }
+        for (size_t k = 0; k < n; k++, i++) {
+            persp_vertex *pv = &mesh.vertices[i];
+            for (int c = 0; c < 12; c++)
+                if (!isfinite(v[k][c])) st = bad_answer(r, "a number that is not finite");
+            memcpy(pv->pos, v[k], 3 * sizeof(float));
+            memcpy(pv->normal, v[k] + 3, 3 * sizeof(float));
+            memcpy(pv->uv, v[k] + 6, 2 * sizeof(float));
+            memcpy(pv->color, v[k] + 8, 4 * sizeof(float));
+        }
+    }
+    for (size_t i = 0; i < mesh.index_count && st == PERSP_OK;) {
+        size_t n = mesh.index_count - i < 3072 ? mesh.index_count - i : 3072;
+        if (!get(r, mesh.indices + i, n * sizeof *mesh.indices)) {
+            st = LOST;
+            break;
+        }
+        for (size_t k = 0; k < n; k++, i++)
+            if (mesh.indices[i] >= mesh.vertex_count) st = bad_answer(r, "a vertex index out of range");
+    }
+    if (st != PERSP_OK) {
+        persp__mesh_free(r->ctx, &mesh);
+        return st;
+    }
+    r->vertices += mesh.vertex_count;
+    mesh.no_uv = (flags & WIRE_MESH_NO_UV) != 0;
+    mesh.has_normals = (flags & WIRE_MESH_NORMALS) != 0;
+    if (!mesh.has_normals) persp__mesh_compute_normals(&mesh);
+    return persp__scene_add_mesh(r->scene, &mesh, &r->mesh_index[index]);
+}
+
+/* An embedded texture: an encoded image decoded by persp, or RGBA texels. */
+static persp_status take_embedded(receiver *r)
+{
+    uint32_t index, w, h;
+    char hint[9];
+    if (!get(r, &index, sizeof index) || !get(r, &w, sizeof w) || !get(r, &h, sizeof h) ||
+        !get(r, hint, sizeof hint))
+        return LOST;
+    if (!r->header || index >= r->counts[2] || r->embedded_index[index] != -1)
+        return bad_answer(r, "an embedded texture out of order");
+    char name[PERSP_PATH_MAX + 32];
+    snprintf(name, sizeof name, "%s: embedded texture %u", r->display, index);
     persp_image img;
     memset(&img, 0, sizeof img);
     persp_status st;
-    char name[512];
-    snprintf(name, sizeof name, "%s: embedded texture %u", im->display, index);
-    if (t->mHeight == 0) {
-        st = persp_image_load_memory(im->ctx, t->pcData, t->mWidth, name, &img);
+    int drained = 0;
+    if (h == 0) {
+        /* An encoded image is no larger than a text file persp reads. */
+        if (w > PERSP_TEXT_MAX_BYTES) return bad_answer(r, "an embedded texture too large");
+        char *bytes = persp__alloc(r->ctx, (size_t)w + 1);
+        if (!bytes) {
+            st = persp__fail(r->ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", name);
+        } else if (!get(r, bytes, w)) {
+            persp__free(r->ctx, bytes);
+            return LOST;
+        } else {
+            drained = 1;
+            st = persp_image_load_memory(r->ctx, bytes, w, name, &img);
+            persp__free(r->ctx, bytes);
+        }
+        if (!drained && !persp__wire_skip(r->chan, w)) return r->lost = 1, LOST;
     } else {
-        st = persp__image_check_size(im->ctx, name, t->mWidth, t->mHeight);
-        if (st == PERSP_OK) st = persp_image_alloc(im->ctx, (int)t->mWidth, (int)t->mHeight, &img);
-        if (st == PERSP_OK) /* Texel rows run top to bottom; persp's row 0 is the bottom. */
-            for (unsigned y = 0; y < t->mHeight; y++) {
-                const struct aiTexel *src = &t->pcData[(size_t)(t->mHeight - 1 - y) * t->mWidth];
-                uint8_t *dst = img.pixels + (size_t)y * img.stride;
-                for (unsigned x = 0; x < t->mWidth; x++) {
-                    dst[4 * x] = src[x].r, dst[4 * x + 1] = src[x].g;
-                    dst[4 * x + 2] = src[x].b, dst[4 * x + 3] = src[x].a;
-                }
+        st = persp__image_check_size(r->ctx, name, w, h);
+        if (st != PERSP_OK) return bad_answer(r, "an embedded texture too large");
+        st = persp_image_alloc(r->ctx, (int)w, (int)h, &img);
+        for (uint32_t y = 0; y < h; y++) {
+            if (st == PERSP_OK ? !get(r, img.pixels + (size_t)y * img.stride, (size_t)w * 4)
+                               : !persp__wire_skip(r->chan, (uint64_t)w * 4)) {
+                persp_image_free(r->ctx, &img);
+                r->lost = 1;
+                return LOST;
             }
+        }
     }
     persp_texture *tex = NULL;
-    persp__image_set_opaque(&img);
-    if (st == PERSP_OK) st = persp_texture_create(im->ctx, &img, &tex);
-    persp_image_free(im->ctx, &img);
-    if (st == PERSP_OK) st = persp__scene_add_texture(im->scene, tex, out);
-    return st;
+    if (st == PERSP_OK) persp__image_set_opaque(&img);
+    if (st == PERSP_OK) st = persp_texture_create(r->ctx, &img, &tex);
+    persp_image_free(r->ctx, &img);
+    if (st == PERSP_OK) st = persp__scene_add_texture(r->scene, tex, &r->embedded_index[index]);
+    if (st == PERSP_ERR_OUT_OF_MEMORY) {
+        r->embedded_index[index] = -3;
+        return PERSP_OK; /* refused when a material names it */
+    }
+    if (st != PERSP_OK) {
+        persp__warn(r->ctx, "%s; drawing it untextured", persp_context_error(r->ctx));
+        r->embedded_index[index] = -2;
+    }
+    return PERSP_OK;
 }
 
-/* The scene texture for a material's texture path, or -1 with a warning. */
-static int material_texture(importer *im, const char *material, const char *file)
-{
-    const struct aiTexture *const *texs = (const struct aiTexture *const *)im->ai->mTextures;
-    long emb = -1;
-    if (file[0] == '*') {
-        char *end = NULL;
-        emb = strtol(file + 1, &end, 10);
-        if (!end || *end || emb < 0 || (unsigned long)emb >= im->ai->mNumTextures) emb = -2;
-    } else {
-        for (unsigned i = 0; i < im->ai->mNumTextures; i++)
-            if (texs[i]->mFilename.length && !strcmp(texs[i]->mFilename.data, file)) emb = (long)i;
-    }
-    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
-    persp__quote(material, strlen(material), qm, sizeof qm);
-    if (emb == -2) {
-        persp__warn(im->ctx,
-                    "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
-                    "it untextured",
-                    im->display, qm, persp__quote(file, strlen(file), qf, sizeof qf));
-        return -1;
-    }
-    if (emb >= 0) {
-        int *slot = &im->embedded_index[emb];
-        persp_status est = *slot == -1 ? embedded_texture(im, (unsigned)emb, slot) : PERSP_OK;
-        if (est == PERSP_ERR_OUT_OF_MEMORY) {
-            im->out_of_memory = 1;
-            persp__model_texture_oom(im->ctx, im->display, persp__quote(file, strlen(file), qf, sizeof qf), qm);
-            return -1;
-        }
-        if (est != PERSP_OK) {
-            persp__warn(im->ctx, "%s: material '%s': %s; drawing it untextured", im->display, qm,
-                        persp_context_error(im->ctx));
-            *slot = -2;
-        }
-        return *slot >= 0 ? *slot : -1;
-    }
-    int index = persp__model_texture_file(&im->refs, material, file);
-    if (im->refs.out_of_memory) im->out_of_memory = 1;
-    return index;
-}
-
-static persp_wrap wrap_of(enum aiTextureMapMode m)
+static persp_wrap wrap_of(unsigned m)
 {
     switch (m) {
-    case aiTextureMapMode_Clamp:
-        return PERSP_WRAP_CLAMP_TO_EDGE;
-    case aiTextureMapMode_Mirror:
-        return PERSP_WRAP_MIRRORED_REPEAT;
-    case aiTextureMapMode_Decal:
-        return PERSP_WRAP_CLAMP_TO_BORDER;
-    default:
-        return PERSP_WRAP_REPEAT;
+    case WIRE_WRAP_CLAMP: return PERSP_WRAP_CLAMP_TO_EDGE;
+    case WIRE_WRAP_MIRROR: return PERSP_WRAP_MIRRORED_REPEAT;
+    case WIRE_WRAP_DECAL: return PERSP_WRAP_CLAMP_TO_BORDER;
+    default: return PERSP_WRAP_REPEAT;
     }
 }
 
-static persp_status convert_material(importer *im, unsigned index, int *out)
+static persp_status take_material(receiver *r)
 {
-    const struct aiMaterial *am = im->ai->mMaterials[index];
+    uint32_t index, emb;
+    uint8_t flags, kind, wrap[2];
+    float col[9], shin;
+    char name[WIRE_MAX_TEXT + 1], file[WIRE_MAX_TEXT + 1];
+    if (!get(r, &index, sizeof index) || !get(r, &flags, 1) || !get(r, col, sizeof col) ||
+        !get(r, &shin, sizeof shin) || !get(r, &kind, 1) || !get(r, &emb, sizeof emb) || !get(r, wrap, 2))
+        return LOST;
+    persp_status st = get_text(r, name);
+    if (st == PERSP_OK) st = get_text(r, file);
+    if (st != PERSP_OK) return st;
+    if (!r->header || index >= r->counts[1] || r->material_index[index] != -1)
+        return bad_answer(r, "a material out of order");
+    if (kind > WIRE_TEX_EMBEDDED_MISSING || (kind == WIRE_TEX_EMBEDDED && emb >= r->counts[2]) ||
+        (kind == WIRE_TEX_EMBEDDED && r->embedded_index[emb] == -1))
+        return bad_answer(r, "a material's texture");
     persp_material m = persp__material_default();
-    struct aiString name;
-    if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
-        name.length = 0, name.data[0] = '\0';
-    /* Assimp's stand-in for geometry without a material: persp's default. */
-    if (!im->stand_in && strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0) {
-        struct aiColor4D c;
-        float kd[3], ks[3], ka[3], shin = 0;
-        int has_kd = aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS;
-        if (has_kd) kd[0] = c.r, kd[1] = c.g, kd[2] = c.b;
-        int has_ks = aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS;
-        if (has_ks) ks[0] = c.r, ks[1] = c.g, ks[2] = c.b;
-        int has_ka = aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &c) == aiReturn_SUCCESS;
-        if (has_ka) ka[0] = c.r, ka[1] = c.g, ka[2] = c.b;
-        unsigned one = 1;
-        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) != aiReturn_SUCCESS)
-            shin = 0;
-        persp__model_set_colours(&m, has_kd ? kd : NULL, has_ks ? ks : NULL, has_ka ? ka : NULL,
-                                 shin);
-        struct aiString file;
-        enum aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-        enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
-        for (int t = 0; t < 2; t++) {
-            if (aiGetMaterialTexture(am, types[t], 0, &file, NULL, NULL, NULL, NULL, modes, NULL) !=
-                aiReturn_SUCCESS)
-                continue;
-            if (file.length == 0) break;
-            m.texture = material_texture(im, name.data, file.data);
-            if (m.texture >= 0) {
-                m.env = PERSP_TEXENV_MODULATE;
-                m.sampler.wrap_s = wrap_of(modes[0]);
-                m.sampler.wrap_t = wrap_of(modes[1]);
+    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
+    persp__quote(name, strlen(name), qm, sizeof qm);
+    persp__quote(file, strlen(file), qf, sizeof qf);
+    if (!(flags & WIRE_MAT_STAND_IN)) {
+        persp__model_set_colours(&m, flags & WIRE_MAT_KD ? col : NULL, flags & WIRE_MAT_KS ? col + 3 : NULL,
+                                 flags & WIRE_MAT_KA ? col + 6 : NULL, isfinite(shin) ? shin : 0.0f);
+        if (kind == WIRE_TEX_FILE) {
+            m.texture = persp__model_texture_file(&r->refs, name, file);
+            if (r->refs.out_of_memory) r->out_of_memory = 1;
+        } else if (kind == WIRE_TEX_EMBEDDED_MISSING) {
+            persp__warn(r->ctx,
+                        "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
+                        "it untextured",
+                        r->display, qm, qf);
+        } else if (kind == WIRE_TEX_EMBEDDED) {
+            if (r->embedded_index[emb] == -3) {
+                r->out_of_memory = 1;
+                persp__model_texture_oom(r->ctx, r->display, qf, qm);
             }
-            break;
+            m.texture = r->embedded_index[emb] >= 0 ? r->embedded_index[emb] : -1;
+        }
+        if (m.texture >= 0) {
+            m.env = PERSP_TEXENV_MODULATE;
+            m.sampler.wrap_s = wrap_of(wrap[0]);
+            m.sampler.wrap_t = wrap_of(wrap[1]);
         }
     }
-    return persp__scene_add_material(im->scene, &m, out);
+    return persp__scene_add_material(r->scene, &m, &r->material_index[index]);
 }
 
-static persp_status add_part(importer *im, int mesh, int material, const char *material_name,
-                             const persp_mat4 *xf)
+static persp_status take_part(receiver *r)
 {
-    return persp__model_add_part(im->scene, im->out, &im->part_cap, mesh, material, material_name, xf,
-                                 im->display);
-}
-
-static persp_status walk(importer *im, const struct aiNode *node, persp_mat4 parent, int depth)
-{
-    if (depth > PERSP_MODEL_MAX_DEPTH)
-        return persp__fail(im->ctx, PERSP_ERR_TOO_LARGE, "%s: node hierarchy deeper than %d",
-                           im->display, PERSP_MODEL_MAX_DEPTH);
-    persp_mat4 xf = persp_mat4_mul(parent, to_mat4(&node->mTransformation));
-    persp_status st;
-    for (unsigned i = 0; i < node->mNumMeshes; i++) {
-        unsigned mi = node->mMeshes[i];
-        if (mi >= im->ai->mNumMeshes) continue;
-        if (im->mesh_index[mi] == -1 &&
-            (st = convert_mesh(im, mi, &im->mesh_index[mi])) != PERSP_OK)
-            return st;
-        if (im->mesh_index[mi] < 0) continue;
-        unsigned mat = im->ai->mMeshes[mi]->mMaterialIndex;
-        int material;
-        struct aiString name;
-        name.length = 0, name.data[0] = '\0';
-        if (mat < im->ai->mNumMaterials) {
-            if (aiGetMaterialString(im->ai->mMaterials[mat], AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
-                name.length = 0, name.data[0] = '\0';
-            if (im->material_index[mat] == -1 &&
-                (st = convert_material(im, mat, &im->material_index[mat])) != PERSP_OK)
-                return st;
-            material = im->material_index[mat];
-        } else {
-            persp_material d = persp__material_default();
-            if ((st = persp__scene_add_material(im->scene, &d, &material)) != PERSP_OK) return st;
-        }
-        if ((st = add_part(im, im->mesh_index[mi], material, name.data, &xf)) != PERSP_OK) return st;
+    uint32_t mesh, material;
+    float xf[16];
+    char name[WIRE_MAX_TEXT + 1];
+    if (!get(r, &mesh, sizeof mesh) || !get(r, &material, sizeof material) || !get(r, xf, sizeof xf))
+        return LOST;
+    persp_status st = get_text(r, name);
+    if (st != PERSP_OK) return st;
+    if (!r->header || mesh >= r->counts[0] || r->mesh_index[mesh] < 0 ||
+        (material != WIRE_NONE && (material >= r->counts[1] || r->material_index[material] < 0)))
+        return bad_answer(r, "an instance of a mesh or material not sent");
+    int mat;
+    if (material == WIRE_NONE) {
+        persp_material d = persp__material_default();
+        if ((st = persp__scene_add_material(r->scene, &d, &mat)) != PERSP_OK) return st;
+    } else {
+        mat = r->material_index[material];
     }
-    for (unsigned i = 0; i < node->mNumChildren; i++)
-        if ((st = walk(im, node->mChildren[i], xf, depth + 1)) != PERSP_OK) return st;
+    persp_mat4 m;
+    memcpy(m.m, xf, sizeof xf);
+    return persp__model_add_part(r->scene, r->out, &r->part_cap, r->mesh_index[mesh], mat, name, &m,
+                                 r->display);
+}
+
+/* Reads the importer's records up to its last: PERSP_OK after 'D', the
+ * refusal's status after 'E' (*kind and why set), LOST when the importer
+ * went away or the time ran out, another status when this side refused. */
+static persp_status take_answer(receiver *r, int *kind, char why[WIRE_MAX_TEXT + 1])
+{
+    for (;;) {
+        uint8_t type;
+        if (!get(r, &type, 1)) return LOST;
+        persp_status st;
+        switch (type) {
+        case WIRE_FILE: st = answer_file(r); break;
+        case WIRE_HEADER: st = take_header(r); break;
+        case WIRE_MESH: st = take_mesh(r); break;
+        case WIRE_EMBEDDED: st = take_embedded(r); break;
+        case WIRE_MATERIAL: st = take_material(r); break;
+        case WIRE_PART: st = take_part(r); break;
+        case WIRE_DONE: return PERSP_OK;
+        case WIRE_ERROR: {
+            uint8_t k;
+            if (!get(r, &k, 1)) return LOST;
+            st = get_text(r, why);
+            if (st != PERSP_OK) return st;
+            *kind = k;
+            return PERSP_ERR_FORMAT;
+        }
+        default: return bad_answer(r, "an unknown record");
+        }
+        if (st != PERSP_OK) return st;
+    }
+}
+
+/* ---------------------------------------------------------------- formats */
+
+/* The formats read by default (PERSP_MODEL_FORMATS_COMMON): those users
+ * bring and persp's tests cover, each with the content its name promises.
+ * Assimp picks a reader by the name's extension and then by content, so a
+ * file named for one format could reach another's reader; here the name
+ * and the content must agree, and a name without a known extension gets
+ * the reader its content shows. Every other reader only with
+ * PERSP_MODEL_FORMATS_ALL. */
+typedef struct model_format {
+    const char *ext, *name;
+    int (*looks)(const char *data, size_t size);  /* the content of a file so named */
+    int (*sniff)(const char *data, size_t size);  /* NULL: looks; a file of no known name */
+} model_format;
+
+/* The first non-blank byte. */
+static const char *skip_blank(const char *p, const char *end)
+{
+    while (p < end && isspace((unsigned char)*p)) p++;
+    return p;
+}
+
+/* 1 when the first 4 KiB hold word. */
+static int early(const char *data, size_t size, const char *word)
+{
+    size_t n = strlen(word), lim = size < 4096 ? size : 4096;
+    for (size_t i = 0; i + n <= lim; i++)
+        if (!memcmp(data + i, word, n)) return 1;
+    return 0;
+}
+
+static int looks_gltf(const char *d, size_t n)
+{
+    const char *p = skip_blank(d, d + n);
+    return p < d + n && *p == '{';
+}
+static int looks_glb(const char *d, size_t n) { return n >= 4 && !memcmp(d, "glTF", 4); }
+static int looks_ply(const char *d, size_t n)
+{
+    return n >= 4 && !memcmp(d, "ply", 3) && (d[3] == '\n' || d[3] == '\r');
+}
+/* ASCII STL begins "solid"; binary STL is an 80-byte header, a count and
+ * 50 bytes a triangle (a binary header may begin "solid" too). */
+static int looks_stl(const char *d, size_t n)
+{
+    const char *p = skip_blank(d, d + n);
+    if ((size_t)(d + n - p) >= 5 && !strncmp(p, "solid", 5)) return 1;
+    if (n < 84) return 0;
+    const unsigned char *u = (const unsigned char *)d + 80;
+    uint64_t count = (uint64_t)u[0] | (uint64_t)u[1] << 8 | (uint64_t)u[2] << 16 | (uint64_t)u[3] << 24;
+    return 84 + 50 * count == n;
+}
+/* OFF's first token: [ST][C][N][4][n]OFF (Princeton's and Geomview's
+ * variants), or OFF BINARY. */
+static int off_keyword(const char *d, size_t n)
+{
+    const char *p = skip_blank(d, d + n), *end = d + n;
+    size_t len = 0;
+    while (p + len < end && !isspace((unsigned char)p[len]) && len < 12) len++;
+    return len >= 3 && len < 12 && !strncmp(p + len - 3, "OFF", 3);
+}
+/* The keyword is optional: the first line may hold the counts. The
+ * checks of src/io/model_check.c have read the header by then. */
+static int looks_off(const char *d, size_t n)
+{
+    const char *p = skip_blank(d, d + n);
+    return off_keyword(d, n) || (p < d + n && (isdigit((unsigned char)*p) || *p == '-'));
+}
+static int looks_fbx(const char *d, size_t n)
+{
+    return (n >= 18 && !memcmp(d, "Kaydara FBX Binary", 18)) || early(d, n, "FBXHeaderExtension") ||
+           early(d, n, "; FBX");
+}
+static int looks_dae(const char *d, size_t n) { return early(d, n, "<COLLADA"); }
+/* 3DS: the main chunk 0x4D4D, little-endian, with its length. */
+static int looks_3ds(const char *d, size_t n)
+{
+    return n >= 6 && (unsigned char)d[0] == 0x4d && (unsigned char)d[1] == 0x4d;
+}
+
+static const model_format common_formats[] = {
+    {"gltf", "glTF", looks_gltf, NULL},    {"glb", "binary glTF", looks_glb, NULL},
+    {"ply", "PLY", looks_ply, NULL},       {"stl", "STL", looks_stl, NULL},
+    {"off", "OFF", looks_off, off_keyword}, {"fbx", "FBX", looks_fbx, NULL},
+    {"dae", "COLLADA", looks_dae, NULL},   {"3ds", "3DS", looks_3ds, NULL},
+};
+#define COMMON_COUNT (sizeof common_formats / sizeof common_formats[0])
+
+static const model_format *format_of_name(const char *name)
+{
+    for (size_t i = 0; i < COMMON_COUNT; i++)
+        if (persp__model_has_ext(name, common_formats[i].ext)) return &common_formats[i];
+    return NULL;
+}
+
+static const model_format *format_of_content(const char *data, size_t size)
+{
+    /* Binary signatures first: an STL header is free text. */
+    static const size_t order[] = {1, 5, 7, 2, 6, 0, 4, 3};
+    for (size_t i = 0; i < COMMON_COUNT; i++) {
+        const model_format *f = &common_formats[order[i]];
+        if ((f->sniff ? f->sniff : f->looks)(data, size)) return f;
+    }
+    return NULL;
+}
+
+/* The name Assimp is given for the model (its extension picks the reader),
+ * or an error: a format not enabled, or content that is not what the name
+ * says. */
+static persp_status pick_reader(persp_context *ctx, const char *display, const char *data, size_t size,
+                                int all, char *main_name, size_t cap)
+{
+    const char *base = persp__path_base(display);
+    const model_format *by_name = format_of_name(base);
+    const model_format *by_content = format_of_content(data, size);
+    if (by_name) {
+        if (!by_name->looks(data, size)) {
+            char seems[96] = "";
+            if (by_content)
+                snprintf(seems, sizeof seems, " (it looks like %s: rename it .%s)", by_content->name,
+                         by_content->ext);
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the content is not that of a %s file%s", display,
+                               by_name->name, seems);
+        }
+        snprintf(main_name, cap, "%s", base[0] ? base : "model");
+        return PERSP_OK;
+    }
+    const char *dot = strrchr(base, '.');
+    const int known = dot && dot[1] && aiIsExtensionSupported(dot);
+    if (!known && by_content) {
+        snprintf(main_name, cap, "model.%s", by_content->ext);
+        return PERSP_OK;
+    }
+    if (!all) {
+        char q[PERSP_QUOTE_BYTES];
+        if (known)
+            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                               "%s: '%s' models are not read by default (persp reads OBJ, glTF/GLB, PLY, "
+                               "STL, OFF, FBX, COLLADA and 3DS; --formats all enables the rest, read in "
+                               "the isolated importer)",
+                               display, persp__quote(dot + 1, strlen(dot + 1), q, sizeof q));
+        return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                           "%s: not a model format persp reads (OBJ, glTF/GLB, PLY, STL, OFF, FBX, "
+                           "COLLADA, 3DS; --formats all tries every reader of Assimp's)",
+                           display);
+    }
+    snprintf(main_name, cap, "%s", base[0] ? base : "model");
     return PERSP_OK;
 }
-
-/* A number of the scene's metadata, as Assimp stores it by type; 0 when
- * the key is missing or not a number. */
-static int meta_number(const struct aiScene *ai, const char *key, double *out)
-{
-    const struct aiMetadata *md = ai->mMetaData;
-    if (!md || !md->mKeys || !md->mValues) return 0;
-    for (unsigned i = 0; i < md->mNumProperties; i++) {
-        if (strcmp(md->mKeys[i].data, key) != 0) continue;
-        const struct aiMetadataEntry *e = &md->mValues[i];
-        if (!e->mData) return 0;
-        switch (e->mType) {
-        case AI_INT32: *out = *(const int32_t *)e->mData; return 1;
-        case AI_UINT64: *out = (double)*(const uint64_t *)e->mData; return 1;
-        case AI_FLOAT: *out = *(const float *)e->mData; return 1;
-        case AI_DOUBLE: *out = *(const double *)e->mData; return 1;
-        default: return 0;
-        }
-    }
-    return 0;
-}
-
-/* FBX files declare their axes and unit (GlobalSettings: UpAxis, FrontAxis,
- * CoordAxis with their signs, UnitScaleFactor in centimetres per unit),
- * which Assimp 5.2 passes on as metadata without applying them: a file
- * exported with +z up lay on its side, and one in centimetres (Blender's
- * default FBX) came out 100 times the size of the same model as glTF. The
- * root transform turns the declared axes into persp's (x right, y up, z
- * towards the viewer: CoordAxis, UpAxis, FrontAxis) and the unit into
- * metres, glTF's. Axes that are not three distinct ones with signs ±1 are
- * left as they are. */
-static persp_mat4 fbx_root(const struct aiScene *ai)
-{
-    persp_mat4 m = persp_mat4_identity();
-    static const char *const axis_keys[3][2] = {
-        {"CoordAxis", "CoordAxisSign"}, {"UpAxis", "UpAxisSign"}, {"FrontAxis", "FrontAxisSign"}};
-    int axis[3], sign[3], used = 0, ok = 1;
-    for (int k = 0; k < 3 && ok; k++) {
-        double a, s;
-        ok = meta_number(ai, axis_keys[k][0], &a) && meta_number(ai, axis_keys[k][1], &s) &&
-             (a == 0 || a == 1 || a == 2) && (s == 1 || s == -1) && !(used & (1 << (int)a));
-        if (!ok) break;
-        axis[k] = (int)a, sign[k] = (int)s;
-        used |= 1 << axis[k];
-    }
-    if (ok) {
-        memset(m.m, 0, sizeof m.m);
-        for (int k = 0; k < 3; k++) m.m[axis[k] * 4 + k] = (float)sign[k];
-        m.m[15] = 1.0f;
-    }
-    double unit;
-    if (meta_number(ai, "UnitScaleFactor", &unit) && isfinite(unit) && unit > 0.0 && unit != 100.0) {
-        const float s = (float)(unit / 100.0);
-        for (int c = 0; c < 3; c++)
-            for (int r = 0; r < 3; r++) m.m[c * 4 + r] *= s;
-    }
-    return m;
-}
-
-/* Whether a PLY file defines materials ("element material" in its header).
- * Without one, Assimp 5.2's PLY reader makes a stand-in that is not named
- * as its others are (AI_DEFAULT_MATERIAL_NAME) and is white in ambient,
- * diffuse and specular: the same mesh drew washed out next to its STL,
- * which gets persp's default material. */
-static int ply_has_materials(const char *data, size_t size)
-{
-    const char *end = NULL;
-    for (size_t i = 0; i + 10 <= size && !end; i++)
-        if (!memcmp(data + i, "end_header", 10)) end = data + i;
-    const size_t header = end ? (size_t)(end - data) : size;
-    static const char key[] = "element material";
-    for (size_t i = 0; i + sizeof key - 1 <= header; i++)
-        if (!memcmp(data + i, key, sizeof key - 1)) return 1;
-    return 0;
-}
-
-/* FBX by its name or its first bytes (binary, or ASCII's comment line). */
-static int is_fbx(const char *name, const char *data, size_t size)
-{
-    return persp__model_has_ext(name, "fbx") || (size >= 18 && !memcmp(data, "Kaydara FBX Binary", 18)) ||
-           (size >= 5 && !memcmp(data, "; FBX", 5));
-}
-
-static persp_status fill_slots(persp_context *ctx, int **slots, unsigned n)
-{
-    *slots = persp__calloc(ctx, n ? n : 1, sizeof **slots);
-    if (!*slots) return PERSP_ERR_OUT_OF_MEMORY;
-    for (unsigned i = 0; i < n; i++)
-        (*slots)[i] = -1;
-    return PERSP_OK;
-}
-
-/* ----------------------------------------------------------------- import */
-
-/* What the post-processing steps need and do not check themselves: the
- * primitive types recomputed from the faces (some readers, PLY's among
- * them, get them wrong on malformed input, and Debian's Assimp aborts on
- * the internal check that catches it), finite positions, and something to
- * triangulate. Returns NULL or what is wrong. */
-/* Some exporters write zero facet normals (Blender's old binary STL writer,
- * for one); drawn as they are, such a surface gets no diffuse light at all.
- * One unusable normal has the scene's normals made afresh. */
-static int normals_unusable(const struct aiMesh *m)
-{
-    if (!m->mNormals) return 0;
-    for (unsigned v = 0; v < m->mNumVertices; v++) {
-        const struct aiVector3D n = m->mNormals[v];
-        if (!persp__model_finite3(n.x, n.y, n.z) || !(n.x * n.x + n.y * n.y + n.z * n.z > 1e-12f)) return 1;
-    }
-    return 0;
-}
-
-/* Whether a face spans any area: a model whose faces all lie on a line or a
- * point would render as an empty picture. The fan from the first corner
- * covers the polygon; "no area" is relative to the edges' lengths. */
-static int face_has_area(const struct aiMesh *m, const struct aiFace *f)
-{
-    if (f->mNumIndices < 3) return 0;
-    const struct aiVector3D a = m->mVertices[f->mIndices[0]];
-    const float pa[3] = {a.x, a.y, a.z};
-    for (unsigned i = 1; i + 1 < f->mNumIndices; i++) {
-        const struct aiVector3D b = m->mVertices[f->mIndices[i]];
-        const struct aiVector3D c = m->mVertices[f->mIndices[i + 1]];
-        const float pb[3] = {b.x, b.y, b.z}, pc[3] = {c.x, c.y, c.z};
-        if (persp__model_triangle_has_area(pa, pb, pc)) return 1;
-    }
-    return 0;
-}
-
-static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
-{
-    int any = 0, area = 0;
-    for (unsigned i = 0; i < ai->mNumMeshes; i++) {
-        struct aiMesh *m = ai->mMeshes[i]; /* the scene is this import's own */
-        /* Faces without corners pass Assimp 5.2's validation and then break
-         * its post-processing: Triangulate asserts, SortByPType crashed the
-         * process (SIGBUS, a 288-byte PLY found by the model fuzzer). They
-         * are moved behind the others and left out of the count. Moved by
-         * swapping, so that every index array is still owned by exactly
-         * one face when Assimp frees the whole array. */
-        unsigned kept = 0;
-        for (unsigned f = 0; f < m->mNumFaces; f++) {
-            if (m->mFaces[f].mNumIndices == 0) continue;
-            if (f != kept) {
-                struct aiFace t = m->mFaces[kept];
-                m->mFaces[kept] = m->mFaces[f];
-                m->mFaces[f] = t;
-            }
-            kept++;
-        }
-        m->mNumFaces = kept;
-        unsigned types = 0;
-        for (unsigned f = 0; f < m->mNumFaces; f++) {
-            unsigned n = m->mFaces[f].mNumIndices;
-            types |= n == 0   ? 0u /* an empty face: nothing to draw */
-                     : n == 1 ? aiPrimitiveType_POINT
-                     : n == 2 ? aiPrimitiveType_LINE
-                     : n == 3 ? aiPrimitiveType_TRIANGLE
-                              : aiPrimitiveType_POLYGON;
-        }
-        m->mPrimitiveTypes = types;
-        any |= (types & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) != 0;
-        if (!*regen_normals) *regen_normals = normals_unusable(m);
-        for (unsigned v = 0; v < m->mNumVertices; v++)
-            if (!persp__model_finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
-                return "a vertex position is not finite";
-        for (unsigned f = 0; f < m->mNumFaces && !area; f++)
-            area = face_has_area(m, &m->mFaces[f]);
-    }
-    if (!any) return "the model has no triangles to draw";
-    return area ? NULL : "the model's triangles all have zero area (nothing to draw)";
-}
-
 void persp__model_free(persp_context *ctx, persp_model *model)
 {
     if (!model) return;
@@ -901,6 +769,109 @@ static int is_obj(const char *name, const char *data, size_t size)
     return 0;
 }
 
+/* ----------------------------------------------------------------- import */
+
+/* The importer's memory when the context has no budget: half of this
+ * machine's, so that one hostile file cannot take all of it. */
+static size_t unbudgeted_import_memory(void)
+{
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages <= 0 || page <= 0) return (size_t)4 << 30;
+    return (size_t)pages / 2 * (size_t)page;
+}
+
+static void mib(char *out, size_t cap, size_t bytes)
+{
+    snprintf(out, cap, "%.1f MiB", (double)bytes / (1024.0 * 1024.0));
+}
+
+static int send_request(wire_chan *c, const char *main_name, const char *data, size_t size,
+                        size_t max_vertices)
+{
+    const uint32_t head[2] = {WIRE_MAGIC, WIRE_VERSION};
+    const uint64_t mv = max_vertices, n = size;
+    const uint32_t len = (uint32_t)strlen(main_name);
+    return persp__wire_write(c, head, sizeof head) && persp__wire_write(c, &mv, sizeof mv) &&
+           persp__wire_write(c, &len, sizeof len) && persp__wire_write(c, main_name, len) &&
+           persp__wire_write(c, &n, sizeof n) && persp__wire_write(c, data, size);
+}
+
+/* The failure of an import whose importer went away without an answer. */
+static persp_status lost_importer(persp_context *ctx, const char *display, const wire_chan *c,
+                                  const persp_importer_end *end, const persp_importer_opts *o)
+{
+    char lim[32], used[32];
+    mib(lim, sizeof lim, o->memory);
+    mib(used, sizeof used, end->peak_bytes);
+    if (c->failed == 2 || end->signal == SIGXCPU)
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: the import took longer than its limit of %.1f s (--import-timeout); the "
+                           "file is malformed or hostile, or needs more time",
+                           display, o->time_limit_ms / 1000.0);
+    if (end->exit_code == PERSP_IMPORT_EXIT_OUT_OF_MEMORY)
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+                           "%s: importing the model needs more than the %s of memory it may use (what "
+                           "the memory budget leaves: --max-memory)",
+                           display, lim);
+    if (end->signal) {
+        /* A reader that fails an allocation it does not check crashes
+         * rather than reporting it: near the limit, say so. */
+        char near[192] = "";
+        if (end->peak_bytes >= o->memory / 10 * 9)
+            snprintf(near, sizeof near, "; it had used %s of the %s it may use, so it may have run out "
+                     "(--max-memory)", used, lim);
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: the importer crashed on this file (signal %d, %s); the file is malformed "
+                           "or hostile%s",
+                           display, end->signal, strsignal(end->signal), near);
+    }
+    if (end->exit_code == PERSP_IMPORT_EXIT_LIMITS)
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: the model importer could not set its limits", display);
+    return persp__fail(ctx, PERSP_ERR_IO, "%s: the model importer ended without an answer%s", display,
+                       end->known ? "" : " (its exit status is unknown: SIGCHLD ignored?)");
+}
+
+/* The failure the importer reported ('E'). */
+static persp_status refused(persp_context *ctx, const char *display, const model_io *io, int kind,
+                            const char *why, const persp_importer_opts *o)
+{
+    if (kind == WIRE_ERR_OUT_OF_MEMORY) {
+        char lim[32];
+        mib(lim, sizeof lim, o->memory);
+        if (o->in_process)
+            return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: the model importer ran out of memory",
+                               display);
+        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
+                           "%s: importing the model needs more than the %s of memory it may use (what "
+                           "the memory budget leaves: --max-memory)",
+                           display, lim);
+    }
+    /* Assimp takes a file that could not be opened for a missing or
+     * unreadable one, so a file the model names and persp could not read
+     * is the reason. */
+    if (io->nmissing)
+        return persp__fail(ctx, PERSP_ERR_IO, "%s, which the model cannot be imported without", io->notes[0]);
+    if (kind == WIRE_ERR_FORMAT) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, why);
+    if (kind == WIRE_ERR_TOO_LARGE) return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "%s: %s", display, why);
+    if (kind == WIRE_ERR_NO_READER)
+        return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                           "%s: not a model format persp reads (OBJ, or one Assimp reads: glTF, PLY, "
+                           "STL, FBX, COLLADA, 3DS, ...)",
+                           display);
+    /* Assimp's message may quote the text it choked on; once another file
+     * (a material library, a buffer) has been read, that text may be that
+     * file's, which is not the user's to see through a model (a material
+     * library naming /etc/passwd, with any_folder on). */
+    if (io->others && quotes_other(io, why))
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: cannot import the model or a file it names (Assimp's message withheld: "
+                           "it may quote that file)",
+                           display);
+    char q[PERSP_QUOTE_BYTES * 2];
+    return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: cannot import the model: %s", display,
+                       why[0] ? persp__quote(why, strlen(why), q, sizeof q) : "unknown format or malformed file");
+}
+
 /* persp__model_load_memory on buf, size + 1 bytes from the context's
  * allocator with buf[size] = '\0', which it modifies and frees: a file's
  * text is then held once, not read and copied (docs/RELIABILITY.md). */
@@ -912,28 +883,63 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     memset(out, 0, sizeof *out);
     const char *display = name ? name : "<model>";
     if (is_obj(display, buf, size)) {
-        persp_status ost =
-            persp__obj_load(scene, buf, size, name, base_dir, cache, max_vertices, out);
+        persp_status ost = persp__obj_load(scene, buf, size, name, base_dir, cache, max_vertices, out);
         persp__free(ctx, buf);
         return ost;
     }
-    /* Assimp picks the reader by the name's extension and then the content;
-     * a name without a usable one still gets the content sniffed. */
-    const char *main_name = persp__path_base(display);
-    if (!main_name[0]) main_name = "model";
-    if (is_line_text(main_name) || persp__model_has_ext(main_name, "gltf"))
-        size = normalise_text(buf, size, is_line_text(main_name));
-
-    persp_status cst = persp__model_check(ctx, display, buf, size);
-    if (cst != PERSP_OK) {
-        persp__free(ctx, buf);
-        return cst;
+    const persp_scene_load_desc *d = scene->load_desc;
+    persp_importer_opts o;
+    memset(&o, 0, sizeof o);
+    o.in_process = d && d->import == PERSP_MODEL_IMPORT_IN_PROCESS;
+    o.time_limit_ms = d && d->import_time_limit_ms ? d->import_time_limit_ms : PERSP_IMPORT_TIME_LIMIT_MS;
+    /* The checks of the formats' headers first: their messages say more
+     * than that a file is not what its name says. */
+    char main_name[256];
+    const char *base = persp__path_base(display);
+    if (is_line_text(base) || persp__model_has_ext(base, "gltf")) size = normalise_text(buf, size, is_line_text(base));
+    persp_status st = persp__model_check(ctx, display, buf, size);
+    if (st == PERSP_OK)
+        st = pick_reader(ctx, display, buf, size, d && d->formats == PERSP_MODEL_FORMATS_ALL, main_name,
+                         sizeof main_name);
+    char helper[PERSP_PATH_MAX];
+    if (st == PERSP_OK && !o.in_process) {
+        if (persp__import_helper_path(d ? d->import_helper : NULL, helper, sizeof helper))
+            o.helper = helper;
+        else
+            st = persp__fail(ctx, PERSP_ERR_UNAVAILABLE,
+                             "%s: cannot find the model importer %s (beside libpersp, or in "
+                             "PREFIX/libexec/persp/; persp_scene_load_desc.import_helper names it)",
+                             display, d && d->import_helper ? d->import_helper : "persp-import");
     }
+    if (st != PERSP_OK) {
+        persp__free(ctx, buf);
+        return st;
+    }
+    /* In this process Assimp allocates with new/malloc and its C API has no
+     * allocator hook: its need is reserved from the budget by the file's
+     * size (a 68.5 MB OBJ grid of a million triangles peaked at 311 MB, 4.5
+     * bytes per byte of the file). persp-import is held to what the budget
+     * leaves instead, and what it sends back is charged as it arrives. */
+    size_t reserved = 0;
+    if (o.in_process) {
+        reserved = size > ((size_t)-1 - (1u << 20)) / MODEL_IMPORT_PER_BYTE
+                       ? (size_t)-1
+                       : size * MODEL_IMPORT_PER_BYTE + ((size_t)1 << 20);
+        char what[PERSP_ERRMSG_BYTES / 2];
+        snprintf(what, sizeof what, "%s: importing the model", display);
+        if (persp__mem_reserve(ctx, reserved, what) != PERSP_OK) {
+            persp__free(ctx, buf);
+            return PERSP_ERR_OUT_OF_MEMORY;
+        }
+    } else {
+        size_t avail = persp__mem_available(ctx);
+        o.memory = avail == (size_t)-1 ? unbudgeted_import_memory() : avail;
+    }
+
     model_io io;
     memset(&io, 0, sizeof io);
     io.ctx = ctx;
     io.display = display;
-    io.main_name = main_name;
     io.data = buf;
     io.size = size;
     io.base_dir = base_dir;
@@ -941,151 +947,67 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     /* glTF 2.0 §3.3.1: URIs are RFC 3986, so "%20" in a name is a space. */
     io.uri = persp__model_has_ext(main_name, "gltf") || persp__model_has_ext(main_name, "glb") ||
              (size >= 4 && !memcmp(buf, "glTF", 4));
-    struct aiFileIO fio = {file_open, file_close, (aiUserData)(void *)&io};
 
-    /* Assimp allocates with new/malloc and its C API has no allocator hook:
-     * its need is reserved from the budget by the file's size. Importing a
-     * 68.5 MB OBJ grid of a million triangles with these steps peaked at
-     * 311 MB of process memory (docs/RELIABILITY.md), 4.5 bytes per byte of
-     * the file. */
-    size_t import_bytes = size > ((size_t)-1 - (1u << 20)) / MODEL_IMPORT_PER_BYTE
-                              ? (size_t)-1
-                              : size * MODEL_IMPORT_PER_BYTE + ((size_t)1 << 20);
-    char what[PERSP_ERRMSG_BYTES / 2];
-    snprintf(what, sizeof what, "%s: importing the model", display);
-    if (persp__mem_reserve(ctx, import_bytes, what) != PERSP_OK) {
-        persp__free(ctx, buf);
-        return PERSP_ERR_OUT_OF_MEMORY;
-    }
-    struct aiPropertyStore *props = aiCreatePropertyStore();
-    if (!props) {
-        persp__mem_release(ctx, import_bytes);
-        persp__free(ctx, buf);
-        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
-    }
-    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, PERSP_MODEL_CREASE_DEG);
-    aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE,
-                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-    /* Read and validated first, then prepared (prepare_scene) for the
-     * post-processing steps. A scene they would fail on is refused before
-     * them: Assimp 5.2 crashes releasing a scene whose post-processing
-     * failed. */
-    /* GenUVCoords turns a texture projected by the file's mapping (sphere,
-     * cylinder, box, plane: LightWave and others) into coordinates per
-     * vertex; without it such a texture was drawn as one texel's colour.
-     * TransformUVCoords is left out: Assimp 5.2 scales glTF's
-     * KHR_texture_transform about the texture's centre, not its origin as
-     * the extension says (a scale of 2 gave u in [-0.5, 1.5]). */
-    unsigned steps = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType |
-                     aiProcess_GenUVCoords;
-    int regen_normals = 0;
-    char why[256] = "";
-    const char *wrong = NULL;
-    pthread_mutex_lock(&import_lock);
-    const struct aiScene *ai =
-        aiImportFileExWithProperties(main_name, aiProcess_ValidateDataStructure, &fio, props);
-    if (ai && (wrong = prepare_scene(ai, &regen_normals)) != NULL) {
-        aiReleaseImport(ai);
-        ai = NULL;
-    }
-    if (regen_normals) steps |= aiProcess_ForceGenNormals;
-    if (ai) ai = aiApplyPostProcessing(ai, steps);
-    if (!ai && !wrong) snprintf(why, sizeof why, "%s", aiGetErrorString());
-    pthread_mutex_unlock(&import_lock);
-    aiReleasePropertyStore(props);
-    int withhold = !ai && io.others && quotes_other(&io, why);
-    /* Assimp takes a file that could not be opened for a missing or
-     * unreadable one, so the reason is kept on this side. */
-    if (io.out_of_memory) {
-        if (ai) aiReleaseImport(ai);
-        persp__free(ctx, buf);
-        free_kept(&io);
-        persp__mem_release(ctx, import_bytes);
-        return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
-    }
-    if (wrong || !ai) {
-        persp__free(ctx, buf);
-        free_kept(&io);
-        persp__mem_release(ctx, import_bytes);
-    }
-    if (wrong) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: %s", display, wrong);
-    if (!ai && io.nmissing)
-        return persp__fail(ctx, PERSP_ERR_IO, "%s, which the model cannot be imported without",
-                           io.notes[0]);
-    for (int i = 0; ai && i < io.nmissing; i++)
-        persp__warn(ctx, "%s; going on without it", io.notes[i]);
-    if (!ai) {
-        why[strcspn(why, "\r\n")] = '\0';
-        /* Assimp's message may quote the text it choked on; once another
-         * file (a material library, a buffer) has been read, that text may
-         * be that file's, which is not the user's to see through a model
-         * (a material library naming /etc/passwd, with any_folder on). */
-        if (withhold)
-            return persp__fail(ctx, PERSP_ERR_FORMAT,
-                               "%s: cannot import the model or a file it names (Assimp's "
-                               "message withheld: it may quote that file)",
-                               display);
-        /* Assimp 5.2's words when no reader takes the file: a format it
-         * does not read, not a malformed file of one it does. */
-        if (!strncmp(why, "No suitable reader found", 24))
-            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
-                               "%s: not a model format persp reads (OBJ, or one Assimp reads: "
-                               "glTF, PLY, STL, FBX, COLLADA, 3DS, ...)",
-                               display);
-        char q[PERSP_QUOTE_BYTES * 2];
-        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: cannot import the model: %s", display,
-                           why[0] ? persp__quote(why, strlen(why), q, sizeof q)
-                                  : "unknown format or malformed file");
-    }
-
-    importer im;
-    memset(&im, 0, sizeof im);
-    im.scene = scene;
-    im.ctx = ctx;
-    im.ai = ai;
-    im.display = display;
-    im.base_dir = base_dir;
-    im.root = scene->load_root;
-    im.io = &io;
-    im.cache = cache;
-    im.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
-    im.out = out;
-    im.refs.scene = scene;
-    im.refs.cache = cache;
-    im.refs.display = display;
-    im.refs.base_dir = base_dir;
-    im.refs.root = scene->load_root;
-    im.refs.where = where_io;
-    im.refs.where_user = &io;
-    im.refs.uri = io.uri;
+    receiver r;
+    memset(&r, 0, sizeof r);
+    r.scene = scene;
+    r.ctx = ctx;
+    r.io = &io;
+    r.display = display;
+    r.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
+    r.out = out;
+    r.refs.scene = scene;
+    r.refs.cache = cache;
+    r.refs.display = display;
+    r.refs.base_dir = base_dir;
+    r.refs.root = scene->load_root;
+    r.refs.where = where_io;
+    r.refs.where_user = &io;
+    r.refs.uri = io.uri;
     for (int k = 0; k < 3; k++)
         out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
-    persp_status st = PERSP_OK;
-    if (fill_slots(ctx, &im.mesh_index, ai->mNumMeshes) != PERSP_OK ||
-        fill_slots(ctx, &im.material_index, ai->mNumMaterials) != PERSP_OK ||
-        fill_slots(ctx, &im.embedded_index, ai->mNumTextures) != PERSP_OK)
-        st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", display);
-    im.stand_in = (persp__model_has_ext(main_name, "ply") || (size >= 4 && !memcmp(buf, "ply", 3) &&
-                                                                (buf[3] == '\n' || buf[3] == '\r'))) &&
-                  !ply_has_materials(buf, size);
-    const persp_mat4 root = is_fbx(main_name, buf, size) ? fbx_root(ai) : persp_mat4_identity();
-    if (st == PERSP_OK && ai->mRootNode) st = walk(&im, ai->mRootNode, root, 0);
+
+    if (o.in_process) pthread_mutex_lock(&import_lock);
+    persp_importer imp;
+    st = persp__importer_start(ctx, &o, display, &imp);
+    wire_chan chan = {imp.fd, o.in_process ? 0 : persp__wire_now_ms() + o.time_limit_ms, 0};
+    r.chan = &chan;
+    int kind = 0;
+    char why[WIRE_MAX_TEXT + 1] = "";
+    if (st == PERSP_OK) {
+        if (!send_request(&chan, main_name, buf, size, r.max_vertices))
+            r.lost = 1, st = PERSP_ERR_IO;
+        else
+            st = take_answer(&r, &kind, why);
+        persp_importer_end end;
+        /* Anything but a complete answer or refusal stops the importer. */
+        persp__importer_finish(&imp, st != PERSP_OK && !kind, &end);
+        if (r.lost) st = lost_importer(ctx, display, &chan, &end, &o);
+    }
+    if (o.in_process) pthread_mutex_unlock(&import_lock);
+    if (st == PERSP_OK || kind) {
+        if (io.out_of_memory)
+            st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory reading a file the model names",
+                             display);
+        else if (kind)
+            st = refused(ctx, display, &io, kind, why, &o);
+    }
+    for (int i = 0; st == PERSP_OK && i < io.nmissing; i++)
+        persp__warn(ctx, "%s; going on without it", io.notes[i]);
     /* A texture refused for want of memory is not drawn untextured with a
      * warning, as a missing file is: the allocator's refusal is the caller's
      * to see (PERSP_ERR_OUT_OF_MEMORY). */
-    if (st == PERSP_OK && im.out_of_memory) st = PERSP_ERR_OUT_OF_MEMORY; /* detail: model_texture_oom */
+    if (st == PERSP_OK && (r.out_of_memory || r.refs.out_of_memory)) st = PERSP_ERR_OUT_OF_MEMORY;
     if (st == PERSP_OK && out->part_count == 0)
         st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", display);
     if (st == PERSP_OK && !(out->bbox_min[0] <= out->bbox_max[0]))
-        st = persp__fail(ctx, PERSP_ERR_FORMAT,
-                         "%s: the model's transformed vertices are not finite", display);
-    persp__free(ctx, im.mesh_index);
-    persp__free(ctx, im.material_index);
-    persp__free(ctx, im.embedded_index);
+        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the model's transformed vertices are not finite", display);
+    persp__free(ctx, r.mesh_index);
+    persp__free(ctx, r.material_index);
+    persp__free(ctx, r.embedded_index);
     persp__free(ctx, buf);
     free_kept(&io);
-    aiReleaseImport(ai);
-    persp__mem_release(ctx, import_bytes);
+    if (reserved) persp__mem_release(ctx, reserved);
     /* Files worked around left their failures in the detail: warnings. */
     if (st == PERSP_OK)
         persp__clear_error(ctx);
@@ -1157,9 +1079,10 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
 }
 
 persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
-                                     const char *base_dir, const char *root, int up_z,
-                                     persp_scene **out)
+                                     const char *base_dir, const char *root,
+                                     const persp_scene_load_desc *desc, persp_scene **out)
 {
+    const int up_z = desc && desc->model_up == PERSP_MODEL_UP_Z;
     *out = NULL;
     persp_scene *s = NULL;
     persp_status st = persp__scene_new(ctx, &s);
@@ -1171,9 +1094,11 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
     memset(&cache, 0, sizeof cache);
     persp_model model;
     s->load_root = root;
+    s->load_desc = desc;
     st = data ? load_owned(s, data, size, name, base_dir, &cache, 0, &model)
               : persp__obj_load(s, NULL, 0, name, base_dir, &cache, 0, &model);
     s->load_root = NULL;
+    s->load_desc = NULL;
     persp__texcache_free(ctx, &cache);
     if (st == PERSP_OK) persp__model_warn_no_uv(s, &model, name ? name : "<model>", -1, PERSP_TEXGEN_UV);
     if (st == PERSP_OK && up_z) {

@@ -49,7 +49,8 @@ typedef struct persp_model {
 } persp_model;
 
 /* Imports a model from memory into scene: appends its meshes, materials and
- * textures and lists the instances in *out. name (its extension picks the
+ * textures and lists the instances in *out. scene->load_desc says how
+ * (persp_model_import, persp_model_formats; NULL: the defaults). name (its extension picks the
  * format when the content does not) appears in messages; base_dir resolves
  * the files the model refers to (material libraries, textures, buffers);
  * NULL: none are opened. Files outside scene->load_root (when set) are
@@ -76,10 +77,10 @@ int persp__model_is_model(const char *path, const char *data, size_t size);
  * from persp__read_file (NUL-terminated, size + 1 bytes), and frees it;
  * data NULL: name is an OBJ file to stream (persp__model_streams).
  * root: the folder the model's references must stay in, NULL: anywhere.
- * up_z: the model is +z up (PERSP_MODEL_UP_Z), turned to +y. */
+ * desc (NULL: defaults): the model's up axis and how it is imported. */
 persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
-                                     const char *base_dir, const char *root, int up_z,
-                                     persp_scene **out);
+                                     const char *base_dir, const char *root,
+                                     const persp_scene_load_desc *desc, persp_scene **out);
 
 /* JSON scene from memory. name appears in errors; base_dir resolves the
  * files the scene names; NULL: any file reference is refused. max_vertices

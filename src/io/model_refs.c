@@ -117,12 +117,16 @@ persp_status persp__model_read_ref(persp_context *ctx, const char *base_dir, con
     int outside = 0;
     *data = NULL;
     *size = 0;
+    const char *special = NULL;
     for (int k = 0; k < 4 && st != PERSP_OK && st != PERSP_ERR_OUT_OF_MEMORY; k++)
-        if (find_candidate(base_dir, root, rel, k, path, sizeof path, &outside))
+        if (find_candidate(base_dir, root, rel, k, path, sizeof path, &outside)) {
             st = persp__read_file_inside(ctx, root, path, data, size);
+            if (st != PERSP_OK && !special) special = persp__not_regular_why(path);
+        }
     if (st != PERSP_OK)
-        *why =
-            outside ? "outside the folder the model may read from" : "no such file or unreadable";
+        *why = special ? special
+               : outside ? "outside the folder the model may read from"
+                         : "no such file or unreadable";
     return st;
 }
 

@@ -1072,7 +1072,7 @@ static persp_status parse_root(jctx *j, json_t *root)
 
 static persp_status load_json(persp_context *ctx, const char *data, size_t size, const char *name,
                               const char *base_dir, const char *allowed, size_t max_vertices,
-                              persp_scene **out)
+                              const persp_scene_load_desc *desc, persp_scene **out)
 {
     if (!ctx || (!data && size) || !out) return PERSP_ERR_INVALID_ARGUMENT;
     *out = NULL;
@@ -1112,8 +1112,10 @@ static persp_status load_json(persp_context *ctx, const char *data, size_t size,
     persp_status st = persp__scene_new(ctx, &j.scene);
     if (st == PERSP_OK) {
         j.scene->load_root = allowed;
+        j.scene->load_desc = desc;
         st = parse_root(&j, root);
         j.scene->load_root = NULL;
+        j.scene->load_desc = NULL;
     }
     json_decref(root);
     persp__mem_release(ctx, parse_bytes);
@@ -1131,7 +1133,7 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
                                       const char *name, const char *base_dir, size_t max_vertices,
                                       persp_scene **out)
 {
-    return load_json(ctx, data, size, name, base_dir, NULL, max_vertices, out);
+    return load_json(ctx, data, size, name, base_dir, NULL, max_vertices, NULL, out);
 }
 
 persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
@@ -1145,7 +1147,10 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.any_folder");
     if (desc && (unsigned)desc->model_up > (unsigned)PERSP_MODEL_UP_Z)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.model_up");
-    const int up_z = desc && desc->model_up == PERSP_MODEL_UP_Z;
+    if (desc && (unsigned)desc->import > (unsigned)PERSP_MODEL_IMPORT_IN_PROCESS)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.import");
+    if (desc && (unsigned)desc->formats > (unsigned)PERSP_MODEL_FORMATS_ALL)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.formats");
     char root[PERSP_PATH_MAX];
     const int restricted = !desc || desc->any_folder != PERSP_TOGGLE_ON;
     char *data = NULL;
@@ -1162,8 +1167,8 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     char dir[PERSP_PATH_MAX];
     persp__path_dir(path, dir, sizeof dir);
     if (stream || persp__model_is_model(path, data, size))
-        return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, up_z, out);
-    st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, out);
+        return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, desc, out);
+    st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, desc, out);
     persp__free(ctx, data);
     return st;
 }

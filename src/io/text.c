@@ -12,22 +12,14 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* The size of the open stream f of the file path, positioned at its start;
- * f is closed on failure. */
+/* The size of the open stream f of the regular file path, positioned at
+ * its start; f is closed on failure. The size is taken from the stream
+ * itself so that limits are checked before any buffer exists. */
 static persp_status stream_size(persp_context *ctx, FILE *f, const char *path, size_t *size)
 {
-    /* fopen succeeds on a folder (POSIX open() with O_RDONLY), whose "size"
-     * then reads as LONG_MAX: say what it is instead. */
-    struct stat sb;
-    if (fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
-        fclose(f);
-        return persp__fail(ctx, PERSP_ERR_IO, "%s: is a directory, not a file", path);
-    }
-    /* The size is taken from the stream itself so that limits are checked
-     * before any buffer exists. */
     if (fseek(f, 0, SEEK_END) != 0) {
         fclose(f);
-        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot seek (not a regular file?)", path);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot seek", path);
     }
     long end = ftell(f);
     if (end < 0 || fseek(f, 0, SEEK_SET) != 0) {
@@ -36,6 +28,58 @@ static persp_status stream_size(persp_context *ctx, FILE *f, const char *path, s
     }
     *size = (size_t)end;
     return PERSP_OK;
+}
+
+const char *persp__not_regular_what(const char *path)
+{
+    struct stat sb;
+    if (stat(path, &sb) != 0) return "not a regular file";
+    if (S_ISDIR(sb.st_mode)) return "a folder";
+    if (S_ISFIFO(sb.st_mode)) return "a FIFO (named pipe)";
+    if (S_ISCHR(sb.st_mode) || S_ISBLK(sb.st_mode)) return "a device";
+    if (S_ISSOCK(sb.st_mode)) return "a socket";
+    return "not a regular file";
+}
+
+const char *persp__not_regular_why(const char *path)
+{
+    struct stat sb;
+    if (stat(path, &sb) != 0 || S_ISREG(sb.st_mode)) return NULL;
+    if (S_ISDIR(sb.st_mode)) return "a folder, not a file";
+    if (S_ISFIFO(sb.st_mode)) return "a FIFO (named pipe), not a regular file";
+    if (S_ISCHR(sb.st_mode) || S_ISBLK(sb.st_mode)) return "a device, not a regular file";
+    if (S_ISSOCK(sb.st_mode)) return "a socket, not a regular file";
+    return "not a regular file";
+}
+
+/* Opens path for reading, a regular file only. A FIFO's open blocks until
+ * a writer comes (forever, for one an unpacked archive left in a scene's
+ * folder), and a device's may do anything: the open does not wait
+ * (O_NONBLOCK, which a regular file ignores) and the type is checked on
+ * the descriptor, so it is the file that is then read. -1 (errno) or
+ * PERSP_OPEN_NOT_REGULAR. */
+static int open_regular(const char *path)
+{
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    if (fd < 0) return -1;
+    struct stat sb;
+    if (fstat(fd, &sb) != 0 || !S_ISREG(sb.st_mode)) {
+        int e = errno;
+        close(fd);
+        errno = e;
+        return PERSP_OPEN_NOT_REGULAR;
+    }
+    int flags = fcntl(fd, F_GETFL);
+    if (flags >= 0) (void)fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+    return fd;
+}
+
+static persp_status open_failed(persp_context *ctx, const char *path, int fd, int err)
+{
+    if (fd == PERSP_OPEN_NOT_REGULAR)
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: is %s, not a regular file", path,
+                           persp__not_regular_what(path));
+    return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(err));
 }
 
 /* Reads the open stream f (closed here) of the file path, n bytes, into a
@@ -70,8 +114,14 @@ persp_status persp__read_file(persp_context *ctx, const char *path, char **data,
 {
     *data = NULL;
     *size = 0;
-    FILE *f = fopen(path, "rb");
-    if (!f) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    int fd = open_regular(path);
+    if (fd < 0) return open_failed(ctx, path, fd, errno);
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int e = errno;
+        close(fd);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(e));
+    }
     size_t n = 0;
     persp_status st = stream_size(ctx, f, path, &n);
     return st == PERSP_OK ? read_stream(ctx, f, path, n, data, size) : st;
@@ -90,7 +140,7 @@ persp_status persp__open_stream_inside(persp_context *ctx, const char *root, con
                            "while being opened",
                            persp__quote(path, strlen(path), q, sizeof q), root);
     }
-    if (fd < 0) return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (fd < 0) return open_failed(ctx, path, fd, errno);
     FILE *f = fdopen(fd, "rb");
     if (!f) {
         int e = errno;
@@ -198,7 +248,7 @@ int persp__open_inside(const char *root, const char *path)
      * file behind this descriptor, so it is the one that must lie in root.
      * O_CLOEXEC keeps it from leaking into a child a threaded caller
      * starts meanwhile (POSIX open()). */
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    int fd = open_regular(path);
     if (fd < 0 || !root) return fd;
     if (persp__fd_inside(fd, root, path) != 1) {
         close(fd);

@@ -33,13 +33,22 @@ int persp__path_inside(const char *root, const char *path);
 
 /* persp__open_inside's answer for a file refused as outside root. */
 #define PERSP_OPEN_OUTSIDE (-2)
-/* Opens path read-only (O_RDONLY | O_CLOEXEC) and keeps it only when the
- * file opened is the one path resolves to (realpath) and that lies in root
- * or below; NULL root: any file. The descriptor (caller closes), -1 when
- * the open fails (errno says why), PERSP_OPEN_OUTSIDE when the file lies
+/* persp__open_inside's answer for a FIFO, device, socket or folder. */
+#define PERSP_OPEN_NOT_REGULAR (-3)
+/* Opens path read-only and keeps it only when it is a regular file and
+ * the file opened is the one path resolves to (realpath) and that lies in
+ * root or below; NULL root: any file. The descriptor (caller closes), -1
+ * when the open fails (errno says why), PERSP_OPEN_NOT_REGULAR for
+ * anything but a regular file, PERSP_OPEN_OUTSIDE when the file lies
  * elsewhere or path no longer names the file opened (a link swapped after
  * the open). */
 int persp__open_inside(const char *root, const char *path);
+/* Why path is not a regular file, for a message: "a folder", "a FIFO
+ * (named pipe)", "a device", "a socket" or "not a regular file". */
+const char *persp__not_regular_what(const char *path);
+/* "a FIFO (named pipe), not a regular file" and the like for a path that
+ * exists and is not a regular file; NULL otherwise. */
+const char *persp__not_regular_why(const char *path);
 /* The check of persp__open_inside on an open descriptor: 1 when fd is the
  * file that path resolves to and that lies in root or below (NULL root:
  * anywhere), 0 otherwise, -1 when fd or path cannot be examined. */

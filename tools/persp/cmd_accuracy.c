@@ -208,7 +208,7 @@ int cmd_accuracy(int argc, char **argv)
     desc.case_count = ncases;
 
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.max_memory = max_memory};
+    persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);

@@ -124,7 +124,7 @@ int cmd_accuracy_filter(int argc, char **argv)
     d.cases = cases;
     d.case_count = nc;
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.threads = threads, .max_memory = max_memory};
+    persp_context_desc cd = {.threads = threads, .max_memory = cli_max_memory(max_memory)};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);

@@ -73,7 +73,7 @@ int cmd_accuracy_shading(int argc, char **argv)
     /* The figures are written last: a path that cannot be is known now. */
     if ((rc = cli_check_output("accuracy --shading", "--svg", desc.svg_path)) != CLI_OK) return rc;
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.max_memory = max_memory};
+    persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "accuracy --shading: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);

@@ -314,6 +314,13 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
     if (o->load.any_folder == PERSP_TOGGLE_ON) argv[argc++] = "--any-folder";
     if (o->load.model_up == PERSP_MODEL_UP_Z) argv[argc++] = "--up", argv[argc++] = "z";
+    if (o->load.formats == PERSP_MODEL_FORMATS_ALL) argv[argc++] = "--formats", argv[argc++] = "all";
+    if (o->load.import == PERSP_MODEL_IMPORT_IN_PROCESS) argv[argc++] = "--import", argv[argc++] = "in-process";
+    char timeout[32];
+    if (o->load.import_time_limit_ms) {
+        snprintf(timeout, sizeof timeout, "%.3f", o->load.import_time_limit_ms / 1000.0);
+        argv[argc++] = "--import-timeout", argv[argc++] = timeout;
+    }
     argv[argc] = NULL;
 
     size_t nenv = 0;
@@ -770,6 +777,9 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT(opt_bench_method, &o.method),
         CLI_OPT(cli_opt_any_folder, &o.load.any_folder),
         CLI_OPT(cli_opt_up, &o.load.model_up),
+        CLI_OPT(cli_opt_formats, &o.load.formats),
+        CLI_OPT(cli_opt_import, &o.load.import),
+        CLI_OPT(cli_opt_import_timeout, &o.load.import_time_limit_ms),
         CLI_OPT_HELP(cli_opt_filter, &filter,
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
@@ -843,7 +853,7 @@ int cmd_bench(int argc, char **argv)
     uint8_t *exact_image = NULL;
     image_diff diff;
     int have_diff = 0;
-    persp_context_desc cd = {.threads = o.threads, .max_memory = max_memory, .simd = o.simd};
+    persp_context_desc cd = {.threads = o.threads, .max_memory = cli_max_memory(max_memory), .simd = o.simd};
     persp_status st = persp_context_create(&cd, &b.ctx);
     if (st != PERSP_OK) {
         cli_output_close("bench", &out, 0);

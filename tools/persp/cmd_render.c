@@ -82,6 +82,9 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_texture, &texture),
         CLI_OPT(cli_opt_any_folder, &load.any_folder),
         CLI_OPT(cli_opt_up, &load.model_up),
+        CLI_OPT(cli_opt_formats, &load.formats),
+        CLI_OPT(cli_opt_import, &load.import),
+        CLI_OPT(cli_opt_import_timeout, &load.import_time_limit_ms),
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(cli_opt_simd, &simd),
@@ -131,7 +134,7 @@ int cmd_render(int argc, char **argv)
     desc.shading = shading.shading;
 
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.threads = threads, .max_memory = max_memory, .simd = simd};
+    persp_context_desc cd = {.threads = threads, .max_memory = cli_max_memory(max_memory), .simd = simd};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
         if (st == PERSP_ERR_UNSUPPORTED)
             return cli_error(CLI_FAIL, "render: this CPU cannot run --simd %s", persp_simd_name(simd));

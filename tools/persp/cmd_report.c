@@ -63,7 +63,7 @@ int cmd_report(int argc, char **argv)
     desc.git_commit = commit[0] ? commit : NULL;
     desc.log = stderr;
     persp_context *ctx = NULL;
-    persp_context_desc cd = {.max_memory = max_memory};
+    persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
     persp_status st = persp_context_create(&cd, &ctx);
     if (st != PERSP_OK) return cli_status(NULL, st, "report: context");
     persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);

@@ -203,6 +203,9 @@ int cmd_view(int argc, char **argv)
         CLI_OPT(cli_opt_texture, &texture),
         CLI_OPT(cli_opt_any_folder, &load.any_folder),
         CLI_OPT(cli_opt_up, &load.model_up),
+        CLI_OPT(cli_opt_formats, &load.formats),
+        CLI_OPT(cli_opt_import, &load.import),
+        CLI_OPT(cli_opt_import_timeout, &load.import_time_limit_ms),
         CLI_OPT(cli_opt_count_ops, &count_ops),
         CLI_OPT(opt_mip_levels, &mip_levels),
         CLI_OPT(opt_layout, &layout),
@@ -258,7 +261,7 @@ int cmd_view(int argc, char **argv)
     persp_scene *scene = NULL, *tinted = NULL, *coords = NULL;
     persp_image coord_img = {0, 0, 0, NULL};
     persp_status st;
-    persp_context_desc cd = {.threads = threads, .max_memory = max_memory};
+    persp_context_desc cd = {.threads = threads, .max_memory = cli_max_memory(max_memory)};
     if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
         view_path_free(&path);
         return cli_status(NULL, st, "view");

@@ -1,6 +1,7 @@
 #include "options.h"
 
 #include <errno.h>
+#include <unistd.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -605,8 +606,61 @@ const cli_spec cli_opt_max_memory = {.name = "max-memory",
                                      .parse = parse_bytes,
                                      .accepts = "a byte count, optionally with K, M, G or T "
                                                 "(binary), e.g. 512M",
-                                     .help = "memory budget of persp, decoders and parsers\n"
-                                             "included, e.g. 512M or 2G (default: none)"};
+                                     .help = "memory budget of persp, decoders, parsers and\n"
+                                             "the model importer, e.g. 512M or 4G (default: 2G,\n"
+                                             "or half this machine's memory if that is less)"};
+
+size_t cli_max_memory(size_t given)
+{
+    if (given) return given;
+    /* A budget by default, so that a file cannot make the command take
+     * the machine's memory (a 200 MB JSON scene took 4 GB): 2 GiB holds
+     * every workload of docs/WORKLOADS.md at 4K with 16 threads. */
+    size_t cap = (size_t)2 << 30;
+    long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0 && (size_t)pages / 2 < cap / (size_t)page) cap = (size_t)pages / 2 * (size_t)page;
+    return cap;
+}
+
+/* Seconds (a decimal number, 0.1 to 3600) into milliseconds (unsigned). */
+static int parse_seconds_ms(const cli_command *cmd, const cli_option *opt, char *value)
+{
+    char *end = NULL;
+    errno = 0;
+    double v = (value[0] >= '0' && value[0] <= '9') ? strtod(value, &end) : -1.0;
+    if (!end || *end || errno || !(v >= 0.1 && v <= 3600.0)) return cli_bad_value(cmd, opt, value);
+    *(unsigned *)opt->dest = (unsigned)(v * 1000.0 + 0.5);
+    return CLI_OK;
+}
+
+const cli_spec cli_opt_import_timeout = {
+    .name = "import-timeout",
+    .kind = CLI_KIND_CUSTOM,
+    .metavar = "SECONDS",
+    .parse = parse_seconds_ms,
+    .accepts = "seconds from 0.1 to 3600",
+    .help = "stop a model import that takes longer (default 60)"};
+static const char *const formats_names[] = {"common", "all", NULL};
+static const int formats_values[] = {PERSP_MODEL_FORMATS_COMMON, PERSP_MODEL_FORMATS_ALL};
+const cli_spec cli_opt_formats = {
+    .name = "formats",
+    .kind = CLI_KIND_ENUM,
+    .metavar = "common|all",
+    .names = formats_names,
+    .values = formats_values,
+    .help = "model formats read: common (default: OBJ, glTF/GLB, PLY,\n"
+            "STL, OFF, FBX, COLLADA, 3DS) or all of Assimp's readers"};
+static const char *const import_names[] = {"isolated", "in-process", NULL};
+static const int import_values[] = {PERSP_MODEL_IMPORT_ISOLATED, PERSP_MODEL_IMPORT_IN_PROCESS};
+const cli_spec cli_opt_import = {
+    .name = "import",
+    .kind = CLI_KIND_ENUM,
+    .metavar = "isolated|in-process",
+    .names = import_names,
+    .values = import_values,
+    .help = "where models are read: isolated (default: a helper\n"
+            "process with limits) or in-process (trusted files only:\n"
+            "a reader's crash ends persp)"};
 
 int cli_parse_or_usage(cli_command *cmd, int argc, char **argv,
                        void (*usage)(FILE *out, const cli_command *cmd))

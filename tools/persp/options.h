@@ -153,5 +153,10 @@ extern const cli_spec cli_opt_json;      /* --json (persp_report_format) */
 extern const cli_spec cli_opt_heatmap;   /* --heatmap DIR (const char *) */
 extern const cli_spec cli_opt_seed;      /* --seed N (uint64_t) */
 extern const cli_spec cli_opt_max_memory; /* --max-memory SIZE (size_t bytes; K, M, G, T) */
+extern const cli_spec cli_opt_import_timeout; /* --import-timeout SECONDS (unsigned ms) */
+extern const cli_spec cli_opt_formats;   /* --formats common|all (persp_model_formats) */
+extern const cli_spec cli_opt_import;    /* --import isolated|in-process (persp_model_import) */
+/* The budget of a command: given, or the default --help names (0: the default). */
+size_t cli_max_memory(size_t given);
 
 #endif
