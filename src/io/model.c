@@ -563,6 +563,9 @@ static persp_status take_answer(receiver *r, int *kind, char why[WIRE_MAX_TEXT +
         uint8_t type;
         if (!get(r, &type, 1)) return LOST;
         persp_status st;
+        /* What the header sizes comes after it: said before anything of it is read. */
+        if (!r->header && (type == WIRE_MESH || type == WIRE_EMBEDDED || type == WIRE_MATERIAL || type == WIRE_PART))
+            return bad_answer(r, "a record before the header");
         switch (type) {
         case WIRE_FILE: st = answer_file(r); break;
         case WIRE_HEADER: st = take_header(r); break;

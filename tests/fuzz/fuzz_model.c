@@ -1,8 +1,11 @@
 /* libFuzzer harness: model import from memory as persp_scene_load drives it
  * for a model file (persp__scene_from_model): the same importer call with a
- * texture cache and a folder to resolve references in. The first byte picks
- * the name, whose extension is the format hint (Assimp also sniffs the
- * content); the rest is the file. The folder is tests/fuzz/files/, which
+ * texture cache and a folder to resolve references in, in this process
+ * (PERSP_MODEL_IMPORT_IN_PROCESS), so that the sanitizers see Assimp's
+ * readers and persp's side of the conversation together; fuzz_model_isolated
+ * takes the same inputs through persp-import. The first byte picks the
+ * name, whose extension picks the format among those read by default (its
+ * content must agree); the rest is the file. The folder is tests/fuzz/files/, which
  * holds a material library, textures and a glTF buffer the seeds refer to;
  * confine.c keeps every other file out of reach. The vertices of one input
  * are held to 2^18 so that a short input cannot ask for gigabytes. Checked
@@ -18,6 +21,10 @@
 #include <string.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+#ifndef FUZZ_IMPORT
+#define FUZZ_IMPORT PERSP_MODEL_IMPORT_IN_PROCESS
+#endif
 
 /* Assimp 5.2 leaks inside some of its readers on malformed input (the STL
  * reader's number parser, the OBJ reader's material handling). Leaks of
@@ -40,8 +47,8 @@ static void broken(const char *what, const char *detail)
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static const char *const names[] = {"fuzz.obj", "fuzz.gltf", "fuzz.glb",
-                                        "fuzz.ply", "fuzz.stl",  "fuzz.off"};
+    static const char *const names[] = {"fuzz.obj", "fuzz.gltf", "fuzz.glb", "fuzz.ply", "fuzz.stl",
+                                        "fuzz.off", "fuzz.fbx",  "fuzz.dae", "fuzz.3ds", "fuzz"};
     if (size < 1) return 0;
     const char *name = names[data[0] % (sizeof names / sizeof names[0])];
     persp_context *ctx = NULL;
@@ -51,6 +58,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         persp_texcache cache;
         memset(&cache, 0, sizeof cache);
         persp_model model;
+        const persp_scene_load_desc desc = {.import = FUZZ_IMPORT};
+        scene->load_desc = &desc;
         fuzz_confine(1);
         persp_status st = persp__model_load_memory(scene, data + 1, size - 1, name,
                                                    PERSP_FUZZ_FILES, &cache, (size_t)1 << 18,
