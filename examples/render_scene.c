@@ -1,10 +1,12 @@
 /*
- * render_scene — render one of persp's built-in scenes into buffers this
- * program owns, then save the colour buffer as a PNG.
+ * render_scene — render one of persp's built-in scenes, or a scene or model
+ * file, into buffers this program owns, then save the colour buffer as a PNG.
  *
  *   render_scene [SCENE [OUTPUT.png [METHOD]]]
  *
- * SCENE is "corridor" (default), "floor" or "cube"; OUTPUT defaults to
+ * SCENE is "corridor" (default), "floor" or "cube", or a path (it holds a
+ * '/'): a JSON scene or a model file, which persp reads in its helper
+ * process persp-import (installed with the library); OUTPUT defaults to
  * SCENE.png; METHOD is a texture-coordinate method ("exact" unless the scene
  * names one; `persp methods` lists them).
  *
@@ -15,6 +17,7 @@
 #include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Prints a failed call with the context's detail, which says which value or
  * which file position was wrong; returns nonzero on failure. */
@@ -31,7 +34,8 @@ int main(int argc, char **argv)
 {
     const char *scene_name = argc > 1 ? argv[1] : "corridor";
     char default_output[256];
-    snprintf(default_output, sizeof default_output, "%s.png", scene_name);
+    const char *slash = strrchr(scene_name, '/');
+    snprintf(default_output, sizeof default_output, "%s.png", slash ? slash + 1 : scene_name);
     const char *output = argc > 2 ? argv[2] : default_output;
     const char *method = argc > 3 ? argv[3] : NULL;
 
@@ -43,7 +47,11 @@ int main(int argc, char **argv)
 
     /* A NULL desc: malloc/free, one thread. */
     if (failed(NULL, persp_context_create(NULL, &ctx), "persp_context_create")) goto done;
-    if (failed(ctx, persp_scene_builtin(ctx, scene_name, &scene), scene_name)) goto done;
+    if (strchr(scene_name, '/')) {
+        if (failed(ctx, persp_scene_load(ctx, scene_name, &scene), scene_name)) goto done;
+    } else if (failed(ctx, persp_scene_builtin(ctx, scene_name, &scene), scene_name)) {
+        goto done;
+    }
 
     int width = 0, height = 0;
     persp_scene_default_size(scene, &width, &height);

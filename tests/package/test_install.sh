@@ -66,6 +66,11 @@ for f in perspConfig.cmake perspConfigVersion.cmake perspTargets.cmake; do
     expect_file "$libdir/cmake/persp/$f"
 done
 
+step "models through the installed persp-import"
+[ -x "$prefix/libexec/persp/persp-import" ] || fail "not installed: libexec/persp/persp-import"
+"$prefix/bin/persp" render "$src/tests/data/models/triangle.dae" --size 64x48 -o "$tmp/model.png" \
+    >"$tmp/model.log" 2>&1 || { cat "$tmp/model.log"; fail "bin/persp could not import a model"; }
+
 step "bin/persp --version"
 out=$("$prefix/bin/persp" --version)
 [ "$out" = "persp $version" ] || fail "persp --version printed '$out', expected 'persp $version'"
@@ -196,6 +201,10 @@ step "examples with find_package(persp)"
 # at the imported libraries.
 cmake_build "find_package" "$src/examples" "$tmp/find-package" -DCMAKE_PREFIX_PATH="$prefix"
 run_examples "find_package" "$tmp/find-package"
+# A program linking the installed libpersp.so finds persp-import from the
+# library's own place (PREFIX/libexec/persp/), whatever the prefix.
+"$tmp/find-package/render_scene" "$src/tests/data/models/triangle.dae" "$tmp/model-shared.png" \
+    >"$tmp/model-shared.log" 2>&1 || { cat "$tmp/model-shared.log"; fail "find_package: render_scene could not import a model"; }
 cmake_build "find_package static" "$src/examples" "$tmp/find-package-static" \
     -DCMAKE_PREFIX_PATH="$prefix" -DPERSP_EXAMPLES_STATIC=ON
 run_examples "find_package static" "$tmp/find-package-static" static
