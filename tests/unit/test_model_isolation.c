@@ -290,6 +290,34 @@ static void test_failed_import_leaves_nothing(void **state)
     remove_tmp();
 }
 
+static void count_warning(void *user, const char *message)
+{
+    (void)message;
+    ++*(int *)user;
+}
+
+/* Readers look for files nobody named (an .md5anim beside an .md5mesh):
+ * no warning about them, and a broken model is not blamed on one. */
+static void test_unnamed_files_quiet(void **state)
+{
+    (void)state;
+    make_tmp();
+    write_text("b.md5mesh", "MD5Version 10\n");
+    char path[1024];
+    tmp_path(path, sizeof path, "b.md5mesh");
+    persp_context *ctx = test_context();
+    int warned = 0;
+    persp_context_set_warning_handler(ctx, count_warning, &warned);
+    persp_scene *scene = NULL;
+    persp_scene_load_desc all = {.formats = PERSP_MODEL_FORMATS_ALL};
+    assert_int_equal(persp_scene_load_ex(ctx, path, &all, &scene), PERSP_ERR_FORMAT);
+    const char *e = persp_context_error(ctx);
+    if (strstr(e, "md5anim") || !strstr(e, "b.md5mesh: cannot import the model")) fail_msg("detail '%s'", e);
+    assert_int_equal(warned, 0);
+    persp_context_destroy(ctx);
+    remove_tmp();
+}
+
 /* Both modes build the same scene from the same file. */
 static void test_modes_agree(void **state)
 {
@@ -332,6 +360,7 @@ int main(void)
         cmocka_unit_test(test_formats_and_content),
         cmocka_unit_test(test_special_files_refused),
         cmocka_unit_test(test_failed_import_leaves_nothing),
+        cmocka_unit_test(test_unnamed_files_quiet),
         cmocka_unit_test(test_modes_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
