@@ -34,7 +34,7 @@ const char *persp__not_regular_what(const char *path)
 {
     struct stat sb;
     if (stat(path, &sb) != 0) return "not a regular file";
-    if (S_ISDIR(sb.st_mode)) return "a folder";
+    if (S_ISDIR(sb.st_mode)) return "a directory";
     if (S_ISFIFO(sb.st_mode)) return "a FIFO (named pipe)";
     if (S_ISCHR(sb.st_mode) || S_ISBLK(sb.st_mode)) return "a device";
     if (S_ISSOCK(sb.st_mode)) return "a socket";
@@ -45,7 +45,7 @@ const char *persp__not_regular_why(const char *path)
 {
     struct stat sb;
     if (stat(path, &sb) != 0 || S_ISREG(sb.st_mode)) return NULL;
-    if (S_ISDIR(sb.st_mode)) return "a folder, not a file";
+    if (S_ISDIR(sb.st_mode)) return "a directory, not a file";
     if (S_ISFIFO(sb.st_mode)) return "a FIFO (named pipe), not a regular file";
     if (S_ISCHR(sb.st_mode) || S_ISBLK(sb.st_mode)) return "a device, not a regular file";
     if (S_ISSOCK(sb.st_mode)) return "a socket, not a regular file";
@@ -76,9 +76,11 @@ static int open_regular(const char *path)
 
 static persp_status open_failed(persp_context *ctx, const char *path, int fd, int err)
 {
-    if (fd == PERSP_OPEN_NOT_REGULAR)
-        return persp__fail(ctx, PERSP_ERR_IO, "%s: is %s, not a regular file", path,
-                           persp__not_regular_what(path));
+    if (fd == PERSP_OPEN_NOT_REGULAR) {
+        const char *what = persp__not_regular_what(path);
+        return persp__fail(ctx, PERSP_ERR_IO, "%s: is %s, not a %sfile", path, what,
+                           strcmp(what, "a directory") ? "regular " : "");
+    }
     return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(err));
 }
 

@@ -43,7 +43,7 @@ int persp__path_inside(const char *root, const char *path);
  * elsewhere or path no longer names the file opened (a link swapped after
  * the open). */
 int persp__open_inside(const char *root, const char *path);
-/* Why path is not a regular file, for a message: "a folder", "a FIFO
+/* Why path is not a regular file, for a message: "a directory", "a FIFO
  * (named pipe)", "a device", "a socket" or "not a regular file". */
 const char *persp__not_regular_what(const char *path);
 /* "a FIFO (named pipe), not a regular file" and the like for a path that

@@ -15,6 +15,10 @@ extern "C" {
 #include "io/import_wire.h"
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+#endif
+
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +29,10 @@ extern "C" {
 #include <unistd.h>
 
 namespace {
+
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#define PERSP_IMPORT_RLIMIT_AS 1
+#endif
 
 /* Set when operator new ran out: Assimp's readers catch std::bad_alloc and
  * word it as a malformed file, which persp then reports correctly. */
@@ -43,6 +51,22 @@ int out_of_memory() { return g_out_of_memory; }
     _exit(g_out_of_memory ? PERSP_IMPORT_EXIT_OUT_OF_MEMORY : 1);
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+/* The instrumented build: AddressSanitizer's allocator enforces the limit
+ * (max_allocation_size_mb and hard_rss_limit_mb, from libpersp) and reports running out as an error of
+ * its own before any new_handler runs. Its kind of report tells running
+ * out from a bug; either ends the process, out of memory with its exit
+ * code, a bug by SIGABRT (abort_on_error). */
+void on_sanitizer_death()
+{
+    const char *d = __asan_get_report_description();
+    if (d && (std::strstr(d, "out-of-memory") || std::strstr(d, "allocation-size-too-big") ||
+              std::strstr(d, "rss-limit")))
+        _exit(PERSP_IMPORT_EXIT_OUT_OF_MEMORY);
+}
+#endif
+
+#ifdef PERSP_IMPORT_RLIMIT_AS
 /* The address space mapped now (code, libraries, stack): the limit is this
  * plus the memory the import may use. */
 unsigned long long mapped_now()
@@ -54,6 +78,7 @@ unsigned long long mapped_now()
     std::fclose(f);
     return pages * (unsigned long long)sysconf(_SC_PAGESIZE);
 }
+#endif
 
 int set_limit(int which, unsigned long long soft, unsigned long long hard)
 {
@@ -85,19 +110,22 @@ int main(int argc, char **argv)
     }
     /* Descriptors a careless parent left open are not the importer's. */
     for (int fd = 3; fd < 1024; fd++) close(fd);
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#ifdef PERSP_IMPORT_RLIMIT_AS
     const unsigned long long base = mapped_now();
 #endif
     int bad = set_limit(RLIMIT_CORE, 0, 0) != 0 || set_limit(RLIMIT_FSIZE, 0, 0) != 0 ||
               set_limit(RLIMIT_NOFILE, 3, 3) != 0 ||
               /* SIGXCPU at the limit, SIGKILL a second later. */
               set_limit(RLIMIT_CPU, cpu, cpu + 1) != 0;
-#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+#ifdef PERSP_IMPORT_RLIMIT_AS
     /* A sanitizer reserves terabytes of shadow address space; its own
      * allocator limit (ASAN_OPTIONS from libpersp) holds that build. */
     if (!bad && memory) bad = base == 0 || set_limit(RLIMIT_AS, base + memory, base + memory) != 0;
 #endif
     if (bad) return PERSP_IMPORT_EXIT_LIMITS;
+#if defined(__SANITIZE_ADDRESS__)
+    __sanitizer_set_death_callback(on_sanitizer_death);
+#endif
     std::set_new_handler(on_new_failure);
     std::set_terminate(on_terminate);
     int rc = persp__import_serve(0, out_of_memory);
