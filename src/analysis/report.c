@@ -382,6 +382,16 @@ persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_resul
                 return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: shard %d given twice",
                                    p->shard_index + 1);
     }
+    /* Each row of the sweep comes from one shard, so the shards hold as many
+     * rows as the sweep has at least: checked before the sweep's rows are
+     * allocated, as a shard's "rows" is whatever number its file says. */
+    size_t held = 0;
+    for (size_t i = 0; i < count; i++)
+        held += parts[i]->count;
+    if (held < total)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                           "merge: rows are missing (the shards hold %zu of the sweep's %zu)", held,
+                           total);
     persp_accuracy_result *res = result_alloc(ctx, total);
     unsigned char *seen = persp__calloc(ctx, total ? total : 1, 1);
     if (!res || !seen) {

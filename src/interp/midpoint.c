@@ -483,6 +483,9 @@ void persp__midpoint_trace_span(const persp_rational *r, const persp_midpoint_fo
     span->x0 = x0, span->y = y, span->n = n;
     if (n <= 0) return;
     mp_span_fixed(r, &fx, edge, x0, y, n, s1, s2, NULL, span, px);
+    /* The pixel where v left the integer path holds u's state: the double
+     * path has none (persp_midpoint_pixel). */
+    if (span->int_pixels < n) memset(&px[span->int_pixels], 0, sizeof *px);
     for (int k = 0; k < n; k++) px[k].u = s1[k], px[k].v = s2[k];
 }
 

@@ -82,5 +82,10 @@ void cli_install_signal_handlers(void);
 void cli_restore_signal_handlers(void);
 /* Seconds from a monotonic clock. */
 double cli_now(void);
+/* persp vectors --input (cmd_vectors.c): reads the next triangle, 15 numbers
+ * a line (x y w u v per vertex), from in, counting lines in *line. 1 with a
+ * triangle, 0 at the end of the file, -1 after "persp: vectors: path:line:
+ * problem" on stderr (cli_error). */
+int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3]);
 
 #endif

@@ -129,19 +129,25 @@ static int put_triangle(persp_context *ctx, const char *method, const persp_meth
     return CLI_OK;
 }
 
-/* cli_error's message, then -1 (read_triangle's failure, which must not
+/* cli_error's message, then -1 (vectors_read_triangle's failure, which must not
  * read as a triangle). */
 #define read_error(...) (cli_error(CLI_FAIL, __VA_ARGS__), -1)
 
-/* One vertex set per line: 1 with a triangle, 0 at the end of the file,
- * -1 after naming the file, line and problem. */
-
-static int read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3])
+/* One vertex set per line (declared in cli.h for tests/fuzz/fuzz_vectors.c). */
+int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3])
 {
     char text[4096];
-    while (fgets(text, sizeof text, in)) {
+    for (;;) {
+        /* A NUL byte would end the line for strlen unseen, and the rest of
+         * an overlong line would count as the next: with the buffer filled
+         * with non-zero bytes first, the last NUL is the one fgets wrote. */
+        memset(text, 1, sizeof text);
+        if (!fgets(text, sizeof text, in)) break;
         ++*line;
-        size_t n = strlen(text);
+        size_t n = strlen(text), got = sizeof text - 1;
+        while (text[got])
+            got--;
+        if (got != n) return read_error("vectors: %s:%ld: a NUL byte in the line", path, *line);
         if (n == sizeof text - 1 && text[n - 1] != '\n')
             return read_error("vectors: %s:%ld: line longer than %zu characters", path, *line,
                              sizeof text - 2);
@@ -264,7 +270,7 @@ int cmd_vectors(int argc, char **argv)
     for (;;) {
         persp_method_vertex v[3];
         if (in) {
-            int got = read_triangle(in, input, &line, v);
+            int got = vectors_read_triangle(in, input, &line, v);
             if (got != 1) {
                 rc = got < 0 ? CLI_FAIL : CLI_OK;
                 break;
