@@ -13,7 +13,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <fcntl.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -324,6 +328,82 @@ static void test_unnamed_files_quiet(void **state)
     remove_tmp();
 }
 
+/* persp-import as persp starts it, looked at from outside before it is
+ * sent anything: limits set, no descriptor but the three standard ones,
+ * and (outside the sanitizer builds) the address-space limit and the
+ * system-call filter in place. */
+static void test_helper_confined(void **state)
+{
+    (void)state;
+    char helper[1024];
+    test_binary_path(helper, sizeof helper, "persp-import");
+    int sv[2];
+    assert_int_equal(socketpair(AF_UNIX, SOCK_STREAM, 0, sv), 0);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        dup2(sv[1], 0);
+        int null = open("/dev/null", O_WRONLY);
+        dup2(null, 1), dup2(null, 2);
+        /* a descriptor left open by a careless parent: the helper closes it */
+        execl(helper, "persp-import", "--memory", "67108864", "--cpu", "5", (char *)NULL);
+        _exit(127);
+    }
+    close(sv[1]);
+    char path[64], line[256];
+    int seccomp = -1, nnp = -1, tries = 0;
+    snprintf(path, sizeof path, "/proc/%d/status", (int)pid);
+    /* The limits are set before the first read of the socket: wait until
+     * the helper sleeps in that read (State S with its filter, if any). */
+    for (; tries < 200; tries++) {
+        FILE *f = fopen(path, "r");
+        assert_non_null(f);
+        int sleeping = 0, named = 0;
+        while (fgets(line, sizeof line, f)) {
+            if (!strncmp(line, "Name:\tpersp-import", 18)) named = 1;
+            if (!strncmp(line, "State:\tS", 8)) sleeping = 1;
+            sscanf(line, "Seccomp:\t%d", &seccomp);
+            sscanf(line, "NoNewPrivs:\t%d", &nnp);
+        }
+        fclose(f);
+        if (named && sleeping) break;
+        const struct timespec ten_ms = {0, 10000000};
+        nanosleep(&ten_ms, NULL);
+    }
+    assert_true(tries < 200);
+    snprintf(path, sizeof path, "/proc/%d/limits", (int)pid);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    int core = 0, fsize = 0, nofile = 0, as = 0, cpu = 0;
+    while (fgets(line, sizeof line, f)) {
+        core += !strncmp(line, "Max core file size", 18) && strstr(line, " 0 ");
+        fsize += !strncmp(line, "Max file size", 13) && strstr(line, " 0 ");
+        nofile += !strncmp(line, "Max open files", 14) && strstr(line, " 3 ");
+        cpu += !strncmp(line, "Max cpu time", 12) && strstr(line, " 5 ");
+        as += !strncmp(line, "Max address space", 17) && !strstr(line, "unlimited");
+    }
+    fclose(f);
+    snprintf(path, sizeof path, "/proc/%d/fd", (int)pid);
+    int fds = 0;
+    DIR *d = opendir(path);
+    assert_non_null(d);
+    for (struct dirent *e; (e = readdir(d)) != NULL;) fds += e->d_name[0] != '.';
+    closedir(d);
+    close(sv[0]); /* the helper's read fails: it ends */
+    int status = 0;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 1);
+    assert_int_equal(core + fsize + nofile + cpu, 4);
+    assert_int_equal(fds, 3);
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__) && (defined(__x86_64__) || defined(__aarch64__))
+    assert_int_equal(as, 1);
+    assert_int_equal(seccomp, 2);
+    assert_int_equal(nnp, 1);
+#else
+    (void)as, (void)seccomp, (void)nnp;
+#endif
+}
+
 /* Both modes build the same scene from the same file. */
 static void test_modes_agree(void **state)
 {
@@ -367,6 +447,7 @@ int main(void)
         cmocka_unit_test(test_special_files_refused),
         cmocka_unit_test(test_failed_import_leaves_nothing),
         cmocka_unit_test(test_unnamed_files_quiet),
+        cmocka_unit_test(test_helper_confined),
         cmocka_unit_test(test_modes_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
