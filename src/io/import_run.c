@@ -139,7 +139,8 @@ persp_status persp__importer_start(persp_context *ctx, const persp_importer_opts
 #elif defined(__SANITIZE_THREAD__)
     char tsan[128];
     const size_t mb = o->memory / (1024 * 1024) + 1;
-    snprintf(tsan, sizeof tsan, "TSAN_OPTIONS=max_allocation_size_mb=%zu:hard_rss_limit_mb=%zu", mb, mb + 64);
+    snprintf(tsan, sizeof tsan, "TSAN_OPTIONS=abort_on_error=1:max_allocation_size_mb=%zu:hard_rss_limit_mb=%zu", mb,
+             mb + 64);
     envp[ne++] = tsan;
 #endif
     envp[ne] = NULL;
