@@ -114,19 +114,7 @@ static persp_status read_stream(persp_context *ctx, FILE *f, const char *path, s
 
 persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size)
 {
-    *data = NULL;
-    *size = 0;
-    int fd = open_regular(path);
-    if (fd < 0) return open_failed(ctx, path, fd, errno);
-    FILE *f = fdopen(fd, "rb");
-    if (!f) {
-        int e = errno;
-        close(fd);
-        return persp__fail(ctx, PERSP_ERR_IO, "%s: cannot open: %s", path, strerror(e));
-    }
-    size_t n = 0;
-    persp_status st = stream_size(ctx, f, path, &n);
-    return st == PERSP_OK ? read_stream(ctx, f, path, n, data, size) : st;
+    return persp__read_file_inside(ctx, NULL, path, data, size);
 }
 
 persp_status persp__open_stream_inside(persp_context *ctx, const char *root, const char *path,
@@ -140,7 +128,7 @@ persp_status persp__open_stream_inside(persp_context *ctx, const char *root, con
         return persp__fail(ctx, PERSP_ERR_IO,
                            "'%s' is outside the folder it may be read from (%s), or was replaced "
                            "while being opened",
-                           persp__quote(path, strlen(path), q, sizeof q), root);
+                           persp__quote(path, strlen(path), q, sizeof q), root ? root : "");
     }
     if (fd < 0) return open_failed(ctx, path, fd, errno);
     FILE *f = fdopen(fd, "rb");
