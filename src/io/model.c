@@ -875,6 +875,87 @@ static persp_status refused(persp_context *ctx, const char *display, const model
                        why[0] ? persp__quote(why, strlen(why), q, sizeof q) : "unknown format or malformed file");
 }
 
+/* What an import through Assimp needs before it starts: the reader
+ * (pick_reader, after the header checks of src/io/model_check.c, whose
+ * messages say more than that a file is not what its name says), where it
+ * runs, and its memory: in this process Assimp allocates with new/malloc
+ * and its C API has no allocator hook, so its need is reserved from the
+ * budget by the file's size (a 68.5 MB OBJ grid of a million triangles
+ * peaked at 311 MB, 4.5 bytes per byte of the file: *reserved); persp-import
+ * is held to what the budget leaves instead, and what it sends back is
+ * charged as it arrives. buf's text may be normalised (*size). */
+static persp_status prepare_import(persp_scene *scene, const char *display, char *buf, size_t *size,
+                                   char *main_name, size_t name_cap, char *helper, size_t helper_cap,
+                                   persp_importer_opts *o, size_t *reserved)
+{
+    persp_context *ctx = scene->ctx;
+    const persp_scene_load_desc *d = scene->load_desc;
+    memset(o, 0, sizeof *o);
+    *reserved = 0;
+    o->in_process = d && d->import == PERSP_MODEL_IMPORT_IN_PROCESS;
+    o->time_limit_ms = d && d->import_time_limit_ms ? d->import_time_limit_ms : PERSP_IMPORT_TIME_LIMIT_MS;
+    const char *base = persp__path_base(display);
+    if (is_line_text(base) || persp__model_has_ext(base, "gltf"))
+        *size = normalise_text(buf, *size, is_line_text(base));
+    persp_status st = persp__model_check(ctx, display, buf, *size);
+    if (st == PERSP_OK)
+        st = pick_reader(ctx, display, buf, *size, d && d->formats == PERSP_MODEL_FORMATS_ALL, main_name, name_cap);
+    if (st != PERSP_OK) return st;
+    if (o->in_process) {
+        *reserved = *size > ((size_t)-1 - (1u << 20)) / MODEL_IMPORT_PER_BYTE
+                        ? (size_t)-1
+                        : *size * MODEL_IMPORT_PER_BYTE + ((size_t)1 << 20);
+        char what[PERSP_ERRMSG_BYTES / 2];
+        snprintf(what, sizeof what, "%s: importing the model", display);
+        st = persp__mem_reserve(ctx, *reserved, what);
+        if (st != PERSP_OK) *reserved = 0;
+        return st;
+    }
+    if (!persp__import_helper_path(d ? d->import_helper : NULL, helper, helper_cap))
+        return persp__fail(ctx, PERSP_ERR_UNAVAILABLE,
+                           "%s: cannot find the model importer %s (beside libpersp, or in "
+                           "PREFIX/libexec/persp/; persp_scene_load_desc.import_helper names it)",
+                           display, d && d->import_helper ? d->import_helper : "persp-import");
+    o->helper = helper;
+    size_t avail = persp__mem_available(ctx);
+    o->memory = avail == (size_t)-1 ? unbudgeted_import_memory() : avail;
+    return PERSP_OK;
+}
+
+/* The conversation: the importer started, the model sent, its answer taken
+ * into the scene (take_answer), the importer ended. *kind and why: the
+ * importer's refusal ('E'), if it sent one. */
+static persp_status run_import(receiver *r, const persp_importer_opts *o, const char *main_name,
+                               int *kind, char why[WIRE_MAX_TEXT + 1])
+{
+    persp_context *ctx = r->ctx;
+    if (o->in_process) pthread_mutex_lock(&import_lock);
+    persp_importer imp;
+    persp_status st = persp__importer_start(ctx, o, r->display, &imp);
+    wire_chan chan = {imp.fd, o->in_process ? 0 : persp__wire_now_ms() + o->time_limit_ms, 0};
+    r->chan = &chan;
+    if (st == PERSP_OK) {
+        if (!send_request(&chan, main_name, r->io->data, r->io->size, r->max_vertices))
+            r->lost = 1, st = PERSP_ERR_IO;
+        else
+            st = take_answer(r, kind, why);
+        persp_importer_end end;
+        /* Anything but a complete answer or refusal stops the importer. */
+        persp__importer_finish(&imp, st != PERSP_OK && !*kind, &end);
+        if (r->lost) st = lost_importer(ctx, r->display, &chan, &end, o);
+    }
+    if (o->in_process) pthread_mutex_unlock(&import_lock);
+    r->chan = NULL;
+    if (st == PERSP_OK || *kind) {
+        if (r->io->out_of_memory)
+            st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory reading a file the model names",
+                             r->display);
+        else if (*kind)
+            st = refused(ctx, r->display, r->io, *kind, why, o);
+    }
+    return st;
+}
+
 /* persp__model_load_memory on buf, size + 1 bytes from the context's
  * allocator with buf[size] = '\0', which it modifies and frees: a file's
  * text is then held once, not read and copied (docs/RELIABILITY.md). */
@@ -890,55 +971,15 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
         persp__free(ctx, buf);
         return ost;
     }
-    const persp_scene_load_desc *d = scene->load_desc;
+    char main_name[256], helper[PERSP_PATH_MAX];
     persp_importer_opts o;
-    memset(&o, 0, sizeof o);
-    o.in_process = d && d->import == PERSP_MODEL_IMPORT_IN_PROCESS;
-    o.time_limit_ms = d && d->import_time_limit_ms ? d->import_time_limit_ms : PERSP_IMPORT_TIME_LIMIT_MS;
-    /* The checks of the formats' headers first: their messages say more
-     * than that a file is not what its name says. */
-    char main_name[256];
-    const char *base = persp__path_base(display);
-    if (is_line_text(base) || persp__model_has_ext(base, "gltf")) size = normalise_text(buf, size, is_line_text(base));
-    persp_status st = persp__model_check(ctx, display, buf, size);
-    if (st == PERSP_OK)
-        st = pick_reader(ctx, display, buf, size, d && d->formats == PERSP_MODEL_FORMATS_ALL, main_name,
-                         sizeof main_name);
-    char helper[PERSP_PATH_MAX];
-    if (st == PERSP_OK && !o.in_process) {
-        if (persp__import_helper_path(d ? d->import_helper : NULL, helper, sizeof helper))
-            o.helper = helper;
-        else
-            st = persp__fail(ctx, PERSP_ERR_UNAVAILABLE,
-                             "%s: cannot find the model importer %s (beside libpersp, or in "
-                             "PREFIX/libexec/persp/; persp_scene_load_desc.import_helper names it)",
-                             display, d && d->import_helper ? d->import_helper : "persp-import");
-    }
+    size_t reserved = 0;
+    persp_status st = prepare_import(scene, display, buf, &size, main_name, sizeof main_name, helper,
+                                     sizeof helper, &o, &reserved);
     if (st != PERSP_OK) {
         persp__free(ctx, buf);
         return st;
     }
-    /* In this process Assimp allocates with new/malloc and its C API has no
-     * allocator hook: its need is reserved from the budget by the file's
-     * size (a 68.5 MB OBJ grid of a million triangles peaked at 311 MB, 4.5
-     * bytes per byte of the file). persp-import is held to what the budget
-     * leaves instead, and what it sends back is charged as it arrives. */
-    size_t reserved = 0;
-    if (o.in_process) {
-        reserved = size > ((size_t)-1 - (1u << 20)) / MODEL_IMPORT_PER_BYTE
-                       ? (size_t)-1
-                       : size * MODEL_IMPORT_PER_BYTE + ((size_t)1 << 20);
-        char what[PERSP_ERRMSG_BYTES / 2];
-        snprintf(what, sizeof what, "%s: importing the model", display);
-        if (persp__mem_reserve(ctx, reserved, what) != PERSP_OK) {
-            persp__free(ctx, buf);
-            return PERSP_ERR_OUT_OF_MEMORY;
-        }
-    } else {
-        size_t avail = persp__mem_available(ctx);
-        o.memory = avail == (size_t)-1 ? unbudgeted_import_memory() : avail;
-    }
-
     model_io io;
     memset(&io, 0, sizeof io);
     io.ctx = ctx;
@@ -950,7 +991,6 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     /* glTF 2.0 §3.3.1: URIs are RFC 3986, so "%20" in a name is a space. */
     io.uri = persp__model_has_ext(main_name, "gltf") || persp__model_has_ext(main_name, "glb") ||
              (size >= 4 && !memcmp(buf, "glTF", 4));
-
     receiver r;
     memset(&r, 0, sizeof r);
     r.scene = scene;
@@ -959,42 +999,13 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     r.display = display;
     r.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
     r.out = out;
-    r.refs.scene = scene;
-    r.refs.cache = cache;
-    r.refs.display = display;
-    r.refs.base_dir = base_dir;
-    r.refs.root = scene->load_root;
-    r.refs.where = where_io;
-    r.refs.where_user = &io;
-    r.refs.uri = io.uri;
+    r.refs = (persp_model_refs){.scene = scene, .cache = cache, .display = display, .base_dir = base_dir,
+                                .root = scene->load_root, .where = where_io, .where_user = &io, .uri = io.uri};
     for (int k = 0; k < 3; k++)
         out->bbox_min[k] = INFINITY, out->bbox_max[k] = -INFINITY;
-
-    if (o.in_process) pthread_mutex_lock(&import_lock);
-    persp_importer imp;
-    st = persp__importer_start(ctx, &o, display, &imp);
-    wire_chan chan = {imp.fd, o.in_process ? 0 : persp__wire_now_ms() + o.time_limit_ms, 0};
-    r.chan = &chan;
     int kind = 0;
     char why[WIRE_MAX_TEXT + 1] = "";
-    if (st == PERSP_OK) {
-        if (!send_request(&chan, main_name, buf, size, r.max_vertices))
-            r.lost = 1, st = PERSP_ERR_IO;
-        else
-            st = take_answer(&r, &kind, why);
-        persp_importer_end end;
-        /* Anything but a complete answer or refusal stops the importer. */
-        persp__importer_finish(&imp, st != PERSP_OK && !kind, &end);
-        if (r.lost) st = lost_importer(ctx, display, &chan, &end, &o);
-    }
-    if (o.in_process) pthread_mutex_unlock(&import_lock);
-    if (st == PERSP_OK || kind) {
-        if (io.out_of_memory)
-            st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory reading a file the model names",
-                             display);
-        else if (kind)
-            st = refused(ctx, display, &io, kind, why, &o);
-    }
+    st = run_import(&r, &o, main_name, &kind, why);
     for (int i = 0; st == PERSP_OK && i < io.nmissing; i++)
         persp__warn(ctx, "%s; going on without it", io.notes[i]);
     /* A texture refused for want of memory is not drawn untextured with a

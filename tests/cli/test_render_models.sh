@@ -79,7 +79,7 @@ reject "^persp: .*noise.glb: truncated GLB: the header declares 65535 bytes" "$m
 # colour: checked on Debian's assimp-testmodels when they are installed.
 lwo=/usr/share/assimp/models/LWO/LWO2/MappingModes/earth_spherical_y.lwo
 if [ -r "$lwo" ]; then
-    expect 0 "" -- "$persp" render "$lwo" --size 64x48 --shading none --any-folder -o "$tmp/earth.png"
+    expect 0 "" -- "$persp" render "$lwo" --size 64x48 --shading none --any-folder --formats all -o "$tmp/earth.png"
     colours=$(PYTHONPATH="$(dirname "$0")" python3 -c \
         'import sys; from png_rows import png; print(len({p for r in png(sys.argv[1])[2] for p in r}))' \
         "$tmp/earth.png")
