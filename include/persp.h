@@ -528,6 +528,11 @@ typedef struct persp_scene_load_desc {
     unsigned import_time_limit_ms;
     /* persp-import's path; NULL: beside the library, then PREFIX/libexec/persp/. */
     const char *import_helper;
+    /* Normals of a model that has none: faces meeting at more than this
+     * many degrees keep their own (a cube's edges), the rest are smoothed,
+     * angle-weighted; (0, 180]; 0: 80. glTF files without normals are
+     * drawn flat whatever it says (glTF 2.0 §3.7.2.1). */
+    float crease_deg;
 } persp_scene_load_desc;
 /* persp_scene_load with settings; desc NULL: all defaults (restricted), as
  * persp_scene_load does. */

@@ -147,6 +147,14 @@ persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *i
 persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index);
 persp_status persp__scene_add_object(persp_scene *s, const persp_object *o);
 void persp__mesh_free(persp_context *ctx, persp_mesh *mesh);
+/* Normals for a mesh whose file gives none, split at a crease
+ * (src/geom/normals.c): corners whose angle-weighted normals differ become
+ * vertices of their own. crease_deg 0: flat (only coplanar neighbours
+ * smoothed). PERSP_ERR_TOO_LARGE when the split vertices would exceed
+ * max_vertices or the scene's limit; PERSP_ERR_OUT_OF_MEMORY; the mesh is
+ * unchanged on failure. Sets no error detail. */
+persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float crease_deg,
+                                        size_t max_vertices);
 /* Fills in smooth vertex normals from face normals (area-weighted). */
 void persp__mesh_compute_normals(persp_mesh *mesh);
 /* A default material: white, no texture, replace. */

@@ -217,7 +217,8 @@ static void free_files(serve *s)
 
 /* Some exporters write zero facet normals (Blender's old binary STL writer,
  * for one); drawn as they are, such a surface gets no diffuse light at all.
- * One unusable normal has the scene's normals made afresh. */
+ * A mesh with one unusable normal is sent without normals, and persp makes
+ * them (persp__mesh_crease_normals). */
 static int normals_unusable(const struct aiMesh *m)
 {
     if (!m->mNormals) return 0;
@@ -253,7 +254,7 @@ static int face_has_area(const struct aiMesh *m, const struct aiFace *f)
  * them, get them wrong on malformed input, and Debian's Assimp aborts on
  * the internal check that catches it), finite positions, and something to
  * triangulate. Returns NULL or what is wrong. */
-static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
+static const char *prepare_scene(const struct aiScene *ai)
 {
     int any = 0, area = 0;
     for (unsigned i = 0; i < ai->mNumMeshes; i++) {
@@ -286,7 +287,6 @@ static const char *prepare_scene(const struct aiScene *ai, int *regen_normals)
         }
         m->mPrimitiveTypes = types;
         any |= (types & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) != 0;
-        if (!*regen_normals) *regen_normals = normals_unusable(m);
         for (unsigned v = 0; v < m->mNumVertices; v++)
             if (!persp__model_finite3(m->mVertices[v].x, m->mVertices[v].y, m->mVertices[v].z))
                 return "a vertex position is not finite";
@@ -479,7 +479,8 @@ static int send_mesh(conv *c, unsigned index)
             }
     }
     c->vertices += unique;
-    unsigned flags = (am->mNormals ? WIRE_MESH_NORMALS : 0u) | (tc ? 0u : WIRE_MESH_NO_UV);
+    const int normals = am->mNormals && !normals_unusable(am);
+    unsigned flags = (normals ? WIRE_MESH_NORMALS : 0u) | (tc ? 0u : WIRE_MESH_NO_UV);
     int ok = put_u8(c->s, WIRE_MESH) && put_u32(c->s, index) && put_u8(c->s, flags) &&
              put_u64(c->s, unique) && put_u64(c->s, 3 * (uint64_t)tris);
     /* Each distinct vertex at its first occurrence. */
@@ -755,7 +756,6 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
         send_error(s, WIRE_ERR_OUT_OF_MEMORY, "out of memory");
         return;
     }
-    aiSetImportPropertyFloat(props, AI_CONFIG_PP_GSN_MAX_SMOOTHING_ANGLE, PERSP_MODEL_CREASE_DEG);
     aiSetImportPropertyInteger(props, AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
     /* Read and validated first, then prepared (prepare_scene) for the
      * post-processing steps. A scene they would fail on is refused before
@@ -765,18 +765,19 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
      * per vertex; without it such a texture was drawn as one texel's
      * colour. TransformUVCoords is left out: Assimp 5.2 scales glTF's
      * KHR_texture_transform about the texture's centre, not its origin as
-     * the extension says (a scale of 2 gave u in [-0.5, 1.5]). */
-    unsigned steps = aiProcess_Triangulate | aiProcess_GenSmoothNormals | aiProcess_SortByPType |
-                     aiProcess_GenUVCoords;
-    int regen_normals = 0;
+     * the extension says (a scale of 2 gave u in [-0.5, 1.5]). Normals the
+     * file lacks are not Assimp's to make: its GenSmoothNormals cannot split
+     * a vertex the file shares between faces (a PLY cube of 8 vertices came
+     * out with one normal a corner), so persp makes them after the import,
+     * by the format's rule (persp__mesh_crease_normals). */
+    const unsigned steps = aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_GenUVCoords;
     const char *wrong = NULL;
     const struct aiScene *ai =
         aiImportFileExWithProperties(s->main_name, aiProcess_ValidateDataStructure, &fio, props);
-    if (ai && (wrong = prepare_scene(ai, &regen_normals)) != NULL) {
+    if (ai && (wrong = prepare_scene(ai)) != NULL) {
         aiReleaseImport(ai);
         ai = NULL;
     }
-    if (regen_normals) steps |= aiProcess_ForceGenNormals;
     if (ai) ai = aiApplyPostProcessing(ai, steps);
     aiReleasePropertyStore(props);
     if (!ai) {

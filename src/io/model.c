@@ -264,6 +264,7 @@ typedef struct receiver {
     model_io *io;
     const char *display;
     size_t max_vertices, vertices;
+    float crease_deg;    /* for meshes without normals (persp__mesh_crease_normals) */
     uint32_t counts[3];  /* meshes, materials, embedded textures of the importer's scene */
     int header;          /* 'H' came */
     int *mesh_index;     /* per importer mesh: scene mesh, -1 not yet */
@@ -404,10 +405,19 @@ static persp_status take_mesh(receiver *r)
         persp__mesh_free(r->ctx, &mesh);
         return st;
     }
-    r->vertices += mesh.vertex_count;
     mesh.no_uv = (flags & WIRE_MESH_NO_UV) != 0;
     mesh.has_normals = (flags & WIRE_MESH_NORMALS) != 0;
-    if (!mesh.has_normals) persp__mesh_compute_normals(&mesh);
+    if (!mesh.has_normals) {
+        st = persp__mesh_crease_normals(r->ctx, &mesh, r->crease_deg, r->max_vertices - r->vertices);
+        if (st != PERSP_OK) {
+            persp__mesh_free(r->ctx, &mesh);
+            if (st == PERSP_ERR_OUT_OF_MEMORY)
+                return persp__fail(r->ctx, st, "%s: out of memory making normals", r->display);
+            return persp__fail(r->ctx, st, "%s: more than %zu vertices once normals are made", r->display,
+                               r->max_vertices);
+        }
+    }
+    r->vertices += mesh.vertex_count;
     return persp__scene_add_mesh(r->scene, &mesh, &r->mesh_index[index]);
 }
 
@@ -998,6 +1008,11 @@ static persp_status load_owned(persp_scene *scene, char *buf, size_t size, const
     r.io = &io;
     r.display = display;
     r.max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
+    /* glTF 2.0 §3.7.2.1: "When normals are not specified, client
+     * implementations MUST calculate flat normals". */
+    r.crease_deg = persp__model_has_ext(main_name, "gltf") || persp__model_has_ext(main_name, "glb")
+                       ? 0.0f
+                       : persp__model_crease(scene->load_desc);
     r.out = out;
     r.refs = (persp_model_refs){.scene = scene, .cache = cache, .display = display, .base_dir = base_dir,
                                 .root = scene->load_root, .where = where_io, .where_user = &io, .uri = io.uri};

@@ -98,8 +98,15 @@ static inline int persp__model_finite3(float x, float y, float z)
 }
 
 /* Faces meeting at more than this angle keep separate normals where the
- * file has none: cube edges stay sharp, tessellated curves come out smooth. */
+ * file has none: cube edges stay sharp, tessellated curves come out smooth
+ * (persp_scene_load_desc.crease_deg, --crease). */
 #define PERSP_MODEL_CREASE_DEG 80.0f
+
+/* The crease angle a load uses (desc NULL or crease_deg 0: the default). */
+static inline float persp__model_crease(const persp_scene_load_desc *desc)
+{
+    return desc && desc->crease_deg > 0.0f ? desc->crease_deg : PERSP_MODEL_CREASE_DEG;
+}
 
 /* 1 when name ends in "." ext, in any case (ext in lower case). */
 int persp__model_has_ext(const char *name, const char *ext);

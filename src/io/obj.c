@@ -1237,6 +1237,7 @@ persp_status persp__obj_load(persp_scene *scene, const char *data, size_t size, 
     r->root = scene->load_root;
     r->out = out;
     r->max_vertices = max_vertices ? max_vertices : PERSP_SCENE_MAX_VERTICES;
+    r->crease_deg = persp__model_crease(scene->load_desc);
     r->default_material = -1;
     r->refs.scene = scene;
     r->refs.cache = cache;

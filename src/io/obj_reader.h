@@ -44,6 +44,7 @@ typedef struct obj_reader {
     size_t part_cap;
     persp_model_refs refs;
     size_t max_vertices, vertices_used;
+    float crease_deg; /* normals made where the file has none (persp__model_crease) */
     int pass; /* 1: counting, 2: reading */
 
     /* counted in pass 1 */

@@ -113,7 +113,7 @@ static int by_distance(const void *a, const void *b)
 static persp_status generate_normals(obj_reader *r, persp_mesh *mesh)
 {
     const size_t ntri = r->nidx / 3, U = r->ntuples;
-    const float limit = cosf(PERSP_MODEL_CREASE_DEG * 0.0174532925f);
+    const float limit = cosf(r->crease_deg * 0.0174532925f);
     float *fn = persp__alloc(r->ctx, (ntri ? ntri : 1) * 3 * sizeof *fn);
     float *first = persp__alloc(r->ctx, (U ? U : 1) * 3 * sizeof *first);
     uint32_t *off = NULL, *list = NULL, *near = NULL;

@@ -1149,6 +1149,8 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.model_up");
     if (desc && (unsigned)desc->import > (unsigned)PERSP_MODEL_IMPORT_IN_PROCESS)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.import");
+    if (desc && !(desc->crease_deg >= 0.0f && desc->crease_deg <= 180.0f))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.crease_deg (0 to 180)");
     if (desc && (unsigned)desc->formats > (unsigned)PERSP_MODEL_FORMATS_ALL)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.formats");
     char root[PERSP_PATH_MAX];

@@ -306,7 +306,7 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     snprintf(seconds, sizeof seconds, "%.6f", o->run_seconds);
     snprintf(driver, sizeof driver, "GALLIUM_DRIVER=%s", o->peer);
     snprintf(threads, sizeof threads, "LP_NUM_THREADS=%d", o->peer_threads);
-    char *argv[24] = {"persp", "bench", (char *)o->scene, "--peer-child", (char *)o->peer, "--size", size,
+    char *argv[32] = {"persp", "bench", (char *)o->scene, "--peer-child", (char *)o->peer, "--size", size,
                       "--time", seconds};
     int argc = 9;
     if (o->filter_given) argv[argc++] = "--filter", argv[argc++] = (char *)o->filter_name;
@@ -316,7 +316,11 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     if (o->load.model_up == PERSP_MODEL_UP_Z) argv[argc++] = "--up", argv[argc++] = "z";
     if (o->load.formats == PERSP_MODEL_FORMATS_ALL) argv[argc++] = "--formats", argv[argc++] = "all";
     if (o->load.import == PERSP_MODEL_IMPORT_IN_PROCESS) argv[argc++] = "--import", argv[argc++] = "in-process";
-    char timeout[32];
+    char timeout[32], crease[32];
+    if (o->load.crease_deg > 0.0f) {
+        snprintf(crease, sizeof crease, "%.9g", (double)o->load.crease_deg);
+        argv[argc++] = "--crease", argv[argc++] = crease;
+    }
     if (o->load.import_time_limit_ms) {
         snprintf(timeout, sizeof timeout, "%.3f", o->load.import_time_limit_ms / 1000.0);
         argv[argc++] = "--import-timeout", argv[argc++] = timeout;
@@ -780,6 +784,7 @@ int cmd_bench(int argc, char **argv)
         CLI_OPT(cli_opt_formats, &o.load.formats),
         CLI_OPT(cli_opt_import, &o.load.import),
         CLI_OPT(cli_opt_import_timeout, &o.load.import_time_limit_ms),
+        CLI_OPT(cli_opt_crease, &o.load.crease_deg),
         CLI_OPT_HELP(cli_opt_filter, &filter,
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),

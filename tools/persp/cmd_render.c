@@ -85,6 +85,7 @@ int cmd_render(int argc, char **argv)
         CLI_OPT(cli_opt_formats, &load.formats),
         CLI_OPT(cli_opt_import, &load.import),
         CLI_OPT(cli_opt_import_timeout, &load.import_time_limit_ms),
+        CLI_OPT(cli_opt_crease, &load.crease_deg),
         CLI_OPT(cli_opt_threads, &threads),
         CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT(cli_opt_simd, &simd),

@@ -206,6 +206,7 @@ int cmd_view(int argc, char **argv)
         CLI_OPT(cli_opt_formats, &load.formats),
         CLI_OPT(cli_opt_import, &load.import),
         CLI_OPT(cli_opt_import_timeout, &load.import_time_limit_ms),
+        CLI_OPT(cli_opt_crease, &load.crease_deg),
         CLI_OPT(cli_opt_count_ops, &count_ops),
         CLI_OPT(opt_mip_levels, &mip_levels),
         CLI_OPT(opt_layout, &layout),

@@ -640,6 +640,13 @@ const cli_spec cli_opt_import_timeout = {
     .parse = parse_seconds_ms,
     .accepts = "seconds from 0.1 to 3600",
     .help = "stop a model import that takes longer (default 60)"};
+const cli_spec cli_opt_crease = {.name = "crease",
+                                 .kind = CLI_KIND_REAL,
+                                 .metavar = "DEG",
+                                 .lo = 0.001,
+                                 .hi = 180,
+                                 .help = "a model without normals: faces meeting at more than\n"
+                                         "DEG degrees keep their own (default 80; glTF: flat)"};
 static const char *const formats_names[] = {"common", "all", NULL};
 static const int formats_values[] = {PERSP_MODEL_FORMATS_COMMON, PERSP_MODEL_FORMATS_ALL};
 const cli_spec cli_opt_formats = {

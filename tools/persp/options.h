@@ -156,6 +156,7 @@ extern const cli_spec cli_opt_max_memory; /* --max-memory SIZE (size_t bytes; K,
 extern const cli_spec cli_opt_import_timeout; /* --import-timeout SECONDS (unsigned ms) */
 extern const cli_spec cli_opt_formats;   /* --formats common|all (persp_model_formats) */
 extern const cli_spec cli_opt_import;    /* --import isolated|in-process (persp_model_import) */
+extern const cli_spec cli_opt_crease;    /* --crease DEG (float) */
 /* The budget of a command: given, or the default --help names (0: the default). */
 size_t cli_max_memory(size_t given);
 
