@@ -14,6 +14,9 @@
 #                        corpus back into tests/fuzz/corpus/NAME/ and prints a summary
 #   make test-aarch64    cross build for 64-bit ARM (cmake/aarch64-linux-gnu.cmake) and the
 #                        suite under qemu-user (build-aarch64/; not part of `make test`)
+#   make hw              the RTL of hw/ (docs/HARDWARE.md): installs verilator, yosys, nextpnr
+#                        (deps --hw), builds, runs scripts/hw.sh: Verilator testbenches against
+#                        `persp vectors`, iCE40 and Yosys+ABC synthesis, out/hw/summary.{json,md}
 #   make difftest        persp against Mesa llvmpipe on 2000 random scenes (SEEDS=A:B),
 #                        a summary per filter; failing scenes kept in out/difftest/
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -29,7 +32,7 @@ else
 BUILD ?= build
 endif
 
-.PHONY: all deps build demo test test-aarch64 bench fuzz fuzz-long difftest clean format
+.PHONY: all deps build demo test test-aarch64 bench fuzz fuzz-long difftest clean format hw
 
 all: build
 
@@ -58,6 +61,10 @@ test-aarch64:
 		-DPERSP_OSMESA=OFF -DPERSP_VIEWER=OFF >/dev/null
 	@cmake --build build-aarch64 -j $(JOBS)
 	@cd build-aarch64 && ctest --output-on-failure -j $(JOBS)
+
+hw: build
+	@bash scripts/deps.sh --hw
+	@bash scripts/hw.sh $(BUILD)
 
 bench: build
 	@bash scripts/bench.sh $(BUILD)/persp out/bench

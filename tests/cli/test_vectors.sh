@@ -61,5 +61,21 @@ expect 2 "bad --texture-size '0x4'" -- "$persp" vectors --texture-size 0x4
 expect 0 "usage: persp vectors" -- "$persp" vectors --help
 expect 0 "vectors +test vectors of midpoint:int" -- "$persp" --help
 
+
+# --module: midpoint_int is the default, byte for byte; exact writes the
+# RTL baseline's vectors (docs/HARDWARE.md, "Vectors") with its model's error.
+"$persp" vectors --module midpoint_int --triangles 12 -o "$tmp/module.txt" 2>/dev/null
+if cmp -s "$tmp/plain.txt" "$tmp/module.txt"; then ok; else bad "--module midpoint_int differs from the default"; fi
+if "$persp" vectors --module exact --triangles 12 -o "$tmp/exact.txt" 2>/dev/null &&
+   grep -q '^# persp test vectors of the RTL module exact, format 1' "$tmp/exact.txt" &&
+   grep -qE '^# 12 triangles, [0-9]+ spans, [0-9]+ pixels \([1-9][0-9]* in the hardware, 0 of them out of range\), max \|du\| 0\.0[0-9]+ texels' "$tmp/exact.txt" &&
+   [ "$(grep -c '^xpx ' "$tmp/exact.txt")" -gt 1000 ] && [ "$(grep -c '^xfmt ' "$tmp/exact.txt")" -eq 12 ]; then ok
+else bad "--module exact: $(tail -1 "$tmp/exact.txt")"; fi
+# |t| beyond 2^15 texels: pixels flagged out of range.
+"$persp" vectors --module exact --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o "$tmp/exact_ovf.txt" 2>/dev/null
+if grep -q '^xpx 1 ' "$tmp/exact_ovf.txt" && grep -q '^xspan [0-9]* [0-9]* [0-9]* 0 ' "$tmp/exact_ovf.txt"; then ok; else bad "exact out of range"; fi
+expect 2 "--module exact has none" -- "$persp" vectors --module exact --method midpoint:int
+expect 2 "bad --module 'bezier'" -- "$persp" vectors --module bezier
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

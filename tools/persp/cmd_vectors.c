@@ -1,8 +1,12 @@
 /* persp vectors: test vectors of midpoint:int (the fixed-point model of
  * [Romanyuk-PCF] §4.5) for simulating a hardware design against persp,
  * register by register (persp_midpoint_trace; format in docs/METHODS.md,
- * "Test vectors"). */
+ * "Test vectors"), and with --module those of the other RTL modules of
+ * hw/rtl, from their C models (src/analysis/hw_models.c; formats in
+ * docs/HARDWARE.md, "Vectors"). */
 #include "options.h"
+
+#include "../../src/analysis/hw_models.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -21,6 +25,9 @@ static void usage(FILE *out, const cli_command *cmd)
                  "persp_render computes them. Triangles are seeded random ones, or read from\n"
                  "--input (one triangle per line: x y w u v of each vertex, window pixels,\n"
                  "y up). The format is in docs/METHODS.md, \"Test vectors\".\n\n"
+                 "--module exact writes those of the RTL baseline instead (hw/rtl/exact.v,\n"
+                 "docs/HARDWARE.md): its fixed-point planes, span start values and each\n"
+                 "pixel's output, with the model's error against the exact rational form.\n\n"
                  "options:\n");
     cli_print_options(out, cmd);
 }
@@ -32,6 +39,13 @@ static const cli_spec opt_method = {.name = "method",
                                     .names = method_names,
                                     .help = "midpoint:int (texel centres, default) or\n"
                                             "midpoint:int,edge (the chapter's lattice)"};
+static const char *const module_names[] = {"midpoint_int", "exact", NULL};
+static const cli_spec opt_module = {.name = "module",
+                                    .kind = CLI_KIND_STRING,
+                                    .metavar = "NAME",
+                                    .names = module_names,
+                                    .help = "the RTL module of hw/rtl the vectors are for:\n"
+                                            "midpoint_int (default) or exact (docs/HARDWARE.md)"};
 static const cli_spec opt_triangles = {.name = "triangles",
                                        .kind = CLI_KIND_INT,
                                        .metavar = "N",
@@ -129,6 +143,95 @@ static int put_triangle(persp_context *ctx, const char *method, const persp_meth
     return CLI_OK;
 }
 
+/* ------------------------------------------------------- --module exact */
+
+/* The covered pixels of one triangle as spans, in the renderer's order
+ * (persp_midpoint_trace's, so that every module's vectors share them). */
+typedef struct span_list {
+    int (*s)[3]; /* x0, y, n */
+    size_t n, cap;
+    int failed;
+} span_list;
+
+static void keep_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px)
+{
+    (void)px;
+    span_list *l = user;
+    if (l->failed) return;
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 256;
+        int(*p)[3] = realloc(l->s, cap * sizeof *p);
+        if (!p) {
+            l->failed = 1;
+            return;
+        }
+        l->s = p, l->cap = cap;
+    }
+    l->s[l->n][0] = s->x0, l->s[l->n][1] = s->y, l->s[l->n][2] = s->n;
+    l->n++;
+}
+
+typedef struct exact_out {
+    FILE *f;
+    long spans, pixels, hw_pixels, ovf_pixels;
+    double max_err[2]; /* texels, against the rational form in double */
+} exact_out;
+
+static int put_exact_triangle(persp_context *ctx, const persp_method_vertex v[3], int width, int height,
+                              int tex_w, int tex_h, long index, exact_out *o)
+{
+    persp_midpoint_format mf;
+    span_list l = {NULL, 0, 0, 0};
+    fprintf(o->f, "tri %ld", index);
+    for (int k = 0; k < 3; k++)
+        fprintf(o->f, " %a %a %a %a %a", v[k].x, v[k].y, v[k].w, (double)v[k].u, (double)v[k].v);
+    fputc('\n', o->f);
+    persp_status st = persp_midpoint_trace(ctx, "midpoint:int", v, width, height, tex_w, tex_h, &mf, keep_span, &l);
+    if (st != PERSP_OK || l.failed) {
+        free(l.s);
+        return st != PERSP_OK ? cli_status(ctx, st, "vectors") : cli_error(CLI_FAIL, "vectors: out of memory");
+    }
+    int xmax = -1, ymax = -1;
+    for (size_t k = 0; k < l.n; k++) {
+        if (l.s[k][0] + l.s[k][2] - 1 > xmax) xmax = l.s[k][0] + l.s[k][2] - 1;
+        if (l.s[k][1] > ymax) ymax = l.s[k][1];
+    }
+    persp_hw_exact_format f;
+    persp__hw_exact_format(mf.plane, mf.P, xmax, ymax, &f);
+    fprintf(o->f, "xfmt %d %d %" PRId64 " %" PRId64 " %" PRId64, f.in_format, f.shift, f.G, f.H, f.I);
+    for (int j = 0; j < 2; j++) fprintf(o->f, " %" PRId64 " %" PRId64 " %" PRId64, f.A[j], f.B[j], f.C[j]);
+    fprintf(o->f, " %" PRId64 " %" PRId64 " %.17g %.17g\n", f.X2max, f.Y2max, mf.P[0], mf.P[1]);
+    const double *pl = mf.plane;
+    for (size_t k = 0; k < l.n; k++) {
+        const int x0 = l.s[k][0], y = l.s[k][1], n = l.s[k][2];
+        int64_t E = 0, N2[2] = {0, 0};
+        const int hw = persp__hw_exact_span(&f, x0, y, n, &E, N2);
+        o->spans++, o->pixels += n;
+        fprintf(o->f, "xspan %d %d %d %d %" PRId64 " %" PRId64 " %" PRId64 "\n", x0, y, n, hw, hw ? E : 0,
+                hw ? N2[0] : 0, hw ? N2[1] : 0);
+        if (!hw) continue;
+        for (int i = 0; i < n; i++) {
+            int64_t t[2] = {0, 0};
+            /* Stepped exactly: E and N2 are linear in x (docs/HARDWARE.md). */
+            const int ovf = persp__hw_exact_pixel(E, N2, t);
+            fprintf(o->f, "xpx %d %" PRId64 " %" PRId64 "\n", ovf, t[0], t[1]);
+            o->hw_pixels++;
+            if (ovf) o->ovf_pixels++;
+            else {
+                const double px = x0 + i + 0.5, py = y + 0.5, q = pl[6] * px + pl[7] * py + pl[8];
+                for (int j = 0; j < 2; j++) {
+                    const double exact = mf.P[j] * (pl[3 * j] * px + pl[3 * j + 1] * py + pl[3 * j + 2]) / q;
+                    const double err = fabs(ldexp((double)t[j], -PERSP_HW_EXACT_FRAC) - exact);
+                    if (err > o->max_err[j]) o->max_err[j] = err;
+                }
+            }
+            E += 2 * f.G, N2[0] += 2 * f.A[0], N2[1] += 2 * f.A[1];
+        }
+    }
+    free(l.s);
+    return CLI_OK;
+}
+
 /* cli_error's message, then -1 (vectors_read_triangle's failure, which must not
  * read as a triangle). */
 #define read_error(...) (cli_error(CLI_FAIL, __VA_ARGS__), -1)
@@ -217,12 +320,13 @@ static void random_triangle(uint64_t *state, int width, int height, double depth
 
 int cmd_vectors(int argc, char **argv)
 {
-    const char *method = "midpoint:int", *output = NULL, *input = NULL;
+    const char *method = "midpoint:int", *output = NULL, *input = NULL, *module = "midpoint_int";
     uint64_t seed = 1;
     int triangles = 8;
     double depth_ratio = 8.0, uv_range = 1.0;
     cli_size size = {1024, 768}, tex = {256, 256};
     cli_option opts[] = {
+        CLI_OPT(opt_module, &module),
         CLI_OPT(opt_method, &method),
         CLI_OPT(opt_triangles, &triangles),
         CLI_OPT(cli_opt_seed, &seed),
@@ -241,6 +345,9 @@ int cmd_vectors(int argc, char **argv)
                   cli_given(&cmd, &opt_depth_ratio) || cli_given(&cmd, &opt_uv_range)))
         return cli_error(CLI_USAGE, "vectors: --input takes the triangles from its file: --triangles, --seed, "
                                     "--depth-ratio and --uv-range shape random ones");
+    const int exact = strcmp(module, "exact") == 0;
+    if (exact && cli_given(&cmd, &opt_method))
+        return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module exact has none");
     FILE *in = NULL;
     if (input && !(in = fopen(input, "r")))
         return cli_error(CLI_FAIL, "vectors: %s: cannot open: %s", input, strerror(errno));
@@ -258,7 +365,11 @@ int cmd_vectors(int argc, char **argv)
         return rc;
     }
     vec_out o = {out.f, 0, 0, 0, 0, 0, NULL, 0};
-    fprintf(out.f, "# persp test vectors of %s, format 1 (docs/METHODS.md, \"Test vectors\")\n", method);
+    exact_out xo = {out.f, 0, 0, 0, 0, {0.0, 0.0}};
+    if (exact)
+        fprintf(out.f, "# persp test vectors of the RTL module exact, format 1 (docs/HARDWARE.md, \"Vectors\")\n");
+    else
+        fprintf(out.f, "# persp test vectors of %s, format 1 (docs/METHODS.md, \"Test vectors\")\n", method);
     fprintf(out.f, "# window %dx%d, texture %dx%d, ", size.width, size.height, tex.width, tex.height);
     if (in)
         fprintf(out.f, "triangles from %s\n", input);
@@ -279,17 +390,25 @@ int cmd_vectors(int argc, char **argv)
             if (index == triangles) break;
             random_triangle(&state, size.width, size.height, depth_ratio, uv_range, v);
         }
-        if ((rc = put_triangle(ctx, method, v, size.width, size.height, tex.width, tex.height, index, &o)) != CLI_OK)
-            break;
+        rc = exact ? put_exact_triangle(ctx, v, size.width, size.height, tex.width, tex.height, index, &xo)
+                   : put_triangle(ctx, method, v, size.width, size.height, tex.width, tex.height, index, &o);
+        if (rc != CLI_OK) break;
         index++;
     }
     if (in) fclose(in);
-    if (rc == CLI_OK)
+    if (rc == CLI_OK && exact)
+        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld of them out of range), "
+                       "max |du| %.9f texels, max |dv| %.9f texels\n",
+                index, xo.spans, xo.pixels, xo.hw_pixels, xo.ovf_pixels, xo.max_err[0], xo.max_err[1]);
+    else if (rc == CLI_OK)
         fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld on the integer path), %ld lattice steps, %ld re-seeds\n",
                 index, o.spans, o.pixels, o.int_pixels, o.steps, o.reseeds);
     int out_rc = cli_output_close("vectors", &out, rc == CLI_OK);
     if (rc == CLI_OK) rc = out_rc;
-    if (rc == CLI_OK && output && strcmp(output, "-"))
+    if (rc == CLI_OK && output && strcmp(output, "-") && exact)
+        fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld in the hardware) to %s\n", index,
+                xo.spans, xo.pixels, xo.hw_pixels, output);
+    else if (rc == CLI_OK && output && strcmp(output, "-"))
         fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld integer) to %s\n", index, o.spans,
                 o.pixels, o.int_pixels, output);
     persp_context_destroy(ctx);

@@ -1,0 +1,176 @@
+#!/usr/bin/env bash
+# The RTL of hw/rtl verified and synthesized (docs/HARDWARE.md):
+# for each module, Verilator builds its testbench (hw/tb), the built persp
+# writes its vectors (`persp vectors --module M`), the testbench compares
+# every pixel; then Yosys synthesizes it for the iCE40 UP5K and nextpnr
+# places and routes it (logic cells, SB_MAC16, block RAM, Fmax), and Yosys +
+# ABC technology-independently (transistor estimate, logic depth). Every
+# number of out/hw/summary.json and summary.md is read from the tools'
+# output of this run.
+#
+#   scripts/hw.sh [BUILD]      BUILD: persp's build folder (default build)
+#   HW_SMALL=1                 fewer vectors (still >= 100 000 pixels a module)
+#   HW_NO_SYNTH=1              testbenches only
+#   HW_MODULES="exact"         a subset
+set -eu
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="${1:-$root/build}"
+persp="$build/persp"
+work="$build/hw"
+out="$root/out/hw"
+mkdir -p "$work" "$out"
+[ -x "$persp" ] || { echo "hw: $persp not built" >&2; exit 1; }
+for t in verilator yosys nextpnr-ice40; do
+    command -v "$t" >/dev/null || { echo "hw: $t missing (bash scripts/deps.sh --hw)" >&2; exit 1; }
+done
+modules="${HW_MODULES:-midpoint_int exact}"
+scale=1
+[ "${HW_SMALL:-0}" = 1 ] && scale=0
+
+# vectors MODULE FILE: the module's vector sets, one file (the testbenches
+# read concatenated sets). Each set is one of the integer model's paths.
+vectors() {
+    local m="$1" f="$2" n
+    : >"$f"
+    if [ "$m" = midpoint_int ]; then
+        n=$((scale ? 80 : 30))
+        "$persp" vectors --triangles "$n" -o "$f.1" 2>/dev/null                           # ordinary pixels
+        "$persp" vectors --method midpoint:int,edge --depth-ratio 100 --triangles "$n" -o "$f.2" 2>/dev/null
+        "$persp" vectors --texture-size 4096x4096 --triangles 10 -o "$f.3" 2>/dev/null   # re-seeds
+        "$persp" vectors --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o "$f.4" 2>/dev/null  # fallbacks
+        "$persp" vectors --texture-size 4096x4096 --uv-range 100 --triangles 4 -o "$f.5" 2>/dev/null  # spans outside
+        cat "$f".[1-5] >"$f"
+    else
+        n=$((scale ? 60 : 25))
+        local k=1 d t
+        for t in 256x256 4096x4096; do
+            for d in 2 8; do
+                "$persp" vectors --module "$m" --texture-size $t --depth-ratio $d --triangles "$n" --seed $k \
+                    -o "$f.err$k" 2>/dev/null
+                k=$((k + 1))
+            done
+        done
+        # |t| beyond the format's 2^15 texels: the out-of-range flag.
+        "$persp" vectors --module "$m" --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o "$f.6" 2>/dev/null
+        cat "$f".err* "$f.6" >"$f"
+    fi
+}
+
+tb() {
+    local m="$1"
+    verilator --cc --exe --build -j 2 -O2 -Wall --Mdir "$work/obj_$m" "$root/hw/rtl/$m.v" "$root/hw/tb/tb_$m.cpp" \
+        -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m.verilator.log" 2>&1 ||
+        { cat "$work/$m.verilator.log" >&2; return 1; }
+}
+
+synth() {
+    local m="$1" d="$work/syn_$m"
+    mkdir -p "$d"
+    yosys -q -p "read_verilog $root/hw/rtl/$m.v; hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
+    python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
+    yosys -p "read_verilog $root/hw/rtl/$m.v $d/${m}_ooc.v; synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
+        >"$d/ice40.log" 2>&1
+    nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 --report "$d/pnr.json" \
+        >"$d/pnr.log" 2>&1
+    yosys -p "read_verilog $root/hw/rtl/$m.v; synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
+        >"$d/generic.log" 2>&1
+}
+
+status=0
+for m in $modules; do
+    echo "hw: $m: testbench"
+    tb "$m"
+    vectors "$m" "$work/$m.vectors"
+    if "$work/obj_$m/tb_$m" "$work/$m.vectors" 100000 >"$work/$m.tb.log"; then :; else status=1; fi
+    tail -1 "$work/$m.tb.log"
+    # Throughput on ordinary triangles (256 texels) apart from the edge cases.
+    if [ "$m" = midpoint_int ]; then "$work/obj_$m/tb_$m" "$work/$m.vectors.1" >"$work/$m.tb_plain.log" || status=1; fi
+    if [ "${HW_NO_SYNTH:-0}" != 1 ]; then
+        echo "hw: $m: synthesis"
+        synth "$m"
+    fi
+done
+# midpoint_int's error is persp's own measurement of midpoint:int.
+"$persp" accuracy --case random-triangles --method midpoint:int --json >"$work/midpoint_int.accuracy.json"
+
+python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" <<'PY'
+import json, os, re, subprocess, sys
+root, work, out, modules, nosynth = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(), sys.argv[5] == "1"
+method = {"midpoint_int": "midpoint:int", "exact": "exact (hw fixed point)"}
+
+def grab(path, pattern, conv=float, default=None):
+    try:
+        m = re.findall(pattern, open(path).read())
+    except OSError:
+        return default
+    return conv(m[-1]) if m else default
+
+rows = []
+for m in modules:
+    log = os.path.join(work, m + ".tb.log")
+    r = {"module": m, "method": method.get(m, m), "rtl": "hw/rtl/%s.v" % m, "top": m}
+    r["vectors_checked"] = grab(log, r"pixels (\d+) mismatches", int)
+    r["mismatches"] = grab(log, r"mismatches (\d+)", int)
+    if m == "exact":
+        r["latency_cycles"] = grab(log, r"latency (\d+) cycles", int)
+        r["pixels_per_clock"] = grab(log, r"([\d.]+) pixels per clock")
+        errs = []
+        for k in range(1, 5):
+            f = os.path.join(work, "%s.vectors.err%d" % (m, k))
+            errs += [grab(f, r"max \|du\| ([\d.]+)"), grab(f, r"max \|dv\| ([\d.]+)")]
+        r["max_error_texels"] = max(e for e in errs if e is not None)
+        r["max_error_texels_256"] = max(errs[0:4])
+        r["max_error_texels_4096"] = max(errs[4:8])
+    else:
+        # Variable: one lattice step or one pixel per clock; measured.
+        r["latency_cycles"] = 1
+        plain = os.path.join(work, m + ".tb_plain.log")
+        r["pixels_per_clock"] = grab(plain, r"([\d.]+) pixels per clock")
+        r["cycles_per_pixel_per_coordinate"] = grab(plain, r"([\d.]+) cycles per pixel per coordinate")
+        r["pixels_per_clock_all_vectors"] = grab(log, r"([\d.]+) pixels per clock")
+        acc = json.load(open(os.path.join(work, "midpoint_int.accuracy.json")))
+        vals = []
+        def walk(o):
+            if isinstance(o, dict):
+                if o.get("method") == "midpoint:int" and o.get("hbar") in (2, 8):
+                    vals.extend([o["max_u"], o["max_v"]])
+                for v in o.values():
+                    walk(v)
+            elif isinstance(o, list):
+                for v in o:
+                    walk(v)
+        walk(acc)
+        r["max_error_texels"] = max(vals) if vals else None
+    d = os.path.join(work, "syn_" + m)
+    if not nosynth:
+        pnr = json.load(open(os.path.join(d, "pnr.json")))
+        u = pnr["utilization"]
+        r["ice40_lc"] = u["ICESTORM_LC"]["used"]
+        r["ice40_dsp"] = u.get("ICESTORM_DSP", {}).get("used", 0)
+        r["ice40_bram"] = u.get("ICESTORM_RAM", {}).get("used", 0)
+        r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
+        r["fmax_mhz"] = round(min(v["achieved"] for v in pnr["fmax"].values()), 2)
+        g = os.path.join(d, "generic.log")
+        r["cmos_transistors"] = grab(g, r"Estimated number of transistors:\s+(\d+)", int)
+        r["logic_depth"] = grab(g, r"Longest topological path in \S+ \(length=(\d+)\)", int)
+        r["ice40_lut4_wrapped"] = grab(os.path.join(d, "ice40.log"), r"SB_LUT4\s+(\d+)", int)
+    rows.append(r)
+
+ver = {}
+for tool, args in (("verilator", ["--version"]), ("yosys", ["-V"]), ("nextpnr-ice40", ["--version"])):
+    p = subprocess.run([tool] + args, capture_output=True, text=True)
+    ver[tool] = (p.stdout + p.stderr).strip().splitlines()[0]
+cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
+json.dump({"tools": ver, "cpu": cpu, "modules": rows}, open(os.path.join(out, "summary.json"), "w"), indent=2)
+
+cols = ["module", "ice40_lc", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_transistors", "logic_depth",
+        "latency_cycles", "pixels_per_clock", "vectors_checked", "mismatches", "max_error_texels"]
+md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+for r in rows:
+    md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
+md += ["", "Tools: " + "; ".join(ver.values()) + ". CPU: " + cpu + ".",
+       "ice40_lc includes the out-of-context wrapper's flip-flops (ice40_wrapper_ffs in summary.json)."]
+open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")
+print("\n".join(md))
+PY
+exit $status
