@@ -241,8 +241,10 @@ typedef struct persp_image_view {
 #define PERSP_IMAGE_MAX_SIDE 16384
 #define PERSP_IMAGE_MAX_PIXELS (64u * 1024u * 1024u)
 
-/* Loads a PNG or JPEG (by content, not by name), flipped so row 0 is the
- * bottom row of the displayed image. Free with persp_image_free. */
+/* Loads a PNG, JPEG or BMP (by content, not by name) or a TGA (by its
+ * .tga name, or a consistent TGA header: the format has no signature),
+ * flipped so row 0 is the bottom row of the displayed image
+ * (docs/TEXTURES.md, "Image files"). Free with persp_image_free. */
 PERSP_API persp_status persp_image_load(persp_context *ctx, const char *path, persp_image *out);
 PERSP_API persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
                                      const char *name, persp_image *out);

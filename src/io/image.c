@@ -1,6 +1,8 @@
 /*
- * RGBA8 images: PNG and JPEG decoding (format detected from the content);
- * encoding is in image_write.c, allocation in src/core/image.c.
+ * RGBA8 images: PNG and JPEG decoding, and the choice of decoder (by the
+ * content; TGA, which has no signature, also by the name); TGA and BMP are
+ * decoded in image_tga.c and image_bmp.c, encoding is in image_write.c,
+ * allocation in src/core/image.c.
  *
  * Rows are stored bottom-to-top (row 0 = bottom of the displayed image,
  * docs/CONVENTIONS.md); both file formats store the top row first, so every
@@ -9,6 +11,7 @@
  * so a forged header cannot make persp allocate gigabytes.
  */
 #include "core/internal.h"
+#include "io/image_decoders.h"
 #include "io/text.h"
 
 #include <errno.h>
@@ -461,6 +464,14 @@ static persp_status load_jpeg(persp_context *ctx, const void *data, size_t size,
 
 /* ----------------------------------------------------------------- entry */
 
+/* ".tga" (Truevision's extension; ".icb", ".vda" and ".vst" of its older
+ * boards are not seen today), in any case. */
+static int has_tga_name(const char *name)
+{
+    size_t n = name ? strlen(name) : 0;
+    return n > 4 && strcasecmp(name + n - 4, ".tga") == 0;
+}
+
 persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_t size,
                                      const char *name, persp_image *out)
 {
@@ -474,7 +485,14 @@ persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_
     if (size >= 8 && memcmp(b, png_sig, 8) == 0) return load_png(ctx, data, size, name, out);
     if (size >= 3 && b[0] == 0xff && b[1] == 0xd8 && b[2] == 0xff)
         return load_jpeg(ctx, data, size, name, out);
-    return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a PNG or JPEG image",
+    if (size >= 2 && b[0] == 'B' && b[1] == 'M')
+        return persp__load_bmp(ctx, b, size, display_name(name), out);
+    /* TGA has no signature: a file named .tga is read as one (its errors
+     * then say what is wrong with it); any other only when its header is a
+     * consistent TGA header. */
+    if (has_tga_name(name) || persp__tga_recognised(b, size))
+        return persp__load_tga(ctx, b, size, display_name(name), out);
+    return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a PNG, JPEG, TGA or BMP image",
                               display_name(name));
 }
 

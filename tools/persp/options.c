@@ -503,8 +503,8 @@ const cli_spec cli_opt_pipeline = {.name = "pipeline",
 const cli_spec cli_opt_texture = {.name = "texture",
                                   .kind = CLI_KIND_STRING,
                                   .metavar = "FILE",
-                                  .help = "replace the texture of every textured object with a PNG or JPEG\n"
-                                          "(warns when nothing is textured)"};
+                                  .help = "replace the texture of every textured object with a PNG,\n"
+                                          "JPEG, TGA or BMP image (warns when nothing is textured)"};
 const cli_spec cli_opt_any_folder = {
     .name = "any-folder",
     .kind = CLI_KIND_FLAG,
