@@ -518,15 +518,22 @@ typedef enum persp_model_formats {
     PERSP_MODEL_FORMATS_COMMON,
     PERSP_MODEL_FORMATS_ALL
 } persp_model_formats;
-/* Default limit on one model import's wall-clock time. */
-#define PERSP_IMPORT_TIME_LIMIT_MS 60000u
+/* Default limit on one model import's wall-clock time: a base, and more
+ * for every MiB the importer is given (the model file and the files it
+ * names, as they are handed over), at most PERSP_IMPORT_TIME_LIMIT_MAX_MS:
+ * a hostile 14-byte file is stopped after 5 s, a 100 MB model may take
+ * 205 s. */
+#define PERSP_IMPORT_TIME_LIMIT_MS 5000u
+#define PERSP_IMPORT_TIME_PER_MIB_MS 2000u
+#define PERSP_IMPORT_TIME_LIMIT_MAX_MS 600000u
 typedef struct persp_scene_load_desc {
     persp_toggle any_folder; /* ON: referenced files may lie anywhere; DEFAULT, OFF: restricted */
     persp_model_up model_up; /* a model file's up axis; DEFAULT: +y */
     persp_model_import import;
     persp_model_formats formats;
     /* Wall-clock limit of each model import in milliseconds (isolated
-     * imports only); 0: PERSP_IMPORT_TIME_LIMIT_MS. */
+     * imports only); 0: PERSP_IMPORT_TIME_LIMIT_MS plus
+     * PERSP_IMPORT_TIME_PER_MIB_MS a MiB of what the importer reads. */
     unsigned import_time_limit_ms;
     /* persp-import's path; NULL: beside the library, then PREFIX/libexec/persp/. */
     const char *import_helper;

@@ -112,7 +112,10 @@ persp_status persp__importer_start(persp_context *ctx, const persp_importer_opts
     }
     char mem[32], cpu[32];
     snprintf(mem, sizeof mem, "%zu", o->memory);
-    snprintf(cpu, sizeof cpu, "%u", (o->time_limit_ms + 999) / 1000 + 1);
+    /* The wall clock is persp's to watch; the CPU limit only backs it up,
+     * at the most a growing default limit can reach. */
+    const unsigned cpu_ms = o->time_scales ? PERSP_IMPORT_TIME_LIMIT_MAX_MS : o->time_limit_ms;
+    snprintf(cpu, sizeof cpu, "%u", (cpu_ms + 999) / 1000 + 1);
     char *const argv[] = {(char *)HELPER_NAME, (char *)"--memory", mem, (char *)"--cpu", cpu, NULL};
     /* The helper finds its libraries as the program did; nothing else of
      * the caller's environment goes with it. */

@@ -13,6 +13,7 @@ typedef struct persp_importer_opts {
     const char *helper;      /* persp-import's path (persp__import_helper_path) */
     size_t memory;           /* bytes the helper may use besides its own code */
     unsigned time_limit_ms;  /* CPU time of the helper (wall clock: the caller's deadline) */
+    int time_scales;         /* the default limit, grown with the bytes handed over */
 } persp_importer_opts;
 
 typedef struct persp_importer {

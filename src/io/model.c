@@ -278,6 +278,8 @@ typedef struct receiver {
     int out_of_memory; /* a texture could not be loaded for want of memory */
     int malformed;     /* the answer broke the protocol: the importer is not trusted further */
     int lost;          /* a read or write failed: the importer ended or the time ran out */
+    persp_importer_opts *opts; /* time_limit_ms grows with what is handed over (grant_time) */
+    int64_t started_ms;
 } receiver;
 
 static persp_status bad_answer(receiver *r, const char *what)
@@ -312,6 +314,19 @@ static persp_status get_text(receiver *r, char out[WIRE_MAX_TEXT + 1])
     return PERSP_OK;
 }
 
+/* The default limit grows with the bytes handed to the importer (the
+ * model, each file it names): big models take long to read, hostile tiny
+ * ones do not need to. */
+static void grant_time(receiver *r, size_t bytes)
+{
+    if (!r->opts->time_scales || !r->chan->deadline_ms) return;
+    const double more = (double)bytes / (1024.0 * 1024.0) * PERSP_IMPORT_TIME_PER_MIB_MS;
+    double limit = (double)r->opts->time_limit_ms + more;
+    if (limit > PERSP_IMPORT_TIME_LIMIT_MAX_MS) limit = PERSP_IMPORT_TIME_LIMIT_MAX_MS;
+    r->opts->time_limit_ms = (unsigned)limit;
+    r->chan->deadline_ms = r->started_ms + r->opts->time_limit_ms;
+}
+
 static persp_status answer_file(receiver *r)
 {
     char name[WIRE_MAX_TEXT + 1];
@@ -324,6 +339,7 @@ static persp_status answer_file(receiver *r)
     int ok = persp__wire_write(r->chan, &reply, 1) && (!data || (persp__wire_write(r->chan, &n, sizeof n) &&
                                                                 persp__wire_write(r->chan, data, size)));
     persp__free(r->ctx, data);
+    if (ok && data) grant_time(r, size);
     if (!ok) r->lost = 1;
     return ok ? PERSP_OK : LOST;
 }
@@ -904,6 +920,7 @@ static persp_status prepare_import(persp_scene *scene, const char *display, char
     *reserved = 0;
     o->in_process = d && d->import == PERSP_MODEL_IMPORT_IN_PROCESS;
     o->time_limit_ms = d && d->import_time_limit_ms ? d->import_time_limit_ms : PERSP_IMPORT_TIME_LIMIT_MS;
+    o->time_scales = !(d && d->import_time_limit_ms);
     const char *base = persp__path_base(display);
     if (is_line_text(base) || persp__model_has_ext(base, "gltf"))
         *size = normalise_text(buf, *size, is_line_text(base));
@@ -935,7 +952,7 @@ static persp_status prepare_import(persp_scene *scene, const char *display, char
 /* The conversation: the importer started, the model sent, its answer taken
  * into the scene (take_answer), the importer ended. *kind and why: the
  * importer's refusal ('E'), if it sent one. */
-static persp_status run_import(receiver *r, const persp_importer_opts *o, const char *main_name,
+static persp_status run_import(receiver *r, persp_importer_opts *o, const char *main_name,
                                int *kind, char why[WIRE_MAX_TEXT + 1])
 {
     persp_context *ctx = r->ctx;
@@ -944,6 +961,9 @@ static persp_status run_import(receiver *r, const persp_importer_opts *o, const 
     persp_status st = persp__importer_start(ctx, o, r->display, &imp);
     wire_chan chan = {imp.fd, o->in_process ? 0 : persp__wire_now_ms() + o->time_limit_ms, 0};
     r->chan = &chan;
+    r->opts = o;
+    r->started_ms = persp__wire_now_ms();
+    if (chan.deadline_ms) grant_time(r, r->io->size);
     if (st == PERSP_OK) {
         if (!send_request(&chan, main_name, r->io->data, r->io->size, r->max_vertices))
             r->lost = 1, st = PERSP_ERR_IO;
