@@ -428,6 +428,18 @@ static size_t join_vertices(const struct aiMesh *am, const struct aiVector3D *tc
     return count;
 }
 
+/* Some exporters write a colour channel that holds nothing (old Blender
+ * versions and AMF writers: every colour zero, or -1): drawn as it is, the
+ * model is black. Such a channel is left out, as if the file had none. */
+static int colours_usable(const struct aiMesh *am)
+{
+    const struct aiColor4D *c = am->mColors[0];
+    if (!c) return 0;
+    for (unsigned i = 0; i < am->mNumVertices; i++)
+        if (c[i].r > 0.0f || c[i].g > 0.0f || c[i].b > 0.0f) return 1;
+    return 0;
+}
+
 /* Sends mesh index ('M'), or marks it as having nothing to draw. */
 static int send_mesh(conv *c, unsigned index)
 {
@@ -449,7 +461,7 @@ static int send_mesh(conv *c, unsigned index)
                       ? material_uv(c->ai->mMaterials[am->mMaterialIndex])
                       : 0;
     const struct aiVector3D *tc = am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
-    const struct aiColor4D *col = am->mColors[0];
+    const struct aiColor4D *col = colours_usable(am) ? am->mColors[0] : NULL;
     uint32_t *remap = malloc((size_t)am->mNumVertices * sizeof *remap);
     if (!remap) return fail(c, WIRE_ERR_OUT_OF_MEMORY, "out of memory converting a mesh");
     size_t unique = join_vertices(am, tc, col, remap);

@@ -114,7 +114,8 @@ int persp__model_has_ext(const char *name, const char *ext);
  * 1 when something was decoded, 0 when nothing was or the result would be
  * cut or hold a NUL (out then unusable). */
 int persp__uri_decode(const char *in, char *out, size_t size);
-/* Windows separators and "./" prefixes of a name a model gives. */
+/* Windows separators, "./" prefixes and Blender's "//" (relative to the
+ * .blend file) of a name a model gives. */
 void persp__model_clean_rel(const char *in, char *out, size_t size);
 /* Reads a file a model names (rel, cleaned): relative to base_dir, then its
  * last part next to the model, then both in any case, each only inside root

@@ -36,6 +36,9 @@ void persp__model_clean_rel(const char *in, char *out, size_t size)
     for (; *in && n + 1 < size; in++)
         out[n++] = *in == '\\' ? '/' : *in;
     out[n] = '\0';
+    /* Blender writes paths relative to the .blend file as "//name": they
+     * are relative to the model's folder here (the folder rule stays). */
+    if (out[0] == '/' && out[1] == '/') memmove(out, out + 2, strlen(out + 2) + 1);
     while (out[0] == '.' && out[1] == '/')
         memmove(out, out + 2, strlen(out + 2) + 1);
 }

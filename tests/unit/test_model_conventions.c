@@ -1,0 +1,123 @@
+/* What exporters write that a model's format does not mean literally:
+ * Blender's "//" paths (relative to the .blend file) and colour channels
+ * that hold nothing (every colour zero or negative: old Blender, AMF). */
+#include "support.h"
+
+#include "core/internal.h"
+#include "geom/scene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static char tmpdir[64];
+
+static void write_file(const char *name, const void *data, size_t size)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    fclose(f);
+}
+
+static void write_text(const char *name, const char *text) { write_file(name, text, strlen(text)); }
+
+static persp_scene *load(persp_context *ctx, const char *name)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    persp_scene *s = NULL;
+    if (persp_scene_load(ctx, path, &s) != PERSP_OK) fail_msg("%s: %s", name, persp_context_error(ctx));
+    return s;
+}
+
+/* A PLY triangle whose colours are c (the same at each corner). */
+static void ply_coloured(const char *name, const char *type, const char *c)
+{
+    char text[1024];
+    snprintf(text, sizeof text,
+             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+             "property %s red\nproperty %s green\nproperty %s blue\nelement face 1\n"
+             "property list uchar int vertex_indices\nend_header\n0 0 0 %s\n1 0 0 %s\n0 1 0 %s\n3 0 1 2\n",
+             type, type, type, c, c, c);
+    write_text(name, text);
+}
+
+static void test_junk_colours_dropped(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    ply_coloured("black.ply", "uchar", "0 0 0");
+    ply_coloured("minus.ply", "float", "-1 -1 -1");
+    ply_coloured("red.ply", "uchar", "255 0 0");
+    static const char *const names[] = {"black.ply", "minus.ply", "red.ply"};
+    static const float want[3][3] = {{1, 1, 1}, {1, 1, 1}, {1, 0, 0}};
+    for (int i = 0; i < 3; i++) {
+        persp_scene *s = load(ctx, names[i]);
+        const persp_mesh *m = &s->meshes[0];
+        for (size_t v = 0; v < m->vertex_count; v++)
+            for (int k = 0; k < 3; k++)
+                if (m->vertices[v].color[k] != want[i][k])
+                    fail_msg("%s vertex %zu: colour %g %g %g", names[i], v, (double)m->vertices[v].color[0],
+                             (double)m->vertices[v].color[1], (double)m->vertices[v].color[2]);
+        persp_scene_destroy(s);
+    }
+    persp_context_destroy(ctx);
+}
+
+static void count_warning(void *user, const char *message)
+{
+    (void)message;
+    ++*(int *)user;
+}
+
+/* "//textures/tex.png" in a material library: the file in the model's
+ * folder's textures/, found without a warning (by its last part alone it
+ * would be looked for beside the model, where it is not). */
+static void test_blender_relative_paths(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    int warned = 0;
+    persp_context_set_warning_handler(ctx, count_warning, &warned);
+    persp_image img;
+    assert_int_equal(persp_image_alloc(ctx, 2, 2, &img), PERSP_OK);
+    memset(img.pixels, 200, (size_t)img.stride * 2);
+    char path[1024];
+    snprintf(path, sizeof path, "%s/textures", tmpdir);
+    assert_int_equal(mkdir(path, 0700), 0);
+    snprintf(path, sizeof path, "%s/textures/tex.png", tmpdir);
+    assert_int_equal(persp_image_write_png(ctx, path, &img), PERSP_OK);
+    persp_image_free(ctx, &img);
+    write_text("b.mtl", "newmtl m\nmap_Kd //textures/tex.png\n");
+    write_text("b.obj", "mtllib b.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
+    persp_scene *s = load(ctx, "b.obj");
+    assert_int_equal(s->texture_count, 1);
+    assert_int_equal(warned, 0);
+    persp_scene_destroy(s);
+    persp_context_destroy(ctx);
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    return test_tmpdir_make(tmpdir, sizeof tmpdir, "conventions");
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    return test_tmpdir_remove(tmpdir);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_junk_colours_dropped),
+        cmocka_unit_test(test_blender_relative_paths),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
