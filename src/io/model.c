@@ -727,6 +727,17 @@ static persp_status pick_reader(persp_context *ctx, const char *display, const c
                                 int all, char *main_name, size_t cap)
 {
     const char *base = persp__path_base(display);
+    /* A text model saved as UTF-16 or UTF-32 (Windows tools offer it):
+     * some readers take it for another format or find nothing to draw in
+     * it ("zero area"). Binary STL's free 80-byte header may begin with
+     * any bytes. */
+    const int wide = size >= 2 && (!memcmp(data, "\xff\xfe", 2) || !memcmp(data, "\xfe\xff", 2) ||
+                                   (size >= 4 && !memcmp(data, "\0\0\xfe\xff", 4)));
+    if (wide && !persp__model_has_ext(base, "stl"))
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: a model file in UTF-16 or UTF-32 (persp reads ASCII or UTF-8: save it as "
+                           "UTF-8)",
+                           display);
     const model_format *by_name = format_of_name(base);
     const model_format *by_content = format_of_content(data, size);
     if (by_name) {

@@ -166,6 +166,35 @@ static void warn_gltf_extensions(persp_context *ctx, const char *display, const 
         }
 }
 
+/* Extensions a glTF may require (glTF 2.0 §3.12, "extensionsRequired")
+ * that Assimp 5.2's reader cannot read: it then drops or misreads the
+ * attributes (quantized positions came out as a model of zero area), so
+ * the file is refused naming the extension. */
+static persp_status check_gltf_required(persp_context *ctx, const char *display, const char *buf,
+                                        size_t size)
+{
+    static const char *const unread[] = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
+                                         "EXT_meshopt_compression", "EXT_mesh_gpu_instancing"};
+    static const char key[] = "\"extensionsRequired\"";
+    size_t len = 0;
+    const char *json = gltf_json(display, buf, size, &len);
+    for (const char *p = json; p && p + sizeof key - 1 <= json + len; p++) {
+        if (memcmp(p, key, sizeof key - 1)) continue;
+        const char *close = memchr(p, ']', (size_t)(json + len - p));
+        const size_t span = close ? (size_t)(close - p) : (size_t)(json + len - p);
+        for (size_t e = 0; e < sizeof unread / sizeof unread[0]; e++) {
+            const size_t n = strlen(unread[e]);
+            for (size_t i = 0; i + n <= span; i++)
+                if (!memcmp(p + i, unread[e], n))
+                    return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                                       "%s: the file requires the glTF extension %s, which the glTF "
+                                       "reader (Assimp 5.2) does not read",
+                                       display, unread[e]);
+        }
+    }
+    return PERSP_OK;
+}
+
 static persp_status check_gltf_images(persp_context *ctx, const char *display, const char *buf,
                                       size_t size)
 {
@@ -383,6 +412,8 @@ persp_status persp__model_check(persp_context *ctx, const char *display, const c
                                 size_t size)
 {
     persp_status ist = check_gltf_images(ctx, display, buf, size);
+    if (ist != PERSP_OK) return ist;
+    ist = check_gltf_required(ctx, display, buf, size);
     if (ist != PERSP_OK) return ist;
     warn_gltf_extensions(ctx, display, buf, size);
     persp_status kst = check_gltf_kind(ctx, display, buf, size);

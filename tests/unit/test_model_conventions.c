@@ -1,6 +1,7 @@
 /* What exporters write that a model's format does not mean literally:
  * Blender's "//" paths (relative to the .blend file) and colour channels
- * that hold nothing (every colour zero or negative: old Blender, AMF). */
+ * that hold nothing (every colour zero or negative: old Blender, AMF); and
+ * refusals that name their real cause. */
 #include "support.h"
 
 #include "core/internal.h"
@@ -101,6 +102,39 @@ static void test_blender_relative_paths(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Refusals that name the real cause: a text model saved in UTF-16, and a
+ * glTF requiring an extension its reader cannot read (both were refused
+ * as "zero area"). */
+static void test_causes_named(void **state)
+{
+    (void)state;
+    static const char dae[] = "<?xml version=\"1.0\"?><COLLADA version=\"1.4.1\"></COLLADA>";
+    char wide[2 + 2 * sizeof dae];
+    wide[0] = '\xff', wide[1] = '\xfe';
+    for (size_t i = 0; i < sizeof dae - 1; i++) wide[2 + 2 * i] = dae[i], wide[3 + 2 * i] = 0;
+    write_file("wide.dae", wide, 2 + 2 * (sizeof dae - 1));
+    write_text("quant.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_mesh_quantization\"],"
+                             "\"extensionsRequired\":[\"KHR_mesh_quantization\"],\"scenes\":[{\"nodes\":[]}]}");
+    static const struct {
+        const char *name, *detail;
+        persp_status st;
+    } cases[] = {
+        {"wide.dae", "wide.dae: a model file in UTF-16 or UTF-32", PERSP_ERR_FORMAT},
+        {"quant.gltf", "quant.gltf: the file requires the glTF extension KHR_mesh_quantization",
+         PERSP_ERR_UNSUPPORTED},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        persp_context *ctx = test_context();
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", tmpdir, cases[i].name);
+        persp_scene *s = NULL;
+        persp_status st = persp_scene_load(ctx, path, &s);
+        if (st != cases[i].st || !strstr(persp_context_error(ctx), cases[i].detail))
+            fail_msg("%s: status %d, '%s'", cases[i].name, (int)st, persp_context_error(ctx));
+        persp_context_destroy(ctx);
+    }
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -118,6 +152,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_junk_colours_dropped),
         cmocka_unit_test(test_blender_relative_paths),
+        cmocka_unit_test(test_causes_named),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
