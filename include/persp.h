@@ -483,12 +483,18 @@ PERSP_API persp_status persp_scene_load(persp_context *ctx, const char *path, pe
  * without a scene (persp_scene_load on the model itself): glTF and most
  * OBJ files are +y up; STL, 3DS and CAD exports are often +z up, which is
  * turned to +y (a rotation of −90° about x), so that the model stands on
- * the floor the default camera looks down on. A scene file turns its
- * objects with "transform" instead. */
+ * the floor the default camera looks down on; some are −z or ±x up. The
+ * default is +y, except for the formats that fix +z (Blender's .blend,
+ * Valve's SMD, TrueSpace's COB). A scene file turns its objects with
+ * "transform" instead. */
 typedef enum persp_model_up {
-    PERSP_MODEL_UP_DEFAULT = 0, /* +y */
+    PERSP_MODEL_UP_DEFAULT = 0, /* +y, or the format's */
     PERSP_MODEL_UP_Y,
-    PERSP_MODEL_UP_Z
+    PERSP_MODEL_UP_Z,
+    PERSP_MODEL_UP_X,
+    PERSP_MODEL_UP_NEG_X,
+    PERSP_MODEL_UP_NEG_Y,
+    PERSP_MODEL_UP_NEG_Z
 } persp_model_up;
 /* Where model files other than OBJ are read (docs/RELIABILITY.md, "Model
  * files from strangers"). persp reads them through Assimp, whose readers

@@ -1138,11 +1138,42 @@ static persp_vec3 from_angles(float elev_deg, float azim_deg)
     return (persp_vec3){cosf(e) * sinf(a), sinf(e), cosf(e) * cosf(a)};
 }
 
+/* Turns the model so that its up axis is +y, by a quarter or half turn,
+ * which maps the axis-aligned box onto one exactly: +z up: −90° about x
+ * (y' = z, z' = −y); −z: +90° about x; +x: +90° about z (y' = x, x' = −y);
+ * −x: −90° about z; −y: 180° about x. */
+static void turn_up(persp_model *model, persp_model_up up)
+{
+    /* Rows of the turn: the new x, y, z as ±(old axis). */
+    int axis[3] = {0, 1, 2}, sign[3] = {1, 1, 1};
+    switch (up) {
+    case PERSP_MODEL_UP_Z: axis[1] = 2, axis[2] = 1, sign[2] = -1; break;
+    case PERSP_MODEL_UP_NEG_Z: axis[1] = 2, sign[1] = -1, axis[2] = 1; break;
+    case PERSP_MODEL_UP_X: axis[0] = 1, sign[0] = -1, axis[1] = 0; break;
+    case PERSP_MODEL_UP_NEG_X: axis[0] = 1, axis[1] = 0, sign[1] = -1; break;
+    case PERSP_MODEL_UP_NEG_Y: sign[1] = -1, sign[2] = -1; break;
+    default: return;
+    }
+    persp_mat4 turn;
+    memset(&turn, 0, sizeof turn);
+    for (int r = 0; r < 3; r++) turn.m[axis[r] * 4 + r] = (float)sign[r];
+    turn.m[15] = 1.0f;
+    for (size_t i = 0; i < model->part_count; i++)
+        model->parts[i].transform = persp_mat4_mul(turn, model->parts[i].transform);
+    float lo[3], hi[3];
+    for (int r = 0; r < 3; r++) {
+        const float a = model->bbox_min[axis[r]], b = model->bbox_max[axis[r]];
+        lo[r] = sign[r] > 0 ? a : -b;
+        hi[r] = sign[r] > 0 ? b : -a;
+    }
+    memcpy(model->bbox_min, lo, sizeof lo);
+    memcpy(model->bbox_max, hi, sizeof hi);
+}
+
 persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size, const char *name,
                                      const char *base_dir, const char *root,
                                      const persp_scene_load_desc *desc, persp_scene **out)
 {
-    const int up_z = desc && desc->model_up == PERSP_MODEL_UP_Z;
     *out = NULL;
     persp_scene *s = NULL;
     persp_status st = persp__scene_new(ctx, &s);
@@ -1161,18 +1192,11 @@ persp_status persp__scene_from_model(persp_context *ctx, char *data, size_t size
     s->load_desc = NULL;
     persp__texcache_free(ctx, &cache);
     if (st == PERSP_OK) persp__model_warn_no_uv(s, &model, name ? name : "<model>", -1, PERSP_TEXGEN_UV);
-    if (st == PERSP_OK && up_z) {
-        /* −90° about x: +z becomes +y, +y becomes −z; the box turns with
-         * it exactly (a quarter turn keeps it axis-aligned). */
-        persp_mat4 turn = persp_mat4_identity(); /* exact: y' = z, z' = −y */
-        turn.m[1 * 4 + 1] = 0.0f, turn.m[2 * 4 + 1] = 1.0f;
-        turn.m[1 * 4 + 2] = -1.0f, turn.m[2 * 4 + 2] = 0.0f;
-        for (size_t i = 0; i < model.part_count; i++)
-            model.parts[i].transform = persp_mat4_mul(turn, model.parts[i].transform);
-        const float ymin = model.bbox_min[1], ymax = model.bbox_max[1];
-        model.bbox_min[1] = model.bbox_min[2], model.bbox_max[1] = model.bbox_max[2];
-        model.bbox_min[2] = -ymax, model.bbox_max[2] = -ymin;
-    }
+    persp_model_up up = desc ? desc->model_up : PERSP_MODEL_UP_DEFAULT;
+    if (up == PERSP_MODEL_UP_DEFAULT && name &&
+        (persp__model_has_ext(name, "blend") || persp__model_has_ext(name, "smd") || persp__model_has_ext(name, "cob")))
+        up = PERSP_MODEL_UP_Z;
+    if (st == PERSP_OK && up != PERSP_MODEL_UP_DEFAULT && up != PERSP_MODEL_UP_Y) turn_up(&model, up);
     for (size_t i = 0; st == PERSP_OK && i < model.part_count; i++) {
         persp_object o;
         memset(&o, 0, sizeof o);

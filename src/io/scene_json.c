@@ -1145,7 +1145,7 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
     *out = NULL;
     if (desc && (unsigned)desc->any_folder > (unsigned)PERSP_TOGGLE_OFF)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.any_folder");
-    if (desc && (unsigned)desc->model_up > (unsigned)PERSP_MODEL_UP_Z)
+    if (desc && (unsigned)desc->model_up > (unsigned)PERSP_MODEL_UP_NEG_Z)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.model_up");
     if (desc && (unsigned)desc->import > (unsigned)PERSP_MODEL_IMPORT_IN_PROCESS)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "invalid persp_scene_load_desc.import");

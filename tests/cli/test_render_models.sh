@@ -36,7 +36,7 @@ printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nver
 expect 0 "1 triangles in" -- "$persp" render "$m/up.stl" --size 32x24 -o "$tmp/up_y.png"
 expect 0 "1 triangles in" -- "$persp" render "$m/up.stl" --size 32x24 --up z -o "$tmp/up_z.png"
 cmp -s "$tmp/up_y.png" "$tmp/up_z.png" && bad "--up z changed nothing" || ok
-expect 2 "bad --up 'x'" -- "$persp" render "$m/up.stl" --up x -o "$tmp/up_x.png"
+expect 2 "bad --up 'w'" -- "$persp" render "$m/up.stl" --up w -o "$tmp/up_w.png"
 # bench takes models too
 expect 0 "^bench .*box.obj 32x24" -- "$persp" bench "$m/box.obj" --size 32x24 --frames 1 --reps 1
 

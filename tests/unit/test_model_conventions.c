@@ -135,6 +135,41 @@ static void test_causes_named(void **state)
     }
 }
 
+/* --up AXIS: the named axis of the file becomes +y, by a turn (no
+ * mirror): a triangle spanning the file's +A axis from the origin stands
+ * up along +y after the turn, for each of the six axes. */
+static void test_up_axes(void **state)
+{
+    (void)state;
+    static const struct {
+        persp_model_up up;
+        float dir[3];
+    } axes[] = {{PERSP_MODEL_UP_Y, {0, 1, 0}},  {PERSP_MODEL_UP_Z, {0, 0, 1}},     {PERSP_MODEL_UP_X, {1, 0, 0}},
+                {PERSP_MODEL_UP_NEG_X, {-1, 0, 0}}, {PERSP_MODEL_UP_NEG_Y, {0, -1, 0}}, {PERSP_MODEL_UP_NEG_Z, {0, 0, -1}}};
+    for (size_t a = 0; a < sizeof axes / sizeof axes[0]; a++) {
+        const float *d = axes[a].dir;
+        /* a second, sideways vertex off the axis keeps the triangle's area */
+        const float side[3] = {d[0] == 0 ? 1.0f : 0.0f, 0.0f, d[0] == 0 ? 0.0f : 1.0f};
+        char text[256];
+        snprintf(text, sizeof text, "v 0 0 0\nv %g %g %g\nv %g %g %g\nf 1 2 3\n", (double)d[0], (double)d[1],
+                 (double)d[2], (double)(0.1f * side[0]), (double)(0.1f * side[1]), (double)(0.1f * side[2]));
+        write_text("pole.obj", text);
+        persp_context *ctx = test_context();
+        char path[1024];
+        snprintf(path, sizeof path, "%s/pole.obj", tmpdir);
+        persp_scene_load_desc desc = {.model_up = axes[a].up};
+        persp_scene *s = NULL;
+        assert_int_equal(persp_scene_load_ex(ctx, path, &desc, &s), PERSP_OK);
+        persp_vec4 tip = persp_mat4_apply(s->objects[0].model, (persp_vec4){d[0], d[1], d[2], 1.0f});
+        if (!(tip.x == 0.0f && tip.y == 1.0f && tip.z == 0.0f))
+            fail_msg("up %d: the axis went to (%g %g %g)", (int)axes[a].up, (double)tip.x, (double)tip.y,
+                     (double)tip.z);
+        assert_true(persp_mat4_det3(s->objects[0].model) > 0.0f);
+        persp_scene_destroy(s);
+        persp_context_destroy(ctx);
+    }
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -153,6 +188,7 @@ int main(void)
         cmocka_unit_test(test_junk_colours_dropped),
         cmocka_unit_test(test_blender_relative_paths),
         cmocka_unit_test(test_causes_named),
+        cmocka_unit_test(test_up_axes),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

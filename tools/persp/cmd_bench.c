@@ -313,7 +313,9 @@ static int peer_start(const bench_opts *o, peer_proc *pp, peer_result *r)
     if (o->shading_given) argv[argc++] = "--shading", argv[argc++] = (char *)o->shading_name;
     if (o->frames) argv[argc++] = "--frames", argv[argc++] = frames;
     if (o->load.any_folder == PERSP_TOGGLE_ON) argv[argc++] = "--any-folder";
-    if (o->load.model_up == PERSP_MODEL_UP_Z) argv[argc++] = "--up", argv[argc++] = "z";
+    static const char *const up_args[] = {NULL, "y", "z", "x", "-x", "-y", "-z"};
+    if ((unsigned)o->load.model_up < sizeof up_args / sizeof up_args[0] && up_args[o->load.model_up])
+        argv[argc++] = "--up", argv[argc++] = (char *)up_args[o->load.model_up];
     if (o->load.formats == PERSP_MODEL_FORMATS_ALL) argv[argc++] = "--formats", argv[argc++] = "all";
     if (o->load.import == PERSP_MODEL_IMPORT_IN_PROCESS) argv[argc++] = "--import", argv[argc++] = "in-process";
     char timeout[32], crease[32];

@@ -526,14 +526,16 @@ const cli_spec cli_opt_simd = {.name = "simd",
                                        "vertex and lighting loops: auto, baseline, avx2,\n"
                                        "avx2-gather, avx512, avx512-gather (same images;\n"
                                        "default auto: chosen for the CPU)"};
-static const char *const up_names[] = {"y", "z", NULL};
-static const int up_values[] = {PERSP_MODEL_UP_Y, PERSP_MODEL_UP_Z};
+static const char *const up_names[] = {"y", "z", "x", "-x", "-y", "-z", NULL};
+static const int up_values[] = {PERSP_MODEL_UP_Y,     PERSP_MODEL_UP_Z,     PERSP_MODEL_UP_X,
+                                PERSP_MODEL_UP_NEG_X, PERSP_MODEL_UP_NEG_Y, PERSP_MODEL_UP_NEG_Z};
 const cli_spec cli_opt_up = {.name = "up",
                              .kind = CLI_KIND_ENUM,
-                             .metavar = "y|z",
+                             .metavar = "AXIS",
                              .names = up_names,
                              .values = up_values,
-                             .help = "a model file's up axis (default y; z: STL, 3DS, CAD exports)"};
+                             .help = "a model file's up axis: y, z, x, -x, -y, -z (default y;\n"
+                                     "z for .blend, SMD and COB; z: STL, 3DS, CAD exports)"};
 const cli_spec cli_opt_cull = {.name = "cull",
                                .kind = CLI_KIND_ENUM,
                                .metavar = "on|off",
