@@ -447,8 +447,13 @@ static persp_status take_embedded(receiver *r)
         return LOST;
     if (!r->header || index >= r->counts[2] || r->embedded_index[index] != -1)
         return bad_answer(r, "an embedded texture out of order");
-    char name[PERSP_PATH_MAX + 32];
-    snprintf(name, sizeof name, "%s: embedded texture %u", r->display, index);
+    char name[PERSP_PATH_MAX + 48];
+    /* The reader's format hint ("png", "jpg", "tga", ...) names it: TGA
+     * has no signature and is read by its name (persp_image_load_memory). */
+    hint[sizeof hint - 1] = '\0';
+    for (size_t k = 0; hint[k]; k++)
+        if (!isalnum((unsigned char)hint[k])) hint[k] = '\0';
+    snprintf(name, sizeof name, "%s: embedded texture %u%s%s", r->display, index, hint[0] ? "." : "", hint);
     persp_image img;
     memset(&img, 0, sizeof img);
     persp_status st;

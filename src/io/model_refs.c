@@ -207,7 +207,7 @@ static int texture_file(persp_model_refs *r, const char *material, const char *f
     }
     persp_status st = PERSP_ERR_IO;
     char why[PERSP_ERRMSG_BYTES] = "";
-    int outside = 0;
+    int outside = 0, decoded_fail = 0;
     /* "C:/..." (after persp__model_clean_rel): an absolute path of the
      * machine the model was made on, which joined to the model's folder
      * names nothing; only its last part is looked for. */
@@ -230,8 +230,12 @@ static int texture_file(persp_model_refs *r, const char *material, const char *f
             persp__model_texture_oom(r->scene->ctx, r->display, qr, qm);
             return -1;
         }
-        if (st != PERSP_OK && k == 0)
+        if (st != PERSP_OK && k == 0) {
             snprintf(why, sizeof why, "%s", persp_context_error(r->scene->ctx));
+            /* There but not readable as an image: that is the reason, not
+             * a missing file looked for elsewhere. */
+            decoded_fail = st != PERSP_ERR_IO;
+        }
     }
     if (st != PERSP_OK) {
         if (r->quiet) return -1;
@@ -248,7 +252,7 @@ static int texture_file(persp_model_refs *r, const char *material, const char *f
         persp__quote(base, strlen(base), qb, sizeof qb);
         if (drive && !why[0])
             snprintf(why, sizeof why, "a Windows path; no '%s' beside the model either", qb);
-        else if (base != rel && !outside && strlen(why) + strlen(qb) + 40 < sizeof why)
+        else if (base != rel && !outside && !decoded_fail && strlen(why) + strlen(qb) + 40 < sizeof why)
             snprintf(why + strlen(why), sizeof why - strlen(why), "; no '%s' beside the model either", qb);
         persp__warn(r->scene->ctx,
                     "%s: material '%s': cannot load texture '%s' (%s); drawing it untextured",

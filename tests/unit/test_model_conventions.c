@@ -75,6 +75,11 @@ static void count_warning(void *user, const char *message)
     ++*(int *)user;
 }
 
+static void keep_warning(void *user, const char *message)
+{
+    snprintf((char *)user, 1024, "%s", message);
+}
+
 /* "//textures/tex.png" in a material library: the file in the model's
  * folder's textures/, found without a warning (by its last part alone it
  * would be looked for beside the model, where it is not). */
@@ -123,9 +128,23 @@ static void test_causes_named(void **state)
         {"quant.gltf", "quant.gltf: the file requires the glTF extension KHR_mesh_quantization",
          PERSP_ERR_UNSUPPORTED},
     };
+    /* A texture that is there but no image persp reads: said so, not
+     * reported missing "beside the model" as well. */
+    char path[1024], warning[1024] = "";
+    snprintf(path, sizeof path, "%s/img", tmpdir);
+    assert_int_equal(mkdir(path, 0700), 0);
+    write_text("img/t.gif", "GIF89a");
+    write_text("g.mtl", "newmtl m\nmap_Kd img/t.gif\n");
+    write_text("g.obj", "mtllib g.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
+    persp_context *wctx = test_context();
+    persp_context_set_warning_handler(wctx, keep_warning, warning);
+    persp_scene *g = load(wctx, "g.obj");
+    if (!strstr(warning, "not a PNG, JPEG, TGA or BMP image") || strstr(warning, "beside the model"))
+        fail_msg("warning '%s'", warning);
+    persp_scene_destroy(g);
+    persp_context_destroy(wctx);
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         persp_context *ctx = test_context();
-        char path[1024];
         snprintf(path, sizeof path, "%s/%s", tmpdir, cases[i].name);
         persp_scene *s = NULL;
         persp_status st = persp_scene_load(ctx, path, &s);
