@@ -3,7 +3,9 @@
 # only when verilator is found, so that configuring never needs it.
 # Included at the end of CMakeLists.txt (needs the persp_cli target).
 find_program(PERSP_VERILATOR verilator)
-if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROSSCOMPILING)
+# Not in the ThreadSanitizer build, which runs only the tests labelled
+# threads.
+if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROSSCOMPILING AND NOT PERSP_TSAN)
   set(PERSP_HW_DIR ${PROJECT_BINARY_DIR}/hw)
   # Each module's vector sets, `|` between sets: the paths its model has
   # (ordinary pixels, re-seeds, leaving the format; see scripts/hw.sh).
@@ -11,7 +13,21 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
       "--triangles 40|--texture-size 4096x4096 --triangles 10|--texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3|--method midpoint:int,edge --triangles 10")
   set(PERSP_HW_SETS_exact
       "--module exact --triangles 40|--module exact --texture-size 4096x4096 --triangles 20|--module exact --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3")
-  foreach(m midpoint_int exact)
+  # The §4.8 windows and the §4.3 t_w modules (hw_models_shade.c).
+  set(PERSP_HW_SETS_window_one
+      "--module window_one --texture-size 4096x4096 --triangles 10|--module window_one --texture-size 1024x1024 --depth-ratio 30 --triangles 20 --seed 2")
+  string(REPLACE "window_one" "window_two" PERSP_HW_SETS_window_two "${PERSP_HW_SETS_window_one}")
+  foreach(m tw_exact tw_quadratic tw_pwquad tw_cubic)
+    set(PERSP_HW_SETS_${m}
+        "--module ${m} --depth-ratio 2 --triangles 30|--module ${m} --depth-ratio 8 --triangles 30 --seed 2|--module ${m} --depth-ratio 100 --triangles 30 --seed 3")
+  endforeach()
+  # The span datapaths (hw_models_span.c): 256 and 4096 texels, |t| beyond the format.
+  foreach(m subdiv incremental quadratic cubic bezier)
+    set(PERSP_HW_SETS_${m}
+        "--module ${m} --triangles 40|--module ${m} --texture-size 4096x4096 --triangles 20|--module ${m} --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3")
+  endforeach()
+  foreach(m midpoint_int exact window_one window_two tw_exact tw_quadratic tw_pwquad tw_cubic
+          subdiv incremental quadratic cubic bezier)
     string(REPLACE "|" ";" parts "${PERSP_HW_SETS_${m}}")
     set(tb ${PERSP_HW_DIR}/obj_${m}/tb_${m})
     add_custom_command(
@@ -35,4 +51,20 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
                      hw_${m} $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/${m}.ctest.vectors ${tb})
     set_tests_properties(hw_${m} PROPERTIES LABELS hw TIMEOUT 300)
   endforeach()
+  # subdiv at N = 8: the same RTL built with -GN=8, against `--module subdiv:8`.
+  set(tb8 ${PERSP_HW_DIR}/obj_subdiv8/tb_subdiv)
+  add_custom_command(
+    OUTPUT ${tb8}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${PERSP_HW_DIR}
+    COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir ${PERSP_HW_DIR}/obj_subdiv8
+            ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp
+            -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_subdiv > ${PERSP_HW_DIR}/subdiv8.verilator.log
+    DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp
+            ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
+    COMMENT "verilator: hw/rtl/subdiv.v, N = 8")
+  add_custom_target(hw_tb_subdiv8 ALL DEPENDS ${tb8})
+  add_test(NAME hw_subdiv8
+           COMMAND sh -c "\"$1\" vectors --module subdiv:8 --triangles 40 -o \"$2.1\" 2>/dev/null && \"$1\" vectors --module subdiv:8 --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o \"$2.2\" 2>/dev/null && cat \"$2\".1 \"$2\".2 > \"$2\" && \"$3\" \"$2\" 100000"
+                   hw_subdiv8 $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/subdiv8.ctest.vectors ${tb8})
+  set_tests_properties(hw_subdiv8 PROPERTIES LABELS hw TIMEOUT 300)
 endif()

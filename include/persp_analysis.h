@@ -280,6 +280,10 @@ typedef struct persp_report_html_desc {
     const char *command;    /* the command line that made the page, shown on it; NULL: none */
     const char *git_commit; /* shown with the environment; NULL: not known */
     void *log;              /* FILE * for progress lines; NULL: silent */
+    /* The hardware flow's out/hw/summary.json (docs/HARDWARE.md; its
+     * pareto.svg beside it is inlined when present): a section with its
+     * table. NULL: no hardware section. */
+    const char *hardware_summary;
 } persp_report_html_desc;
 
 PERSP_API persp_status persp_report_html(persp_context *ctx, const persp_report_html_desc *desc);

@@ -23,7 +23,7 @@ mkdir -p "$work" "$out"
 for t in verilator yosys nextpnr-ice40; do
     command -v "$t" >/dev/null || { echo "hw: $t missing (bash scripts/deps.sh --hw)" >&2; exit 1; }
 done
-modules="${HW_MODULES:-midpoint_int exact}"
+modules="${HW_MODULES:-midpoint_int exact window_one window_two tw_exact tw_quadratic tw_pwquad tw_cubic subdiv incremental quadratic cubic bezier}"
 scale=1
 [ "${HW_SMALL:-0}" = 1 ] && scale=0
 
@@ -40,6 +40,23 @@ vectors() {
         "$persp" vectors --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o "$f.4" 2>/dev/null  # fallbacks
         "$persp" vectors --texture-size 4096x4096 --uv-range 100 --triangles 4 -o "$f.5" 2>/dev/null  # spans outside
         cat "$f".[1-5] >"$f"
+    elif [ "${m#window_}" != "$m" ]; then
+        # Minified footprints (the window exists): 4096 texels, and 1024 at
+        # depth ratio 30 (longer, rotated windows).
+        n=$((scale ? 10 : 6))
+        "$persp" vectors --module "$m" --texture-size 4096x4096 --triangles "$n" -o "$f.1" 2>/dev/null
+        "$persp" vectors --module "$m" --texture-size 1024x1024 --depth-ratio 30 --triangles $((2 * n)) --seed 2 \
+            -o "$f.2" 2>/dev/null
+        cat "$f".[12] >"$f"
+    elif [ "${m#tw_}" != "$m" ]; then
+        # t_w depends on the span's depth ratio only: 2, 8 and 100.
+        n=$((scale ? 60 : 30))
+        local k=1 d
+        for d in 2 8 100; do
+            "$persp" vectors --module "$m" --depth-ratio $d --triangles "$n" --seed $k -o "$f.err$k" 2>/dev/null
+            k=$((k + 1))
+        done
+        cat "$f".err[1-3] >"$f"
     else
         n=$((scale ? 60 : 25))
         local k=1 d t
@@ -70,8 +87,11 @@ synth() {
     python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
     yosys -p "read_verilog $root/hw/rtl/$m.v $d/${m}_ooc.v; synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
         >"$d/ice40.log" 2>&1
+    # A module that needs more than the UP5K has (8 SB_MAC16) is a result, not a
+    # failure of the flow: summary.json then says so (ice40_fits false).
+    rm -f "$d/pnr.json"
     nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 --report "$d/pnr.json" \
-        >"$d/pnr.log" 2>&1
+        >"$d/pnr.log" 2>&1 || echo "hw: $m: does not fit the iCE40 UP5K ($d/pnr.log)"
     yosys -p "read_verilog $root/hw/rtl/$m.v; synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
         >"$d/generic.log" 2>&1
 }
@@ -85,11 +105,25 @@ for m in $modules; do
     tail -1 "$work/$m.tb.log"
     # Throughput on ordinary triangles (256 texels) apart from the edge cases.
     if [ "$m" = midpoint_int ]; then "$work/obj_$m/tb_$m" "$work/$m.vectors.1" >"$work/$m.tb_plain.log" || status=1; fi
+    # subdiv at N = 8 as well: the same RTL built with -GN=8 against `--module subdiv:8`.
+    if [ "$m" = subdiv ]; then
+        verilator --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir "$work/obj_subdiv8" "$root/hw/rtl/subdiv.v" \
+            "$root/hw/tb/tb_subdiv.cpp" -CFLAGS "-I$root/hw/tb -O1" -o tb_subdiv >"$work/subdiv8.verilator.log" 2>&1 ||
+            { cat "$work/subdiv8.verilator.log" >&2; status=1; }
+        vectors subdiv:8 "$work/subdiv8.vectors"
+        "$work/obj_subdiv8/tb_subdiv" "$work/subdiv8.vectors" 100000 >"$work/subdiv8.tb.log" || status=1
+        tail -1 "$work/subdiv8.tb.log"
+    fi
     if [ "${HW_NO_SYNTH:-0}" != 1 ]; then
         echo "hw: $m: synthesis"
         synth "$m"
     fi
 done
+# What one SB_MAC16 (16 x 16 multiply) costs in logic cells when built from
+# LUTs: the DSP equivalent of the area plot (hw/plot_pareto.py).
+printf 'module mul16(input clk, input [15:0] a, b, output reg [31:0] p);\n always @(posedge clk) p <= a * b;\nendmodule\n' \
+    >"$work/mul16.v"
+[ "${HW_NO_SYNTH:-0}" = 1 ] || yosys -p "read_verilog $work/mul16.v; synth_ice40 -top mul16" >"$work/mul16.log" 2>&1
 # midpoint_int's error is persp's own measurement of midpoint:int.
 "$persp" accuracy --case random-triangles --method midpoint:int --json >"$work/midpoint_int.accuracy.json"
 
@@ -97,6 +131,10 @@ python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" <<'PY'
 import json, os, re, subprocess, sys
 root, work, out, modules, nosynth = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(), sys.argv[5] == "1"
 method = {"midpoint_int": "midpoint:int", "exact": "exact (hw fixed point)"}
+# The span datapaths (hw_models_span.c) and the float method each implements.
+span = {"subdiv": "subdiv:16", "incremental": "incremental:bidir", "quadratic": "quadratic", "cubic": "cubic",
+        "bezier": "bezier:quadt"}
+method.update({k: v + " (hw fixed point)" for k, v in span.items()})
 
 def grab(path, pattern, conv=float, default=None):
     try:
@@ -111,7 +149,25 @@ for m in modules:
     r = {"module": m, "method": method.get(m, m), "rtl": "hw/rtl/%s.v" % m, "top": m}
     r["vectors_checked"] = grab(log, r"pixels (\d+) mismatches", int)
     r["mismatches"] = grab(log, r"mismatches (\d+)", int)
-    if m == "exact":
+    if m.startswith("window_") or m.startswith("tw_"):
+        # hw/rtl/window_*.v, tw_*.v: errors from the vectors' closing lines.
+        r["latency_cycles"] = grab(log, r"latency (\d+) cycles", int)
+        r["pixels_per_clock"] = grab(log, r"([\d.]+) pixels per clock")
+        sets = [os.path.join(work, "%s.vectors.%s" % (m, k)) for k in ("1", "2", "err1", "err2", "err3")]
+        sets = [f for f in sets if os.path.exists(f)]
+        if m.startswith("window_"):
+            r["error_unit"] = "texel position"
+            r["max_error"] = max(grab(f, r"max texel position error ([\d.]+)") for f in sets)
+            r["windows_differing_from_other_traversal"] = sum(
+                grab(f, r"(\d+) windows whose texel set differs", int) for f in sets)
+        else:
+            r["error_unit"] = "t_w"
+            r["max_error"] = max(grab(f, r"max \|dtw\| model ([\d.]+)") for f in sets)
+            r["max_error_float_method"] = max(grab(f, r"max \|dtw\| float method ([\d.]+)") for f in sets)
+            r["max_error_tw_by_depth_ratio"] = {
+                d: grab(os.path.join(work, "%s.vectors.err%d" % (m, k)), r"max \|dtw\| model ([\d.]+)")
+                for k, d in ((1, "2"), (2, "8"), (3, "100"))}
+    elif m == "exact" or m in span:
         r["latency_cycles"] = grab(log, r"latency (\d+) cycles", int)
         r["pixels_per_clock"] = grab(log, r"([\d.]+) pixels per clock")
         errs = []
@@ -121,6 +177,21 @@ for m in modules:
         r["max_error_texels"] = max(e for e in errs if e is not None)
         r["max_error_texels_256"] = max(errs[0:4])
         r["max_error_texels_4096"] = max(errs[4:8])
+        # The float method's own error on the same pixels (the vectors' last line):
+        # [256 ħ=2, 256 ħ=8, 4096 ħ=2, 4096 ħ=8] for the model and the method.
+        sets = [os.path.join(work, "%s.vectors.err%d" % (m, k)) for k in range(1, 5)]
+        if m in span:
+            pair = lambda f, p: max(grab(f, p + r"u ([\d.]+)"), grab(f, p + r"u [\d.]+, v ([\d.]+)"))
+            r["max_error_texels_by_set"] = [max(errs[2 * k], errs[2 * k + 1]) for k in range(4)]
+            r["float_method"] = span[m]
+            r["float_max_error_texels_by_set"] = [pair(f, r"same pixels: ") for f in sets]
+            if m == "subdiv":
+                n8 = [os.path.join(work, "subdiv8.vectors.err%d" % k) for k in range(1, 5)]
+                r["n8_vectors_checked"] = grab(os.path.join(work, "subdiv8.tb.log"), r"pixels (\d+) mismatches", int)
+                r["n8_mismatches"] = grab(os.path.join(work, "subdiv8.tb.log"), r"mismatches (\d+)", int)
+                r["n8_max_error_texels_by_set"] = [max(grab(f, r"max \|du\| ([\d.]+)"), grab(f, r"max \|dv\| ([\d.]+)"))
+                                                   for f in n8]
+                r["n8_float_max_error_texels_by_set"] = [pair(f, r"same pixels: ") for f in n8]
     else:
         # Variable: one lattice step or one pixel per clock; measured.
         r["latency_cycles"] = 1
@@ -142,14 +213,23 @@ for m in modules:
         walk(acc)
         r["max_error_texels"] = max(vals) if vals else None
     d = os.path.join(work, "syn_" + m)
-    if not nosynth:
+    if not nosynth and not os.path.exists(os.path.join(d, "pnr.json")):
+        # Placement failed: the device's limit it met, from nextpnr's log; the
+        # cells synth_ice40 asked for, from Yosys's.
+        r["ice40_fits"] = False
+        r["ice40_pnr_error"] = grab(os.path.join(d, "pnr.log"), r"ERROR: (.*)", str)
+        r["ice40_dsp_needed"] = grab(os.path.join(d, "ice40.log"), r"SB_MAC16\s+(\d+)", int)
+        r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
+    elif not nosynth:
         pnr = json.load(open(os.path.join(d, "pnr.json")))
         u = pnr["utilization"]
+        r["ice40_fits"] = True
         r["ice40_lc"] = u["ICESTORM_LC"]["used"]
         r["ice40_dsp"] = u.get("ICESTORM_DSP", {}).get("used", 0)
         r["ice40_bram"] = u.get("ICESTORM_RAM", {}).get("used", 0)
         r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
         r["fmax_mhz"] = round(min(v["achieved"] for v in pnr["fmax"].values()), 2)
+    if not nosynth:
         g = os.path.join(d, "generic.log")
         r["cmos_transistors"] = grab(g, r"Estimated number of transistors:\s+(\d+)", int)
         r["logic_depth"] = grab(g, r"Longest topological path in \S+ \(length=(\d+)\)", int)
@@ -161,10 +241,11 @@ for tool, args in (("verilator", ["--version"]), ("yosys", ["-V"]), ("nextpnr-ic
     p = subprocess.run([tool] + args, capture_output=True, text=True)
     ver[tool] = (p.stdout + p.stderr).strip().splitlines()[0]
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "?")
-json.dump({"tools": ver, "cpu": cpu, "modules": rows}, open(os.path.join(out, "summary.json"), "w"), indent=2)
+dspeq = grab(os.path.join(work, "mul16.log"), r"SB_LUT4\s+(\d+)", int)
+json.dump({"tools": ver, "cpu": cpu, "ice40_dsp_lut4_equivalent": dspeq, "modules": rows}, open(os.path.join(out, "summary.json"), "w"), indent=2)
 
 cols = ["module", "ice40_lc", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_transistors", "logic_depth",
-        "latency_cycles", "pixels_per_clock", "vectors_checked", "mismatches", "max_error_texels"]
+        "latency_cycles", "pixels_per_clock", "vectors_checked", "mismatches", "max_error_texels", "max_error", "error_unit"]
 md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
 for r in rows:
     md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
@@ -173,4 +254,6 @@ md += ["", "Tools: " + "; ".join(ver.values()) + ". CPU: " + cpu + ".",
 open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")
 print("\n".join(md))
 PY
+# The area/error plot of every module in the summary (docs/HARDWARE.md).
+[ "${HW_NO_SYNTH:-0}" = 1 ] || python3 "$root/hw/plot_pareto.py" "$out/summary.json" "$out/pareto.svg" || status=1
 exit $status

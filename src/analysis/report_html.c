@@ -11,6 +11,7 @@
 #include "analysis/svg.h"
 #include "core/internal.h"
 #include "io/outfile.h"
+#include "io/text.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -1008,6 +1009,66 @@ static persp_status filters(rep *r)
     return PERSP_OK;
 }
 
+/* --------------------------------------------------------------- hardware */
+
+/* The RTL modules' area and error (docs/HARDWARE.md) from the summary
+ * scripts/hw.sh wrote (persp_report_html_desc.hardware_summary): its table
+ * and the area/error plot beside it (hw/plot_pareto.py). Read, not
+ * measured here: the flow needs Verilator, Yosys and nextpnr, and minutes. */
+static void hardware(rep *r, const char *summary)
+{
+    if (!summary) return;
+    char plot[PERSP_PATH_MAX];
+    const char *slash = strrchr(summary, '/');
+    snprintf(plot, sizeof plot, "%.*spareto.svg", slash ? (int)(slash - summary + 1) : 0, summary);
+    json_error_t err;
+    json_t *root = file_exists(summary) ? json_load_file(summary, JSON_REJECT_DUPLICATES, &err) : NULL;
+    json_t *mods = root ? json_object_get(root, "modules") : NULL;
+    if (!json_is_array(mods)) {
+        json_decref(root);
+        return;
+    }
+    fputs("<h2 id=hardware>Hardware ([Romanyuk-PCF] §4.3, §4.5, §4.8)</h2>\n<p>Read from out/hw/summary.json "
+          "(scripts/hw.sh; docs/HARDWARE.md): every module verified bit for bit against its C model, then "
+          "synthesized. ice40_lc includes the out-of-context wrapper's flip-flops.</p>\n<table>\n<tr><th>module"
+          "<th>CMOS transistors<th>iCE40 LC<th>SB_MAC16<th>Fmax MHz<th>pixels/clock<th>max error<th>unit"
+          "<th>checked<th>mismatches\n",
+          r->f);
+    static const char *const keys[] = {"cmos_transistors", "ice40_lc", "ice40_dsp", "fmax_mhz", "pixels_per_clock"};
+    size_t i;
+    json_t *m;
+    json_array_foreach(mods, i, m)
+    {
+        const char *unit = json_string_value(json_object_get(m, "error_unit"));
+        json_t *e = json_object_get(m, unit ? "max_error" : "max_error_texels");
+        fputs("<tr><td>", r->f);
+        esc(r->f, json_string_value(json_object_get(m, "module")));
+        for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
+            json_t *v = json_object_get(m, keys[k]);
+            fputs("<td>", r->f);
+            if (json_is_integer(v))
+                fprintf(r->f, "%lld", (long long)json_integer_value(v));
+            else
+                num(r->f, json_is_number(v) ? json_number_value(v) : NAN);
+        }
+        fputs("<td>", r->f);
+        num(r->f, json_is_number(e) ? json_number_value(e) : NAN);
+        fputs("<td>", r->f);
+        esc(r->f, unit ? unit : "texels");
+        for (int k = 0; k < 2; k++) {
+            json_t *v = json_object_get(m, k ? "mismatches" : "vectors_checked");
+            fputs("<td>", r->f);
+            if (json_is_integer(v)) fprintf(r->f, "%lld", (long long)json_integer_value(v));
+            else fputs("–", r->f);
+        }
+        fputc('\n', r->f);
+    }
+    fputs("</table>\n", r->f);
+    if (file_exists(plot)) inline_svg_file(r, plot);
+    cmd(r, "bash scripts/hw.sh BUILD");
+    json_decref(root);
+}
+
 /* ------------------------------------------------------------------ entry */
 
 /* Every method that runs without parameters, and the second approach of
@@ -1120,6 +1181,7 @@ static persp_status report_files(rep *r, const persp_report_html_desc *desc, con
         st = shading(r);
         if (st == PERSP_OK) st = filters(r);
         if (st == PERSP_OK) {
+            hardware(r, desc->hardware_summary);
             environment(r);
             fputs("</body></html>\n", r->f);
         }

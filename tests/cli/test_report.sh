@@ -110,6 +110,14 @@ grep -q "filter quality against tilt" "$tmp/r2/index.html" && [ -s "$tmp/r2/filt
     bad "--from page lacks the filter results of filter.json"
 grep -q "^report: method accuracy" "$tmp/log2" && bad "--from measured the methods again" || ok
 expect 1 "accuracy.json" -- "$persp" report --from "$tmp/nowhere" -o "$tmp/r3"
+# The hardware section: only from a summary named (or out/hw/summary.json
+# of the folder persp runs in), with its rows; none without one.
+mkdir -p "$tmp/hw"
+printf '{"modules": [{"module": "exact", "cmos_transistors": 86086, "ice40_lc": 2353, "ice40_dsp": 6, "fmax_mhz": 17.2, "pixels_per_clock": 1.0, "max_error_texels": 0.17, "vectors_checked": 481566, "mismatches": 0}]}\n' >"$tmp/hw/summary.json"
+"$persp" report --from "$tmp/sweep" --hardware "$tmp/hw/summary.json" -o "$tmp/r4" 2>"$tmp/log4" || bad "report --hardware: $(cat "$tmp/log4")"
+grep -q "id=hardware" "$tmp/r4/index.html" && grep -q "<td>exact<td>86086" "$tmp/r4/index.html" && ok ||
+    bad "--hardware page lacks the summary's table"
+grep -q "id=hardware" "$tmp/r2/index.html" && bad "a page without a summary has a hardware section" || ok
 
 echo "test_report: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -75,7 +75,13 @@ else bad "--module exact: $(tail -1 "$tmp/exact.txt")"; fi
 "$persp" vectors --module exact --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o "$tmp/exact_ovf.txt" 2>/dev/null
 if grep -q '^xpx 1 ' "$tmp/exact_ovf.txt" && grep -q '^xspan [0-9]* [0-9]* [0-9]* 0 ' "$tmp/exact_ovf.txt"; then ok; else bad "exact out of range"; fi
 expect 2 "--module exact has none" -- "$persp" vectors --module exact --method midpoint:int
-expect 2 "bad --module 'bezier'" -- "$persp" vectors --module bezier
+expect 2 "bad --module 'nosuch'" -- "$persp" vectors --module nosuch
+# Every module writes vectors a testbench can read: records after the
+# header, and the closing line with the counts.
+for m in subdiv subdiv:8 incremental quadratic cubic bezier window_one window_two tw_exact tw_quadratic tw_pwquad tw_cubic; do
+    if "$persp" vectors --module "$m" --triangles 3 -o "$tmp/m.txt" 2>/dev/null && [ "$(grep -vc '^#' "$tmp/m.txt")" -gt 3 ] &&
+        tail -n 1 "$tmp/m.txt" | grep -q '^#'; then ok; else bad "--module $m wrote no vectors"; fi
+done
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -87,5 +87,18 @@ double cli_now(void);
  * triangle, 0 at the end of the file, -1 after "persp: vectors: path:line:
  * problem" on stderr (cli_error). */
 int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3]);
+/* persp vectors --module window_one, window_two, tw_exact, tw_quadratic,
+ * tw_pwquad, tw_cubic (vectors_shade.c; formats in docs/HARDWARE.md):
+ * vectors_shade_module says whether NAME is one of them, vectors_shade
+ * writes them for the parsed options of cmd_vectors (input NULL: random
+ * triangles from seed). */
+int vectors_shade_module(const char *name);
+int vectors_shade(const char *module, const char *input, const char *output, int triangles, unsigned long long seed,
+                  double depth_ratio, double uv_range, int width, int height, int tex_w, int tex_h);
+/* persp vectors --module subdiv, subdiv:8, incremental, quadratic, cubic,
+ * bezier (vectors_span.c; formats in docs/HARDWARE.md), the same way. */
+int vectors_span_module(const char *name);
+int vectors_span(const char *module, const char *input, const char *output, int triangles, unsigned long long seed,
+                 double depth_ratio, double uv_range, int width, int height, int tex_w, int tex_h);
 
 #endif

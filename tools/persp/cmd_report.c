@@ -4,6 +4,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static void report_usage(FILE *out, const cli_command *cmd)
 {
@@ -20,6 +21,11 @@ static void report_usage(FILE *out, const cli_command *cmd)
 
 static const cli_spec opt_quick = {
     .name = "quick", .kind = CLI_KIND_FLAG, .help = "fewer triangles and smaller images (seconds)"};
+static const cli_spec opt_hardware = {.name = "hardware",
+                                      .kind = CLI_KIND_STRING,
+                                      .metavar = "FILE",
+                                      .help = "add the hardware section from scripts/hw.sh's summary\n"
+                                              "(default: out/hw/summary.json when it exists)"};
 static const cli_spec opt_from = {.name = "from",
                                   .kind = CLI_KIND_STRING,
                                   .metavar = "DIR",
@@ -29,13 +35,14 @@ static const cli_spec opt_from = {.name = "from",
 
 int cmd_report(int argc, char **argv)
 {
-    const char *output = NULL, *from = NULL;
+    const char *output = NULL, *from = NULL, *hardware = NULL;
     int quick = 0;
     size_t max_memory = 0;
     cli_option opts[] = {
         CLI_OPT_HELP(cli_opt_output_dir, &output, "folder for index.html and its files (created)"),
         CLI_OPT(opt_quick, &quick),
         CLI_OPT(opt_from, &from),
+        CLI_OPT(opt_hardware, &hardware),
         CLI_OPT(cli_opt_max_memory, &max_memory),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
@@ -62,6 +69,9 @@ int cmd_report(int argc, char **argv)
     desc.command = line;
     desc.git_commit = commit[0] ? commit : NULL;
     desc.log = stderr;
+    /* `make hw` leaves its summary in out/hw/ of the checkout. */
+    if (!hardware && access("out/hw/summary.json", R_OK) == 0) hardware = "out/hw/summary.json";
+    desc.hardware_summary = hardware;
     persp_context *ctx = NULL;
     persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
     persp_status st = persp_context_create(&cd, &ctx);

@@ -39,13 +39,19 @@ static const cli_spec opt_method = {.name = "method",
                                     .names = method_names,
                                     .help = "midpoint:int (texel centres, default) or\n"
                                             "midpoint:int,edge (the chapter's lattice)"};
-static const char *const module_names[] = {"midpoint_int", "exact", NULL};
+static const char *const module_names[] = {"midpoint_int", "exact",      "subdiv",       "subdiv:8",
+                                            "incremental",  "quadratic",  "cubic",        "bezier",
+                                            "window_one",   "window_two", "tw_exact",     "tw_quadratic",
+                                            "tw_pwquad",    "tw_cubic",   NULL};
 static const cli_spec opt_module = {.name = "module",
                                     .kind = CLI_KIND_STRING,
                                     .metavar = "NAME",
                                     .names = module_names,
-                                    .help = "the RTL module of hw/rtl the vectors are for:\n"
-                                            "midpoint_int (default) or exact (docs/HARDWARE.md)"};
+                                    .help = "the RTL module of hw/rtl the vectors are for\n"
+                                            "(default midpoint_int; exact, subdiv, subdiv:8,\n"
+                                            "incremental, quadratic, cubic, bezier, window_one,\n"
+                                            "window_two, tw_exact, tw_quadratic, tw_pwquad,\n"
+                                            "tw_cubic: docs/HARDWARE.md)"};
 static const cli_spec opt_triangles = {.name = "triangles",
                                        .kind = CLI_KIND_INT,
                                        .metavar = "N",
@@ -345,6 +351,18 @@ int cmd_vectors(int argc, char **argv)
                   cli_given(&cmd, &opt_depth_ratio) || cli_given(&cmd, &opt_uv_range)))
         return cli_error(CLI_USAGE, "vectors: --input takes the triangles from its file: --triangles, --seed, "
                                     "--depth-ratio and --uv-range shape random ones");
+    if (vectors_shade_module(module)) {
+        if (cli_given(&cmd, &opt_method))
+            return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module %s has none", module);
+        return vectors_shade(module, input, output, triangles, (unsigned long long)seed, depth_ratio, uv_range,
+                             size.width, size.height, tex.width, tex.height);
+    }
+    if (vectors_span_module(module)) {
+        if (cli_given(&cmd, &opt_method))
+            return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module %s has none", module);
+        return vectors_span(module, input, output, triangles, (unsigned long long)seed, depth_ratio, uv_range,
+                            size.width, size.height, tex.width, tex.height);
+    }
     const int exact = strcmp(module, "exact") == 0;
     if (exact && cli_given(&cmd, &opt_method))
         return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module exact has none");
