@@ -14,7 +14,7 @@ optional="clang"
 # the cross compiler, qemu-user to run its tests, and the arm64 builds of the
 # libraries it links, from Debian's multiarch archive (the window of
 # `persp view` and the Mesa peer are left out of that build).
-aarch64="gcc-aarch64-linux-gnu qemu-user libc6-dev:arm64 libpng-dev:arm64 libjpeg62-turbo-dev:arm64 libjansson-dev:arm64 libcmocka-dev:arm64 libassimp-dev:arm64"
+aarch64="gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qemu-user libc6-dev:arm64 libpng-dev:arm64 libjpeg62-turbo-dev:arm64 libjansson-dev:arm64 libcmocka-dev:arm64 libassimp-dev:arm64"
 # --hw: the RTL flow of `make hw` (scripts/hw.sh, docs/HARDWARE.md): Verilator
 # runs the testbenches, Yosys synthesizes, nextpnr-ice40 and the IceStorm
 # chip database place and route for the iCE40 UP5K.

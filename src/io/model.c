@@ -935,6 +935,10 @@ static persp_status prepare_import(persp_scene *scene, const char *display, char
     memset(o, 0, sizeof *o);
     *reserved = 0;
     o->in_process = d && d->import == PERSP_MODEL_IMPORT_IN_PROCESS;
+#ifdef PERSP_IMPORT_IN_PROCESS_DEFAULT
+    /* An emulated test build (cmake/aarch64-linux-gnu.cmake). */
+    if (!d || d->import == PERSP_MODEL_IMPORT_DEFAULT) o->in_process = 1;
+#endif
     o->time_limit_ms = d && d->import_time_limit_ms ? d->import_time_limit_ms : PERSP_IMPORT_TIME_LIMIT_MS;
     o->time_scales = !(d && d->import_time_limit_ms);
     const char *base = persp__path_base(display);
