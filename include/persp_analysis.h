@@ -199,6 +199,10 @@ typedef struct persp_shading_accuracy_desc {
     persp_toggle any_folder; /* ON: the scene may read files outside its folder
                                 (persp_scene_load_desc); DEFAULT, OFF: it may not */
     const char *svg_path; /* NULL: no plot; else Fig. 4.3-4.4 (and t_w errors) written there */
+    /* How the scene (or model) is loaded: formats, import, up axis, crease
+     * (persp_scene_load_desc); NULL: the defaults. any_folder above, when
+     * not DEFAULT, overrides its own. */
+    const persp_scene_load_desc *load;
 } persp_shading_accuracy_desc;
 
 /* Runs every measurement and writes the report to stream (a FILE *).

@@ -140,7 +140,10 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
     persp_shade_err e[PERSP_SHADE_MODES];
     /* The scene is loaded first so that a bad file fails before any output. */
     persp_scene *scene = NULL;
-    persp_scene_load_desc load = {.any_folder = desc->any_folder};
+    persp_scene_load_desc load;
+    memset(&load, 0, sizeof load);
+    if (desc->load) load = *desc->load;
+    if (desc->any_folder != PERSP_TOGGLE_DEFAULT) load.any_folder = desc->any_folder;
     persp_status st = desc->scene ? persp_scene_load_ex(ctx, desc->scene, &load, &scene)
                                   : persp__shading_test_scene(ctx, &scene);
     if (st != PERSP_OK) return st;

@@ -17,6 +17,12 @@ expect 2 "needs a value" -- "$persp" accuracy --shading --svg
 expect 2 "unexpected argument 'x'" -- "$persp" accuracy --shading x
 expect 1 "nope.json" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/nope.json" --svg "$tmp/no.svg"
 [ ! -e "$tmp/no.svg" ] || bad "an SVG was written although the run failed"
+# The scene's load settings reach the model import: a format outside the
+# default ones is refused, and read (here: to its memory limit) with
+# --formats all.
+printf 'xof 0303txt 0032\nMesh m {\n1000000000;\n0.0;0.0;0.0;;\n}\n' >"$tmp/big.x"
+expect 1 "big.x: 'x' models are not read by default" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/big.x"
+expect 1 "big.x: importing the model needs more than" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/big.x" --formats all --max-memory 64M
 expect 1 "--svg '.*missing/dir/f.svg': folder '.*missing/dir' does not exist" -- "$persp" accuracy --shading --triangles 1 --size 64x48 --svg "$tmp/missing/dir/f.svg"
 [ -z "$(ls "$tmp/missing" 2>/dev/null)" ] || bad "a temporary SVG was left behind"
 

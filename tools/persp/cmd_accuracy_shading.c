@@ -41,6 +41,9 @@ int cmd_accuracy_shading(int argc, char **argv)
 {
     persp_shading_accuracy_desc desc;
     memset(&desc, 0, sizeof desc);
+    persp_scene_load_desc load;
+    memset(&load, 0, sizeof load);
+    desc.load = &load;
     cli_size size = {0, 0};
     const char *output = NULL;
     size_t max_memory = 0;
@@ -49,6 +52,11 @@ int cmd_accuracy_shading(int argc, char **argv)
         CLI_OPT(opt_triangles, &desc.triangles),
         CLI_OPT(opt_scene, &desc.scene),
         CLI_OPT(cli_opt_any_folder, &desc.any_folder),
+        CLI_OPT(cli_opt_up, &load.model_up),
+        CLI_OPT(cli_opt_formats, &load.formats),
+        CLI_OPT(cli_opt_import, &load.import),
+        CLI_OPT(cli_opt_import_timeout, &load.import_time_limit_ms),
+        CLI_OPT(cli_opt_crease, &load.crease_deg),
         CLI_OPT_HELP(cli_opt_size, &size,
                      "lit-scene image size (default: the scene's, else 640x480)"),
         CLI_OPT(opt_svg, &desc.svg_path),
