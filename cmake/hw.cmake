@@ -37,7 +37,7 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
               ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
               -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_${m} > ${PERSP_HW_DIR}/${m}.verilator.log
       DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
-              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
+              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_fd.h
       COMMENT "verilator: hw/rtl/${m}.v")
     add_custom_target(hw_tb_${m} ALL DEPENDS ${tb})
     set(gen "")

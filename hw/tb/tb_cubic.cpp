@@ -1,121 +1,23 @@
-// tb_cubic — hw/rtl/cubic.v against `persp vectors --module cubic` (format in
-// docs/HARDWARE.md, "Vectors"): every span in the format is loaded with its
-// forward differences (d0..d3 of u and v) as soon as the module is ready,
-// and every pixel's t_u and t_v are compared with persp's C model
-// (persp__hw_fd_pixel). Latency (load to first output) and pixels per clock
-// are measured here, not assumed; the spans' lengths are counted so that
-// the run shows its short (1, 2 pixels) and long (64) spans.
+// tb_cubic — hw/rtl/cubic.v against `persp vectors --module cubic`
+// (tb_fd.h; the format in docs/HARDWARE.md, "Vectors").
 //
 //   tb_cubic VECTORS [MIN_PIXELS]
 #include "Vcubic.h"
-#include "tb_common.h"
-#include "verilated.h"
+#include "tb_fd.h"
 
-#include <memory>
-
-namespace {
-
-constexpr int DEG = 3, DW = 50, TOW = 25;
-
-struct expect_px {
-    int64_t t[2];
-    long line;
-};
-
-struct job {
-    int64_t d[2][DEG + 1];
-    int len;
-    long line;
-};
-
-}  // namespace
+static void load(Vcubic &dut, const tb_fd::job<3> &j)
+{
+    dut.d0u = tb::port(j.d[0][0], tb_fd::DW);
+    dut.d1u = tb::port(j.d[0][1], tb_fd::DW);
+    dut.d2u = tb::port(j.d[0][2], tb_fd::DW);
+    dut.d3u = tb::port(j.d[0][3], tb_fd::DW);
+    dut.d0v = tb::port(j.d[1][0], tb_fd::DW);
+    dut.d1v = tb::port(j.d[1][1], tb_fd::DW);
+    dut.d2v = tb::port(j.d[1][2], tb_fd::DW);
+    dut.d3v = tb::port(j.d[1][3], tb_fd::DW);
+}
 
 int main(int argc, char **argv)
 {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: tb_cubic VECTORS [MIN_PIXELS]\n");
-        return 2;
-    }
-    const long min_pixels = argc > 2 ? std::atol(argv[2]) : 1;
-    const std::vector<tb::record> recs = tb::read_records(argv[1], nullptr);
-    std::vector<job> jobs;
-    std::vector<expect_px> want;
-    long spans = 0, outside = 0, outside_pixels = 0, mismatches = 0, short_spans = 0, long_spans = 0;
-    for (const tb::record &r : recs) {
-        if (r.kind == "sspan") {
-            spans++;
-            if (!r.i(3)) {
-                outside++, outside_pixels += r.i(2);
-                continue;
-            }
-            job j{};
-            j.len = (int)r.i(2), j.line = r.line;
-            for (int c = 0; c < 2; c++)
-                for (int i = 0; i <= DEG; i++) {
-                    j.d[c][i] = r.i(4 + (size_t)(c * (DEG + 1) + i));
-                    if (!tb::fits(j.d[c][i], DW)) {
-                        std::printf("mismatch: line %ld: d%d wider than its register\n", r.line, i);
-                        mismatches++;
-                    }
-                }
-            if (j.len < 1 || j.len > 127) {
-                std::printf("mismatch: line %ld: span length %d\n", r.line, j.len);
-                mismatches++;
-            }
-            short_spans += j.len <= 2, long_spans += j.len == 64;
-            jobs.push_back(j);
-        } else if (r.kind == "spx") {
-            want.push_back({{r.i(1), r.i(2)}, r.line});
-        }
-    }
-
-    auto dut = std::make_unique<Vcubic>();
-    dut->clk = 0, dut->rst = 1, dut->load = 0;
-    dut->eval();
-    dut->clk = 1, dut->eval();
-    dut->clk = 0, dut->rst = 0, dut->eval();
-    size_t next = 0, got = 0;
-    long cycles = 0, latency = -1, first_load = -1, idle = 0;
-    while (got < want.size()) {
-        dut->load = 0;
-        if (dut->ready && next < jobs.size()) {
-            const job &j = jobs[next++];
-            dut->load = 1;
-            dut->d0u = tb::port(j.d[0][0], DW);
-            dut->d1u = tb::port(j.d[0][1], DW);
-            dut->d2u = tb::port(j.d[0][2], DW);
-            dut->d3u = tb::port(j.d[0][3], DW);
-            dut->d0v = tb::port(j.d[1][0], DW);
-            dut->d1v = tb::port(j.d[1][1], DW);
-            dut->d2v = tb::port(j.d[1][2], DW);
-            dut->d3v = tb::port(j.d[1][3], DW);
-            dut->len = (uint8_t)j.len;
-            if (first_load < 0) first_load = cycles;
-        }
-        dut->eval();
-        dut->clk = 1, dut->eval();
-        cycles++;
-        if (dut->out_valid) {
-            if (latency < 0) latency = cycles - 1 - first_load;
-            const expect_px &e = want[got++];
-            idle = 0;
-            const int64_t t[2] = {tb::sext(dut->out_tu, TOW), tb::sext(dut->out_tv, TOW)};
-            for (int c = 0; c < 2; c++)
-                if (t[c] != e.t[c] && mismatches++ < 10)
-                    std::printf("mismatch: line %ld: t%c %lld, expected %lld\n", e.line, "uv"[c], (long long)t[c],
-                                (long long)e.t[c]);
-        } else if (++idle > 100) {
-            std::printf("mismatch: no output for 100 cycles with %zu pixels pending\n", want.size() - got);
-            mismatches++;
-            break;
-        }
-        dut->clk = 0, dut->eval();
-    }
-    std::printf("cubic: %ld spans (%ld outside the format, %ld pixels; %ld of 1-2 pixels, %ld of 64), %zu pixels in "
-                "the hardware\n",
-                spans, outside, outside_pixels, short_spans, long_spans, want.size());
-    std::printf("cubic: latency %ld cycles, cycles %ld for %zu pixels: %.4f pixels per clock\n", latency, cycles, got,
-                cycles ? (double)got / (double)cycles : 0.0);
-    return tb::verdict("cubic", (long)got, mismatches, min_pixels);
+    return tb_fd::run<Vcubic, 3>("cubic", argc, argv, load);
 }
