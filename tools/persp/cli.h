@@ -87,6 +87,20 @@ double cli_now(void);
  * triangle, 0 at the end of the file, -1 after "persp: vectors: path:line:
  * problem" on stderr (cli_error). */
 int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3]);
+/* A random triangle of `persp vectors` (cmd_vectors.c): a few to a few
+ * hundred pixels across, somewhere in the window, w log-uniform up to the
+ * depth ratio, from a splitmix64 stream, so that a seed gives every module
+ * the same triangles. */
+void vectors_random_triangle(uint64_t *state, int width, int height, double depth_ratio, double uv_range,
+                             persp_method_vertex v[3]);
+/* The spans of persp_midpoint_trace (x0, y, n each), collected by
+ * vectors_keep_span as its callback; failed: out of memory. */
+typedef struct vectors_spans {
+    int (*s)[3];
+    size_t n, cap;
+    int failed;
+} vectors_spans;
+void vectors_keep_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px);
 /* persp vectors --module window_one, window_two, tw_exact, tw_quadratic,
  * tw_pwquad, tw_cubic (vectors_shade.c; formats in docs/HARDWARE.md):
  * vectors_shade_module says whether NAME is one of them, vectors_shade

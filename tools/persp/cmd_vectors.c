@@ -309,10 +309,8 @@ static double rnd(uint64_t *state, double lo, double hi)
     return lo + (hi - lo) * ((double)(z >> 11) * (1.0 / 9007199254740992.0));
 }
 
-/* A triangle a few to a few hundred pixels across, somewhere in the
- * window, w log-uniform up to the depth ratio. */
-static void random_triangle(uint64_t *state, int width, int height, double depth_ratio, double uv_range,
-                            persp_method_vertex v[3])
+void vectors_random_triangle(uint64_t *state, int width, int height, double depth_ratio, double uv_range,
+                             persp_method_vertex v[3])
 {
     const double radius = exp(rnd(state, log(3.0), log(0.4 * (width < height ? width : height) + 3.0)));
     const double cx = rnd(state, 0.0, width), cy = rnd(state, 0.0, height);
@@ -322,6 +320,24 @@ static void random_triangle(uint64_t *state, int width, int height, double depth
         v[k].w = exp(rnd(state, 0.0, log(depth_ratio)));
         v[k].u = (float)rnd(state, 0.0, uv_range), v[k].v = (float)rnd(state, 0.0, uv_range);
     }
+}
+
+void vectors_keep_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px)
+{
+    (void)px;
+    vectors_spans *l = user;
+    if (l->failed) return;
+    if (l->n == l->cap) {
+        size_t cap = l->cap ? 2 * l->cap : 256;
+        int(*p)[3] = realloc(l->s, cap * sizeof *p);
+        if (!p) {
+            l->failed = 1;
+            return;
+        }
+        l->s = p, l->cap = cap;
+    }
+    l->s[l->n][0] = s->x0, l->s[l->n][1] = s->y, l->s[l->n][2] = s->n;
+    l->n++;
 }
 
 int cmd_vectors(int argc, char **argv)
@@ -406,7 +422,7 @@ int cmd_vectors(int argc, char **argv)
             }
         } else {
             if (index == triangles) break;
-            random_triangle(&state, size.width, size.height, depth_ratio, uv_range, v);
+            vectors_random_triangle(&state, size.width, size.height, depth_ratio, uv_range, v);
         }
         rc = exact ? put_exact_triangle(ctx, v, size.width, size.height, tex.width, tex.height, index, &xo)
                    : put_triangle(ctx, method, v, size.width, size.height, tex.width, tex.height, index, &o);

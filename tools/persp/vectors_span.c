@@ -37,54 +37,6 @@ static int span_index(const char *name)
 
 int vectors_span_module(const char *name) { return span_index(name) >= 0; }
 
-/* The random triangles of cmd_vectors.c (the same splitmix64 stream and
- * shape), so that --seed gives every module the same triangles. */
-static double rnd(uint64_t *state, double lo, double hi)
-{
-    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return lo + (hi - lo) * ((double)(z >> 11) * (1.0 / 9007199254740992.0));
-}
-
-static void random_triangle(uint64_t *state, int width, int height, double depth_ratio, double uv_range,
-                            persp_method_vertex v[3])
-{
-    const double radius = exp(rnd(state, log(3.0), log(0.4 * (width < height ? width : height) + 3.0)));
-    const double cx = rnd(state, 0.0, width), cy = rnd(state, 0.0, height);
-    for (int k = 0; k < 3; k++) {
-        const double th = rnd(state, 0.0, 6.283185307179586), r = radius * rnd(state, 0.3, 1.0);
-        v[k].x = cx + r * cos(th), v[k].y = cy + r * sin(th);
-        v[k].w = exp(rnd(state, 0.0, log(depth_ratio)));
-        v[k].u = (float)rnd(state, 0.0, uv_range), v[k].v = (float)rnd(state, 0.0, uv_range);
-    }
-}
-
-typedef struct span_list {
-    int (*s)[3]; /* x0, y, n */
-    size_t n, cap;
-    int failed;
-} span_list;
-
-static void keep(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px)
-{
-    (void)px;
-    span_list *l = user;
-    if (l->failed) return;
-    if (l->n == l->cap) {
-        size_t cap = l->cap ? 2 * l->cap : 256;
-        int(*p)[3] = realloc(l->s, cap * sizeof *p);
-        if (!p) {
-            l->failed = 1;
-            return;
-        }
-        l->s = p, l->cap = cap;
-    }
-    l->s[l->n][0] = s->x0, l->s[l->n][1] = s->y, l->s[l->n][2] = s->n;
-    l->n++;
-}
-
 typedef struct span_out {
     FILE *f;
     int mod;
@@ -112,12 +64,12 @@ static int put_triangle(persp_context *ctx, const persp_method_vertex v[3], int 
                         int tex_h, long index, span_out *o)
 {
     persp_midpoint_format mf;
-    span_list l = {NULL, 0, 0, 0};
+    vectors_spans l = {NULL, 0, 0, 0};
     fprintf(o->f, "tri %ld", index);
     for (int k = 0; k < 3; k++)
         fprintf(o->f, " %a %a %a %a %a", v[k].x, v[k].y, v[k].w, (double)v[k].u, (double)v[k].v);
     fputc('\n', o->f);
-    persp_status st = persp_midpoint_trace(ctx, "midpoint:int", v, width, height, tex_w, tex_h, &mf, keep, &l);
+    persp_status st = persp_midpoint_trace(ctx, "midpoint:int", v, width, height, tex_w, tex_h, &mf, vectors_keep_span, &l);
     if (st == PERSP_OK && !l.failed)
         st = persp_method_triangle(ctx, span_modules[o->mod].method, v, width, height, tex_w, tex_h, o->fu, o->fv,
                                    NULL, NULL);
@@ -248,7 +200,7 @@ int vectors_span(const char *module, const char *input, const char *output, int 
             }
         } else {
             if (index == triangles) break;
-            random_triangle(&state, width, height, depth_ratio, uv_range, v);
+            vectors_random_triangle(&state, width, height, depth_ratio, uv_range, v);
         }
         rc = put_triangle(ctx, v, width, height, tex_w, tex_h, index, &o);
         if (rc != CLI_OK) break;
