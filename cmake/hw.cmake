@@ -35,8 +35,8 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
       COMMAND ${CMAKE_COMMAND} -E make_directory ${PERSP_HW_DIR}
       COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall --Mdir ${PERSP_HW_DIR}/obj_${m}
               ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
-              -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_${m} > ${PERSP_HW_DIR}/${m}.verilator.log
-      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
+              -y ${PROJECT_SOURCE_DIR}/hw/rtl -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_${m} > ${PERSP_HW_DIR}/${m}.verilator.log
+      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
               ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_fd.h
       COMMENT "verilator: hw/rtl/${m}.v")
     add_custom_target(hw_tb_${m} ALL DEPENDS ${tb})

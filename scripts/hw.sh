@@ -73,26 +73,32 @@ vectors() {
     fi
 }
 
+# The Verilog a module is read from: its file, and exact.v for incremental,
+# whose two chains are instances of exact.
+rtl_files() {
+    if [ "$1" = incremental ]; then echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v"; else echo "$root/hw/rtl/$1.v"; fi
+}
+
 tb() {
     local m="$1"
     verilator --cc --exe --build -j 2 -O2 -Wall --Mdir "$work/obj_$m" "$root/hw/rtl/$m.v" "$root/hw/tb/tb_$m.cpp" \
-        -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m.verilator.log" 2>&1 ||
+        -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m.verilator.log" 2>&1 ||
         { cat "$work/$m.verilator.log" >&2; return 1; }
 }
 
 synth() {
     local m="$1" d="$work/syn_$m"
     mkdir -p "$d"
-    yosys -q -p "read_verilog $root/hw/rtl/$m.v; hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
+    yosys -q -p "read_verilog $(rtl_files $m); hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
     python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
-    yosys -p "read_verilog $root/hw/rtl/$m.v $d/${m}_ooc.v; synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
+    yosys -p "read_verilog $(rtl_files $m) $d/${m}_ooc.v; synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
         >"$d/ice40.log" 2>&1
     # A module that needs more than the UP5K has (8 SB_MAC16) is a result, not a
     # failure of the flow: summary.json then says so (ice40_fits false).
     rm -f "$d/pnr.json"
     nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 --report "$d/pnr.json" \
         >"$d/pnr.log" 2>&1 || echo "hw: $m: does not fit the iCE40 UP5K ($d/pnr.log)"
-    yosys -p "read_verilog $root/hw/rtl/$m.v; synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
+    yosys -p "read_verilog $(rtl_files $m); synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
         >"$d/generic.log" 2>&1
 }
 
