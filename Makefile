@@ -4,7 +4,8 @@
 #   make test SANITIZE=1 the same under ASan + UBSan (separate build folder)
 #   make test TSAN=1     the tests labelled `threads` under ThreadSanitizer
 #                        (build-tsan; scripts/tsan.sh fails on any report)
-#   make bench           the workload table of docs/PERFORMANCE.md against llvmpipe
+#   make bench           the workload table of docs/PERFORMANCE.md against llvmpipe;
+#                        SIMD=avx2 (or any --simd variant) for every row
 #                        (scripts/bench.sh; not part of the test suite)
 #   make fuzz            libFuzzer harnesses with clang, ASan + UBSan, 60 s each
 #                        (scripts/fuzz.sh; not part of the test suite)
@@ -67,7 +68,7 @@ hw: build
 	@bash scripts/hw.sh $(BUILD)
 
 bench: build
-	@bash scripts/bench.sh $(BUILD)/persp out/bench
+	@SIMD=$(SIMD) bash scripts/bench.sh $(BUILD)/persp out/bench$(if $(SIMD),-$(SIMD))
 
 SEEDS ?= 1:2001
 difftest: build

@@ -9,7 +9,12 @@
 # OUTDIR.
 #
 #   scripts/bench.sh [--quick] [PERSP] [OUTDIR]   (defaults: build/persp, out/bench)
-#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 scripts/bench.sh
+#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 SIMD=auto scripts/bench.sh
+#
+# SIMD (make bench SIMD=avx2) is persp's --simd variant for every row: avx2
+# on a machine with AVX-512 stands in for a CPU without it (llvmpipe's
+# vectors are 256 bits wide either way). Each row is printed to standard
+# error as it is measured; the table follows at the end.
 #
 # --quick: 128x96, one frame per run, one run, one thread: every workload
 # once, to check that the table is produced (tests/cli/test_bench_script.sh).
@@ -26,6 +31,7 @@ else
     size="${SIZE:-1024x768}" threads="${THREADS:-1 $all_threads}" reps="${REPS:-5}" frames=()
 fi
 peer="${PEER:-llvmpipe}"
+simd="${SIMD:-auto}"
 run_time="${TIME:-0.5}"
 mkdir -p "$outdir"
 
@@ -46,11 +52,22 @@ files=()
 for row in "${rows[@]}"; do
     IFS='|' read -r scene setting label <<<"$row"
     for t in $threads; do
-        out="$outdir/$label-${setting##* }-$size-t$t.json"
+        out="$outdir/$label-${setting##* }-$size-$simd-t$t.json"
         # shellcheck disable=SC2086  # $setting is an option and its value
         "$persp" bench "$scene" --size "$size" $setting --threads "$t" --reps "$reps" \
-            --time "$run_time" "${frames[@]}" "${peer_args[@]}" --json >"$out"
+            --time "$run_time" --simd "$simd" "${frames[@]}" "${peer_args[@]}" --json >"$out"
         files+=("$out")
+        python3 - "$out" "$label" "${setting##* }" <<'EOF' >&2
+import json, sys
+j = json.load(open(sys.argv[1]))
+r, p = j["results"][0], j.get("peer")
+head = f"bench: {sys.argv[2]} {sys.argv[3]}, simd {j['simd']}, {j['threads']} thread(s):"
+if "error" in r:
+    print(head, r["error"])
+else:
+    m = r["mpix_median"]
+    print(head, f"{m:.1f} Mpix/s" + (f", {m / p['mpix_median']:.2f}x {p['renderer']}" if p else ""))
+EOF
     done
 done
 
@@ -67,7 +84,7 @@ def fmt(x):
     return f"{x:.1f}" if x >= 10 else f"{x:.2f}" if x >= 0.1 else f"{x:.3f}"
 peer = next((j["peer"] for j in runs if "peer" in j), None)
 print(f"CPU: {cpu}, {len({j['threads'] for j in runs})} thread count(s); persp commit {commit}; "
-      f"{size}, method exact, medians of {reps} run(s) interleaved with the peer's"
+      f"--simd {runs[0]['simd_asked']} ({runs[0]['simd']}); {size}, method exact, medians of {reps} run(s) interleaved with the peer's"
       + (f"; peer {peer['renderer']}, {peer['version']}" if peer else ""))
 print()
 print("| workload | shading / filter | threads | persp Mpix/s | llvmpipe Mpix/s | ratio | PSNR dB | covered |")

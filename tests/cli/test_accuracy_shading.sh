@@ -22,7 +22,13 @@ expect 1 "nope.json" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/
 # --formats all.
 printf 'xof 0303txt 0032\nMesh m {\n1000000000;\n0.0;0.0;0.0;;\n}\n' >"$tmp/big.x"
 expect 1 "big.x: 'x' models are not read by default" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/big.x"
-expect 1 "big.x: importing the model needs more than" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/big.x" --formats all --max-memory 64M
+# Only the isolated import holds Assimp to the budget; a build that imports
+# in process (the emulated one) sees Assimp's own verdict on the file.
+if [ "${PERSP_TEST_IMPORT_IN_PROCESS:-0}" = 1 ]; then
+    expect 1 "big.x: cannot import the model" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/big.x" --formats all --max-memory 64M
+else
+    expect 1 "big.x: importing the model needs more than" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/big.x" --formats all --max-memory 64M
+fi
 expect 1 "--svg '.*missing/dir/f.svg': folder '.*missing/dir' does not exist" -- "$persp" accuracy --shading --triangles 1 --size 64x48 --svg "$tmp/missing/dir/f.svg"
 [ -z "$(ls "$tmp/missing" 2>/dev/null)" ] || bad "a temporary SVG was left behind"
 
