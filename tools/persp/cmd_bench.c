@@ -607,32 +607,48 @@ static void print_json(FILE *out, const bench_report *r)
     fprintf(out, "\n}\n");
 }
 
-static void print_text(FILE *out, const bench_report *r)
+/* The text table is printed as it is measured: the head once the scene is
+ * loaded, each method's row when its runs are done, the peer and the image
+ * comparison at the end. */
+static void print_text_head(FILE *out, const bench_opts *o)
 {
-    const bench_opts *o = r->o;
-    const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
     fprintf(out, "bench %s %dx%d filter %s threads %d simd %s reps %d\n", o->scene, o->width,
             o->height, o->filter_name, o->threads, persp_simd_name(o->simd), o->reps);
     fprintf(out, "shading %s\n", o->shading_name);
     fprintf(out, "%-20s %8s %10s %10s %10s %9s", "method", "frames", "median", "min", "max",
             "vs_exact");
-    if (peer_col) fprintf(out, " %9s", "vs_peer");
+    if (o->peer) fprintf(out, " %9s", "vs_peer");
     fprintf(out, "   (Mpixels/s)\n");
-    for (size_t i = 0; i < r->count; i++) {
-        const method_result *m = &r->results[i];
-        if (!m->ok) {
-            fprintf(out, "%-20s error: %s\n", m->spec, m->error);
-            continue;
-        }
+    fflush(out);
+}
+
+static void print_text_row(FILE *out, const bench_opts *o, const method_result *m,
+                           const method_result *exact, const peer_result *peer)
+{
+    if (!m->ok) {
+        fprintf(out, "%-20s error: %s\n", m->spec, m->error);
+    } else {
         fprintf(out, "%-20s %8d %10.2f %10.2f %10.2f", m->spec, m->stats.frames, m->stats.median,
                 m->stats.min, m->stats.max);
-        if (r->exact)
-            fprintf(out, " %9.3f", m->stats.median / r->exact->stats.median);
+        if (exact)
+            fprintf(out, " %9.3f", m->stats.median / exact->stats.median);
         else
             fprintf(out, " %9s", "-");
-        if (peer_col) fprintf(out, " %9.3f", m->stats.median / r->peer->stats.median);
+        if (o->peer) {
+            if (peer)
+                fprintf(out, " %9.3f", m->stats.median / peer->stats.median);
+            else
+                fprintf(out, " %9s", "-");
+        }
         fprintf(out, "\n");
     }
+    fflush(out);
+}
+
+static void print_text_tail(FILE *out, const bench_report *r)
+{
+    const bench_opts *o = r->o;
+    const char *peer_col = r->peer && r->peer->ok ? o->peer : NULL;
     if (peer_col) {
         const peer_result *p = r->peer;
         char label[40];
@@ -758,241 +774,293 @@ static int collect_methods(const char *method, method_result *out, size_t *count
         snprintf(out[*count].spec, sizeof out[0].spec, "%s", info.name);
         (*count)++;
     }
+    /* exact first: every later row gives its ratio to it as it is printed. */
+    for (size_t i = 1; i < *count; i++)
+        if (!strcmp(out[i].spec, "exact")) {
+            method_result e = out[i];
+            memmove(out + 1, out, i * sizeof *out);
+            out[0] = e;
+            break;
+        }
     return CLI_OK;
 }
 
-int cmd_bench(int argc, char **argv)
-{
-    /* Resident size before any rendering: shared libraries (with OSMesa
-     * linked in, mostly libLLVM's relocated pages) that persp does not use. */
-    double rss_start = peak_rss_mib(RUSAGE_SELF);
+/* Everything one `persp bench` holds, released by bench_close. */
+typedef struct bench_session {
     bench_opts o;
-    memset(&o, 0, sizeof o);
-    o.method = "exact";
-    o.threads = 1;
-    o.peer_threads = -1;
-    o.reps = 5;
-    o.run_seconds = 0.5;
+    persp_bench b;
+    method_result *results;
+    size_t count;
+    const method_result *exact;
+    peer_result peer;
+    uint8_t *exact_image;
+    image_diff diff;
+    int have_diff, failures, streaming;
+    int peer_timed; /* the peer's runs are done: rows can give their ratio to it */
+    cli_output out;
+    double rss_start_mib, rss_mib;
+} bench_session;
+
+/* Options into s->o; CLI_HELP after --help. *child: the hidden --peer-child. */
+static int bench_parse(int argc, char **argv, bench_session *s, size_t *max_memory, const char **output,
+                       int *child)
+{
+    bench_opts *o = &s->o;
+    o->method = "exact";
+    o->threads = 1;
+    o->peer_threads = -1;
+    o->reps = 5;
+    o->run_seconds = 0.5;
     cli_filter filter = {"bilinear", PERSP_FILTER_BILINEAR, 16};
     cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
     cli_size size = {0, 0};
     persp_report_format format = PERSP_REPORT_TABLE;
-    const char *output = NULL;
-    size_t max_memory = 0;
     cli_option opts[] = {
-        CLI_OPT(opt_bench_method, &o.method),
-        CLI_OPT(cli_opt_any_folder, &o.load.any_folder),
-        CLI_OPT(cli_opt_up, &o.load.model_up),
-        CLI_OPT(cli_opt_formats, &o.load.formats),
-        CLI_OPT(cli_opt_import, &o.load.import),
-        CLI_OPT(cli_opt_import_timeout, &o.load.import_time_limit_ms),
-        CLI_OPT(cli_opt_crease, &o.load.crease_deg),
+        CLI_OPT(opt_bench_method, &o->method),
+        CLI_OPT(cli_opt_any_folder, &o->load.any_folder),
+        CLI_OPT(cli_opt_up, &o->load.model_up),
+        CLI_OPT(cli_opt_formats, &o->load.formats),
+        CLI_OPT(cli_opt_import, &o->load.import),
+        CLI_OPT(cli_opt_import_timeout, &o->load.import_time_limit_ms),
+        CLI_OPT(cli_opt_crease, &o->load.crease_deg),
         CLI_OPT_HELP(cli_opt_filter, &filter,
                      "texture filter for every texture (default: the scene's)"),
         CLI_OPT_HELP(cli_opt_shading, &shading, "shading mode (default: the scene's)"),
-        CLI_OPT_HELP(cli_opt_threads, &o.threads, "persp worker threads, 1..256 (default 1)"),
-        CLI_OPT(cli_opt_max_memory, &max_memory),
-        CLI_OPT(cli_opt_simd, &o.simd),
-        CLI_OPT(opt_frames, &o.frames),
-        CLI_OPT(opt_reps, &o.reps),
-        CLI_OPT(opt_time, &o.run_seconds),
+        CLI_OPT_HELP(cli_opt_threads, &o->threads, "persp worker threads, 1..256 (default 1)"),
+        CLI_OPT(cli_opt_max_memory, max_memory),
+        CLI_OPT(cli_opt_simd, &o->simd),
+        CLI_OPT(opt_frames, &o->frames),
+        CLI_OPT(opt_reps, &o->reps),
+        CLI_OPT(opt_time, &o->run_seconds),
         CLI_OPT_HELP(cli_opt_size, &size, "image size (default: the scene's, else 1024x768)"),
-        CLI_OPT(opt_peer, &o.peer),
-        CLI_OPT(opt_peer_threads, &o.peer_threads),
-        CLI_OPT(opt_peer_image, &o.peer_image),
+        CLI_OPT(opt_peer, &o->peer),
+        CLI_OPT(opt_peer_threads, &o->peer_threads),
+        CLI_OPT(opt_peer_image, &o->peer_image),
         CLI_OPT_HELP(cli_opt_json, &format, "print the results as one JSON object"),
-        CLI_OPT_HELP(cli_opt_output, &output,
+        CLI_OPT_HELP(cli_opt_output, output,
                      "write the results to FILE (default, and -: standard output)"),
         CLI_OPT_NO_DEST(cli_opt_help),
-        CLI_OPT(opt_peer_child, &o.peer),
+        CLI_OPT(opt_peer_child, &o->peer),
     };
     cli_command cmd = {
-        "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o.scene, 1, 0,
+        "bench", "persp bench --help", NULL, opts, sizeof opts / sizeof opts[0], &o->scene, 1, 0,
         "scene"};
     int rc = cli_parse_or_usage(&cmd, argc, argv, bench_usage);
-    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
-    int child_mode = cli_given(&cmd, &opt_peer_child) > 0;
-    o.filter_given = cli_given(&cmd, &cli_opt_filter) > 0;
-    o.filter_name = filter.name;
-    o.filter = o.filter_given ? filter.filter : PERSP_FILTER_DEFAULT;
-    o.max_aniso = o.filter_given ? filter.max_aniso : 0;
-    o.shading_given = cli_given(&cmd, &cli_opt_shading) > 0;
-    o.shading = shading.shading;
-    o.shading_name = shading.name;
-    o.width = size.width;
-    o.height = size.height;
-    o.json = format == PERSP_REPORT_JSON;
-    if (!o.scene) o.scene = "corridor";
-    if (o.peer_threads < 0) o.peer_threads = o.threads;
-    if (o.peer_image && !o.peer)
+    if (rc != CLI_OK) return rc;
+    *child = cli_given(&cmd, &opt_peer_child) > 0;
+    o->filter_given = cli_given(&cmd, &cli_opt_filter) > 0;
+    o->filter_name = filter.name;
+    o->filter = o->filter_given ? filter.filter : PERSP_FILTER_DEFAULT;
+    o->max_aniso = o->filter_given ? filter.max_aniso : 0;
+    o->shading_given = cli_given(&cmd, &cli_opt_shading) > 0;
+    o->shading = shading.shading;
+    o->shading_name = shading.name;
+    o->width = size.width;
+    o->height = size.height;
+    o->json = format == PERSP_REPORT_JSON;
+    if (!o->scene) o->scene = "corridor";
+    if (o->peer_threads < 0) o->peer_threads = o->threads;
+    if (o->peer_image && !o->peer)
         return cli_error(CLI_USAGE, "bench: --peer-image needs --peer llvmpipe|softpipe");
 #ifndef PERSP_HAVE_OSMESA
-    if (o.peer || child_mode)
+    if (o->peer || *child)
         return cli_error(CLI_FAIL, "bench: --peer is unavailable: persp was not built with OSMesa "
                                    "(install libosmesa6-dev and rebuild)");
 #else
-    if (o.peer && !bench_peer_supports(o.filter))
+    if (o->peer && !bench_peer_supports(o->filter))
         return cli_error(CLI_USAGE, "bench: filter '%s' has no OpenGL counterpart for the peer",
-                         o.filter_name);
-    if (child_mode) {
-        if (!o.width) o.width = 1024, o.height = 768;
-        return peer_child(&o);
-    }
+                         o->filter_name);
 #endif
+    return CLI_OK;
+}
 
-    if ((rc = cli_check_output("bench", "--peer-image", o.peer_image)) != CLI_OK) return rc;
-    if ((rc = cli_check_scene("bench", o.scene)) != CLI_OK) return rc;
-    method_result *results = calloc(BENCH_MAX_METHODS, sizeof *results);
-    if (!results) return cli_error(CLI_FAIL, "bench: out of memory");
-    size_t count = 0;
-    cli_output out = {NULL, NULL, NULL, NULL};
-    if ((rc = collect_methods(o.method, results, &count)) != CLI_OK ||
-        (rc = cli_output_open("bench", output, &out)) != CLI_OK) {
-        free(results);
-        return rc;
-    }
-    int printed = 0;
-
-    persp_bench b;
-    memset(&b, 0, sizeof b);
-    peer_result peer;
-    memset(&peer, 0, sizeof peer);
-    uint8_t *exact_image = NULL;
-    image_diff diff;
-    int have_diff = 0;
-    persp_context_desc cd = {.threads = o.threads, .max_memory = cli_max_memory(max_memory), .simd = o.simd};
-    persp_status st = persp_context_create(&cd, &b.ctx);
-    if (st != PERSP_OK) {
-        cli_output_close("bench", &out, 0);
-        free(results);
-        if (st == PERSP_ERR_UNSUPPORTED)
-            return cli_error(CLI_FAIL, "bench: this CPU cannot run --simd %s", persp_simd_name(o.simd));
-        return cli_status(NULL, st, "bench");
-    }
-    o.simd_asked = o.simd;
-    o.simd = persp_context_simd(b.ctx);
-    persp_context_set_temp_file_handler(b.ctx, cli_temp_file, NULL);
-    persp_context_set_warning_handler(b.ctx, cli_warning, NULL);
-    if (cli_is_builtin(o.scene)) st = persp_scene_builtin(b.ctx, o.scene, &b.scene);
-    else st = persp_scene_load_ex(b.ctx, o.scene, &o.load, &b.scene);
-    if (st != PERSP_OK) {
-        rc = cli_status(b.ctx, st, o.scene);
-        goto done;
-    }
-    if (!o.width) persp_scene_default_size(b.scene, &o.width, &o.height);
-    {
-        /* What the scene renders with unless overridden, for the report. */
-        persp_scene_info info;
-        persp_scene_get_info(b.scene, &info);
-        if (!o.filter_given)
-            o.filter_name = info.filter_count == 0   ? "none"
-                            : info.filter_count == 1 ? persp_filter_name(info.filter)
-                                                     : "scene";
-        if (!o.shading_given) o.shading_name = persp_shading_name(info.shading);
-    }
-    if (!o.width) o.width = 1024, o.height = 768;
-    size_t pixels = (size_t)o.width * (size_t)o.height;
-    if (pixels > PERSP_IMAGE_MAX_PIXELS) {
-        rc = cli_error(CLI_USAGE, "bench: %dx%d exceeds %u pixels", o.width, o.height,
-                       PERSP_IMAGE_MAX_PIXELS);
-        goto done;
-    }
-    b.fb.width = o.width;
-    b.fb.height = o.height;
+/* The context, the scene, the image size and the framebuffer. */
+static int bench_open(bench_session *s, size_t max_memory)
+{
+    bench_opts *o = &s->o;
+    persp_bench *b = &s->b;
+    persp_context_desc cd = {.threads = o->threads, .max_memory = cli_max_memory(max_memory), .simd = o->simd};
+    persp_status st = persp_context_create(&cd, &b->ctx);
+    if (st == PERSP_ERR_UNSUPPORTED)
+        return cli_error(CLI_FAIL, "bench: this CPU cannot run --simd %s", persp_simd_name(o->simd));
+    if (st != PERSP_OK) return cli_status(NULL, st, "bench");
+    o->simd_asked = o->simd;
+    o->simd = persp_context_simd(b->ctx);
+    persp_context_set_temp_file_handler(b->ctx, cli_temp_file, NULL);
+    persp_context_set_warning_handler(b->ctx, cli_warning, NULL);
+    if (cli_is_builtin(o->scene)) st = persp_scene_builtin(b->ctx, o->scene, &b->scene);
+    else st = persp_scene_load_ex(b->ctx, o->scene, &o->load, &b->scene);
+    if (st != PERSP_OK) return cli_status(b->ctx, st, o->scene);
+    if (!o->width) persp_scene_default_size(b->scene, &o->width, &o->height);
+    /* What the scene renders with unless overridden, for the report. */
+    persp_scene_info info;
+    persp_scene_get_info(b->scene, &info);
+    if (!o->filter_given)
+        o->filter_name = info.filter_count == 0   ? "none"
+                         : info.filter_count == 1 ? persp_filter_name(info.filter)
+                                                  : "scene";
+    if (!o->shading_given) o->shading_name = persp_shading_name(info.shading);
+    if (!o->width) o->width = 1024, o->height = 768;
+    size_t pixels = (size_t)o->width * (size_t)o->height;
+    if (pixels > PERSP_IMAGE_MAX_PIXELS)
+        return cli_error(CLI_USAGE, "bench: %dx%d exceeds %u pixels", o->width, o->height,
+                         PERSP_IMAGE_MAX_PIXELS);
+    b->fb.width = o->width;
+    b->fb.height = o->height;
     /* Rows start on cache lines (persp.h, persp_framebuffer): with a
      * misaligned buffer, tiles drawn at once by two threads share a line at
      * every row of their common border. */
-    b.fb.color = aligned_alloc(64, (pixels * 4 + 63) / 64 * 64);
-    b.fb.depth = aligned_alloc(64, (pixels * sizeof(float) + 63) / 64 * 64);
-    if (!b.fb.color || !b.fb.depth) {
-        rc = cli_error(CLI_FAIL, "bench: out of memory for a %dx%d framebuffer", o.width, o.height);
-        goto done;
-    }
+    b->fb.color = aligned_alloc(64, (pixels * 4 + 63) / 64 * 64);
+    b->fb.depth = aligned_alloc(64, (pixels * sizeof(float) + 63) / 64 * 64);
+    if (!b->fb.color || !b->fb.depth)
+        return cli_error(CLI_FAIL, "bench: out of memory for a %dx%d framebuffer", o->width, o->height);
+    return CLI_OK;
+}
 
-    const method_result *exact = NULL;
-    int failures = 0;
-    for (size_t i = 0; i < count; i++) prepare_method(&b, &o, &results[i]);
+/* A method's row, once its runs are done: into the table as it grows, or,
+ * when the results are JSON or go to a file, as progress on a terminal. */
+static void bench_row_done(bench_session *s, method_result *m)
+{
+    if (m->ok) finish_stats(&m->stats);
+    if (m->ok && !strcmp(m->spec, "exact")) s->exact = m;
+    const peer_result *peer = s->peer_timed ? &s->peer : NULL;
+    if (s->streaming)
+        print_text_row(s->out.f, &s->o, m, s->exact, peer);
+    else if (isatty(STDERR_FILENO))
+        print_text_row(stderr, &s->o, m, s->exact, peer);
+}
+
 #ifdef PERSP_HAVE_OSMESA
-    /* The peer's runs alternate with persp's, so that both see the same
-     * load on a shared machine. A failing peer still leaves persp's
-     * results to print. */
+/* persp's exact image with the filter and shading the peer draws, the
+ * peer's last frame, and their differences over the covered pixels. */
+static int bench_compare(bench_session *s, peer_proc *pp)
+{
+    const bench_opts *o = &s->o;
+    persp_bench *b = &s->b;
+    const size_t pixels = (size_t)o->width * (size_t)o->height;
+    persp_render_desc desc;
+    memset(&desc, 0, sizeof desc);
+    desc.method = "exact";
+    desc.filter = o->filter;
+    desc.max_aniso = o->max_aniso;
+    desc.shading = o->shading;
+    persp_status st = persp_render(b->ctx, b->scene, &desc, &b->fb, NULL);
+    if (st != PERSP_OK) {
+        cli_status(b->ctx, st, "bench: exact reference image");
+        s->failures++;
+    } else if ((s->exact_image = malloc(pixels * 4)) != NULL) {
+        memcpy(s->exact_image, b->fb.color, pixels * 4);
+    }
+    int rc = peer_end(pp, o, &s->peer);
+    if (rc != CLI_OK || !s->peer.pixels) return rc;
+    persp_image img = {o->width, o->height, (size_t)o->width * 4, s->peer.pixels};
+    if (o->peer_image && (st = persp_image_write_png(b->ctx, o->peer_image, &img)) != PERSP_OK)
+        rc = cli_status(b->ctx, st, o->peer_image);
+    if (s->exact_image) {
+        persp_scene_info info;
+        persp_scene_get_info(b->scene, &info);
+        s->diff = compare_images(s->exact_image, s->peer.pixels, b->fb.depth, info.clear, pixels);
+        s->have_diff = 1;
+    }
+    return rc;
+}
+#endif
+
+/* Fill rates. The first method (exact, when measured) runs alternately
+ * with the peer, so that the ratio that matters most sees one load on a
+ * shared machine; every other method then runs its reps back to back and
+ * its row is printed at once, rather than all rows after the last run. A
+ * failing peer still leaves persp's results to print. Returns the peer's
+ * status. */
+static int bench_measure(bench_session *s)
+{
+    bench_opts *o = &s->o;
+    int rc = CLI_OK;
+    if (s->streaming) print_text_head(s->out.f, o);
+    prepare_method(&s->b, o, &s->results[0]);
+#ifdef PERSP_HAVE_OSMESA
     peer_proc pp;
     memset(&pp, 0, sizeof pp);
     int peer_live = 0;
-    if (o.peer) peer_live = (rc = peer_start(&o, &pp, &peer)) == CLI_OK;
+    if (o->peer) peer_live = (rc = peer_start(o, &pp, &s->peer)) == CLI_OK;
 #endif
-    for (int rep = 0; rep < o.reps; rep++) {
-        for (size_t i = 0; i < count; i++)
-            if (results[i].ok) run_method(&b, &o, &results[i]);
+    for (int rep = 0; rep < o->reps; rep++) {
+        if (s->results[0].ok) run_method(&s->b, o, &s->results[0]);
 #ifdef PERSP_HAVE_OSMESA
-        if (peer_live) peer_live = (rc = peer_run(&pp, &o, &peer)) == CLI_OK;
+        if (peer_live) peer_live = (rc = peer_run(&pp, o, &s->peer)) == CLI_OK;
 #endif
     }
-    for (size_t i = 0; i < count; i++) {
-        if (!results[i].ok) {
-            failures++;
-            continue;
-        }
-        finish_stats(&results[i].stats);
-        if (!strcmp(results[i].spec, "exact")) exact = &results[i];
-    }
-    if (o.peer) {
-        /* The reference image and its coverage: exact, with the filter and
-         * shading the peer draws. */
-        persp_render_desc desc;
-        memset(&desc, 0, sizeof desc);
-        desc.method = "exact";
-        desc.filter = o.filter;
-        desc.max_aniso = o.max_aniso;
-        desc.shading = o.shading;
-        if ((st = persp_render(b.ctx, b.scene, &desc, &b.fb, NULL)) != PERSP_OK) {
-            cli_status(b.ctx, st, "bench: exact reference image");
-            failures++;
-        } else if ((exact_image = malloc(pixels * 4)) != NULL) {
-            memcpy(exact_image, b.fb.color, pixels * 4);
-        }
-    }
-    double rss = peak_rss_mib(RUSAGE_SELF);
-
 #ifdef PERSP_HAVE_OSMESA
-    if (peer_live) {
-        rc = peer_end(&pp, &o, &peer);
-        if (rc == CLI_OK && peer.pixels) {
-            persp_image img = {o.width, o.height, (size_t)o.width * 4, peer.pixels};
-            if (o.peer_image && (st = persp_image_write_png(b.ctx, o.peer_image, &img)) != PERSP_OK)
-                rc = cli_status(b.ctx, st, o.peer_image);
-            if (exact_image) {
-                persp_scene_info info;
-                persp_scene_get_info(b.scene, &info);
-                diff = compare_images(exact_image, peer.pixels, b.fb.depth, info.clear, pixels);
-                have_diff = 1;
-            }
-        }
+    /* The peer's last frame is taken after persp's reference image below;
+     * its statistics are final now, for every row's ratio. */
+    if (peer_live) finish_stats(&s->peer.stats), s->peer_timed = 1;
+#endif
+    bench_row_done(s, &s->results[0]);
+    for (size_t i = 1; i < s->count; i++) {
+        method_result *m = &s->results[i];
+        prepare_method(&s->b, o, m);
+        for (int rep = 0; rep < o->reps && m->ok; rep++) run_method(&s->b, o, m);
+        bench_row_done(s, m);
+    }
+    for (size_t i = 0; i < s->count; i++) s->failures += !s->results[i].ok;
+#ifdef PERSP_HAVE_OSMESA
+    if (peer_live) rc = bench_compare(s, &pp);
+#endif
+    s->rss_mib = peak_rss_mib(RUSAGE_SELF);
+    return rc;
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    bench_session s;
+    memset(&s, 0, sizeof s);
+    /* Resident size before any rendering: shared libraries (with OSMesa
+     * linked in, mostly libLLVM's relocated pages) that persp does not use. */
+    s.rss_start_mib = peak_rss_mib(RUSAGE_SELF);
+    size_t max_memory = 0;
+    const char *output = NULL;
+    int child = 0;
+    int rc = bench_parse(argc, argv, &s, &max_memory, &output, &child);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
+#ifdef PERSP_HAVE_OSMESA
+    if (child) {
+        if (!s.o.width) s.o.width = 1024, s.o.height = 768;
+        return peer_child(&s.o);
     }
 #endif
-
-    bench_report report = {&o, results, count, exact, o.peer && peer.ok ? &peer : NULL,
-                           have_diff ? &diff : NULL, rss, rss_start};
-    if (o.json)
-        print_json(out.f, &report);
-    else
-        print_text(out.f, &report);
-    printed = 1;
-    if (failures && rc == CLI_OK) rc = CLI_FAIL;
-    if (failures) {
-        for (size_t i = 0; i < count; i++)
-            if (!results[i].ok)
-                cli_error(CLI_FAIL, "bench: method %s failed: %s", results[i].spec, results[i].error);
+    if ((rc = cli_check_output("bench", "--peer-image", s.o.peer_image)) != CLI_OK) return rc;
+    if ((rc = cli_check_scene("bench", s.o.scene)) != CLI_OK) return rc;
+    if (!(s.results = calloc(BENCH_MAX_METHODS, sizeof *s.results)))
+        return cli_error(CLI_FAIL, "bench: out of memory");
+    if ((rc = collect_methods(s.o.method, s.results, &s.count)) != CLI_OK ||
+        (rc = cli_output_open("bench", output, &s.out)) != CLI_OK) {
+        free(s.results);
+        return rc;
     }
-done:;
-    int out_rc = cli_output_close("bench", &out, printed);
+    int printed = 0;
+    if ((rc = bench_open(&s, max_memory)) == CLI_OK) {
+        s.streaming = !s.o.json;
+        rc = bench_measure(&s);
+        bench_report report = {&s.o, s.results, s.count, s.exact, s.o.peer && s.peer.ok ? &s.peer : NULL,
+                               s.have_diff ? &s.diff : NULL, s.rss_mib, s.rss_start_mib};
+        if (s.o.json)
+            print_json(s.out.f, &report);
+        else
+            print_text_tail(s.out.f, &report);
+        printed = 1;
+        if (s.failures && rc == CLI_OK) rc = CLI_FAIL;
+        for (size_t i = 0; i < s.count; i++)
+            if (!s.results[i].ok)
+                cli_error(CLI_FAIL, "bench: method %s failed: %s", s.results[i].spec, s.results[i].error);
+    }
+    int out_rc = cli_output_close("bench", &s.out, printed);
     if (rc == CLI_OK) rc = out_rc;
-    free(exact_image);
-    free(peer.pixels);
-    free(b.fb.color);
-    free(b.fb.depth);
-    persp_scene_destroy(b.scene);
-    persp_context_destroy(b.ctx);
-    free(results);
+    free(s.exact_image);
+    free(s.peer.pixels);
+    free(s.b.fb.color);
+    free(s.b.fb.depth);
+    persp_scene_destroy(s.b.scene);
+    persp_context_destroy(s.b.ctx);
+    free(s.results);
     return rc;
 }
