@@ -65,6 +65,8 @@ struct persp_render_cache {
     size_t slabs_cap;
     uint32_t *bin_count, *bin_start, *bin_items;
     size_t bin_cap, start_cap, item_cap;
+    uint32_t *bin_part; /* binning tasks × tiles: each task's count, then its offset */
+    size_t part_cap;
     persp_draw_state *states;
     size_t state_cap;
     persp_render_stats *worker_stats;

@@ -271,7 +271,8 @@ static int lanes_apply(const persp_draw_state *ds, const persp_tri *t)
  * with batches of 256 lanes. The stores write whole vectors at the packed
  * position, which never passes the lanes still to be read, into the
  * arrays' LANE_GROUP lanes of slack. */
-PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const int32_t *live, uint64_t *bits)
+PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const int32_t *live, uint64_t *bits,
+                                                  int narr)
 {
     float *const arr[6] = {lb->q, lb->z, lb->un, lb->vn, lb->an, lb->bn};
     int m = 0;
@@ -280,7 +281,7 @@ PERSP_TARGET_AVX512 static void pack_lanes_avx512(lane_batch *lb, int n, const i
         __mmask16 mk = _mm512_test_epi32_mask(lv, lv);
         if (n - k < LANE_GROUP) mk &= (__mmask16)((1u << (n - k)) - 1u);
         bits[k >> 6] |= (uint64_t)mk << (k & 63);
-        for (int a = 0; a < 6; a++)
+        for (int a = 0; a < narr; a++)
             _mm512_storeu_ps(arr[a] + m, _mm512_maskz_compress_ps(mk, _mm512_loadu_ps(arr[a] + k)));
         _mm512_storeu_si512((void *)(lb->idx + m),
                             _mm512_maskz_compress_epi32(mk, _mm512_loadu_si512((const void *)(lb->idx + k))));
@@ -303,16 +304,17 @@ static PERSP_ALWAYS_INLINE int live_before(const uint64_t *bits, int p)
     return c;
 }
 
-static PERSP_ALWAYS_INLINE int pack_live(lane_batch *lb, int n, int32_t *live, int avx512)
+static PERSP_ALWAYS_INLINE int pack_live(lane_batch *lb, int n, int32_t *live, int avx512, int weights)
 {
     uint64_t bits[PERSP_LANE_MAX / 64 + 1] = {0};
 #if PERSP_HAVE_ISA_VARIANTS
     if (avx512) {
-        pack_lanes_avx512(lb, n, live, bits);
+        pack_lanes_avx512(lb, n, live, bits, weights ? 6 : 4);
     } else
 #endif
     {
         (void)avx512;
+        (void)weights;
         int j = 0;
         for (int k = 0; k < n; k++) {
             lb->q[j] = lb->q[k];
@@ -369,7 +371,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
      * (soup: +6 % CPU when packed so), and less than moving it by compress
      * (−5 %); lit, it costs its lighting too, so a lit batch is always
      * packed and the shaders below light every lane they are given. */
-    if (any < n && (!ds->shade_is_texel || f->pack_avx512)) n = pack_live(lb, n, live, f->pack_avx512);
+    if (any < n && (!ds->shade_is_texel || f->pack_avx512)) n = pack_live(lb, n, live, f->pack_avx512, !ds->shade_is_texel);
     float u[PERSP_LANE_MAX], v[PERSP_LANE_MAX], w1[PERSP_LANE_MAX], w2[PERSP_LANE_MAX], rq[PERSP_LANE_MAX];
     const int weights = !ds->shade_is_texel;
     /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]; one for u, v and the
@@ -479,18 +481,32 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
         /* Whole groups of 16 lanes, the last running into the slack past
          * the row's end, so that the loop has no scalar remainder (rows
          * are a few pixels long). */
-        for (int k0 = 0; k0 < len; k0 += LANE_GROUP)
-            for (int j = 0; j < LANE_GROUP; j++) {
-                const int k = k0 + j;
-                const float fk = (float)k;
-                lq[k] = Q + fk * dq;
-                lz[k] = Z + fk * dz;
-                lu[k] = U + fk * du;
-                lv[k] = V + fk * dv;
-                la[k] = A + fk * da;
-                lbb[k] = B + fk * db;
-                li[k] = base + k;
-            }
+        /* Unlit, nothing reads the weights' numerators (nor moves them:
+         * pack_live packs lit batches, or on AVX-512 only the arrays read). */
+        if (weights)
+            for (int k0 = 0; k0 < len; k0 += LANE_GROUP)
+                for (int j = 0; j < LANE_GROUP; j++) {
+                    const int k = k0 + j;
+                    const float fk = (float)k;
+                    lq[k] = Q + fk * dq;
+                    lz[k] = Z + fk * dz;
+                    lu[k] = U + fk * du;
+                    lv[k] = V + fk * dv;
+                    la[k] = A + fk * da;
+                    lbb[k] = B + fk * db;
+                    li[k] = base + k;
+                }
+        else
+            for (int k0 = 0; k0 < len; k0 += LANE_GROUP)
+                for (int j = 0; j < LANE_GROUP; j++) {
+                    const int k = k0 + j;
+                    const float fk = (float)k;
+                    lq[k] = Q + fk * dq;
+                    lz[k] = Z + fk * dz;
+                    lu[k] = U + fk * du;
+                    lv[k] = V + fk * dv;
+                    li[k] = base + k;
+                }
         lb->n += len;
         lb->seg_start[lb->nseg] = lb->n;
     }
