@@ -7,7 +7,7 @@
  * attribute and index arrays allocated once at their final size (only the
  * list of a run's distinct corners grows, by doubling). A file is read in
  * chunks of OBJ_CHUNK bytes, never whole, so a model costs what its mesh
- * costs (docs/RELIABILITY.md, "Bounded resources"); nothing is allocated
+ * costs (docs/RELIABILITY.md, "Memory and time bounds"); nothing is allocated
  * per line or per face.
  *
  * The results follow what Assimp 5.2 made of the same files, so that images

@@ -146,7 +146,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         persp__sample_span(&ds->sampler, &in, ds->shade_is_texel ? dst : texel);
     }
     if (!ds->shade_is_texel) persp__shade_span(ds, t, b, q, ds->tex ? texel : NULL, dst);
-    /* persp draws opaque surfaces (docs/SCENES.md, "Textures"): alpha is no coverage. */
+    /* persp draws opaque surfaces (docs/SCENES.md, "Images"): alpha is no coverage. */
     if (ds->force_opaque)
         for (int k = 0; k < n; k++)
             dst[k] |= 0xff000000u;

@@ -14,6 +14,14 @@ expect 0 "^core +\(layer 0\) -> -$" -- "${graph[@]}" "${objects[@]}"
 expect 0 "^analysis .* render" -- "${graph[@]}" "${objects[@]}"
 expect 0 '^  "render" -> "raster";$' -- "${graph[@]}" --dot
 
+# A checkout and build under a folder named src (~/src/persp): the objects
+# are still found (only the src/ inside the build folder counts).
+if command -v nm >/dev/null; then
+    mkdir -p "$tmp/src/persp"
+    cp -r "$PERSP_SOURCE_DIR/src" "$tmp/src/persp/src"
+    ln -s "$PERSP_BINARY_DIR" "$tmp/src/build"
+    expect 0 "^core +\(layer 0\) -> -$" -- "${graph[@]}" --src "$tmp/src/persp/src" --objects "$tmp/src/build"
+fi
 # core including a header of the renderer closes a cycle.
 cp -r "$PERSP_SOURCE_DIR/src" "$tmp/cycle"
 printf '#include "render/render.h"\n' >>"$tmp/cycle/core/pool.h"
