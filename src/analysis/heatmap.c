@@ -105,17 +105,22 @@ persp_status persp__heatmap_write(persp_context *ctx, const char *path, const fl
     int hi = top_decade, lo = hi - DECADES;
 
     /* Text at scale 3: glyphs 15 px tall, legible beside 11 px page text. */
-    const int ts = 3, margin = 16, bar_h = 12;
+    const int ts = 3, bar_h = 12;
     const int legend_h = 8 + bar_h + 4 + 5 * ts + 6 + 5 * ts + 8;
     /* Wide enough for the caption and for the decade labels not to touch,
      * and at least 256 pixels: the map is enlarged to that width. */
-    int need = persp__heatmap_text_width(caption, ts) + 2 * margin;
+    int widest = 0;
     for (int k = lo; k <= hi; k++) {
         char label[16];
         decade_label(k, label, sizeof label);
-        int lw = 2 * margin + DECADES * (persp__heatmap_text_width(label, ts) + 4 * ts);
-        if (lw > need) need = lw;
+        int lw = persp__heatmap_text_width(label, ts);
+        if (lw > widest) widest = lw;
     }
+    /* The end labels centred on the bar's ends, whole. */
+    const int margin = widest / 2 + 2 * ts;
+    int need = persp__heatmap_text_width(caption, ts) + 2 * margin;
+    if (2 * margin + DECADES * (widest + 4 * ts) > need)
+        need = 2 * margin + DECADES * (widest + 4 * ts);
     if (need < 256) need = 256;
     int fx = (need + w - 1) / w, fy = fx;
     if (h * fy < 48) fy = (48 + h - 1) / h;
