@@ -12,8 +12,8 @@
  * filter could not be set.
  */
 extern "C" {
-#include "io/import_run.h"
-#include "io/import_wire.h"
+#include "model/import_run.h"
+#include "model/import_wire.h"
 }
 
 #if defined(__SANITIZE_ADDRESS__)

@@ -14,8 +14,8 @@
  * every block the importer was handed is freed at the end, including those
  * of files Assimp left open when it gave up.
  */
-#include "io/import_wire.h"
-#include "io/model.h"
+#include "model/import_wire.h"
+#include "model/model.h"
 
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>

@@ -5,7 +5,7 @@
 #ifndef PERSP_IO_OBJ_H
 #define PERSP_IO_OBJ_H
 
-#include "io/model.h"
+#include "model/model.h"
 
 /* Reads an OBJ model into scene, with the contract of
  * persp__model_load_memory: from data (size bytes, the caller's, read in

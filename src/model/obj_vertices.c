@@ -4,7 +4,7 @@
  * Assimp 5.2's GenVertexNormals step made them (80 degree crease), so that
  * images stay as they were (docs/SCENES.md, "Models").
  */
-#include "io/obj_reader.h"
+#include "model/obj_reader.h"
 
 #include "core/internal.h"
 

@@ -5,7 +5,7 @@
  * as URIs), its textures, its materials' colours and its parts.
  */
 #include "core/internal.h"
-#include "io/model.h"
+#include "model/model.h"
 #include "io/text.h"
 
 #include <ctype.h>

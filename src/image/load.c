@@ -11,7 +11,7 @@
  * so a forged header cannot make persp allocate gigabytes.
  */
 #include "core/internal.h"
-#include "io/image_decoders.h"
+#include "image/decoders.h"
 #include "io/text.h"
 
 #include <errno.h>

@@ -17,8 +17,8 @@
  * GenVertexNormals step makes them (80 degree crease, src/io/obj_vertices.c);
  * the MTL defaults of its reader. The reader's state is in io/obj_reader.h.
  */
-#include "io/obj.h"
-#include "io/obj_reader.h"
+#include "model/obj.h"
+#include "model/obj_reader.h"
 
 #include "core/internal.h"
 #include "io/text.h"

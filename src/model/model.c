@@ -16,10 +16,10 @@
  * the same as everywhere else.
  */
 #include "core/internal.h"
-#include "io/import_run.h"
-#include "io/import_wire.h"
-#include "io/model.h"
-#include "io/obj.h"
+#include "model/import_run.h"
+#include "model/import_wire.h"
+#include "model/model.h"
+#include "model/obj.h"
 #include "io/text.h"
 
 #include <assimp/cimport.h>

@@ -5,7 +5,7 @@
 #ifndef PERSP_IO_OBJ_READER_H
 #define PERSP_IO_OBJ_READER_H
 
-#include "io/model.h"
+#include "model/model.h"
 
 #include <math.h>
 #include <stddef.h>
