@@ -1,6 +1,6 @@
 /*
  * RGBA8 image allocation and the size limits every image obeys. Here rather
- * than with the file formats (src/io/image.c) because built-in scenes,
+ * than with the file formats (src/image/load.c) because built-in scenes,
  * textures and framebuffers allocate images without reading any file.
  */
 #include "core/internal.h"

@@ -32,11 +32,11 @@ struct persp_context {
     /* Nonzero: lane batches are packed by the portable loop even where
      * AVX-512 is available. Changed only by tests, to compare the two. */
     int pack_portable;
-    /* Where two-sided Gouraud lights the back faces (render.c,
+    /* Where two-sided Gouraud lights the back faces (frame.c,
      * back_colours): 0 chosen by culling, 1 the vertex stage, 2 set-up.
      * Changed only by tests, to compare the two. */
     int back_lighting;
-    /* Nonzero: no mesh cluster is culled whole (src/raster/clusters.c).
+    /* Nonzero: no mesh cluster is culled whole (src/raster/cluster_cull.c).
      * Changed only by tests, to compare with culling triangle by triangle. */
     int no_cluster_cull;
     /* Clusters culled whole over the context's frames (tests read it). */
@@ -59,7 +59,7 @@ struct persp_context {
     size_t max_memory, mem_used, mem_peak, mem_refused;
     /* Images from persp_image_alloc (and so _load) not yet freed, newest
      * first: persp_image_free frees only pixels found here, so an image the
-     * caller filled in is never taken for one of persp's (src/core/image.c). */
+     * caller filled in is never taken for one of persp's (src/core/image_alloc.c). */
     struct persp_image_block *images;
 };
 

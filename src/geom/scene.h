@@ -20,10 +20,10 @@
 /* A run of PERSP_CLUSTER_TRIANGLES consecutive triangles of a mesh (the
  * last may be shorter), described so that a frame can decide whether every
  * one of them is a back face it would cull without looking at any of them
- * (src/raster/clusters.c), in object space: a sphere around their
+ * (src/raster/cluster_cull.c), in object space: a sphere around their
  * vertices, a cone around their face normals (from the winding), their
  * shape, and the vertices they use. Built once, when the mesh joins a
- * scene (src/geom/clusters.c); a scene's meshes do not change after. */
+ * scene (src/geom/cluster_build.c); a scene's meshes do not change after. */
 #define PERSP_CLUSTER_TRIANGLES 64
 #define PERSP_CLUSTER_RUNS 4
 typedef struct persp_cluster {

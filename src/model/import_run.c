@@ -1,5 +1,5 @@
 /*
- * Where the model importer runs (src/io/import_wire.h): persp-import, a
+ * Where the model importer runs (src/model/import_wire.h): persp-import, a
  * helper process started for each import, or a thread of the caller's
  * process when the caller asks for it (PERSP_MODEL_IMPORT_IN_PROCESS).
  *

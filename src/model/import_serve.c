@@ -1,5 +1,5 @@
 /*
- * The importer's side of the conversation of src/io/import_wire.h: Assimp
+ * The importer's side of the conversation of src/model/import_wire.h: Assimp
  * reads the model persp sent, the scene it makes is checked, triangulated
  * and turned into persp's vertices, materials and instances, which go back
  * as records. This runs in persp-import (tools/import/), a process of its

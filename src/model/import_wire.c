@@ -1,4 +1,4 @@
-/* Both ends of the importer's socket (src/io/import_wire.h). */
+/* Both ends of the importer's socket (src/model/import_wire.h). */
 #define _GNU_SOURCE /* MSG_NOSIGNAL */
 #include "model/import_wire.h"
 

@@ -14,8 +14,8 @@
  * stay as they were: one mesh per run of faces between a change of group,
  * object or material; polygons cut the way Assimp's triangulation cuts
  * them; normals, where the file gives none, made the way its
- * GenVertexNormals step makes them (80 degree crease, src/io/obj_vertices.c);
- * the MTL defaults of its reader. The reader's state is in io/obj_reader.h.
+ * GenVertexNormals step makes them (80 degree crease, src/model/obj_vertices.c);
+ * the MTL defaults of its reader. The reader's state is in model/obj_reader.h.
  */
 #include "model/obj.h"
 #include "model/obj_reader.h"

@@ -1,5 +1,5 @@
 /*
- * persp's own Wavefront OBJ + MTL reader (src/io/obj.c), used for every OBJ
+ * persp's own Wavefront OBJ + MTL reader (src/model/obj.c), used for every OBJ
  * model in place of Assimp's (docs/SCENES.md, "Models").
  */
 #ifndef PERSP_IO_OBJ_H

@@ -37,7 +37,7 @@ int persp__clip_triangle(const persp_clipvert in[3], double guard_x, double guar
 #define PERSP_CLIP_NONFINITE 0x100u
 unsigned persp__clip_outcode(const persp_clipvert *v, double guard_x, double guard_y);
 /* The same for a vertex packed as its clip position followed by its first
- * nattr attributes (the render's per-vertex cache, render.c). */
+ * nattr attributes (the render's per-vertex cache, frame.c). */
 unsigned persp__clip_outcode_packed(const float *v, int nattr, double guard_x, double guard_y);
 
 /* The position's part of the outcode (the vertex's values known finite):
@@ -283,7 +283,7 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
     return 1;
 }
 
-/* What culling a cluster whole needs of a frame (src/raster/clusters.c):
+/* What culling a cluster whole needs of a frame (src/raster/cluster_cull.c):
  * the model-view-projection rows and their xyz parts' lengths, the centre
  * of projection in object space, the clip planes a cluster must be inside
  * (coefficients of the rows and a constant) with their normals' lengths,

@@ -5,7 +5,7 @@
  * buffers (spans, the small-triangle lane batches, or a method's own
  * traversal) and writes them to the framebuffer once. Tiles own disjoint
  * pixels, so the image is the same for any number of threads. The
- * geometry that fills the batch, and its binning, are in render.c.
+ * geometry that fills the batch, and its binning, are in frame.c.
  */
 #include "core/fmath.h"
 #include "core/internal.h"

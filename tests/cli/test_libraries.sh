@@ -5,7 +5,7 @@
 # internal symbol beyond those the analysis library calls, and neither
 # holds mutable data of its own: every public function is reentrant
 # (include/persp.h, "Threads"). The one process-wide object is the mutex
-# of in-process model imports (src/io/model.c); the others listed are the
+# of in-process model imports (src/model/model.c); the others listed are the
 # C runtime's and libgcc's. (The persp binary in $1 is not used.)
 set -u
 . "$(dirname "$0")/lib.sh"

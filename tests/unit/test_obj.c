@@ -1,4 +1,4 @@
-/* persp's OBJ + MTL reader (src/io/obj.c): every statement form, relative
+/* persp's OBJ + MTL reader (src/model/obj.c): every statement form, relative
  * indices, polygons, continuation lines, line ends, errors with their line
  * numbers, materials and map_Kd options, generated normals, runs of faces,
  * and files read in chunks with lines across a chunk's end. */
