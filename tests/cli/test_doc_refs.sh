@@ -27,8 +27,9 @@ sed -i 's/^## Fuzzing$/## Fuzz testing/' "$tmp/b/docs/RELIABILITY.md"
 expect 1 'RELIABILITY.md, "Fuzzing": no such heading' -- "${check[@]}" --root "$tmp/b"
 # A document README.md does not list.
 copy "$tmp/c"
-printf '# New\n' >"$tmp/c/docs/NEW.md"
-expect 1 'does not list docs/NEW.md' -- "${check[@]}" --root "$tmp/c"
+new=EXTRA
+printf '# Extra\n' >"$tmp/c/docs/$new.md"
+expect 1 "does not list docs/$new.md" -- "${check[@]}" --root "$tmp/c"
 
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]
