@@ -9,7 +9,7 @@ set(CMAKE_CXX_COMPILER aarch64-linux-gnu-g++)
 # qemu-user cannot give persp-import its limits (it ignores RLIMIT_AS and
 # refuses seccomp filters, which would break the emulator) nor start it
 # from an emulated process: the emulated suite imports models in process
-# (src/io/model.c), and the tests of the isolation run natively only.
+# (src/model/model.c), and the tests of the isolation run natively only.
 set(PERSP_IMPORT_IN_PROCESS_DEFAULT ON CACHE BOOL "")
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 # The arm64 .pc files, not the host's (multiarch keeps both under /usr).

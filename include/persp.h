@@ -116,11 +116,11 @@ typedef struct persp_context persp_context;
 
 /* Instruction-set variant of the texture span samplers and the lane packing,
  * and the vector width (baseline, AVX2 or AVX-512) of the vertex stage and
- * the lighting loops (docs/PERFORMANCE.md, "Samplers on Intel and AMD",
- * item 58). Every variant computes the same bits; they differ only in
- * speed, which depends on the CPU (the texel fetch by gather instructions
- * is fast on some cores and slow on others; 512-bit arithmetic may lower
- * the clock of some). The other span loops take AVX2 wherever the CPU has
+ * the lighting loops (docs/PERFORMANCE.md, "On an Intel Xeon: samplers
+ * with gathers, 16 threads"; item 58). Every variant computes the same
+ * bits; they differ only in speed, which depends on the CPU (the texel
+ * fetch by gather instructions is fast on some cores and slow on others;
+ * 512-bit arithmetic may lower the clock of some). The other span loops take AVX2 wherever the CPU has
  * it, chosen by the dynamic loader. */
 typedef enum persp_simd {
     PERSP_SIMD_AUTO = 0,      /* the fastest samplers for this CPU, timed at the first frame */
@@ -220,9 +220,9 @@ PERSP_API double persp_mat4_det3(persp_mat4 m);
 
 /* An RGBA8 image; rows are bottom-to-top (row 0 = bottom), like OpenGL.
  * stride is in bytes; pixels are R,G,B,A bytes. Filled by persp_image_alloc
- * or persp_image_load it owns its pixels (release with persp_image_free);
- * filled in by the caller it describes the caller's pixels, which persp only
- * reads. */
+ * or persp_image_load it owns its pixels (release with persp_image_free,
+ * through the same context); filled in by the caller it borrows the
+ * caller's pixels, which persp only reads and never frees. */
 typedef struct persp_image {
     int width, height;
     size_t stride;
@@ -250,7 +250,11 @@ PERSP_API persp_status persp_image_load_memory(persp_context *ctx, const void *d
                                      const char *name, persp_image *out);
 /* Zeroed pixels whose first row starts on a 64-byte boundary. */
 PERSP_API persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out);
-/* Frees an image from persp_image_alloc / _load; NULL pixels are fine. */
+/* Frees an image from persp_image_alloc / _load made with this context;
+ * NULL pixels are fine. The context records the pixels it allocated, so
+ * borrowed pixels (an image the caller filled in) or another context's are
+ * recognised without reading them: they are left as they are, img is
+ * unchanged and persp_context_error() says so. */
 PERSP_API void persp_image_free(persp_context *ctx, persp_image *img);
 /* Writes a PNG, top row first. Writes to a temporary file renamed on success,
  * so a failure leaves nothing half-written. */

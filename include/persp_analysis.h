@@ -282,7 +282,8 @@ typedef struct persp_report_html_desc {
     const char *from_dir;   /* NULL: measure; else the method accuracy is read from
                                from_dir/accuracy.json (e.g. written by persp merge) */
     const char *command;    /* the command line that made the page, shown on it; NULL: none */
-    const char *git_commit; /* shown with the environment; NULL: not known */
+    const char *git_commit; /* shown with the environment; NULL: the sources
+                               are no git checkout (the version names them) */
     void *log;              /* FILE * for progress lines; NULL: silent */
     /* The hardware flow's out/hw/summary.json (docs/HARDWARE.md; its
      * pareto.svg beside it is inlined when present): a section with its

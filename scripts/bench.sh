@@ -74,16 +74,22 @@ done
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
 # ARM Linux names no model: its implementer and part numbers stand for it.
 [ -n "$cpu" ] || cpu="$(uname -m), CPU implementer $(sed -n 's/^CPU implementer[[:space:]]*: //p' /proc/cpuinfo | head -1), part $(sed -n 's/^CPU part[[:space:]]*: //p' /proc/cpuinfo | head -1)"
-commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
-dirty=$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null | head -1)
-python3 - "$cpu" "$commit${dirty:+ (modified)}" "$size" "$reps" "${files[@]}" <<'EOF'
+# A downloaded archive (or a machine without git) has no commit: the
+# version stands for it.
+if commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null); then
+    dirty=$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null | head -1)
+    built="commit $commit${dirty:+ (modified)}"
+else
+    built="version $("$persp" --version | sed 's/^persp //'), not a git checkout"
+fi
+python3 - "$cpu" "$built" "$size" "$reps" "${files[@]}" <<'EOF'
 import json, sys
-cpu, commit, size, reps = sys.argv[1:5]
+cpu, built, size, reps = sys.argv[1:5]
 runs = [json.load(open(p)) for p in sys.argv[5:]]
 def fmt(x):
     return f"{x:.1f}" if x >= 10 else f"{x:.2f}" if x >= 0.1 else f"{x:.3f}"
 peer = next((j["peer"] for j in runs if "peer" in j), None)
-print(f"CPU: {cpu}, {len({j['threads'] for j in runs})} thread count(s); persp commit {commit}; "
+print(f"CPU: {cpu}, {len({j['threads'] for j in runs})} thread count(s); persp {built}; "
       f"--simd {runs[0]['simd_asked']} ({runs[0]['simd']}); {size}, method exact, medians of {reps} run(s) interleaved with the peer's"
       + (f"; peer {peer['renderer']}, {peer['version']}" if peer else ""))
 print()

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The sampler variants and the thread scaling of docs/PERFORMANCE.md
-# ("Samplers on Intel and AMD", "Thread scaling"), on whatever CPU runs it:
+# The sampler variants and the thread scaling of docs/PERFORMANCE.md,
+# "On an Intel Xeon: samplers with gathers, 16 threads", on whatever CPU runs it:
 #   1. corridor 1024x768, one thread, nearest / bilinear / trilinear, with
 #      every --simd variant this CPU runs (auto first), each against the peer
 #      in the same `persp bench` run;

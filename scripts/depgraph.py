@@ -56,10 +56,12 @@ def object_files(build, src, mods):
     only the newest counts)."""
     newest = {}
     for root, _, files in os.walk(build):
-        parts = root.replace(os.sep, "/").split("/")
+        # From the build folder down, and the last "src": the folders above
+        # it (a checkout in ~/src/persp) are no part of the object's path.
+        parts = os.path.relpath(root, build).replace(os.sep, "/").split("/")
         if "src" not in parts:
             continue
-        rest = parts[parts.index("src") + 1:]
+        rest = parts[len(parts) - parts[::-1].index("src"):]
         if len(rest) != 1 or rest[0] not in mods:
             continue
         for name in files:

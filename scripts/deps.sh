@@ -28,9 +28,15 @@ for p in $want; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
 done
 [ -z "$missing" ] && exit 0
-echo "deps: installing:$missing"
+echo "deps: missing:$missing"
+command -v apt-get >/dev/null ||
+    { echo "deps: no apt-get: install these with your system's package manager" >&2; exit 1; }
 sudo=""
-[ "$(id -u)" -ne 0 ] && sudo="sudo"
+if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null ||
+        { echo "deps: not root and no sudo: run as root, or install sudo first (apt-get install sudo)" >&2; exit 1; }
+    sudo="sudo"
+fi
 export DEBIAN_FRONTEND=noninteractive
 if [ "${1:-}" = "--aarch64" ] && ! dpkg --print-foreign-architectures | grep -qx arm64; then
     $sudo dpkg --add-architecture arm64
@@ -38,6 +44,30 @@ fi
 # A mirror caught mid-sync fails one architecture's index ("File has
 # unexpected size"): the install below then says whether the lists that did
 # arrive are enough.
+echo "deps: apt-get update"
 $sudo apt-get update -qq || echo "deps: apt-get update reported errors; installing from the lists there are"
+# What apt will install with their dependencies (on a minimal Debian about
+# 350 packages, several minutes), then one line per package as it is set up.
 # shellcheck disable=SC2086
-$sudo apt-get install -y -qq --no-install-recommends $missing >/dev/null
+total=$(apt-get install -s --no-install-recommends $missing 2>/dev/null | grep -c '^Inst ' || true)
+echo "deps: installing $total packages (the ones above and what they need)"
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
+# shellcheck disable=SC2086
+if ! $sudo apt-get install -y --no-install-recommends $missing >"$log" 2>&1; then
+    tail -20 "$log" >&2
+    echo "deps: apt-get install failed (above)" >&2
+    exit 1
+fi &
+pid=$!
+done_count=0
+while kill -0 "$pid" 2>/dev/null; do
+    n=$(grep -c '^Setting up ' "$log" || true)
+    if [ "$n" != "$done_count" ]; then
+        done_count=$n
+        echo "deps: [$n/$total] $(grep '^Setting up ' "$log" | tail -1 | cut -d' ' -f3)"
+    fi
+    sleep 2
+done
+wait "$pid"
+echo "deps: done"

@@ -12,7 +12,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 # inputs up to 1 MiB, since readers crash on nesting that needs some 450 KB
 # of glTF or COLLADA. fuzz_model runs Assimp's readers in this process under
 # the sanitizers to find their bugs, which persp contains by running them in
-# persp-import (src/io/import_run.c): it keeps going past a crash in a reader
+# persp-import (src/model/import_run.c): it keeps going past a crash in a reader
 # (-fork, -ignore_crashes; each is kept in artifacts/ for a look).
 # fuzz_model_isolated takes the same inputs through persp-import, where any
 # finding is persp's.

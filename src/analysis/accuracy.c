@@ -240,7 +240,8 @@ static persp_status finish_row(acc_run *a, persp_accuracy_result *res, const cha
         if (len < 0 || (size_t)len >= sizeof path)
             return persp__fail(a->ctx, PERSP_ERR_INVALID_ARGUMENT,
                                       "accuracy: heat-map path too long");
-        persp_status st = persp__heatmap_write(a->ctx, path, a->grid, a->gw, a->gh, PERSP_HEATMAP_TEXELS, 1e-3);
+        persp_status st = persp__heatmap_write(a->ctx, path, a->grid, a->gw, a->gh, PERSP_HEATMAP_TEXELS,
+                                                PERSP_HEATMAP_TEXELS_TOP);
         if (st != PERSP_OK) return st;
     }
     return PERSP_OK;

@@ -146,18 +146,25 @@ uint64_t persp__tri_pixels(const persp_tri *t);
 /* --------------------------------------------------------------- heat map */
 
 /* Writes err (w×h floats, row 0 = bottom, NaN = not covered) as a PNG with
- * a logarithmic colour scale and a legend (colour bar with labelled decade
- * ticks, caption naming the quantity and its unit; the top decade at least
- * floor_value's). The image is enlarged by an integer factor so that it
- * is at least 256 pixels wide. */
+ * a logarithmic colour scale over the five decades ending at 10^top_decade
+ * and a legend (colour bar with labelled decade ticks, caption naming the
+ * quantity and its unit). The scale is fixed per quantity
+ * (PERSP_HEATMAP_*_TOP), not fitted to each map, so that maps shown side by
+ * side share one scale and one legend reads for all of them. The image is
+ * enlarged by an integer factor so that it is at least 256 pixels wide. */
 /* The analyses' shared limits: the first of triangles (0..100000) and
  * width, height (0..PERSP_IMAGE_MAX_SIDE) out of range, named as their
  * descs name them, or NULL. */
 const char *persp__analysis_size_problem(int triangles, int width, int height);
 #define PERSP_HEATMAP_TEXELS "max(|du|,|dv|) in texels"
 #define PERSP_HEATMAP_LEVELS "|error| in 8-bit levels"
+/* Texels: 0.001 (below which errors look alike on an 8-bit texture) to 100
+ * (affine's worst on the built-in scenes; larger errors take the top colour).
+ * Levels: 0.01 to 1000 (an 8-bit channel errs by at most 255). */
+#define PERSP_HEATMAP_TEXELS_TOP 2
+#define PERSP_HEATMAP_LEVELS_TOP 3
 persp_status persp__heatmap_write(persp_context *ctx, const char *path, const float *err, int w,
-                                  int h, const char *caption, double floor_value);
+                                  int h, const char *caption, int top_decade);
 /* Colour of value t in [0, 1] on the heat-map scale. */
 void persp__heatmap_color(double t, uint8_t rgb[3]);
 /* Draws text (digits, '.', '-', 'e', '+') with the built-in 3×5 font at

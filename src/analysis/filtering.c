@@ -441,7 +441,8 @@ static persp_status measure(persp_context *ctx, const persp_filter_accuracy_desc
         int len = snprintf(path, sizeof path, "%s/filter_%s_%s.png", d->heatmap_dir, cname, safe);
         if (len < 0 || (size_t)len >= sizeof path)
             return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: heat-map path too long");
-        persp_status st = persp__heatmap_write(ctx, path, c->err, c->w, c->h, PERSP_HEATMAP_LEVELS, 1.0);
+        persp_status st = persp__heatmap_write(ctx, path, c->err, c->w, c->h, PERSP_HEATMAP_LEVELS,
+                                                PERSP_HEATMAP_LEVELS_TOP);
         if (st != PERSP_OK) return st;
     }
     return add_row(res, &row);

@@ -1,7 +1,7 @@
 /*
  * Heat maps of per-pixel error for persp accuracy --heatmap: a logarithmic
- * colour scale over five decades ending at the decade above the largest
- * error, with a legend (colour bar, decade tick labels and a caption naming
+ * colour scale over five fixed decades per quantity (the same for every
+ * method and filter, so that maps side by side compare), with a legend (colour bar, decade tick labels and a caption naming
  * the quantity: max(|Δu|, |Δv|) in texels for the methods, the error in
  * 8-bit levels for the filters) drawn with a small built-in bitmap font.
  */
@@ -97,29 +97,37 @@ static void decade_label(int k, char *buf, size_t size)
 }
 
 persp_status persp__heatmap_write(persp_context *ctx, const char *path, const float *err, int w,
-                                  int h, const char *caption, double floor_value)
+                                  int h, const char *caption, int top_decade)
 {
-    if (!path || !err || w <= 0 || h <= 0 || w > PERSP_IMAGE_MAX_SIDE || h > PERSP_IMAGE_MAX_SIDE)
+    if (!path || !err || !caption || w <= 0 || h <= 0 || w > PERSP_IMAGE_MAX_SIDE ||
+        h > PERSP_IMAGE_MAX_SIDE || top_decade < -3 || top_decade > 6)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "heatmap: bad arguments");
-    double vmax = 0.0;
-    size_t n = (size_t)w * (size_t)h;
-    for (size_t i = 0; i < n; i++)
-        if (isfinite(err[i]) && err[i] > vmax) vmax = err[i];
-    /* The top decade holds the largest finite error, and never ends below
-     * floor_value (1e-3 texels: smaller errors look alike on an 8-bit
-     * texture). */
-    int hi = (int)ceil(log10(vmax > floor_value ? vmax : floor_value));
-    if (hi > 6) hi = 6;
-    int lo = hi - DECADES;
+    int hi = top_decade, lo = hi - DECADES;
 
-    int fx = (256 + w - 1) / w, fy = fx;
+    /* Text at scale 3: glyphs 15 px tall, legible beside 11 px page text. */
+    const int ts = 3, bar_h = 12;
+    const int legend_h = 8 + bar_h + 4 + 5 * ts + 6 + 5 * ts + 8;
+    /* Wide enough for the caption and for the decade labels not to touch,
+     * and at least 256 pixels: the map is enlarged to that width. */
+    int widest = 0;
+    for (int k = lo; k <= hi; k++) {
+        char label[16];
+        decade_label(k, label, sizeof label);
+        int lw = persp__heatmap_text_width(label, ts);
+        if (lw > widest) widest = lw;
+    }
+    /* The end labels centred on the bar's ends, whole. */
+    const int margin = widest / 2 + 2 * ts;
+    int need = persp__heatmap_text_width(caption, ts) + 2 * margin;
+    if (2 * margin + DECADES * (widest + 4 * ts) > need)
+        need = 2 * margin + DECADES * (widest + 4 * ts);
+    if (need < 256) need = 256;
+    int fx = (need + w - 1) / w, fy = fx;
     if (h * fy < 48) fy = (48 + h - 1) / h;
     if (fx > 64) fx = 64;
     if (fy > 64) fy = 64;
-    const int ts = 2, margin = 16, bar_h = 12;
-    const int legend_h = 8 + bar_h + 4 + 5 * ts + 6 + 5 * ts + 8;
     int iw = w * fx, ih = h * fy + legend_h;
-    if (iw < 256) iw = 256;
+    if (iw < need) iw = need;
     if (iw > PERSP_IMAGE_MAX_SIDE || ih > PERSP_IMAGE_MAX_SIDE)
         return persp__fail(ctx, PERSP_ERR_TOO_LARGE, "heatmap: %dx%d is too large", iw, ih);
     persp_image img;

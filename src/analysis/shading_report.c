@@ -3,6 +3,7 @@
 #include "analysis/shading.h"
 
 #include "analysis/analysis.h"
+#include "analysis/claims.h"
 #include "analysis/svg.h"
 #include "core/internal.h"
 #include "io/outfile.h"
@@ -40,10 +41,10 @@ static const persp_approx_kind kinds[3] = {PERSP_APPROX_QUAD, PERSP_APPROX_PWQUA
 /* §4.3's stated maximum relative errors (percent), ħ = 2..5; < 0: none stated. */
 static double claimed_bound(int kind, double hbar)
 {
-    static const double pw[4] = {1.0, 4.0, 8.0, 13.0}, cu[4] = {0.64, 2.9, 6.3, 10.6};
+    const persp_claim *c = persp__claim(PERSP_CLAIM_TW_BOUNDS);
     int i = (int)hbar - 2;
-    if (hbar != floor(hbar) || i < 0 || i > 3) return -1.0;
-    return kind == 1 ? pw[i] : kind == 2 ? cu[i] : -1.0;
+    if (hbar != floor(hbar) || i < 0 || i >= PERSP_CLAIM_TW_HBARS) return -1.0;
+    return kind == 1 ? c->series[i] : kind == 2 ? c->series[PERSP_CLAIM_TW_HBARS + i] : -1.0;
 }
 
 static void write_modes(FILE *f, const persp_shade_err *e, double hbar, int with_normals)

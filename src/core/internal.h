@@ -2,6 +2,8 @@
 #ifndef PERSP_CORE_INTERNAL_H
 #define PERSP_CORE_INTERNAL_H
 
+#include "core/shared.h"
+
 #include "persp.h"
 
 #include <stdarg.h>
@@ -30,11 +32,11 @@ struct persp_context {
     /* Nonzero: lane batches are packed by the portable loop even where
      * AVX-512 is available. Changed only by tests, to compare the two. */
     int pack_portable;
-    /* Where two-sided Gouraud lights the back faces (render.c,
+    /* Where two-sided Gouraud lights the back faces (frame.c,
      * back_colours): 0 chosen by culling, 1 the vertex stage, 2 set-up.
      * Changed only by tests, to compare the two. */
     int back_lighting;
-    /* Nonzero: no mesh cluster is culled whole (src/raster/clusters.c).
+    /* Nonzero: no mesh cluster is culled whole (src/raster/cluster_cull.c).
      * Changed only by tests, to compare with culling triangle by triangle. */
     int no_cluster_cull;
     /* Clusters culled whole over the context's frames (tests read it). */
@@ -55,6 +57,10 @@ struct persp_context {
      * memory, the most held at once, and the request last refused (0:
      * none since the current public call began). */
     size_t max_memory, mem_used, mem_peak, mem_refused;
+    /* Images from persp_image_alloc (and so _load) not yet freed, newest
+     * first: persp_image_free frees only pixels found here, so an image the
+     * caller filled in is never taken for one of persp's (src/core/image_alloc.c). */
+    struct persp_image_block *images;
 };
 
 /* The persp_simd naming variant isa (PERSP_ISA_*); AUTO for none. */
@@ -76,7 +82,8 @@ void persp__warn(persp_context *ctx, const char *fmt, ...)
     ;
 
 /* Sets the context's detail message and returns status (NULL ctx: only returns). */
-persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)
+PERSP_INTERNAL persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt,
+                                        ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
@@ -85,8 +92,8 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
  * exceed the budget returns NULL without calling the allocator, and a
  * following persp__fail with PERSP_ERR_OUT_OF_MEMORY names the budget in
  * its detail. persp__free(ctx, NULL) is a no-op. */
-void *persp__alloc(persp_context *ctx, size_t size);
-void persp__free(persp_context *ctx, void *ptr);
+PERSP_INTERNAL void *persp__alloc(persp_context *ctx, size_t size);
+PERSP_INTERNAL void persp__free(persp_context *ctx, void *ptr);
 
 /* persp__alloc asks the allocator for this many bytes more than requested:
  * each block carries its size in front of it, so that persp__free can
@@ -105,7 +112,7 @@ void persp__mem_release(persp_context *ctx, size_t bytes);
 size_t persp__mem_available(const persp_context *ctx);
 
 /* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
-void *persp__calloc(persp_context *ctx, size_t n, size_t size);
+PERSP_INTERNAL void *persp__calloc(persp_context *ctx, size_t n, size_t size);
 
 /* Makes *ptr, an array of *cap elements of elem bytes from the context's
  * allocator (NULL and 0 at first), hold at least need elements. The capacity
@@ -115,7 +122,8 @@ void *persp__calloc(persp_context *ctx, size_t n, size_t size);
  * they were: PERSP_ERR_TOO_LARGE when need elements do not fit in a size_t,
  * PERSP_ERR_OUT_OF_MEMORY when the allocator fails. Sets no error detail:
  * the caller knows what was being grown. */
-persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t need, size_t elem);
+PERSP_INTERNAL persp_status persp__grow(persp_context *ctx, void **ptr, size_t *cap, size_t need,
+                                        size_t elem);
 /* persp__grow for arrays refilled whole each time they are used (a mesh's
  * per-vertex caches): the contents are dropped, the old block is freed
  * before the new one is allocated and exactly need elements (zero) are
@@ -125,7 +133,8 @@ persp_status persp__reserve(persp_context *ctx, void **ptr, size_t *cap, size_t 
 
 /* Fails ctx (PERSP_ERR_FORMAT for an empty size, PERSP_ERR_TOO_LARGE above
  * PERSP_IMAGE_MAX_SIDE / PERSP_IMAGE_MAX_PIXELS) with name in the detail. */
-persp_status persp__image_check_size(persp_context *ctx, const char *name, long long w, long long h);
+PERSP_INTERNAL persp_status persp__image_check_size(persp_context *ctx, const char *name,
+                                                    long long w, long long h);
 
 /* Sets every alpha to 255: persp draws opaque surfaces, so a scene's
  * textures carry no coverage into the image. */
@@ -145,7 +154,7 @@ int persp__parse_double(const char *text, double lo, double hi, double *out);
 const char *persp__quote(const char *text, size_t len, char *buf, size_t size);
 
 /* Clears the context's error detail (called at the start of a public call). */
-void persp__clear_error(persp_context *ctx);
+PERSP_INTERNAL void persp__clear_error(persp_context *ctx);
 
 #define PERSP_MIN(a, b) ((a) < (b) ? (a) : (b))
 #define PERSP_MAX(a, b) ((a) > (b) ? (a) : (b))

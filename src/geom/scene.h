@@ -6,6 +6,8 @@
 #ifndef PERSP_GEOM_SCENE_H
 #define PERSP_GEOM_SCENE_H
 
+#include "core/shared.h"
+
 #include "persp.h"
 
 /* Limits checked before allocating (absurd counts are refused). */
@@ -18,10 +20,10 @@
 /* A run of PERSP_CLUSTER_TRIANGLES consecutive triangles of a mesh (the
  * last may be shorter), described so that a frame can decide whether every
  * one of them is a back face it would cull without looking at any of them
- * (src/raster/clusters.c), in object space: a sphere around their
+ * (src/raster/cluster_cull.c), in object space: a sphere around their
  * vertices, a cone around their face normals (from the winding), their
  * shape, and the vertices they use. Built once, when the mesh joins a
- * scene (src/geom/clusters.c); a scene's meshes do not change after. */
+ * scene (src/geom/cluster_build.c); a scene's meshes do not change after. */
 #define PERSP_CLUSTER_TRIANGLES 64
 #define PERSP_CLUSTER_RUNS 4
 typedef struct persp_cluster {
@@ -135,18 +137,20 @@ struct persp_scene {
 };
 
 /* Allocates an empty scene with defaults (camera at origin looking down -z). */
-persp_status persp__scene_new(persp_context *ctx, persp_scene **out);
+PERSP_INTERNAL persp_status persp__scene_new(persp_context *ctx, persp_scene **out);
 /* Appends (the scene takes ownership; on failure the item is freed). */
-persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index);
+PERSP_INTERNAL persp_status persp__scene_add_mesh(persp_scene *s, persp_mesh *mesh, int *index);
 /* The texture object o is drawn with: its material's, or -1 where the
  * material has none or would read it through coordinates its mesh does not
  * have (a model file without them, texgen "uv"): every vertex would then
  * fetch the texel at (0, 0), one colour over the whole surface. */
 int persp__object_texture(const persp_scene *s, const persp_object *o);
-persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex, int *index);
-persp_status persp__scene_add_material(persp_scene *s, const persp_material *m, int *index);
-persp_status persp__scene_add_object(persp_scene *s, const persp_object *o);
-void persp__mesh_free(persp_context *ctx, persp_mesh *mesh);
+PERSP_INTERNAL persp_status persp__scene_add_texture(persp_scene *s, persp_texture *tex,
+                                                     int *index);
+PERSP_INTERNAL persp_status persp__scene_add_material(persp_scene *s, const persp_material *m,
+                                                      int *index);
+PERSP_INTERNAL persp_status persp__scene_add_object(persp_scene *s, const persp_object *o);
+PERSP_INTERNAL void persp__mesh_free(persp_context *ctx, persp_mesh *mesh);
 /* Normals for a mesh whose file gives none, split at a crease
  * (src/geom/normals.c): corners whose angle-weighted normals differ become
  * vertices of their own. crease_deg 0: flat (only coplanar neighbours
@@ -156,17 +160,18 @@ void persp__mesh_free(persp_context *ctx, persp_mesh *mesh);
 persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float crease_deg,
                                         size_t max_vertices);
 /* Fills in smooth vertex normals from face normals (area-weighted). */
-void persp__mesh_compute_normals(persp_mesh *mesh);
+PERSP_INTERNAL void persp__mesh_compute_normals(persp_mesh *mesh);
 /* A default material: white, no texture, replace. */
-persp_material persp__material_default(void);
+PERSP_INTERNAL persp_material persp__material_default(void);
 
 /* Built-in meshes (src/geom/primitives.c). */
-persp_status persp__mesh_plane(persp_context *ctx, int subdiv, persp_mesh *out);
+PERSP_INTERNAL persp_status persp__mesh_plane(persp_context *ctx, int subdiv, persp_mesh *out);
 persp_status persp__mesh_cube(persp_context *ctx, persp_mesh *out);
-persp_status persp__mesh_sphere(persp_context *ctx, int slices, int stacks, persp_mesh *out);
-persp_status persp__mesh_cylinder(persp_context *ctx, int slices, persp_mesh *out);
-persp_status persp__mesh_torus(persp_context *ctx, float major, float minor, int slices,
-                               int rings, persp_mesh *out);
+PERSP_INTERNAL persp_status persp__mesh_sphere(persp_context *ctx, int slices, int stacks,
+                                               persp_mesh *out);
+PERSP_INTERNAL persp_status persp__mesh_cylinder(persp_context *ctx, int slices, persp_mesh *out);
+PERSP_INTERNAL persp_status persp__mesh_torus(persp_context *ctx, float major, float minor,
+                                              int slices, int rings, persp_mesh *out);
 /* count unconnected triangles of sides in [size_min, size_max], each facing
  * +z within 45°, centred uniformly in [-1, 1]^3; the same seed gives the
  * same triangles (a fill-rate workload with overdraw). */

@@ -1,5 +1,5 @@
 /*
- * The texture-coordinate method interface (docs/DESIGN.md, "methods").
+ * The texture-coordinate method interface (docs/DESIGN.md, "The method interface").
  *
  * A method computes two perspective-correct quantities along a span of pixels
  * from Heckbert's rational form (Heckbert 1989, §2.3.2):
@@ -14,6 +14,8 @@
  */
 #ifndef PERSP_INTERP_METHOD_H
 #define PERSP_INTERP_METHOD_H
+
+#include "core/shared.h"
 
 #include "persp.h"
 
@@ -160,14 +162,15 @@ typedef struct persp_method_sel {
 } persp_method_sel;
 
 /* Registry (src/interp/registry.c). */
-size_t persp__method_count(void);
-const persp_method *persp__method_at(size_t i);
+PERSP_INTERNAL size_t persp__method_count(void);
+PERSP_INTERNAL const persp_method *persp__method_at(size_t i);
 /* Resolves "name[:params]". ctx may be NULL (no detail message). */
-persp_status persp__method_resolve(persp_context *ctx, const char *spec, persp_method_sel *out);
+PERSP_INTERNAL persp_status persp__method_resolve(persp_context *ctx, const char *spec,
+                                                  persp_method_sel *out);
 
 /* Double-precision evaluation of the rational form at pixel (x, y)'s centre. */
-static inline void persp__rational_eval(const persp_rational *r, double x, double y,
-                                        double *s1, double *s2)
+static inline void persp__rational_eval(const persp_rational *r, double x, double y, double *s1,
+                                        double *s2)
 {
     double px = x + 0.5, py = y + 0.5;
     double q = r->g * px + r->h * py + r->i;

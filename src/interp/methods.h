@@ -2,6 +2,8 @@
 #ifndef PERSP_INTERP_METHODS_H
 #define PERSP_INTERP_METHODS_H
 
+#include "core/shared.h"
+
 #include "interp/method.h"
 
 /* Plane p(x,y) = px·x + py·y + pc through three (x, y, value) points.
@@ -74,9 +76,12 @@ void persp__midpoint_quantize(const persp_rational *r, int den_bits, persp_ratio
 struct persp_midpoint_format;
 struct persp_midpoint_span;
 struct persp_midpoint_pixel;
-void persp__midpoint_format(const persp_rational *r, int edge, struct persp_midpoint_format *out);
-void persp__midpoint_trace_span(const persp_rational *r, const struct persp_midpoint_format *f, int x0, int y,
-                                int n, float *s1, float *s2, struct persp_midpoint_span *span,
-                                struct persp_midpoint_pixel *px);
+PERSP_INTERNAL void persp__midpoint_format(const persp_rational *r, int edge,
+                                           struct persp_midpoint_format *out);
+PERSP_INTERNAL void persp__midpoint_trace_span(const persp_rational *r,
+                                               const struct persp_midpoint_format *f, int x0, int y,
+                                               int n, float *s1, float *s2,
+                                               struct persp_midpoint_span *span,
+                                               struct persp_midpoint_pixel *px);
 
 #endif

@@ -41,6 +41,8 @@
 #ifndef PERSP_INTERP_POLY_H
 #define PERSP_INTERP_POLY_H
 
+#include "core/shared.h"
+
 #include "interp/method.h"
 
 /* Degree 4 serves bezier:quadt, whose u(t(x)) is a quartic in x. */
@@ -71,14 +73,15 @@ typedef struct persp_fd {
 /* The polynomial of degree count−1 through (s[j], y[j]), j < count,
  * 1 ≤ count ≤ 5, nodes pairwise distinct (Newton divided differences,
  * converted to the power basis). Counts into ops when non-NULL. */
-void persp__poly_interp(const double *s, const double *y, int count, persp_poly *out,
-                        persp_opcount *ops);
+PERSP_INTERNAL void persp__poly_interp(const double *s, const double *y, int count, persp_poly *out,
+                                       persp_opcount *ops);
 
 /* p(s0 + k·h) as a double, by Horner (for reference and tests). */
 double persp__poly_eval(const persp_poly *p, double s);
 
 /* Starts forward differences of p at s0 with step h. */
-void persp__fd_init(const persp_poly *p, double s0, double h, persp_fd *fd, persp_opcount *ops);
+PERSP_INTERNAL void persp__fd_init(const persp_poly *p, double s0, double h, persp_fd *fd,
+                                   persp_opcount *ops);
 
 /* Writes p(s0 + k·h) for k = 0..n−1 to out[k·stride] as floats and leaves fd
  * at s0 + n·h. Costs degree additions per value (counted). */
@@ -139,8 +142,8 @@ typedef enum persp_approx_kind {
  * of L (ignored otherwise; values outside (0, 1) mean 1/2). n = 1 and n = 2
  * are evaluated exactly; every node is exact up to rounding. Counts one
  * division per node evaluation plus the fitting and forward-difference work. */
-void persp__approx_span(const persp_rat1 *f, persp_approx_kind kind, double tau, int n, float *out,
-                        persp_opcount *ops);
+PERSP_INTERNAL void persp__approx_span(const persp_rat1 *f, persp_approx_kind kind, double tau,
+                                       int n, float *out, persp_opcount *ops);
 
 /* The exact interpolation error f(s) − p(s) of the polynomial through the
  * nodes s[0..count−1] (formula above). */
@@ -156,7 +159,7 @@ double persp__quad_shift_anchor(double u0, double u1);
 /* Inner control point (x1, u1) of the quadratic Bézier of f on [0, L]: the
  * intersection of the tangents at s = 0 and s = L ([Romanyuk-PCF] (4.25)-(4.26));
  * bezier.c. */
-void persp__bezier_control(const persp_rat1 *f, double L, double *x1, double *u1);
+PERSP_INTERNAL void persp__bezier_control(const persp_rat1 *f, double L, double *x1, double *u1);
 
 /* Heckbert's form along row y from pixel x0 (k = 0 is the centre of x0):
  * u = (n1 + dn1·k)/(q + dq·k), v = (n2 + dn2·k)/(q + dq·k). */

@@ -12,6 +12,8 @@
 #ifndef PERSP_IO_OUTFILE_H
 #define PERSP_IO_OUTFILE_H
 
+#include "core/shared.h"
+
 #include "persp.h"
 
 #include <stdio.h>
@@ -26,10 +28,12 @@ typedef struct persp_outfile {
 /* Opens path for writing (binary). Refuses a folder, a read-only file and a
  * link to nothing, with the path in the detail. The context's temp-file
  * handler (persp_context_set_temp_file_handler) hears of the temporary file. */
-persp_status persp__outfile_open(persp_context *ctx, const char *path, persp_outfile *out);
+PERSP_INTERNAL persp_status persp__outfile_open(persp_context *ctx, const char *path,
+                                                persp_outfile *out);
 /* Flushes and closes; with st PERSP_OK renames the temporary file over the
  * target, else (or when that fails) removes it. Returns st or the first
  * failure of its own. */
-persp_status persp__outfile_close(persp_context *ctx, persp_outfile *out, persp_status st);
+PERSP_INTERNAL persp_status persp__outfile_close(persp_context *ctx, persp_outfile *out,
+                                                 persp_status st);
 
 #endif

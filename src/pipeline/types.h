@@ -86,7 +86,7 @@ typedef struct persp_draw_state {
      * which copies the texel for it). */
     int shade_is_texel;
     /* Decided once when the frame takes the state (persp__frame_add_state,
-     * render.c): u, v and the shader's perspective-correct weights from one
+     * frame.c): u, v and the shader's perspective-correct weights from one
      * reciprocal per pixel (shade_batch), and small triangles drawn as rows
      * packed into lanes (draw_small). */
     int fuse_weights, small_lanes;

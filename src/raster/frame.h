@@ -1,4 +1,4 @@
-/* One frame being assembled (src/raster/render.c) and rasterized (tiles.c). */
+/* One frame being assembled (src/raster/frame.c) and rasterized (tiles.c). */
 #ifndef PERSP_RASTER_FRAME_H
 #define PERSP_RASTER_FRAME_H
 
@@ -14,9 +14,9 @@ typedef struct persp_frame {
     persp_depth_mode depth_mode;
     struct persp_render_cache *cache;
     size_t state_count, tri_count, prep_count;
-    size_t gap_count; /* slots of tris that hold no triangle (render.c, slabs in place) */
-    size_t batch; /* records drawn at once without a capture (render.c, frame_batch_limit) */
-    size_t batch_base; /* batch before adapting to how spread the last one was (render.c) */
+    size_t gap_count; /* slots of tris that hold no triangle (frame.c, slabs in place) */
+    size_t batch; /* records drawn at once without a capture (frame.c, frame_batch_limit) */
+    size_t batch_base; /* batch before adapting to how spread the last one was (frame.c) */
     int batch_adapt;
     int pack_avx512; /* lane batches packed with AVX-512 compress (tiles.c pack_live) */
     persp_render_stats stats;

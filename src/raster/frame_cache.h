@@ -1,5 +1,5 @@
 /* The renderer's buffers kept between frames (struct persp_render_cache),
- * shared by the geometry and batching of render.c and the tile
+ * shared by the geometry and batching of frame.c and the tile
  * rasterization of tiles.c (internal). */
 #ifndef PERSP_RASTER_FRAME_CACHE_H
 #define PERSP_RASTER_FRAME_CACHE_H
@@ -53,7 +53,7 @@ struct persp_render_cache {
     size_t win_cap;
     float *back; /* per vertex: Gouraud's back colour, when the vertex stage lights it */
     size_t back_cap;
-    uint8_t *lazy; /* per vertex: Gouraud's front colour left to set-up (render.c, front_colours) */
+    uint8_t *lazy; /* per vertex: Gouraud's front colour left to set-up (frame.c, front_colours) */
     size_t lazy_cap;
     uint8_t *cluster_culled; /* per cluster of the mesh being added: culled whole */
     size_t cluster_cap;

@@ -2,6 +2,8 @@
 #ifndef PERSP_RASTER_RASTER_H
 #define PERSP_RASTER_RASTER_H
 
+#include "core/shared.h"
+
 #include "pipeline/types.h"
 
 #include <stdint.h>
@@ -35,7 +37,7 @@ int persp__clip_triangle(const persp_clipvert in[3], double guard_x, double guar
 #define PERSP_CLIP_NONFINITE 0x100u
 unsigned persp__clip_outcode(const persp_clipvert *v, double guard_x, double guard_y);
 /* The same for a vertex packed as its clip position followed by its first
- * nattr attributes (the render's per-vertex cache, render.c). */
+ * nattr attributes (the render's per-vertex cache, frame.c). */
 unsigned persp__clip_outcode_packed(const float *v, int nattr, double guard_x, double guard_y);
 
 /* The position's part of the outcode (the vertex's values known finite):
@@ -78,8 +80,8 @@ enum { PERSP_CULL_NONE = 0, PERSP_CULL_CW = 1, PERSP_CULL_CCW = 2 };
  * the vertices t->rat was fitted through (in set-up order), which a
  * method's prepare reads; t->bary passes through the same x, y and q with
  * s1 = (0, 1, 0), s2 = (0, 0, 1). */
-int persp__setup_triangle(const persp_winvert v[3], int width, int height, int cull,
-                          persp_tri *t, persp_rational_vertices *vv);
+PERSP_INTERNAL int persp__setup_triangle(const persp_winvert v[3], int width, int height, int cull,
+                                         persp_tri *t, persp_rational_vertices *vv);
 /* The same with only the fields need names: PERSP_SETUP_SHADING adds the
  * perspective-correct barycentric planes (bary), the vertex attributes (vattr) and
  * light_side, which only the span shaders and the analyses read; without
@@ -94,8 +96,9 @@ int persp__setup_triangle(const persp_winvert v[3], int width, int height, int c
  * of NULL); without it they are left unwritten. */
 #define PERSP_SETUP_LINEAR 4u
 #define PERSP_SETUP_ALL (PERSP_SETUP_SHADING | PERSP_SETUP_BACK_COLOURS | PERSP_SETUP_LINEAR)
-int persp__setup_triangle_for(const persp_winvert v[3], int width, int height, int cull, unsigned need,
-                              persp_tri *t, persp_rational_vertices *vv);
+PERSP_INTERNAL int persp__setup_triangle_for(const persp_winvert v[3], int width, int height,
+                                             int cull, unsigned need, persp_tri *t,
+                                             persp_rational_vertices *vv);
 
 /* floor(a / b) and ceil(a / b) for b > 0 in 64-bit integers. */
 static inline int64_t persp__floor_div(int64_t a, int64_t b)
@@ -216,7 +219,8 @@ int persp__setup_triangle_edges(const persp_winvert v[3], const persp_tri_edges 
                                 persp_tri *t, persp_rational_vertices *vv);
 
 /* Covered pixel range of row y (inclusive), clipped to [x0, x1]. */
-int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo, int *hi);
+PERSP_INTERNAL int persp__tri_row_range(const persp_tri *t, int y, int x0, int x1, int *lo,
+                                        int *hi);
 
 /* The covered ranges of consecutive rows, the same as persp__tri_row_range
  * gives, by exact integer stepping: each edge's bound at the first row
@@ -279,7 +283,7 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
     return 1;
 }
 
-/* What culling a cluster whole needs of a frame (src/raster/clusters.c):
+/* What culling a cluster whole needs of a frame (src/raster/cluster_cull.c):
  * the model-view-projection rows and their xyz parts' lengths, the centre
  * of projection in object space, the clip planes a cluster must be inside
  * (coefficients of the rows and a constant) with their normals' lengths,

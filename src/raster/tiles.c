@@ -5,7 +5,7 @@
  * buffers (spans, the small-triangle lane batches, or a method's own
  * traversal) and writes them to the framebuffer once. Tiles own disjoint
  * pixels, so the image is the same for any number of threads. The
- * geometry that fills the batch, and its binning, are in render.c.
+ * geometry that fills the batch, and its binning, are in frame.c.
  */
 #include "core/fmath.h"
 #include "core/internal.h"
@@ -146,7 +146,7 @@ PERSP_SIMD_CLONES static void shade_batch(span_ctx *sc, const persp_frag_batch *
         persp__sample_span(&ds->sampler, &in, ds->shade_is_texel ? dst : texel);
     }
     if (!ds->shade_is_texel) persp__shade_span(ds, t, b, q, ds->tex ? texel : NULL, dst);
-    /* persp draws opaque surfaces (docs/SCENES.md, "Textures"): alpha is no coverage. */
+    /* persp draws opaque surfaces (docs/SCENES.md, "Images"): alpha is no coverage. */
     if (ds->force_opaque)
         for (int k = 0; k < n; k++)
             dst[k] |= 0xff000000u;

@@ -3,11 +3,13 @@
 #ifndef PERSP_SHADE_SHADE_H
 #define PERSP_SHADE_SHADE_H
 
+#include "core/shared.h"
+
 #include "pipeline/types.h"
 
 /* Chooses ds->shade (and ds->shade_method) from ds->shading, the texture
  * environment and whether a texture is bound. */
-persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds);
+PERSP_INTERNAL persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds);
 /* The shading modes that light vertices (gouraud, gouraud-pc). */
 static inline int persp__shade_is_gouraud(const persp_draw_state *ds)
 {
@@ -17,7 +19,7 @@ static inline int persp__shade_is_gouraud(const persp_draw_state *ds)
 /* Per-vertex stage: Gouraud modes write lit colours into the R, G, B, A
  * attributes and the back face's into BR, BG, BB (two-sided lighting);
  * other modes leave the vertices alone. */
-void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n);
+PERSP_INTERNAL void persp__shade_vertices(const persp_draw_state *ds, persp_clipvert *v, size_t n);
 
 /* Vertices given component-wise: eye-space normals (not necessarily unit),
  * eye-space positions, and vertex colours (read only with
@@ -65,8 +67,9 @@ void persp__shade_phong_segments(const persp_draw_state *ds, int nseg, const int
  * under ds->shading (the same code the span shaders use), for accuracy
  * analysis. Returns 0 for modes without per-pixel normals (none, gouraud,
  * gouraud-pc); nrm and eye then stay untouched. */
-int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
-                         float (*nrm)[3], float (*eye)[3]);
+PERSP_INTERNAL int persp__shade_normals(const persp_draw_state *ds, const persp_tri *t,
+                                        const persp_frag_batch *b, float (*nrm)[3],
+                                        float (*eye)[3]);
 
 /*
  * Spherical-angular interpolation of unit normals along a span ([Romanyuk-PCF]

@@ -102,7 +102,7 @@ static double now_seconds(void)
  * and several times slower again on those with the 2023 "Downfall" (GDS)
  * microcode. So the two are timed here, on a bilinear span of an L1-resident
  * texture (the fetch is what differs between them; docs/PERFORMANCE.md,
- * "Samplers on Intel and AMD"): a few spans each, interleaved, best of
+ * "On an Intel Xeon: samplers with gathers, 16 threads"): a few spans each, interleaved, best of
  * several rounds, about 0.2 ms in all. The gather variant must win by 10 %:
  * where the two are close (Zen 5: gathers 1 % slower here, and timing noise
  * of a few per cent) the scalar loads are kept, as they cost less on the

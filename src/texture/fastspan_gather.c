@@ -5,7 +5,8 @@
  * and inserts. Which is faster depends on the core: the inserts all go to
  * one port on Intel's AVX-512 cores, while gathers are microcoded and slow
  * on AMD's Zen and on Intel cores with the 2023 "Downfall" (GDS)
- * mitigation (docs/PERFORMANCE.md, "Samplers on Intel and AMD"). Same
+ * mitigation (docs/PERFORMANCE.md, "On an Intel Xeon: samplers with
+ * gathers, 16 threads"). Same
  * operations on the same texels, so the same bits as every other variant.
  */
 #include "texture/fastspan_body.h"

@@ -7,6 +7,8 @@
 #ifndef PERSP_TEXTURE_TEXTURE_H
 #define PERSP_TEXTURE_TEXTURE_H
 
+#include "core/shared.h"
+
 #include "persp.h"
 
 #define PERSP_TEX_MAX_LEVELS 16
@@ -70,8 +72,9 @@ typedef struct persp_sampler_state {
                  uint32_t *out);
 } persp_sampler_state;
 
-persp_status persp__sampler_init(persp_sampler_state *st, const struct persp_texture *tex,
-                                 const persp_sampler_desc *desc);
+PERSP_INTERNAL persp_status persp__sampler_init(persp_sampler_state *st,
+                                                const struct persp_texture *tex,
+                                                const persp_sampler_desc *desc);
 /* The same with the vectorised samplers' variant given (PERSP_ISA_*, one
  * that persp__isa_runs). */
 persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp_texture *tex,
@@ -106,8 +109,8 @@ persp_tex_span_fn persp__general_span(persp_filter filter, persp_wrap ws, persp_
  * lambda = 0.5·log2(texel area / pixel area), areas of the same triangle in
  * texels (uv area × W × H) and in pixels, from its vertices' window
  * positions x, y and normalised texture coordinates u, v. */
-float persp__polygon_lambda(const struct persp_texture *tex, const double x[3], const double y[3],
-                            const double u[3], const double v[3]);
+PERSP_INTERNAL float persp__polygon_lambda(const struct persp_texture *tex, const double x[3],
+                                           const double y[3], const double u[3], const double v[3]);
 
 /* For tests and tools: the level of detail of one footprint (derivatives of
  * normalised u, v per pixel) after bias and clamping, and the
@@ -138,8 +141,9 @@ size_t persp__window_visit(const persp_sampler_state *st, const persp_tex_window
 /* Texels the sampler reads for pixel k of a span: the same level, tap and
  * footprint decisions as its span function, counted instead of filtered
  * (cost analysis, persp accuracy --filter). */
-int persp__sampler_fetches(const persp_sampler_state *st, const persp_tex_span_in *in, int k);
-int persp__aniso_taps(const persp_sampler_state *st, float dudx, float dvdx, float dudy,
-                      float dvdy, float *lambda);
+PERSP_INTERNAL int persp__sampler_fetches(const persp_sampler_state *st,
+                                          const persp_tex_span_in *in, int k);
+int persp__aniso_taps(const persp_sampler_state *st, float dudx, float dvdx, float dudy, float dvdy,
+                      float *lambda);
 
 #endif

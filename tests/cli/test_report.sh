@@ -32,6 +32,9 @@ page="$tmp/r/index.html"
 # that of the folder the report is run in.
 if head=$(git -C "$PERSP_SOURCE_DIR" rev-parse --short=12 HEAD 2>/dev/null); then
     grep -q "git commit<td>$head" "$page" && ok || bad "page's commit: $(grep -o 'git commit<td>[^<]*' "$page")"
+else
+    grep -q "git commit<td>none: not a git checkout" "$page" && ok ||
+        bad "page's commit outside a checkout: $(grep -o 'git commit<td>[^<]*' "$page")"
 fi
 [ -s "$page" ] && ok || bad "no index.html"
 grep -q "^report: method accuracy" "$tmp/log" && grep -q "^report: wrote" "$tmp/log" && ok ||
@@ -40,6 +43,15 @@ grep -q "^report: method accuracy" "$tmp/log" && grep -q "^report: wrote" "$tmp/
 svgs=$(grep -o "<svg" "$page" | wc -l)
 [ "$svgs" -ge 3 ] && ok || bad "expected at least 3 inline SVGs, found $svgs"
 grep -q "<polyline" "$page" && ok || bad "plots have no lines"
+# One id space for the whole page: an id used twice (every plot's clip path
+# was c0) makes browsers clip later plots to the first plot's box.
+dups=$(grep -oE ' id="?[^" >]+' "$page" | sed -E 's/^ id="?//' | sort | uniq -d)
+[ -z "$dups" ] && ok || bad "ids used more than once in the page: $(echo $dups)"
+refs_ok=1
+for id in $(grep -oE 'url\(#[^)]+\)' "$page" | sed -E 's/^url\(#//; s/\)$//' | sort -u); do
+    grep -qE " id=\"?$id[\" >]" "$page" || { refs_ok=0; echo "url(#$id) names no id"; }
+done
+[ "$refs_ok" = 1 ] && ok || bad "clip-path references without their ids"
 grep -q "filter quality against tilt" "$page" && ok || bad "no filter plot"
 for section in 'id=methods' 'id=claims' 'id=images' 'id=shading' 'id=filters' 'id=env' 'PSNR' \
     'Reproduce:' 'class=holds' 'model name\|CPU'; do

@@ -13,7 +13,7 @@
  * are in the scene; one that fails leaves no parts and a one-line detail. */
 #include "confine.h"
 #include "geom/scene.h"
-#include "io/model.h"
+#include "model/model.h"
 
 #include <stdint.h>
 #include <stdio.h>

@@ -9,7 +9,7 @@
  * detail. */
 #include "confine.h"
 #include "geom/scene.h"
-#include "io/model.h"
+#include "model/model.h"
 
 #include <stdint.h>
 #include <stdio.h>

@@ -94,7 +94,16 @@ check_exports() { # LIBRARY HEADER DECLARED EXPORTED
     [ -z "$extra" ] || fail "$1 exports what $2 does not declare:" $extra
     [ -z "$missing" ] || fail "$1 does not export what $2 declares:" $missing
 }
-check_exports libpersp.so persp.h "$tmp/core.declared" "$tmp/core.exported"
+# libpersp.so also exports the persp__ internals libpersp_analysis.so calls
+# (src/core/shared.h), and no other: the analysis library links against
+# libpersp.so rather than carrying a copy of the core.
+nm -D --undefined-only "$libdir/libpersp_analysis.so" | awk '{ print $NF }' | sort -u >"$tmp/analysis.imported"
+internal=$(grep '^persp__' "$tmp/core.exported" | comm -23 - "$tmp/analysis.imported")
+[ -z "$internal" ] || fail "libpersp.so exports internals libpersp_analysis.so does not call:" $internal
+grep -v '^persp__' "$tmp/core.exported" >"$tmp/core.public"
+readelf -d "$libdir/libpersp_analysis.so" | grep -q "(NEEDED).*\[libpersp\.so\.$soversion\]" ||
+    fail "libpersp_analysis.so does not depend on libpersp.so.$soversion"
+check_exports libpersp.so persp.h "$tmp/core.declared" "$tmp/core.public"
 check_exports libpersp_analysis.so persp_analysis.h "$tmp/analysis.declared" "$tmp/analysis.exported"
 
 step "public headers as C11 and C++17"

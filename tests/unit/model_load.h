@@ -7,7 +7,7 @@
 
 #include "core/internal.h"
 #include "geom/scene.h"
-#include "io/model.h"
+#include "model/model.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -417,7 +417,7 @@ static void test_heatmap_legend(void **state)
     persp_context *ctx = test_context();
     char path[256];
     snprintf(path, sizeof path, "/tmp/persp-heatmap-%ld.png", (long)getpid());
-    assert_int_equal(persp__heatmap_write(ctx, path, err, W, H, PERSP_HEATMAP_TEXELS, 1e-3), PERSP_OK);
+    assert_int_equal(persp__heatmap_write(ctx, path, err, W, H, PERSP_HEATMAP_TEXELS, PERSP_HEATMAP_TEXELS_TOP), PERSP_OK);
     persp_image img;
     assert_int_equal(persp_image_load(ctx, path, &img), PERSP_OK);
     remove(path);
@@ -466,6 +466,62 @@ static void test_heatmap_legend(void **state)
     persp_context_destroy(ctx);
 }
 
+/* Lowest image row (rows count from the bottom) and run of rows holding a
+ * white pixel, from the bottom up: the legend's caption. */
+static int caption_rows(const persp_image *img)
+{
+    const uint8_t white[3] = {255, 255, 255};
+    int rows = 0, started = 0;
+    for (int y = 0; y < img->height; y++) {
+        int any = 0;
+        for (int x = 0; x < img->width && !any; x++)
+            any = same_rgb(img->pixels + (size_t)y * img->stride + 4u * (size_t)x, white);
+        if (any) started = 1, rows++;
+        else if (started) break;
+    }
+    return rows;
+}
+
+/* Maps of two methods, one erring a hundredth of a texel at most and one
+ * up to 100 texels, show the same error in the same colour: one scale for
+ * every map, so that a near-exact method does not look as hot as affine.
+ * Their legend's text is at least 11 px tall. */
+static void test_heatmap_shared_scale(void **state)
+{
+    (void)state;
+    enum { W = 4, H = 2 };
+    float small[W * H], large[W * H];
+    for (int i = 0; i < W * H; i++) small[i] = large[i] = 0.01f;
+    large[W * H - 1] = 100.0f;
+    persp_context *ctx = test_context();
+    persp_image img[2];
+    const float *err[2] = {small, large};
+    for (int k = 0; k < 2; k++) {
+        char path[256];
+        snprintf(path, sizeof path, "/tmp/persp-heatmap-%ld-%d.png", (long)getpid(), k);
+        assert_int_equal(persp__heatmap_write(ctx, path, err[k], W, H, PERSP_HEATMAP_TEXELS,
+                                              PERSP_HEATMAP_TEXELS_TOP),
+                         PERSP_OK);
+        assert_int_equal(persp_image_load(ctx, path, &img[k]), PERSP_OK);
+        remove(path);
+    }
+    assert_int_equal(img[0].width, img[1].width);
+    assert_int_equal(img[0].height, img[1].height);
+    /* Top-left cell of the map (grid row H - 1): 0.01 texels in both. */
+    const uint8_t *a = img[0].pixels + (size_t)(img[0].height - 1) * img[0].stride;
+    const uint8_t *b = img[1].pixels + (size_t)(img[1].height - 1) * img[1].stride;
+    print_message("0.01 texels: (%d,%d,%d) and (%d,%d,%d)\n", a[0], a[1], a[2], b[0], b[1], b[2]);
+    assert_true(same_rgb(a, b));
+    uint8_t top[3];
+    persp__heatmap_color(1.0, top);
+    assert_false(same_rgb(a, top));
+    int rows = caption_rows(&img[0]);
+    print_message("caption %d px tall\n", rows);
+    assert_true(rows >= 11);
+    for (int k = 0; k < 2; k++) persp_image_free(ctx, &img[k]);
+    persp_context_destroy(ctx);
+}
+
 /* Both captions (methods: texels; filters: 8-bit levels) are drawn whole:
  * every character but a space has a glyph of the built-in font, which
  * skips the ones it lacks. */
@@ -500,7 +556,8 @@ int main(void)
         cmocka_unit_test(test_paper_quad_corners),  cmocka_unit_test(test_exact_is_exact),
         cmocka_unit_test(test_affine_far_off),      cmocka_unit_test(test_writers_parse),
         cmocka_unit_test(test_scene_case),         cmocka_unit_test(test_bad_input),
-        cmocka_unit_test(test_heatmap_legend),      cmocka_unit_test(test_heatmap_captions),
+        cmocka_unit_test(test_heatmap_legend),
+        cmocka_unit_test(test_heatmap_shared_scale), cmocka_unit_test(test_heatmap_captions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,7 +2,7 @@
  * scene asks" (render) or the documented default (sampler, draw); every
  * enum's DEFAULT is zero; toggles switch each way; out-of-range values are
  * refused rather than read as something else. */
-#include "io/model.h"
+#include "model/model.h"
 #include "support.h"
 
 #include <math.h>

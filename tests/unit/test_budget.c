@@ -276,7 +276,7 @@ static void test_grid_memory_proportional(void **state)
     tracker t;
     persp_allocator al;
     persp_context *ctx = budget_context(&t, &al, 0);
-    /* Triangle records are held per batch (a fixed amount, src/raster/render.c);
+    /* Triangle records are held per batch (a fixed amount, src/raster/frame.c);
      * a small batch leaves what grows with the model to be measured. */
     const size_t batch = 1024;
     ctx->frame_batch = batch;

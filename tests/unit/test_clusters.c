@@ -1,4 +1,4 @@
-/* Clusters of back faces culled whole (src/raster/clusters.c) must cull
+/* Clusters of back faces culled whole (src/raster/cluster_cull.c) must cull
  * only what the rasterizer's own test culls: every triangle of a culled
  * cluster has a negative (or zero) area in the vertex stage's 1/256-pixel
  * fixed point and all its vertices inside the clip volume. Checked on
@@ -17,7 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The vertex stage's arithmetic (render.c transform_block and
+/* The vertex stage's arithmetic (frame.c transform_block and
  * window_block): clip position summed in double from 0.0 and rounded to
  * float, window position in double, rounded to 1/256 pixel. */
 static unsigned snap(const persp_mat4 *m, const float p[3], double W, double H, double gx,

@@ -328,7 +328,7 @@ static void test_failed_write_leaves_nothing(void **state)
 }
 
 /* persp_image_alloc: zeroed pixels on a 64-byte boundary whatever the size,
- * freed through persp_image_free (ASan checks the hidden header's use). */
+ * freed through persp_image_free (ASan checks the block header's use). */
 static void test_alloc_alignment(void **state)
 {
     (void)state;
@@ -347,10 +347,80 @@ static void test_alloc_alignment(void **state)
     persp_context_destroy(ctx);
 }
 
+/* An allocator that frees only what it handed out and counts the frees it
+ * was asked for. */
+typedef struct frees {
+    int asked, unknown;
+    void *given[8];
+} frees;
+
+static void *counting_alloc(void *user, size_t size)
+{
+    frees *f = user;
+    void *p = malloc(size);
+    for (int i = 0; p && i < 8; i++)
+        if (!f->given[i]) {
+            f->given[i] = p;
+            break;
+        }
+    return p;
+}
+
+static void counting_free(void *user, void *ptr)
+{
+    frees *f = user;
+    f->asked++;
+    for (int i = 0; i < 8; i++)
+        if (f->given[i] == ptr) {
+            f->given[i] = NULL;
+            free(ptr);
+            return;
+        }
+    f->unknown++;
+}
+
+/* An image the caller filled in (borrowed pixels) handed to
+ * persp_image_free: nothing is freed or read in front of the pixels (here
+ * a pointer-sized value that a freeing function reading a hidden header
+ * would pass to free), the pixels and the struct stay as they were, and the
+ * context says why. An owned image is freed as before. */
+static void test_free_borrowed(void **state)
+{
+    (void)state;
+    frees f;
+    memset(&f, 0, sizeof f);
+    persp_allocator al = {counting_alloc, counting_free, &f};
+    persp_context_desc cd = {.allocator = &al, .threads = 1};
+    persp_context *ctx = NULL;
+    assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
+    int asked0 = f.asked;
+    _Alignas(64) uint8_t buf[64 + 16];
+    void *decoy = &f;
+    memcpy(buf + 64 - sizeof decoy, &decoy, sizeof decoy);
+    memset(buf + 64, 7, 16);
+    persp_image borrowed = {2, 2, 8, buf + 64};
+    persp_image_free(ctx, &borrowed);
+    assert_int_equal(f.asked, asked0);
+    assert_ptr_equal(borrowed.pixels, buf + 64);
+    assert_int_equal(borrowed.width, 2);
+    for (int i = 0; i < 16; i++) assert_int_equal(buf[64 + i], 7);
+    assert_non_null(strstr(persp_context_error(ctx), "not allocated"));
+    persp_image owned;
+    assert_int_equal(persp_image_alloc(ctx, 2, 2, &owned), PERSP_OK);
+    persp_image copy = owned;
+    persp_image_free(ctx, &copy);
+    assert_int_equal(f.asked, asked0 + 1);
+    assert_int_equal(f.unknown, 0);
+    assert_null(copy.pixels);
+    persp_context_destroy(ctx);
+    assert_int_equal(f.unknown, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_alloc_alignment),
+        cmocka_unit_test(test_free_borrowed),
         cmocka_unit_test(test_png_round_trip_and_orientation),
         cmocka_unit_test(test_jpeg_decode_and_orientation),
         cmocka_unit_test(test_png_claiming_huge_size),

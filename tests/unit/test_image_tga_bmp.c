@@ -1,5 +1,5 @@
 /*
- * persp's own TGA and BMP decoders (src/io/image_tga.c, image_bmp.c).
+ * persp's own TGA and BMP decoders (src/image/tga.c, bmp.c).
  *
  * The files are made here: small encoders written from the format
  * specifications (Truevision TGA 2.0; Microsoft's BITMAPINFOHEADER,

@@ -6,7 +6,7 @@
 
 #include "core/internal.h"
 #include "geom/scene.h"
-#include "io/model.h"
+#include "model/model.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -1,4 +1,4 @@
-/* The model importer in its own process (src/io/import_run.c,
+/* The model importer in its own process (src/model/import_run.c,
  * docs/RELIABILITY.md, "Model files from strangers"): a reader that crashes,
  * allocates without bound or never answers ends with a one-line failure and
  * the program goes on; the budget holds the importer; an importer whose

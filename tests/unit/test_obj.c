@@ -1,4 +1,4 @@
-/* persp's OBJ + MTL reader (src/io/obj.c): every statement form, relative
+/* persp's OBJ + MTL reader (src/model/obj.c): every statement form, relative
  * indices, polygons, continuation lines, line ends, errors with their line
  * numbers, materials and map_Kd options, generated normals, runs of faces,
  * and files read in chunks with lines across a chunk's end. */
@@ -6,7 +6,7 @@
 
 #include "core/internal.h"
 #include "geom/scene.h"
-#include "io/model.h"
+#include "model/model.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -8,7 +8,7 @@
 #include "support.h"
 
 #include "core/internal.h"
-#include "io/model.h"
+#include "model/model.h"
 #include "io/text.h"
 
 #include <errno.h>

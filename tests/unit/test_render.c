@@ -493,7 +493,7 @@ static void test_bad_inputs(void **state)
 
 /* Two-sided Gouraud lights back faces either in the vertex stage, for
  * every vertex, or at set-up, for the triangles that show their back
- * (render.c, back_colours; chosen by culling): both must give the same
+ * (frame.c, back_colours; chosen by culling): both must give the same
  * image. Seen from inside its tube, every visible triangle of the torus
  * shows its back (its normals face away from the eye), so a back colour
  * computed wrongly in either place changes the image. */
@@ -580,7 +580,7 @@ static void test_batches_bit_identical(void **state)
 /* Every benchmark scene of docs/PERFORMANCE.md (scripts/bench.sh), with
  * each shading the table measures, gives the same image on one, two and
  * three worker threads, from the same triangles and fragments: the tori
- * and the soup are set up on the workers in slabs (render.c,
+ * and the soup are set up on the workers in slabs (frame.c,
  * mesh_triangles_parallel; the 2k torus in chunks smaller than the
  * others'), the corridor serially, and the tiles are drawn in parallel in
  * every case. A triangle set up twice would leave the image as it is
@@ -624,7 +624,7 @@ static void test_bench_scenes_thread_independent(void **state)
         }
 }
 
-/* The default batches adapt to how spread the last batch was (render.c,
+/* The default batches adapt to how spread the last batch was (frame.c,
  * PERSP_FRAME_BATCH_PER_WORKER): the 200k-triangle soup at 1024×768
  * touches every tile in each batch, so its batches after the first are
  * doubled; the image must be the one of a single batch. */
@@ -645,7 +645,7 @@ static void test_adaptive_batches_bit_identical(void **state)
 /* The same with the depth test off, where the image shows the submission
  * order itself: thousands of overlapping triangles drawn with persp_draw,
  * last one wins at every pixel. nt: 40 000 takes several set-up rounds of
- * full chunks on 4 threads, 3000 one round of smaller chunks (render.c,
+ * full chunks on 4 threads, 3000 one round of smaller chunks (frame.c,
  * SETUP_CHUNK_MIN). */
 static void submission_order_kept(int cross_near, int nt)
 {

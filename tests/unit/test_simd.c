@@ -2,11 +2,13 @@
  * refused, a variant the CPU cannot run fails at creation, the context
  * reports the variant it uses (AUTO resolved to one it can run), and every
  * variant draws the same image, with every lane-path filter and the lit
- * shadings whose batches are packed. */
+ * shadings whose batches are packed. A variant the CPU cannot run is
+ * reported skipped: by cmocka, and by ctest for test_simd_VARIANT (main). */
 #include "core/fmath.h"
 #include "core/internal.h"
 #include "support.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -104,9 +106,21 @@ static uint64_t render_hash(persp_simd simd, const char *scene_name, persp_filte
     return h;
 }
 
-static void test_same_image(void **state)
+/* The CPU check of a variant (a gather variant's is its instruction set's). */
+static int isa_of(persp_simd v)
 {
-    (void)state;
+    return v == PERSP_SIMD_BASELINE      ? PERSP_ISA_BASE
+           : v == PERSP_SIMD_AVX2        ? PERSP_ISA_AVX2
+           : v == PERSP_SIMD_AVX2_GATHER ? PERSP_ISA_AVX2_GATHER
+           : v == PERSP_SIMD_AVX512      ? PERSP_ISA_AVX512
+                                         : PERSP_ISA_AVX512_GATHER;
+}
+
+/* Every case drawn by variant v (the baseline: at two threads, so that a
+ * CPU with no other variant, aarch64, still compares something) against
+ * the baseline at one thread. */
+static void same_image(persp_simd v)
+{
     static const persp_filter filters[] = {PERSP_FILTER_NEAREST,
                                            PERSP_FILTER_BILINEAR,
                                            PERSP_FILTER_NEAREST_MIP_NEAREST,
@@ -121,38 +135,72 @@ static void test_same_image(void **state)
                  {"scenes/spheres.json", PERSP_SHADING_GOURAUD_PC},
                  {"scenes/bench/torus-2k.json", PERSP_SHADING_PHONG_PC},
                  {"scenes/bench/soup-200k.json", PERSP_SHADING_NONE}};
+    const int threads = v == PERSP_SIMD_BASELINE ? 2 : 1;
     int compared = 0;
     for (size_t c = 0; c < sizeof cases / sizeof *cases; c++)
         for (size_t f = 0; f < sizeof filters / sizeof *filters; f++) {
             const uint64_t ref =
                 render_hash(PERSP_SIMD_BASELINE, cases[c].scene, filters[f], cases[c].shading, 1);
             assert_true(ref != 0);
-            /* The baseline at two threads too, so that a CPU with no other
-             * variant (aarch64) still compares something. */
-            for (size_t i = 0; i < sizeof variants / sizeof *variants; i++) {
-                for (int threads = i ? 1 : 2; threads <= 2; threads++) {
-                    uint64_t h = render_hash(variants[i], cases[c].scene, filters[f],
-                                             cases[c].shading, threads);
-                    if (h == 0) continue; /* the CPU cannot run it */
-                    if (h != ref)
-                        fail_msg("%s, %s, %s, %d thread(s): --simd %s draws another image than "
-                                 "baseline",
-                                 cases[c].scene, persp_filter_name(filters[f]),
-                                 persp_shading_name(cases[c].shading), threads,
-                                 persp_simd_name(variants[i]));
-                    compared++;
-                }
-            }
+            uint64_t h = render_hash(v, cases[c].scene, filters[f], cases[c].shading, threads);
+            assert_true(h != 0);
+            if (h != ref)
+                fail_msg("%s, %s, %s, %d thread(s): --simd %s draws another image than baseline",
+                         cases[c].scene, persp_filter_name(filters[f]),
+                         persp_shading_name(cases[c].shading), threads, persp_simd_name(v));
+            compared++;
         }
     assert_true(compared > 0);
 }
 
-int main(void)
+/* One test per variant; one this CPU cannot run is reported skipped, by
+ * name, not passed. */
+static void test_same_image(void **state)
 {
+    const persp_simd v = *(const persp_simd *)*state;
+    if (!persp__isa_runs(isa_of(v))) {
+        print_message("--simd %s: this CPU cannot run it; skipped\n", persp_simd_name(v));
+        skip();
+    }
+    same_image(v);
+}
+
+/* A test of one variant, named after it in cmocka's report. */
+#define SAME_IMAGE(name, i)                                                                        \
+    {"same_image_" name, test_same_image, NULL, NULL, (void *)&variants[i]}
+
+/* No argument: every test. --common: those that run on any CPU (the names,
+ * context creation and the baseline at two threads). --variant NAME: the
+ * image comparison of that variant alone, exiting 77 (ctest's
+ * SKIP_RETURN_CODE) when the CPU cannot run it. */
+int main(int argc, char **argv)
+{
+    if (argc == 3 && !strcmp(argv[1], "--variant")) {
+        persp_simd v;
+        if (persp_simd_parse(argv[2], &v) != PERSP_OK || v == PERSP_SIMD_AUTO) {
+            fprintf(stderr, "test_simd: unknown variant %s\n", argv[2]);
+            return 2;
+        }
+        if (!persp__isa_runs(isa_of(v))) {
+            printf("SKIP: --simd %s: this CPU cannot run it\n", argv[2]);
+            return 77;
+        }
+        const struct CMUnitTest one[] = {
+            {argv[2], test_same_image, NULL, NULL, (void *)&variants[v - PERSP_SIMD_BASELINE]},
+        };
+        return cmocka_run_group_tests(one, NULL, NULL);
+    }
+    const struct CMUnitTest common[] = {
+        cmocka_unit_test(test_names),
+        cmocka_unit_test(test_create),
+        SAME_IMAGE("baseline", 0),
+    };
+    if (argc == 2 && !strcmp(argv[1], "--common")) return cmocka_run_group_tests(common, NULL, NULL);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_names),
         cmocka_unit_test(test_create),
-        cmocka_unit_test(test_same_image),
+        SAME_IMAGE("baseline", 0),      SAME_IMAGE("avx2", 1),   SAME_IMAGE("avx2-gather", 2),
+        SAME_IMAGE("avx512", 3),        SAME_IMAGE("avx512-gather", 4),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

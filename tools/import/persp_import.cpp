@@ -1,5 +1,5 @@
 /*
- * persp-import: the process persp imports a model in (src/io/import_run.c).
+ * persp-import: the process persp imports a model in (src/model/import_run.c).
  * It sets its own limits before it reads a byte of the model, since
  * posix_spawn sets none, then answers persp over stdin (a socket) through
  * persp__import_serve. Installed beside libpersp (PREFIX/libexec/persp/);
@@ -12,8 +12,8 @@
  * filter could not be set.
  */
 extern "C" {
-#include "io/import_run.h"
-#include "io/import_wire.h"
+#include "model/import_run.h"
+#include "model/import_wire.h"
 }
 
 #if defined(__SANITIZE_ADDRESS__)

@@ -1,5 +1,5 @@
 /*
- * Where the model importer runs (src/io/import_wire.h): persp-import, a
+ * Where the model importer runs (src/model/import_wire.h): persp-import, a
  * helper process started for each import, or a thread of the caller's
  * process when the caller asks for it (PERSP_MODEL_IMPORT_IN_PROCESS).
  *
@@ -15,10 +15,10 @@
  * wall-clock limit and kills it when it passes.
  */
 #define _GNU_SOURCE /* dladdr, posix_spawn_file_actions_addclosefrom_np */
-#include "io/import_run.h"
+#include "model/import_run.h"
 
 #include "core/internal.h"
-#include "io/import_wire.h"
+#include "model/import_wire.h"
 #include "io/text.h"
 
 #include <dlfcn.h>

@@ -1,10 +1,10 @@
 /*
- * The vertices of one OBJ run (src/io/obj.c): one per distinct corner with
+ * The vertices of one OBJ run (src/model/obj.c): one per distinct corner with
  * the file's normals, or, where the file gives none, normals made the way
  * Assimp 5.2's GenVertexNormals step made them (80 degree crease), so that
  * images stay as they were (docs/SCENES.md, "Models").
  */
-#include "io/obj_reader.h"
+#include "model/obj_reader.h"
 
 #include "core/internal.h"
 

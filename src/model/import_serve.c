@@ -1,5 +1,5 @@
 /*
- * The importer's side of the conversation of src/io/import_wire.h: Assimp
+ * The importer's side of the conversation of src/model/import_wire.h: Assimp
  * reads the model persp sent, the scene it makes is checked, triangulated
  * and turned into persp's vertices, materials and instances, which go back
  * as records. This runs in persp-import (tools/import/), a process of its
@@ -14,8 +14,8 @@
  * every block the importer was handed is freed at the end, including those
  * of files Assimp left open when it gave up.
  */
-#include "io/import_wire.h"
-#include "io/model.h"
+#include "model/import_wire.h"
+#include "model/model.h"
 
 #include <assimp/cfileio.h>
 #include <assimp/cimport.h>

@@ -1,6 +1,6 @@
-/* Both ends of the importer's socket (src/io/import_wire.h). */
+/* Both ends of the importer's socket (src/model/import_wire.h). */
 #define _GNU_SOURCE /* MSG_NOSIGNAL */
-#include "io/import_wire.h"
+#include "model/import_wire.h"
 
 #include <errno.h>
 #include <poll.h>

@@ -1,7 +1,7 @@
 /*
  * Triangle clusters of a mesh (persp_cluster, src/geom/scene.h): what a
  * frame needs to cull a run of back faces whole, and to skip the vertex
- * work of vertices only culled runs use (src/raster/clusters.c). The
+ * work of vertices only culled runs use (src/raster/cluster_cull.c). The
  * bounds are those of cone culling of clustered meshes (normal cones of
  * Shirman and Abi-Ezzi 1993, as GPU mesh pipelines use them); what persp
  * adds is a bound under which a cluster's test implies the rasterizer's own

@@ -98,7 +98,7 @@ int persp__wire_skip(wire_chan *c, uint64_t n);
  * the importer did. out_of_memory (NULL: none) says whether an allocation
  * failed during the import, which the reader may have reported as
  * something else. Runs in persp-import and on persp's own thread for
- * PERSP_MODEL_IMPORT_IN_PROCESS (src/io/import_serve.c). */
+ * PERSP_MODEL_IMPORT_IN_PROCESS (src/model/import_serve.c). */
 int persp__import_serve(int fd, int (*out_of_memory)(void));
 
 #endif

@@ -6,7 +6,7 @@
  * found by the model fuzzer or on real files (docs/RELIABILITY.md).
  */
 #include "core/internal.h"
-#include "io/model.h"
+#include "model/model.h"
 
 #include <ctype.h>
 #include <stdint.h>

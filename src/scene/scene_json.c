@@ -7,7 +7,7 @@
  */
 #include "core/internal.h"
 #include "io/json_text.h"
-#include "io/model.h"
+#include "model/model.h"
 #include "io/text.h"
 
 #include <jansson.h>

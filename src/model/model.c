@@ -1,13 +1,13 @@
 /*
  * Models through Assimp: every format Assimp reads (glTF 2.0 and GLB, PLY,
  * STL, FBX, COLLADA, 3DS, ...) becomes persp meshes, materials and
- * textures. OBJ/MTL goes to persp's own reader (src/io/obj.c); what the
+ * textures. OBJ/MTL goes to persp's own reader (src/model/obj.c); what the
  * two share (the files a model names, colours, parts) is in
- * src/io/model_refs.c.
+ * src/model/model_refs.c.
  *
  * Assimp itself runs in persp-import, a process of its own with limits
- * (src/io/import_run.c), or on request on a thread of this one; the two
- * talk over a socket (src/io/import_wire.h). This side picks the reader
+ * (src/model/import_run.c), or on request on a thread of this one; the two
+ * talk over a socket (src/model/import_wire.h). This side picks the reader
  * (the formats enabled, the content agreeing with the name), sends the
  * model, serves the files the model names from the model's folder (Assimp
  * opens none itself), checks everything that comes back before it is used
@@ -16,10 +16,10 @@
  * the same as everywhere else.
  */
 #include "core/internal.h"
-#include "io/import_run.h"
-#include "io/import_wire.h"
-#include "io/model.h"
-#include "io/obj.h"
+#include "model/import_run.h"
+#include "model/import_wire.h"
+#include "model/model.h"
+#include "model/obj.h"
 #include "io/text.h"
 
 #include <assimp/cimport.h>
@@ -681,7 +681,7 @@ static int off_keyword(const char *d, size_t n)
     return len >= 3 && len < 12 && !strncmp(p + len - 3, "OFF", 3);
 }
 /* The keyword is optional: the first line may hold the counts. The
- * checks of src/io/model_check.c have read the header by then. */
+ * checks of src/model/model_check.c have read the header by then. */
 static int looks_off(const char *d, size_t n)
 {
     const char *p = skip_blank(d, d + n);
@@ -918,7 +918,7 @@ static persp_status refused(persp_context *ctx, const char *display, const model
 }
 
 /* What an import through Assimp needs before it starts: the reader
- * (pick_reader, after the header checks of src/io/model_check.c, whose
+ * (pick_reader, after the header checks of src/model/model_check.c, whose
  * messages say more than that a file is not what its name says), where it
  * runs, and its memory: in this process Assimp allocates with new/malloc
  * and its C API has no allocator hook, so its need is reserved from the

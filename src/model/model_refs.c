@@ -1,11 +1,11 @@
 /*
- * What persp's OBJ reader (src/io/obj.c) and the Assimp importer
- * (src/io/model.c) share: the files a model names (found relative to its
+ * What persp's OBJ reader (src/model/obj.c) and the Assimp importer
+ * (src/model/model.c) share: the files a model names (found relative to its
  * folder, by its last part, in any case, inside the load root; glTF's names
  * as URIs), its textures, its materials' colours and its parts.
  */
 #include "core/internal.h"
-#include "io/model.h"
+#include "model/model.h"
 #include "io/text.h"
 
 #include <ctype.h>

@@ -1,6 +1,6 @@
 /*
  * RGBA8 image allocation and the size limits every image obeys. Here rather
- * than with the file formats (src/io/image.c) because built-in scenes,
+ * than with the file formats (src/image/load.c) because built-in scenes,
  * textures and framebuffers allocate images without reading any file.
  */
 #include "core/internal.h"
@@ -23,6 +23,16 @@ persp_status persp__image_check_size(persp_context *ctx, const char *name, long 
 
 #define IMAGE_ALIGN 64
 
+/* Kept just before the pixels of every image persp allocates, and linked
+ * into the context's list. persp_image_free looks an image's pixel pointer
+ * up in that list before reading anything around it: the pixels of an image
+ * the caller filled in (borrowed) are never in it, so persp_image_free
+ * leaves them alone instead of reading memory in front of them. */
+struct persp_image_block {
+    struct persp_image_block *prev, *next;
+    void *raw; /* the allocation, for persp__free */
+};
+
 persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_image *out)
 {
     if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
@@ -37,16 +47,20 @@ persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_
     size_t stride = (size_t)width * 4u;
     /* Pixels start on a 64-byte boundary (the allocator guarantees 16): an
      * image used as a framebuffer then shares no cache line between tiles
-     * drawn by different threads (docs/PERFORMANCE.md). The allocation's
-     * own address is kept just before the pixels for persp_image_free. */
-    size_t bytes = (size_t)height * stride + IMAGE_ALIGN + sizeof(void *);
+     * drawn by different threads (docs/PERFORMANCE.md). */
+    const size_t head = sizeof(struct persp_image_block);
+    size_t bytes = (size_t)height * stride + IMAGE_ALIGN + head;
     uint8_t *raw = persp__calloc(ctx, 1, bytes);
     if (!raw)
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "image: out of memory for %dx%d", width,
                            height);
-    uintptr_t at = ((uintptr_t)raw + sizeof(void *) + IMAGE_ALIGN - 1) & ~(uintptr_t)(IMAGE_ALIGN - 1);
+    uintptr_t at = ((uintptr_t)raw + head + IMAGE_ALIGN - 1) & ~(uintptr_t)(IMAGE_ALIGN - 1);
     uint8_t *px = raw + (at - (uintptr_t)raw);
-    memcpy(px - sizeof(void *), &raw, sizeof raw);
+    struct persp_image_block b = {NULL, ctx->images, raw};
+    memcpy(px - head, &b, head);
+    struct persp_image_block *node = (struct persp_image_block *)(void *)(px - head);
+    if (ctx->images) ctx->images->prev = node;
+    ctx->images = node;
     out->width = width;
     out->height = height;
     out->stride = stride;
@@ -56,12 +70,21 @@ persp_status persp_image_alloc(persp_context *ctx, int width, int height, persp_
 
 void persp_image_free(persp_context *ctx, persp_image *img)
 {
-    if (!img) return;
-    if (img->pixels) {
-        uint8_t *raw;
-        memcpy(&raw, img->pixels - sizeof(void *), sizeof raw);
-        persp__free(ctx, raw);
+    if (!img || !img->pixels) return;
+    if (!ctx) return;
+    struct persp_image_block *b = ctx->images;
+    while (b && (const uint8_t *)(b + 1) != img->pixels) b = b->next;
+    if (!b) {
+        /* Borrowed pixels (or another context's): not persp's to free. */
+        persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                    "persp_image_free: these pixels were not allocated by this context's "
+                    "persp_image_alloc or persp_image_load; left as they are");
+        return;
     }
+    if (b->prev) b->prev->next = b->next;
+    else ctx->images = b->next;
+    if (b->next) b->next->prev = b->prev;
+    persp__free(ctx, b->raw);
     memset(img, 0, sizeof *img);
 }
 

@@ -1,6 +1,6 @@
 /* Texture files shared by the objects and materials of one scene load. */
 #include "core/internal.h"
-#include "io/model.h"
+#include "model/model.h"
 #include "io/text.h"
 
 #include <string.h>

@@ -1,7 +1,7 @@
 /*
  * persp's own decoders, for the image formats that have no system library
  * persp links (PNG and JPEG are read through libpng and libjpeg in
- * image.c): Truevision TGA (image_tga.c) and Windows BMP (image_bmp.c).
+ * load.c): Truevision TGA (tga.c) and Windows BMP (bmp.c).
  *
  * Each reads a whole file from memory into RGBA8, row 0 the bottom row of
  * the displayed picture (persp.h), alpha 255 where the file has none. Every

@@ -1,4 +1,4 @@
-/* Starting and ending the model importer (src/io/import_run.c). */
+/* Starting and ending the model importer (src/model/import_run.c). */
 #ifndef PERSP_IO_IMPORT_RUN_H
 #define PERSP_IO_IMPORT_RUN_H
 

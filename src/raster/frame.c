@@ -632,7 +632,7 @@ static void vertex_task(void *user, int task, int worker)
     }
 }
 
-/* The cluster tests of one mesh (src/raster/clusters.c), split over the
+/* The cluster tests of one mesh (src/raster/cluster_cull.c), split over the
  * workers in ranges of CLUSTER_TASK clusters. */
 #define CLUSTER_TASK 2048u
 
@@ -660,7 +660,7 @@ typedef struct tri_job {
     persp_mat4 mvp; /* clip positions of clipped triangles (clip_position) */
     const float *back; /* the vertex stage's back colours, or NULL (back_colours) */
     const uint8_t *lazy; /* the vertices whose front colour set-up lights, or NULL (front_colours) */
-    const uint8_t *culled; /* per cluster of the mesh: culled whole, or NULL (src/raster/clusters.c) */
+    const uint8_t *culled; /* per cluster of the mesh: culled whole, or NULL (src/raster/cluster_cull.c) */
     double gx, gy;
     setup_slab *slabs;
     size_t first; /* first input triangle of the round */
@@ -980,7 +980,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
     job.gx = PERSP_GUARD_PIXELS / (0.5 * f->fb->width);
     job.gy = PERSP_GUARD_PIXELS / (0.5 * f->fb->height);
     /* Clusters of back faces culled whole, and the vertices only they use
-     * left out of the vertex stage (src/raster/clusters.c): not for a
+     * left out of the vertex stage (src/raster/cluster_cull.c): not for a
      * capture, which the analyses read with every vertex. */
     const uint8_t *culled = NULL;
     if (cull && mesh->clusters && !f->capture && !f->ctx->no_cluster_cull) {

@@ -8,7 +8,7 @@
  * 8); the developer area, extension area and footer that may follow are
  * ignored. Pixels are stored little-endian, B before G before R.
  */
-#include "io/image_decoders.h"
+#include "image/decoders.h"
 
 #include <stdint.h>
 

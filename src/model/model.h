@@ -90,7 +90,7 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
                                       const char *name, const char *base_dir, size_t max_vertices,
                                       persp_scene **out);
 
-/* --------------------- shared by model.c and obj.c (src/io/model_refs.c) */
+/* --------------------- shared by model.c and obj.c (src/model/model_refs.c) */
 
 static inline int persp__model_finite3(float x, float y, float z)
 {
@@ -166,7 +166,7 @@ void persp__model_warn_no_uv(const persp_scene *scene, const persp_model *model,
 int persp__model_triangle_has_area(const float *a, const float *b, const float *c);
 
 /* The checks a model file must pass before Assimp reads it
- * (src/io/model_check.c): PERSP_ERR_FORMAT or PERSP_ERR_TOO_LARGE with the
+ * (src/model/model_check.c): PERSP_ERR_FORMAT or PERSP_ERR_TOO_LARGE with the
  * detail set, or PERSP_OK (possibly after a warning). buf: the file's
  * bytes, text normalised; display: its name in messages. */
 persp_status persp__model_check(persp_context *ctx, const char *display, const char *buf,

@@ -1,11 +1,11 @@
 /*
- * The OBJ reader's state (src/io/obj.c), shared with the making of a run's
- * vertices and normals (src/io/obj_vertices.c). Private to those two files.
+ * The OBJ reader's state (src/model/obj.c), shared with the making of a run's
+ * vertices and normals (src/model/obj_vertices.c). Private to those two files.
  */
 #ifndef PERSP_IO_OBJ_READER_H
 #define PERSP_IO_OBJ_READER_H
 
-#include "io/model.h"
+#include "model/model.h"
 
 #include <math.h>
 #include <stddef.h>

@@ -13,7 +13,7 @@
  * negative one the top row first. Every stored row is padded to a multiple
  * of 4 bytes.
  */
-#include "io/image_decoders.h"
+#include "image/decoders.h"
 
 #include <stdint.h>
 

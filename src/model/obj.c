@@ -7,18 +7,18 @@
  * attribute and index arrays allocated once at their final size (only the
  * list of a run's distinct corners grows, by doubling). A file is read in
  * chunks of OBJ_CHUNK bytes, never whole, so a model costs what its mesh
- * costs (docs/RELIABILITY.md, "Bounded resources"); nothing is allocated
+ * costs (docs/RELIABILITY.md, "Memory and time bounds"); nothing is allocated
  * per line or per face.
  *
  * The results follow what Assimp 5.2 made of the same files, so that images
  * stay as they were: one mesh per run of faces between a change of group,
  * object or material; polygons cut the way Assimp's triangulation cuts
  * them; normals, where the file gives none, made the way its
- * GenVertexNormals step makes them (80 degree crease, src/io/obj_vertices.c);
- * the MTL defaults of its reader. The reader's state is in io/obj_reader.h.
+ * GenVertexNormals step makes them (80 degree crease, src/model/obj_vertices.c);
+ * the MTL defaults of its reader. The reader's state is in model/obj_reader.h.
  */
-#include "io/obj.h"
-#include "io/obj_reader.h"
+#include "model/obj.h"
+#include "model/obj_reader.h"
 
 #include "core/internal.h"
 #include "io/text.h"

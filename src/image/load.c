@@ -1,8 +1,8 @@
 /*
  * RGBA8 images: PNG and JPEG decoding, and the choice of decoder (by the
  * content; TGA, which has no signature, also by the name); TGA and BMP are
- * decoded in image_tga.c and image_bmp.c, encoding is in image_write.c,
- * allocation in src/core/image.c.
+ * decoded in tga.c and bmp.c, encoding is in write.c,
+ * allocation in src/core/image_alloc.c.
  *
  * Rows are stored bottom-to-top (row 0 = bottom of the displayed image,
  * docs/CONVENTIONS.md); both file formats store the top row first, so every
@@ -11,7 +11,7 @@
  * so a forged header cannot make persp allocate gigabytes.
  */
 #include "core/internal.h"
-#include "io/image_decoders.h"
+#include "image/decoders.h"
 #include "io/text.h"
 
 #include <errno.h>

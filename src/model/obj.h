@@ -1,11 +1,11 @@
 /*
- * persp's own Wavefront OBJ + MTL reader (src/io/obj.c), used for every OBJ
+ * persp's own Wavefront OBJ + MTL reader (src/model/obj.c), used for every OBJ
  * model in place of Assimp's (docs/SCENES.md, "Models").
  */
 #ifndef PERSP_IO_OBJ_H
 #define PERSP_IO_OBJ_H
 
-#include "io/model.h"
+#include "model/model.h"
 
 /* Reads an OBJ model into scene, with the contract of
  * persp__model_load_memory: from data (size bytes, the caller's, read in
