@@ -88,6 +88,9 @@ int cmd_accuracy_shading(int argc, char **argv)
     desc.height = size.height;
     /* The figures are written last: a path that cannot be is known now. */
     if ((rc = cli_check_output("accuracy --shading", "--svg", desc.svg_path)) != CLI_OK) return rc;
+    if ((rc = cli_check_not_input("accuracy --shading", "--svg", desc.svg_path, desc.scene)) != CLI_OK ||
+        (rc = cli_check_not_input("accuracy --shading", "-o", output, desc.scene)) != CLI_OK)
+        return rc;
     cli_run_desc run = {.command = "accuracy --shading", .max_memory = max_memory, .report = 1, .output = output};
     return cli_run(&run, shading_body, &desc);
 }

@@ -258,7 +258,8 @@ static int view_body(persp_context *ctx, cli_output *out, void *user)
     persp_image coord_img = {0, 0, 0, NULL};
     int rc = view_load(ctx, job, &scene, &tinted, &coords, &coord_img);
     if (rc == CLI_OK) {
-        if (!job->method) default_left_method(scene, &job->left);
+        /* The single layout compares nothing: the scene's own method. */
+        if (!job->method && job->layout != VIEW_LAYOUT_SINGLE) default_left_method(scene, &job->left);
         view_scenes scenes = {scene, tinted, coords};
         int width = job->size.width, height = job->size.height;
         if (!width) persp_scene_default_size(scene, &width, &height);
@@ -287,7 +288,8 @@ static int view_parse(int argc, char **argv, view_job *job, size_t *max_memory)
     cli_option opts[] = {
         CLI_OPT_HELP(cli_opt_method, &job->method,
                      "method of the left side (default: the scene's, or affine\n"
-                     "where the scene names none or exact)"),
+                     "where the scene names none or exact and the layout\n"
+                     "compares)"),
         CLI_OPT(compare_spec, &job->compare),
         CLI_OPT(cli_opt_filter, &filter),
         CLI_OPT(cli_opt_wrap, &left->wrap),
