@@ -455,6 +455,14 @@ static void where(char *buf, size_t size, const char *path, size_t line)
     else snprintf(buf, size, "%s: ", path);
 }
 
+/* key for a one-line message: control bytes as '?', at most 64 bytes. */
+static void printable_key(const char *key, char *buf, size_t size)
+{
+    size_t n = 0;
+    for (; key[n] && n + 1 < size && n < 64; n++) buf[n] = (unsigned char)key[n] < 0x20 || key[n] == 0x7f ? '?' : key[n];
+    buf[n] = '\0';
+}
+
 /* A key that is none of allowed (NULL-terminated; "comment" is allowed
  * everywhere, as in scene files): 0 after the message naming file, line
  * and key. */
@@ -467,12 +475,13 @@ static int known_keys(json_t *obj, const char *const *allowed, const char *text,
         int ok = !strcmp(key, "comment");
         for (size_t i = 0; allowed[i] && !ok; i++) ok = !strcmp(key, allowed[i]);
         if (ok) continue;
-        char at[1024], list[256] = "";
+        char at[1024], list[256] = "", shown[80];
         where(at, sizeof at, path, key_line(text, n, elem, key));
+        printable_key(key, shown, sizeof shown);
         for (size_t i = 0; allowed[i]; i++)
             snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", allowed[i]);
-        if (elem < 0) snprintf(err, err_size, "%s%s: unknown key (expected one of: %s)", at, key, list);
-        else snprintf(err, err_size, "%skeys[%ld].%s: unknown key (expected one of: %s)", at, elem, key, list);
+        if (elem < 0) snprintf(err, err_size, "%s%s: unknown key (expected one of: %s)", at, shown, list);
+        else snprintf(err, err_size, "%skeys[%ld].%s: unknown key (expected one of: %s)", at, elem, shown, list);
         return 0;
     }
     return 1;
