@@ -747,6 +747,8 @@ void panel(state &s)
     /* A small window keeps its image visible: the panel starts folded. */
     ImGui::SetNextWindowCollapsed(io.DisplaySize.x < 900.0f, ImGuiCond_FirstUseEver);
     ImGui::Begin("persp view  (F1 hides)", &s.panel);
+    /* In the narrower panel the labels keep 110 pixels beside the widgets. */
+    ImGui::PushItemWidth(-110.0f);
     if (ImGui::CollapsingHeader("Camera")) camera_section(s);
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
         enum_combo("layout (Tab)", &s.layout, 0, 3, layout_label);
@@ -754,7 +756,7 @@ void panel(state &s)
         if (s.layout == VIEW_LAYOUT_SPLIT && ImGui::SliderFloat("divider", &d, 0.0f, 1.0f, "%.2f"))
             s.divider = d;
         bool stats = s.error_stats;
-        if (ImGui::Checkbox("error statistics (renders the right side too)", &stats))
+        if (ImGui::Checkbox("error statistics (both sides)", &stats))
             s.error_stats = stats;
         if (s.layout == VIEW_LAYOUT_DIFF || s.layout == VIEW_LAYOUT_TEXEL) {
             bool texel = s.layout == VIEW_LAYOUT_TEXEL;
@@ -780,6 +782,7 @@ void panel(state &s)
             start_playing(s, s.recorded.count ? &s.recorded : s.args->play);
         ImGui::TextDisabled("screenshots: %s/\nflight: %s", s.args->shot_dir, s.args->record_path);
     }
+    ImGui::PopItemWidth();
     ImGui::End();
     if (s.right_follows) {
         /* The reference keeps its method and its real textures. */
