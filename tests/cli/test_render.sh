@@ -100,7 +100,7 @@ expect 0 "render [0-9.]+ ms \([0-9.]+ Mpixels/s\), encode and write [0-9.]+ ms, 
     "$persp" render cube --size 32x24 -o "$tmp/timed.png"
 # -o naming an input is refused before anything is written, whatever the
 # spelling: the scene, a link to it, the --texture image.
-cp "$(dirname "$0")/../../scenes/spheres.json" "$tmp/s.json"
+printf '{"objects": [{"mesh": "plane", "transform": {"scale": [3, 1, 3]}}]}\n' >"$tmp/s.json"
 cp "$tmp/s.json" "$tmp/s.orig"
 expect 2 "-o '$tmp/s.json' is the input file" -- "$persp" render "$tmp/s.json" --format png -o "$tmp/s.json"
 expect 2 "is the input file" -- "$persp" render "$tmp/s.json" --format png -o "$tmp/./s.json"
