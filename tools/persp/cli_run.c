@@ -71,7 +71,7 @@ int cli_run(const cli_run_desc *d, cli_body body, void *user)
     }
     if (rc == CLI_OK) {
         rc = body(ctx, d->report ? &out : NULL, user);
-        int cap_rc = cli_cap_end(d->command, &out, &cap, d->limit_option ? d->limit_option : "the limit of",
+        int cap_rc = cli_cap_end(d->command, &out, &cap, d->limit_option ? d->limit_option : "the output limit",
                                  rc == CLI_OK);
         if (rc == CLI_OK) rc = cap_rc;
         if (d->report) {
