@@ -337,6 +337,14 @@ typedef enum persp_lod_mode {
     PERSP_LOD_POLYGON    /* once per polygon from the texel/pixel area ratio */
 } persp_lod_mode;
 
+/* The most taps of the anisotropic filters ("aniso:N", N = 2..16), and
+ * their number where max_aniso is 0. */
+#define PERSP_MAX_ANISO 16
+/* The bound of the level-of-detail clamp: OpenGL's defaults of
+ * TEXTURE_MIN_LOD and TEXTURE_MAX_LOD are -1000 and 1000 (OpenGL 4.6 core
+ * profile, Table 23.19), and min_lod, max_lod lie in [-1000, 1000]. */
+#define PERSP_LOD_LIMIT 1000.0f
+
 /* Zero-initialised: bilinear, repeat, no LOD bias or clamp. */
 typedef struct persp_sampler_desc {
     persp_wrap wrap_s, wrap_t;

@@ -51,6 +51,119 @@ static void eye_lights(const persp_scene *s, const persp_mat4 *view, persp_light
     }
 }
 
+/* The render settings against their ranges. The texture settings are the
+ * sampler's, checked by the sampler's own rule (persp__sampler_desc_problem)
+ * on the sampler they would give; a problem is named as persp_render_desc
+ * names the field. */
+static persp_status check_render_desc(persp_context *ctx, const persp_render_desc *dd)
+{
+    if ((unsigned)dd->pipeline > PERSP_PIPELINE_OBJECT)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.pipeline is out of range");
+    persp_sampler_desc probe;
+    memset(&probe, 0, sizeof probe);
+    probe.wrap_s = probe.wrap_t = dd->wrap;
+    probe.filter = dd->filter;
+    probe.max_aniso = dd->max_aniso;
+    probe.lod_bias = dd->lod_bias;
+    probe.lod_mode = dd->lod_mode;
+    probe.lod_clamp = dd->lod_clamp;
+    probe.min_lod = dd->min_lod;
+    probe.max_lod = dd->max_lod;
+    const char *sampler = persp__sampler_desc_problem(&probe);
+    /* wrap_s and wrap_t are both the desc's wrap. */
+    if (sampler && !strncmp(sampler, "wrap_", 5)) sampler = "wrap";
+    const char *bad = sampler                                               ? sampler
+                      : (unsigned)dd->shading >= PERSP_SHADING_COUNT        ? "shading"
+                      : (unsigned)dd->cull_backfaces > PERSP_TOGGLE_OFF     ? "cull_backfaces"
+                      : (unsigned)dd->count_ops > PERSP_TOGGLE_OFF          ? "count_ops"
+                      : dd->depth_mode != PERSP_DEPTH_DEFAULT && dd->depth_mode != PERSP_DEPTH_Z &&
+                              dd->depth_mode != PERSP_DEPTH_INVW
+                          ? "depth_mode"
+                          : NULL;
+    if (bad)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.%s is out of range", bad);
+    if ((dd->view && !mat4_finite(dd->view)) || (dd->projection && !mat4_finite(dd->projection)))
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a camera matrix is not finite");
+    return PERSP_OK;
+}
+
+/* An object's sampler: its material's, with what the desc overrides. */
+static persp_sampler_desc object_sampler(const persp_render_desc *dd, const persp_material *mat)
+{
+    persp_sampler_desc sd = mat->sampler;
+    if (dd->filter != PERSP_FILTER_DEFAULT) sd.filter = dd->filter;
+    if (dd->max_aniso != 0) sd.max_aniso = dd->max_aniso;
+    if (dd->wrap != PERSP_WRAP_DEFAULT) sd.wrap_s = sd.wrap_t = dd->wrap;
+    if (dd->lod_mode != PERSP_LOD_DEFAULT) sd.lod_mode = dd->lod_mode;
+    /* Scene surfaces are opaque (textures are made so at load): the
+     * border colour too, or clamp-to-border would draw see-through
+     * pixels with the default border (0, 0, 0, 0). */
+    sd.border[3] = 255;
+    sd.lod_bias += dd->lod_bias;
+    if (dd->lod_clamp != PERSP_TOGGLE_DEFAULT) {
+        sd.lod_clamp = dd->lod_clamp;
+        sd.min_lod = dd->min_lod;
+        sd.max_lod = dd->max_lod;
+    }
+    return sd;
+}
+
+/* What one frame's objects share. */
+typedef struct frame_setup {
+    const persp_scene *scene;
+    const persp_render_desc *dd;
+    persp_method_sel method;
+    persp_mat4 view, proj;
+    int cull_backfaces;
+    persp_draw_state ds; /* the lights; the rest is set per object */
+} frame_setup;
+
+/* Sets up object i's draw state and queues its mesh. */
+static persp_status draw_object(persp_context *ctx, frame_setup *fs, size_t i, persp_frame *f)
+{
+    const persp_scene *scene = fs->scene;
+    const persp_render_desc *dd = fs->dd;
+    persp_draw_state *ds = &fs->ds;
+    const persp_object *o = &scene->objects[i];
+    const persp_material *mat = &scene->materials[o->material];
+    persp_status st;
+    ds->method = fs->method;
+    ds->material = *mat;
+    ds->shading = dd->shading != PERSP_SHADING_DEFAULT ? dd->shading : scene->shading;
+    ds->depth_test = ds->depth_write = 1;
+    const int tex = persp__object_texture(scene, o);
+    ds->tex = tex >= 0 ? scene->textures[tex] : NULL;
+    if (!ds->tex) ds->material.texture = ds->material.specular_texture = -1;
+    if (ds->tex) {
+        persp_sampler_desc sd = object_sampler(dd, mat);
+        st = persp__sampler_init_isa(&ds->sampler, ds->tex, &sd, ctx->isa);
+        if (st != PERSP_OK) {
+            const char *bad_sampler = persp__sampler_desc_problem(&sd);
+            return persp__fail(ctx, st, "render: sampler setting %s is out of range", bad_sampler ? bad_sampler : "?");
+        }
+    }
+    ds->color_material = scene->meshes[o->mesh].colored;
+    if ((st = persp__shade_resolve(ctx, ds)) != PERSP_OK) return st;
+    uint32_t si;
+    if ((st = persp__frame_add_state(f, ds, &si)) != PERSP_OK) return st;
+    /* A mirrored object's front faces wind clockwise (PERSP_CULL_CCW). */
+    const int cull = !fs->cull_backfaces                   ? PERSP_CULL_NONE
+                     : persp_mat4_det3(o->model) < 0.0 ? PERSP_CULL_CCW
+                                                       : PERSP_CULL_CW;
+    /* Texture-coordinate generation ([CS300-TexMap] map shapes and the
+     * sphere map, src/geom/texgen.c) per frame: the reflection map
+     * follows the view. The coordinates persp_scene_object_texcoords
+     * hands to other renderers. */
+    const persp_mesh *mesh = &scene->meshes[o->mesh];
+    float *uv = NULL;
+    if (o->texgen != PERSP_TEXGEN_UV) {
+        if (!(uv = persp__frame_uv_buffer(f, mesh->vertex_count)))
+            return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
+        (void)persp_scene_object_texcoords(scene, i, &fs->view, uv);
+    }
+    return persp__frame_add_mesh(f, mesh, &o->model, &fs->view, &fs->proj, si, uv, cull);
+}
+
 static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
                                  const persp_render_desc *desc, persp_framebuffer *fb,
                                  persp_frame *f, persp_capture *cap)
@@ -58,36 +171,15 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     persp_render_desc dd;
     memset(&dd, 0, sizeof dd);
     if (desc) dd = *desc;
-    if ((unsigned)dd.pipeline > PERSP_PIPELINE_OBJECT)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.pipeline is out of range");
-    /* The first setting out of range, named as persp_render_desc names it. */
-    const char *bad = (unsigned)dd.filter >= PERSP_FILTER_COUNT                 ? "filter"
-                      : (unsigned)dd.wrap > PERSP_WRAP_CLAMP_TO_BORDER          ? "wrap"
-                      : (unsigned)dd.shading >= PERSP_SHADING_COUNT             ? "shading"
-                      : (unsigned)dd.lod_mode > PERSP_LOD_POLYGON               ? "lod_mode"
-                      : (unsigned)dd.lod_clamp > PERSP_TOGGLE_OFF               ? "lod_clamp"
-                      : (unsigned)dd.cull_backfaces > PERSP_TOGGLE_OFF          ? "cull_backfaces"
-                      : (unsigned)dd.count_ops > PERSP_TOGGLE_OFF               ? "count_ops"
-                      : dd.max_aniso < 0 || dd.max_aniso == 1 || dd.max_aniso > 16 ? "max_aniso (0, or 2..16)"
-                      : !isfinite(dd.lod_bias)                                  ? "lod_bias (finite)"
-                                                                                : NULL;
-    if (bad)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.%s is out of range",
-                           bad);
-    if ((dd.view && !mat4_finite(dd.view)) || (dd.projection && !mat4_finite(dd.projection)))
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: a camera matrix is not finite");
-    if (dd.lod_clamp == PERSP_TOGGLE_ON &&
-        (!isfinite(dd.min_lod) || !isfinite(dd.max_lod) || dd.min_lod > dd.max_lod))
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                           "render: persp_render_desc.min_lod %g, max_lod %g: both finite, min_lod <= max_lod",
-                           (double)dd.min_lod, (double)dd.max_lod);
-    persp_status st;
-    persp_method_sel method;
-    st = persp__method_resolve(ctx, dd.method ? dd.method : scene->method[0] ? scene->method : "exact", &method);
+    persp_status st = check_render_desc(ctx, &dd);
+    if (st != PERSP_OK) return st;
+    frame_setup fs;
+    memset(&fs, 0, sizeof fs);
+    fs.scene = scene;
+    fs.dd = &dd;
+    st = persp__method_resolve(ctx, dd.method ? dd.method : scene->method[0] ? scene->method : "exact", &fs.method);
     if (st != PERSP_OK) return st;
     if (dd.depth_mode == PERSP_DEPTH_DEFAULT) dd.depth_mode = PERSP_DEPTH_Z;
-    if (dd.depth_mode != PERSP_DEPTH_Z && dd.depth_mode != PERSP_DEPTH_INVW)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.depth_mode is out of range");
 
     st = persp__frame_begin(ctx, fb, dd.depth_mode, f);
     if (st != PERSP_OK) return st;
@@ -95,74 +187,15 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     f->count_ops = dd.count_ops == PERSP_TOGGLE_ON;
     persp__frame_clear(f, scene->clear);
 
-    persp_mat4 proj, view;
-    persp_scene_get_camera(scene, fb->width, fb->height, &view, &proj);
-    if (dd.view) view = *dd.view;
-    if (dd.projection) proj = *dd.projection;
-    f->proj = proj;
-    persp_draw_state ds;
-    memset(&ds, 0, sizeof ds);
-    eye_lights(scene, &view, &ds.lighting);
-    const int cull_backfaces = dd.cull_backfaces == PERSP_TOGGLE_ON ||
-                               (dd.cull_backfaces == PERSP_TOGGLE_DEFAULT && scene->cull_backfaces);
-
-    for (size_t i = 0; i < scene->object_count; i++) {
-        const persp_object *o = &scene->objects[i];
-        const persp_material *mat = &scene->materials[o->material];
-        ds.method = method;
-        ds.material = *mat;
-        ds.shading = dd.shading != PERSP_SHADING_DEFAULT ? dd.shading : scene->shading;
-        ds.depth_test = ds.depth_write = 1;
-        const int tex = persp__object_texture(scene, o);
-        ds.tex = tex >= 0 ? scene->textures[tex] : NULL;
-        if (!ds.tex) ds.material.texture = ds.material.specular_texture = -1;
-        if (ds.tex) {
-            persp_sampler_desc sd = mat->sampler;
-            if (dd.filter != PERSP_FILTER_DEFAULT) sd.filter = dd.filter;
-            if (dd.max_aniso != 0) sd.max_aniso = dd.max_aniso;
-            if (dd.wrap != PERSP_WRAP_DEFAULT) sd.wrap_s = sd.wrap_t = dd.wrap;
-            if (dd.lod_mode != PERSP_LOD_DEFAULT) sd.lod_mode = dd.lod_mode;
-            /* Scene surfaces are opaque (textures are made so at load): the
-             * border colour too, or clamp-to-border would draw see-through
-             * pixels with the default border (0, 0, 0, 0). */
-            sd.border[3] = 255;
-            sd.lod_bias += dd.lod_bias;
-            if (dd.lod_clamp != PERSP_TOGGLE_DEFAULT) {
-                sd.lod_clamp = dd.lod_clamp;
-                sd.min_lod = dd.min_lod;
-                sd.max_lod = dd.max_lod;
-            }
-            st = persp__sampler_init_isa(&ds.sampler, ds.tex, &sd, ctx->isa);
-            if (st != PERSP_OK) {
-                const char *bad_sampler = persp__sampler_desc_problem(&sd);
-                return persp__fail(ctx, st, "render: sampler setting %s is out of range",
-                                   bad_sampler ? bad_sampler : "?");
-            }
-        }
-        ds.color_material = scene->meshes[o->mesh].colored;
-        st = persp__shade_resolve(ctx, &ds);
-        if (st != PERSP_OK) return st;
-        uint32_t si;
-        st = persp__frame_add_state(f, &ds, &si);
-        if (st != PERSP_OK) return st;
-        /* A mirrored object's front faces wind clockwise (PERSP_CULL_CCW). */
-        const int cull = !cull_backfaces                  ? PERSP_CULL_NONE
-                         : persp_mat4_det3(o->model) < 0.0 ? PERSP_CULL_CCW
-                                                           : PERSP_CULL_CW;
-        /* Texture-coordinate generation ([CS300-TexMap] map shapes and the
-         * sphere map, src/geom/texgen.c) per frame: the reflection map
-         * follows the view. The coordinates persp_scene_object_texcoords
-         * hands to other renderers. */
-        const persp_mesh *mesh = &scene->meshes[o->mesh];
-        float *uv = NULL;
-        if (o->texgen != PERSP_TEXGEN_UV) {
-            if (!(uv = persp__frame_uv_buffer(f, mesh->vertex_count)))
-                return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
-            (void)persp_scene_object_texcoords(scene, i, &view, uv);
-        }
-        st = persp__frame_add_mesh(f, mesh, &o->model, &view, &proj, si, uv, cull);
-        if (st != PERSP_OK) return st;
-    }
+    persp_scene_get_camera(scene, fb->width, fb->height, &fs.view, &fs.proj);
+    if (dd.view) fs.view = *dd.view;
+    if (dd.projection) fs.proj = *dd.projection;
+    f->proj = fs.proj;
+    eye_lights(scene, &fs.view, &fs.ds.lighting);
+    fs.cull_backfaces = dd.cull_backfaces == PERSP_TOGGLE_ON ||
+                        (dd.cull_backfaces == PERSP_TOGGLE_DEFAULT && scene->cull_backfaces);
+    for (size_t i = 0; i < scene->object_count; i++)
+        if ((st = draw_object(ctx, &fs, i, f)) != PERSP_OK) return st;
     return persp__frame_flush(f);
 }
 

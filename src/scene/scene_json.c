@@ -354,8 +354,8 @@ static persp_status filter_field(jctx *j, const char *name, persp_filter *f, int
     char q[PERSP_QUOTE_BYTES];
     persp_status st = persp_filter_parse(name, f, aniso);
     if (st == PERSP_ERR_INVALID_ARGUMENT)
-        return jfail(j, 0, PERSP_ERR_FORMAT, "bad filter '%s': aniso taps must be 2..16",
-                     qs(name, q));
+        return jfail(j, 0, PERSP_ERR_FORMAT, "bad filter '%s': aniso taps must be 2..%d",
+                     qs(name, q), PERSP_MAX_ANISO);
     if (st != PERSP_OK) return jfail(j, 0, PERSP_ERR_FORMAT, "unknown filter '%s'", qs(name, q));
     return PERSP_OK;
 }

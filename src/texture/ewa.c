@@ -58,7 +58,7 @@ static inline void ewa_pixel(const persp_sampler_state *st, int ws, int wt, floa
     double minor = major > 0.0 ? det / major : 0.0;
     double ecc = (double)st->max_aniso;
     if (minor * ecc < major) minor = major / ecc;
-    float lam = minor > 0.0 ? (float)log2(minor) : -1000.0f;
+    float lam = minor > 0.0 ? (float)log2(minor) : -PERSP_LOD_LIMIT;
     lam = persp__clamp_lod(st, lam + st->lod_bias);
     int level = lam <= 0.0f ? 0 : lam >= (float)top ? top : (int)floorf(lam);
     const persp_tex_level *lv = &tex->level[level];

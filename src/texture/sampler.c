@@ -177,7 +177,7 @@ const char *persp__sampler_desc_problem(const persp_sampler_desc *d)
     return (unsigned)d->wrap_s > PERSP_WRAP_CLAMP_TO_BORDER             ? "wrap_s"
            : (unsigned)d->wrap_t > PERSP_WRAP_CLAMP_TO_BORDER           ? "wrap_t"
            : (unsigned)d->filter >= (unsigned)PERSP_FILTER_COUNT        ? "filter"
-           : d->max_aniso < 0 || d->max_aniso == 1 || d->max_aniso > 16 ? "max_aniso (0, or 2..16)"
+           : d->max_aniso < 0 || d->max_aniso == 1 || d->max_aniso > PERSP_MAX_ANISO ? "max_aniso (0, or 2..16)"
            : !isfinite(d->lod_bias)                                     ? "lod_bias (finite)"
            : (unsigned)d->lod_mode > PERSP_LOD_POLYGON                  ? "lod_mode"
            : (unsigned)d->lod_clamp > PERSP_TOGGLE_OFF                  ? "lod_clamp"
@@ -201,13 +201,13 @@ persp_status persp__sampler_init_isa(persp_sampler_state *st, const struct persp
     memset(st, 0, sizeof *st);
     st->tex = tex;
     st->desc = d;
-    st->max_aniso = d.max_aniso == 0 ? 16 : d.max_aniso;
+    st->max_aniso = d.max_aniso == 0 ? PERSP_MAX_ANISO : d.max_aniso;
     st->lod_bias = d.lod_bias;
     /* GL's defaults are min -1000, max 1000; the level index is clamped to
      * the chain separately, so max_lod = levels - 1 is equivalent. */
     float top = (float)(tex->levels - 1);
     if (d.lod_clamp == PERSP_TOGGLE_OFF) {
-        st->min_lod = -1000.0f;
+        st->min_lod = -PERSP_LOD_LIMIT;
         st->max_lod = top;
     } else {
         st->min_lod = d.min_lod;
@@ -328,7 +328,7 @@ void persp_texture_sample(const persp_texture *tex, const persp_sampler_desc *sa
     float one = 1.0f;
     /* The polygon mode's texel/pixel area ratio of this footprint. */
     float area = fabsf(dudx * dvdy - dudy * dvdx) * (float)tex->width * (float)tex->height;
-    float poly = area > 0.0f ? 0.5f * log2f(area) : -1000.0f;
+    float poly = area > 0.0f ? 0.5f * log2f(area) : -PERSP_LOD_LIMIT;
     persp_tex_span_in in = {.n = 1, .u = &u, .v = &v, .q = &one, .a = dudx, .b = dudy,
                             .d = dvdx, .e = dvdy, .g = 0.0f, .h = 0.0f, .poly_lambda = poly};
     uint32_t t;

@@ -67,7 +67,7 @@ static persp_status parse_aniso_count(const char *s, int *out)
         if (*s < '0' || *s > '9' || digits >= 3) return PERSP_ERR_INVALID_ARGUMENT;
         n = n * 10 + (*s - '0');
     }
-    if (digits == 0 || n < 2 || n > 16) return PERSP_ERR_INVALID_ARGUMENT;
+    if (digits == 0 || n < 2 || n > PERSP_MAX_ANISO) return PERSP_ERR_INVALID_ARGUMENT;
     *out = n;
     return PERSP_OK;
 }
@@ -75,7 +75,7 @@ static persp_status parse_aniso_count(const char *s, int *out)
 persp_status persp_filter_parse(const char *name, persp_filter *out, int *max_aniso)
 {
     if (!name || !out) return PERSP_ERR_INVALID_ARGUMENT;
-    int aniso = 16;
+    int aniso = PERSP_MAX_ANISO;
     for (int i = 0; i < PERSP_FILTER_COUNT; i++) {
         size_t len = strlen(filter_names[i]);
         if (strncmp(name, filter_names[i], len) != 0) continue;

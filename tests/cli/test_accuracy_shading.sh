@@ -61,5 +61,22 @@ fi
 "$persp" accuracy --shading --triangles 1 --scene "$src/scenes/spheres.json" --size 200x150 >"$tmp/s.txt" 2>"$tmp/err" \
     && grep -qF "scenes/spheres.json at 200x150" "$tmp/s.txt" && ok || bad "scene run failed: $(cat "$tmp/err")"
 
+# A model whose material file is missing: the scene is measured without it,
+# and the library's warning reaches the user.
+printf 'mtllib missing.mtl\nv 0 0 -2\nv 1 0 -2\nv 0 1 -2\nusemtl m\nf 1 2 3\n' >"$tmp/nomtl.obj"
+expect 0 "warning: .*missing.mtl" -- "$persp" accuracy --shading --triangles 1 --scene "$tmp/nomtl.obj" --size 32x24
+# The report and the figures never go over the scene they measure.
+cp "$tmp/nomtl.obj" "$tmp/keep.obj"
+expect 2 "-o '$tmp/nomtl.obj' is the input file" -- "$persp" accuracy --shading --scene "$tmp/nomtl.obj" -o "$tmp/nomtl.obj"
+expect 2 "--svg '$tmp/nomtl.obj' is the input file" -- "$persp" accuracy --shading --scene "$tmp/nomtl.obj" \
+    --svg "$tmp/nomtl.obj"
+if cmp -s "$tmp/nomtl.obj" "$tmp/keep.obj"; then ok; else bad "accuracy --shading wrote over its scene"; fi
+# --shading chooses the command wherever it stands among the options.
+"$persp" accuracy --seed 3 --triangles 1 --shading --size 32x24 >"$tmp/late.txt" 2>"$tmp/err" && ok ||
+    bad "--shading after other options: $(cat "$tmp/err")"
+"$persp" accuracy --shading --seed 3 --triangles 1 --size 32x24 >"$tmp/early.txt" 2>&1
+if cmp -s "$tmp/late.txt" "$tmp/early.txt"; then ok; else bad "--shading's place changed the report"; fi
+expect 2 "--shading takes no value" -- "$persp" accuracy --shading=phong
+
 echo "accuracy --shading: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -42,6 +42,10 @@ expect 0 "" -- "$persp" render corridor --size=32x24 --lod-bias=-1.5 --min-lod=0
 expect 2 "render: bad --size '0x10' \(expected WxH" -- "$persp" render --size=0x10
 expect 2 "render: bad --cull 'maybe' \(expected on or off\)" -- "$persp" render --cull=maybe
 expect 2 "render: option --quiet takes no value" -- "$persp" render --quiet=yes
+# persp methods parses with the common table: its messages and help alike.
+expect 2 "methods: unknown option '--bogus' \(see persp methods --help\)" -- "$persp" methods --bogus
+expect 2 "methods: unexpected argument 'extra'" -- "$persp" methods extra
+expect 0 "-h, --help" -- "$persp" methods --help
 expect 2 "render: unknown option '--bogus' \(see persp render --help\)" -- "$persp" render --bogus=1
 expect 2 "render: option --depth needs a value \(expected z or invw\)" -- "$persp" render --depth
 expect 2 "render: unknown filter 'blurry' \(expected nearest, bilinear, .* or ewa\)" -- "$persp" render --filter=blurry

@@ -94,5 +94,24 @@ out=$("$persp" render corridor --size 64x48 --method midpoint --count-ops -o "$t
 d=$(sed -nE 's/.*per pixel computed [^:]*: ([0-9.]+) div.*/\1/p' <<<"$out")
 awk -v d="${d:-9}" 'BEGIN { exit !(d < 0.5) }' && ok || bad "midpoint --count-ops: $out"
 
+# The summary names the render time apart from encoding and writing, and
+# the total.
+expect 0 "render [0-9.]+ ms \([0-9.]+ Mpixels/s\), encode and write [0-9.]+ ms, total [0-9.]+ ms -> " -- \
+    "$persp" render cube --size 32x24 -o "$tmp/timed.png"
+# -o naming an input is refused before anything is written, whatever the
+# spelling: the scene, a link to it, the --texture image.
+printf '{"objects": [{"mesh": "plane", "transform": {"scale": [3, 1, 3]}}]}\n' >"$tmp/s.json"
+cp "$tmp/s.json" "$tmp/s.orig"
+expect 2 "-o '$tmp/s.json' is the input file" -- "$persp" render "$tmp/s.json" --format png -o "$tmp/s.json"
+expect 2 "is the input file" -- "$persp" render "$tmp/s.json" --format png -o "$tmp/./s.json"
+ln -s s.json "$tmp/s_link.json"
+expect 2 "is the input file" -- "$persp" render "$tmp/s.json" --format png -o "$tmp/s_link.json"
+if cmp -s "$tmp/s.json" "$tmp/s.orig"; then ok; else bad "-o over the scene changed it"; fi
+"$persp" render cube --size 16x16 -q -o "$tmp/tex.png"
+cp "$tmp/tex.png" "$tmp/tex.orig"
+expect 2 "-o '$tmp/tex.png' is the input file '$tmp/tex.png'" -- \
+    "$persp" render cube --size 16x12 --texture "$tmp/tex.png" -o "$tmp/tex.png"
+if cmp -s "$tmp/tex.png" "$tmp/tex.orig"; then ok; else bad "-o over the texture changed it"; fi
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -55,6 +55,30 @@ expect 1 "word.txt:1: number 15 is not a number" -- "$persp" vectors --input "$t
 printf '1 2 1 0 0  3 4 1 1 0  5 1 1 0 nan\n' >"$tmp/nan.txt"
 expect 1 "nan.txt:1: number 15 is not finite" -- "$persp" vectors --input "$tmp/nan.txt"
 expect 1 "nope.txt: cannot open" -- "$persp" vectors --input "$tmp/nope.txt"
+# Numbers are decimal: strtod's hexadecimal is refused, not read as 16.
+printf '1 2 1 0 0  3 4 1 1 0  5 1 1 0 0x10\n' >"$tmp/hex.txt"
+expect 1 "hex.txt:1: number 15 is not a number" -- "$persp" vectors --input "$tmp/hex.txt"
+printf '1 2 1 0 0  3 4 1 1 0  5 1 1 0 -inf\n' >"$tmp/inf.txt"
+expect 1 "inf.txt:1: number 15 is not finite" -- "$persp" vectors --input "$tmp/inf.txt"
+# A NUL byte is an error naming its line, not the end of the line.
+printf '# ok\n1 2 1 0 0  3 4 1 1 0  5 1 1 0 1\0 junk\n' >"$tmp/nul.txt"
+expect 1 "nul.txt:2: a NUL byte in the line" -- "$persp" vectors --input "$tmp/nul.txt"
+mkdir -p "$tmp/dir.txt"
+expect 1 "dir.txt: is a directory" -- "$persp" vectors --input "$tmp/dir.txt"
+expect 2 "-o '$tmp/tris.txt' is the input file" -- "$persp" vectors --input "$tmp/tris.txt" -o "$tmp/tris.txt"
+# The output is capped: one triangle over the whole window is refused with
+# the option that raises the cap, and leaves no file.
+printf -- '-10 -10 1 0 0  2000 -10 1 1 0  -10 2000 1 0 1\n' >"$tmp/full.txt"
+expect 1 "would exceed --max-output 1048576 bytes; nothing was written \(raise --max-output" -- \
+    "$persp" vectors --input "$tmp/full.txt" --max-output 1M -o "$tmp/full.out"
+if [ ! -e "$tmp/full.out" ]; then ok; else bad "a capped output left $tmp/full.out"; fi
+for m in exact tw_cubic subdiv; do
+    expect 1 "would exceed --max-output 4096 bytes" -- "$persp" vectors --module $m --input "$tmp/full.txt" \
+        --max-output 4K -o "$tmp/full_$m.out"
+done
+expect 2 "bad --max-output '0'" -- "$persp" vectors --max-output 0
+"$persp" vectors --input "$tmp/full.txt" --max-output 64M -o "$tmp/full.out" 2>/dev/null && ok ||
+    bad "a raised --max-output still refused"
 expect 2 "bad --method 'midpoint'" -- "$persp" vectors --method midpoint
 expect 2 "--input takes the triangles from its file" -- "$persp" vectors --input "$tmp/tris.txt" --seed 2
 expect 2 "bad --texture-size '0x4'" -- "$persp" vectors --texture-size 0x4

@@ -68,6 +68,29 @@ printf '{"keys": [' >"$tmp/broken.json"
 expect 1 "broken.json:" -- "$persp" view --play "$tmp/broken.json" -o "$tmp/x"
 expect 1 "no-such-path" -- "$persp" view --play "$tmp/no-such-path.json" -o "$tmp/x"
 expect 2 "bad --layout" -- "$persp" view --play "$path" --layout sideways
+# Keys and versions the format does not have are refused with file, line
+# and key, as scene files refuse theirs.
+printf '{"version": 1,\n "keys": [{"t": 0, "eye": [0, 0, 0], "yaw": 0, "pitch": 0},\n          {"t": 1, "eye": [0, 0, 0], "yaw": 0, "pitch": 0,\n           "roll": 5}]}\n' >"$tmp/roll.json"
+expect 1 "roll.json:4: keys\[1\].roll: unknown key \(expected one of: t, eye, yaw, pitch, fovy, near, far\)" -- \
+    "$persp" view --play "$tmp/roll.json" -o "$tmp/x"
+printf '{"version": 1,\n "speed": 2,\n "keys": [{"t": 0, "eye": [0, 0, 0], "yaw": 0, "pitch": 0}]}\n' >"$tmp/speed.json"
+expect 1 "speed.json:2: speed: unknown key \(expected one of: version, keys\)" -- \
+    "$persp" view --play "$tmp/speed.json" -o "$tmp/x"
+printf '{"version": 2,\n "keys": [{"t": 0, "eye": [0, 0, 0], "yaw": 0, "pitch": 0}]}\n' >"$tmp/v2.json"
+expect 1 "v2.json:1: version: unsupported camera path version \(expected 1\)" -- \
+    "$persp" view --play "$tmp/v2.json" -o "$tmp/x"
+mkdir -p "$tmp/pathdir"
+expect 1 "pathdir: cannot read: Is a directory" -- "$persp" view --play "$tmp/pathdir" -o "$tmp/x"
+# Without --method the split compares something: affine against exact on
+# a scene that names no method (exact against exact showed nothing).
+expect 0 "played .* \(affine \| exact\).*" -- "$persp" view corridor --play "$path" --frames 1 --size 64x48 \
+    -o "$tmp/dflt"
+expect 0 "error max [1-9]" -- "$persp" view corridor --play "$path" --frames 1 --size 64x48 --layout diff \
+    -o "$tmp/dflt2"
+# A model whose material file is missing plays without it, and says so.
+printf 'mtllib missing.mtl\nv 0 0 -2\nv 1 0 -2\nv 0 1 -2\nusemtl m\nf 1 2 3\n' >"$tmp/nomtl.obj"
+expect 0 "warning: .*missing.mtl" -- "$persp" view "$tmp/nomtl.obj" --play "$path" --frames 1 --size 32x24 \
+    -q -o "$tmp/nomtl"
 expect 2 "subdiv" -- "$persp" view --play "$path" --compare subdiv:3
 expect 0 "usage: persp view" -- "$persp" view --help
 

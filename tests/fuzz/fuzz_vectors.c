@@ -31,15 +31,6 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 #define HEIGHT 64
 #define TRACED 4 /* triangles traced per input; the rest are only read */
 
-/* cmd_vectors() of cmd_vectors.c, linked in but not called here, reports
- * library failures with cli_status, which lives in main.c beside main():
- * a stand-in. */
-int cli_status(persp_context *ctx, persp_status st, const char *what)
-{
-    return cli_error(CLI_FAIL, "%s: %s (%s)", what, ctx ? persp_context_error(ctx) : "",
-                     persp_status_string(st));
-}
-
 static void broken(const char *what, const char *detail)
 {
     fprintf(stderr, "fuzz_vectors: invariant broken: %s%s%s%s\n", what, detail ? " ('" : "",

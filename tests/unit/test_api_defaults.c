@@ -6,6 +6,7 @@
 #include "support.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -159,6 +160,61 @@ static void test_out_of_range_refused(void **state)
     memset(&d, 0, sizeof d);
     d.count_ops = (persp_toggle)7;
     assert_int_equal(render(ctx, scene, &d, f), PERSP_ERR_INVALID_ARGUMENT);
+    free(f);
+    persp_scene_destroy(scene);
+    persp_context_destroy(ctx);
+}
+
+/* The texture settings of a render desc are checked by the sampler's rule,
+ * and the message names the desc's field, not the sampler's. */
+static void refused_naming(persp_context *ctx, const persp_scene *scene, const persp_render_desc *d, frame *f,
+                           const char *field)
+{
+    assert_int_equal(render(ctx, scene, d, f), PERSP_ERR_INVALID_ARGUMENT);
+    char want[96];
+    snprintf(want, sizeof want, "persp_render_desc.%s", field);
+    if (!strstr(persp_context_error(ctx), want)) fail_msg("'%s' lacks '%s'", persp_context_error(ctx), want);
+}
+
+static void test_texture_settings_refused(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_builtin(ctx, "cube", &scene), PERSP_OK);
+    frame *f = malloc(sizeof *f);
+    assert_non_null(f);
+    persp_render_desc d;
+    memset(&d, 0, sizeof d);
+    d.wrap = (persp_wrap)99;
+    refused_naming(ctx, scene, &d, f, "wrap is out of range");
+    memset(&d, 0, sizeof d);
+    d.max_aniso = PERSP_MAX_ANISO + 1;
+    refused_naming(ctx, scene, &d, f, "max_aniso");
+    d.max_aniso = 1;
+    refused_naming(ctx, scene, &d, f, "max_aniso");
+    d.max_aniso = PERSP_MAX_ANISO;
+    d.filter = PERSP_FILTER_ANISO;
+    assert_int_equal(render(ctx, scene, &d, f), PERSP_OK);
+    memset(&d, 0, sizeof d);
+    d.lod_bias = NAN;
+    refused_naming(ctx, scene, &d, f, "lod_bias");
+    memset(&d, 0, sizeof d);
+    d.lod_mode = (persp_lod_mode)9;
+    refused_naming(ctx, scene, &d, f, "lod_mode");
+    memset(&d, 0, sizeof d);
+    d.lod_clamp = (persp_toggle)5;
+    refused_naming(ctx, scene, &d, f, "lod_clamp");
+    memset(&d, 0, sizeof d);
+    d.lod_clamp = PERSP_TOGGLE_ON;
+    d.min_lod = -PERSP_LOD_LIMIT;
+    d.max_lod = INFINITY;
+    refused_naming(ctx, scene, &d, f, "min_lod, max_lod");
+    d.max_lod = PERSP_LOD_LIMIT;
+    assert_int_equal(render(ctx, scene, &d, f), PERSP_OK);
+    memset(&d, 0, sizeof d);
+    d.depth_mode = (persp_depth_mode)9;
+    refused_naming(ctx, scene, &d, f, "depth_mode");
     free(f);
     persp_scene_destroy(scene);
     persp_context_destroy(ctx);
@@ -346,6 +402,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_zero_is_default),     cmocka_unit_test(test_render_desc_keeps_scene),
         cmocka_unit_test(test_lod_clamp_toggle),    cmocka_unit_test(test_cull_toggle),
+        cmocka_unit_test(test_texture_settings_refused),
         cmocka_unit_test(test_out_of_range_refused), cmocka_unit_test(test_sampler_defaults),
         cmocka_unit_test(test_draw_defaults),       cmocka_unit_test(test_scene_method_and_filter),
         cmocka_unit_test(test_draw_and_helpers_refuse),

@@ -63,10 +63,52 @@ typedef struct cli_output {
 /* Opens path for a report (NULL or "-": standard output); CLI_OK, or
  * CLI_FAIL after printing "persp: COMMAND: ...". */
 int cli_output_open(const char *command, const char *path, cli_output *out);
+/* A cap on an open output: cli_cap_begin puts a stream that counts in
+ * out->f, which refuses what would pass limit bytes; cli_cap_end puts the
+ * output back and, where the cap refused bytes and ok (the command had
+ * not failed otherwise), fails naming option. Then cli_output_close with
+ * ok only if cli_cap_end passed, so that no file is put in place. */
+typedef struct cli_cap {
+    FILE *raw;
+    size_t limit, written;
+    int over;
+} cli_cap;
+int cli_cap_begin(const char *command, cli_output *out, cli_cap *cap, size_t limit);
+int cli_cap_end(const char *command, cli_output *out, cli_cap *cap, const char *option, int ok);
+/* 1 once a write to out failed (a cap reached, a full disk): a writer
+ * stops there; the close reports why. */
+int cli_output_full(cli_output *out);
 /* With ok: flushes and closes, puts a file in place and reports any write
  * error (CLI_FAIL). Without (the command failed): removes a file, reports
  * nothing. */
 int cli_output_close(const char *command, cli_output *out, int ok);
+/* CLI_OK unless output names the same file as input (the same device and
+ * inode, whatever the spelling or links), which writing output would
+ * replace before, or while, it is read; then CLI_USAGE after "persp:
+ * COMMAND: OPTION 'output' is the input file 'input'". NULL, "-" and
+ * missing files pass. Call before anything is written. */
+int cli_check_not_input(const char *command, const char *option, const char *output, const char *input);
+
+/* The skeleton of a command (cli_run.c): creates the context with the
+ * common options, sends its warnings to stderr (cli_warning) and its
+ * temporary files to the signal handlers, opens the report output where
+ * asked, runs body, closes the output (a failed body leaves no file) and
+ * destroys the context. Zero fields are the defaults. */
+typedef struct cli_run_desc {
+    const char *command;  /* starts the messages: "render", "accuracy --shading" */
+    int threads;          /* --threads; 0: 1 */
+    size_t max_memory;    /* --max-memory; 0: cli_max_memory's default */
+    persp_simd simd;      /* --simd; 0: auto */
+    int report;           /* 1: open output as a report (cli_output) for body */
+    const char *output;   /* with report: -o; NULL or "-": standard output */
+    size_t output_limit;  /* with report: at most this many bytes (0: any) */
+    const char *limit_option; /* the option that sets output_limit, for its message */
+} cli_run_desc;
+/* A command's work: out is the report output (NULL without report). Returns
+ * a CLI exit code, its errors printed (cli_status for the library's). */
+typedef int (*cli_body)(persp_context *ctx, cli_output *out, void *user);
+/* The body's code, or CLI_FAIL after the context's or the output's error. */
+int cli_run(const cli_run_desc *d, cli_body body, void *user);
 /* Checks, before any long work, that an output path can be written: an
  * existing file is not a folder or read-only, and the folder it goes in
  * exists and is writable ("-" and devices pass). CLI_OK, or CLI_FAIL after
@@ -101,18 +143,43 @@ typedef struct vectors_spans {
     int failed;
 } vectors_spans;
 void vectors_keep_span(void *user, const persp_midpoint_span *s, const persp_midpoint_pixel *px);
+/* What `persp vectors` was asked for (cmd_vectors.c). */
+typedef struct vectors_job {
+    const char *module, *method; /* method: midpoint:int's lattice */
+    const char *input, *output;  /* input NULL: random triangles from seed */
+    int triangles;
+    uint64_t seed;
+    double depth_ratio, uv_range;
+    int width, height, tex_w, tex_h;
+    size_t max_output; /* bytes; --max-output */
+} vectors_job;
+/* One module's writer for vectors_run: its first header line, each
+ * triangle's records (into f; a CLI exit code), the closing line with the
+ * counts, and the note on stderr once a file was written. */
+typedef struct vectors_writer {
+    char title[160];
+    int (*triangle)(persp_context *ctx, const vectors_job *job, const persp_method_vertex v[3], long index, FILE *f,
+                    void *state);
+    void (*footer)(FILE *f, long triangles, void *state);
+    void (*summary)(long triangles, const char *output, void *state);
+    void *state;
+} vectors_writer;
+/* The skeleton every module's vectors share: the input file or the random
+ * triangles, the capped output (cli_run), the header, the loop, the closing
+ * line. A CLI exit code. */
+int vectors_run(const vectors_job *job, const vectors_writer *w);
 /* persp vectors --module window_one, window_two, tw_exact, tw_quadratic,
  * tw_pwquad, tw_cubic (vectors_shade.c; formats in docs/HARDWARE.md):
  * vectors_shade_module says whether NAME is one of them, vectors_shade
- * writes them for the parsed options of cmd_vectors (input NULL: random
- * triangles from seed). */
+ * writes them. */
 int vectors_shade_module(const char *name);
-int vectors_shade(const char *module, const char *input, const char *output, int triangles, unsigned long long seed,
-                  double depth_ratio, double uv_range, int width, int height, int tex_w, int tex_h);
+int vectors_shade(const vectors_job *job);
 /* persp vectors --module subdiv, subdiv:8, incremental, quadratic, cubic,
  * bezier (vectors_span.c; formats in docs/HARDWARE.md), the same way. */
 int vectors_span_module(const char *name);
-int vectors_span(const char *module, const char *input, const char *output, int triangles, unsigned long long seed,
-                 double depth_ratio, double uv_range, int width, int height, int tex_w, int tex_h);
+int vectors_span(const vectors_job *job);
+/* Whether s is plain decimal text: an optional '-', digits, with fraction
+ * a '.' and digits and an exponent (cli_common.c). */
+int cli_decimal_syntax(const char *s, int fraction);
 
 #endif

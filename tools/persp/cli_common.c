@@ -23,7 +23,7 @@ int cli_error(int code, const char *fmt, ...)
 /* Plain decimal text only: strtol and strtod also take leading blanks, a
  * '+', hexadecimal and (strtod) "inf"/"nan" (C11 7.22.1.3-4), none of
  * which a user means in an option value. */
-static int decimal_syntax(const char *s, int fraction)
+int cli_decimal_syntax(const char *s, int fraction)
 {
     if (!s) return 0;
     if (*s == '-') s++;
@@ -46,7 +46,7 @@ static int decimal_syntax(const char *s, int fraction)
 
 int cli_parse_int(const char *text, long lo, long hi, long *out)
 {
-    if (!decimal_syntax(text, 0)) return 0;
+    if (!cli_decimal_syntax(text, 0)) return 0;
     errno = 0;
     char *end = NULL;
     long v = strtol(text, &end, 10);
@@ -57,7 +57,7 @@ int cli_parse_int(const char *text, long lo, long hi, long *out)
 
 int cli_parse_real(const char *text, double lo, double hi, double *out)
 {
-    if (!decimal_syntax(text, 1)) return 0;
+    if (!cli_decimal_syntax(text, 1)) return 0;
     char *end = NULL;
     double v = strtod(text, &end);
     if (*end != '\0' || !isfinite(v) || !(v >= lo && v <= hi)) return 0;

@@ -143,12 +143,55 @@ static const cli_spec opt_filter_mode = {
     .help = "texture filters instead of methods (see persp accuracy "
             "--filter --help)"};
 
+typedef struct accuracy_job {
+    const persp_accuracy_desc *desc;
+    persp_report_format format;
+} accuracy_job;
+
+static int accuracy_body(persp_context *ctx, cli_output *out, void *user)
+{
+    const accuracy_job *job = user;
+    persp_accuracy_result *res = NULL;
+    int rc = CLI_OK;
+    persp_status st = persp_accuracy_run(ctx, job->desc, &res);
+    if (st != PERSP_OK) {
+        rc = cli_status(ctx, st, "accuracy");
+    } else if ((st = persp_accuracy_write(ctx, res, job->format, out->f)) != PERSP_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "accuracy: writing the report to %s", out->path ? out->path : "standard output");
+        rc = cli_status(ctx, st, what);
+    }
+    persp_accuracy_destroy(res);
+    return rc;
+}
+
+/* The mode options choose another command; they may stand anywhere among
+ * the options (an option's value, as in "--scene --shading", is not one). */
+static int mode_index(int argc, char **argv, const char *mode)
+{
+    size_t len = strlen(mode);
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--")) return 0;
+        if (!strncmp(argv[i], mode, len) && (argv[i][len] == '\0' || argv[i][len] == '=')) return i;
+    }
+    return 0;
+}
+
 int cmd_accuracy(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++)
-        if (!strcmp(argv[i], "--filter") || !strncmp(argv[i], "--filter=", 9))
-            return cmd_accuracy_filter(argc, argv);
-    if (argc > 1 && !strcmp(argv[1], "--shading")) return cmd_accuracy_shading(argc - 1, argv + 1);
+    if (mode_index(argc, argv, "--filter")) return cmd_accuracy_filter(argc, argv);
+    int shading = mode_index(argc, argv, "--shading");
+    if (shading) {
+        /* persp accuracy --shading takes no value: drop the switch, keep the rest in order. */
+        if (argv[shading][strlen("--shading")] == '=')
+            return cli_error(CLI_USAGE, "accuracy: option --shading takes no value");
+        for (int i = shading; i > 1; i--) {
+            char *t = argv[i];
+            argv[i] = argv[i - 1];
+            argv[i - 1] = t;
+        }
+        return cmd_accuracy_shading(argc - 1, argv + 1);
+    }
     const char *methods[MAX_LIST], *cases[MAX_LIST], *filter_mode = NULL, *output = NULL;
     cli_list method_list = {methods, 0, MAX_LIST}, case_list = {cases, 0, MAX_LIST};
     cli_size size = {0, 0};
@@ -206,30 +249,7 @@ int cmd_accuracy(int argc, char **argv)
     desc.method_count = nmethods;
     desc.cases = cases;
     desc.case_count = ncases;
-
-    persp_context *ctx = NULL;
-    persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
-    persp_status st = persp_context_create(&cd, &ctx);
-    if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
-    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-    cli_output out;
-    if ((rc = cli_output_open("accuracy", output, &out)) != CLI_OK) {
-        persp_context_destroy(ctx);
-        return rc;
-    }
-    persp_accuracy_result *res = NULL;
-    st = persp_accuracy_run(ctx, &desc, &res);
-    if (st != PERSP_OK) {
-        rc = cli_status(ctx, st, "accuracy");
-    } else if ((st = persp_accuracy_write(ctx, res, format, out.f)) != PERSP_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "accuracy: writing the report to %s",
-                 out.path ? out.path : "standard output");
-        rc = cli_status(ctx, st, what);
-    }
-    int out_rc = cli_output_close("accuracy", &out, rc == CLI_OK);
-    if (rc == CLI_OK) rc = out_rc;
-    persp_accuracy_destroy(res);
-    persp_context_destroy(ctx);
-    return rc;
+    accuracy_job job = {&desc, format};
+    cli_run_desc run = {.command = "accuracy", .max_memory = max_memory, .report = 1, .output = output};
+    return cli_run(&run, accuracy_body, &job);
 }

@@ -61,6 +61,29 @@ static const cli_spec opt_repeats = {.name = "repeats",
                                      .help =
                                          "timed renders per filter, the fastest kept (default 3)"};
 
+typedef struct filter_job {
+    const persp_filter_accuracy_desc *desc;
+    persp_report_format format;
+} filter_job;
+
+static int filter_body(persp_context *ctx, cli_output *out, void *user)
+{
+    const filter_job *job = user;
+    persp_filter_accuracy_result *res = NULL;
+    int rc = CLI_OK;
+    persp_status st = persp_filter_accuracy_run(ctx, job->desc, &res);
+    if (st != PERSP_OK) {
+        rc = cli_status(ctx, st, "accuracy --filter");
+    } else if ((st = persp_filter_accuracy_write(ctx, res, job->format, out->f)) != PERSP_OK) {
+        char what[512];
+        snprintf(what, sizeof what, "accuracy --filter: writing the report to %s",
+                 out->path ? out->path : "standard output");
+        rc = cli_status(ctx, st, what);
+    }
+    persp_filter_accuracy_destroy(res);
+    return rc;
+}
+
 int cmd_accuracy_filter(int argc, char **argv)
 {
     const char *filters[MAX_LIST], *cases[MAX_LIST], *output = NULL;
@@ -106,8 +129,8 @@ int cmd_accuracy_filter(int argc, char **argv)
     for (size_t i = 0; i < nf; i++) {
         persp_status st = persp_filter_accuracy_filter_check(filters[i]);
         if (st == PERSP_ERR_INVALID_ARGUMENT)
-            return cli_error(CLI_USAGE, "accuracy: bad filter '%s' (aniso:N and aniso-window:N take N = 2..16)",
-                             filters[i]);
+            return cli_error(CLI_USAGE, "accuracy: bad filter '%s' (aniso:N and aniso-window:N take N = 2..%d)",
+                             filters[i], PERSP_MAX_ANISO);
         if (st != PERSP_OK)
             return cli_error(CLI_USAGE, "accuracy: unknown filter '%s' (see persp accuracy --filter --help)",
                              filters[i]);
@@ -123,29 +146,8 @@ int cmd_accuracy_filter(int argc, char **argv)
     d.filter_count = nf;
     d.cases = cases;
     d.case_count = nc;
-    persp_context *ctx = NULL;
-    persp_context_desc cd = {.threads = threads, .max_memory = cli_max_memory(max_memory)};
-    persp_status st = persp_context_create(&cd, &ctx);
-    if (st != PERSP_OK) return cli_status(NULL, st, "accuracy: context");
-    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-    cli_output out;
-    if ((rc = cli_output_open("accuracy", output, &out)) != CLI_OK) {
-        persp_context_destroy(ctx);
-        return rc;
-    }
-    persp_filter_accuracy_result *res = NULL;
-    st = persp_filter_accuracy_run(ctx, &d, &res);
-    if (st != PERSP_OK) {
-        rc = cli_status(ctx, st, "accuracy --filter");
-    } else if ((st = persp_filter_accuracy_write(ctx, res, format, out.f)) != PERSP_OK) {
-        char what[512];
-        snprintf(what, sizeof what, "accuracy --filter: writing the report to %s",
-                 out.path ? out.path : "standard output");
-        rc = cli_status(ctx, st, what);
-    }
-    int out_rc = cli_output_close("accuracy", &out, rc == CLI_OK);
-    if (rc == CLI_OK) rc = out_rc;
-    persp_filter_accuracy_destroy(res);
-    persp_context_destroy(ctx);
-    return rc;
+    filter_job job = {&d, format};
+    cli_run_desc run = {.command = "accuracy", .threads = threads, .max_memory = max_memory, .report = 1,
+                        .output = output};
+    return cli_run(&run, filter_body, &job);
 }

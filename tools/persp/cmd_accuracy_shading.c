@@ -37,6 +37,14 @@ static const cli_spec opt_svg = {.name = "svg",
                                  .metavar = "FILE",
                                  .help = "write Fig. 4.3, Fig. 4.4 and the t_w errors as SVG"};
 
+static int shading_body(persp_context *ctx, cli_output *out, void *user)
+{
+    const persp_shading_accuracy_desc *desc = user;
+    persp_status st = persp_shading_accuracy_report(ctx, desc, out->f);
+    if (st == PERSP_OK) return CLI_OK;
+    return cli_status(ctx, st, desc->scene && st != PERSP_ERR_IO ? desc->scene : "accuracy --shading");
+}
+
 int cmd_accuracy_shading(int argc, char **argv)
 {
     persp_shading_accuracy_desc desc;
@@ -80,20 +88,9 @@ int cmd_accuracy_shading(int argc, char **argv)
     desc.height = size.height;
     /* The figures are written last: a path that cannot be is known now. */
     if ((rc = cli_check_output("accuracy --shading", "--svg", desc.svg_path)) != CLI_OK) return rc;
-    persp_context *ctx = NULL;
-    persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
-    persp_status st = persp_context_create(&cd, &ctx);
-    if (st != PERSP_OK) return cli_status(NULL, st, "accuracy --shading: context");
-    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-    cli_output out;
-    if ((rc = cli_output_open("accuracy --shading", output, &out)) != CLI_OK) {
-        persp_context_destroy(ctx);
+    if ((rc = cli_check_not_input("accuracy --shading", "--svg", desc.svg_path, desc.scene)) != CLI_OK ||
+        (rc = cli_check_not_input("accuracy --shading", "-o", output, desc.scene)) != CLI_OK)
         return rc;
-    }
-    st = persp_shading_accuracy_report(ctx, &desc, out.f);
-    if (st != PERSP_OK) rc = cli_status(ctx, st, desc.scene && st != PERSP_ERR_IO ? desc.scene : "accuracy --shading");
-    int out_rc = cli_output_close("accuracy --shading", &out, rc == CLI_OK);
-    if (rc == CLI_OK) rc = out_rc;
-    persp_context_destroy(ctx);
-    return rc;
+    cli_run_desc run = {.command = "accuracy --shading", .max_memory = max_memory, .report = 1, .output = output};
+    return cli_run(&run, shading_body, &desc);
 }

@@ -1,19 +1,22 @@
-#include "cli.h"
+#include "options.h"
 
 #include <string.h>
 
+static void methods_usage(FILE *out, const cli_command *cmd)
+{
+    fprintf(out, "usage: persp methods\n\nLists every texture-coordinate method: name and "
+                 "parameters, summary,\nsource and cost per pixel / span. A source is a "
+                 "citation key and a section;\nthe keys (e.g. [Romanyuk-PCF]) are defined in "
+                 "docs/SOURCES.md.\n\noptions:\n");
+    cli_print_options(out, cmd);
+}
+
 int cmd_methods(int argc, char **argv)
 {
-    for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
-            printf("usage: persp methods\n\nLists every texture-coordinate method: name and "
-                   "parameters, summary,\nsource and cost per pixel / span. A source is a "
-                   "citation key and a section;\nthe keys (e.g. [Romanyuk-PCF]) are defined in "
-                   "docs/SOURCES.md.\n");
-            return CLI_OK;
-        }
-        return cli_error(CLI_USAGE, "methods: unknown option '%s'", argv[i]);
-    }
+    cli_option opts[] = {CLI_OPT_NO_DEST(cli_opt_help)};
+    cli_command cmd = {"methods", "persp methods --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
+    int rc = cli_parse_or_usage(&cmd, argc, argv, methods_usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
     persp_method_info info;
     for (size_t i = 0; persp_method_get(i, &info) == PERSP_OK; i++) {
         char name[64];

@@ -33,6 +33,16 @@ static const cli_spec opt_from = {.name = "from",
                                       "read the method accuracy from DIR/accuracy.json (e.g.\n"
                                       "`persp merge` of a sharded sweep) instead of measuring it"};
 
+static int report_body(persp_context *ctx, cli_output *out, void *user)
+{
+    (void)out;
+    double t0 = cli_now();
+    persp_status st = persp_report_html(ctx, user);
+    if (st != PERSP_OK) return cli_status(ctx, st, "report");
+    fprintf(stderr, "report: done in %.1f s\n", cli_now() - t0);
+    return CLI_OK;
+}
+
 int cmd_report(int argc, char **argv)
 {
     const char *output = NULL, *from = NULL, *hardware = NULL;
@@ -72,17 +82,6 @@ int cmd_report(int argc, char **argv)
     /* `make hw` leaves its summary in out/hw/ of the checkout. */
     if (!hardware && access("out/hw/summary.json", R_OK) == 0) hardware = "out/hw/summary.json";
     desc.hardware_summary = hardware;
-    persp_context *ctx = NULL;
-    persp_context_desc cd = {.max_memory = cli_max_memory(max_memory)};
-    persp_status st = persp_context_create(&cd, &ctx);
-    if (st != PERSP_OK) return cli_status(NULL, st, "report: context");
-    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-    double t0 = cli_now();
-    st = persp_report_html(ctx, &desc);
-    if (st != PERSP_OK)
-        rc = cli_status(ctx, st, "report");
-    else
-        fprintf(stderr, "report: done in %.1f s\n", cli_now() - t0);
-    persp_context_destroy(ctx);
-    return rc;
+    cli_run_desc run = {.command = "report", .max_memory = max_memory};
+    return cli_run(&run, report_body, &desc);
 }

@@ -13,6 +13,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static void usage(FILE *out, const cli_command *cmd)
 {
@@ -242,6 +243,19 @@ static int put_exact_triangle(persp_context *ctx, const persp_method_vertex v[3]
  * read as a triangle). */
 #define read_error(...) (cli_error(CLI_FAIL, __VA_ARGS__), -1)
 
+/* "inf", "infinity" or "nan" in any case, signed or not: named as what
+ * they are rather than as words. */
+static int non_finite_word(const char *s)
+{
+    if (*s == '-' || *s == '+') s++;
+    char low[10];
+    size_t n = 0;
+    for (; s[n] && n < sizeof low - 1; n++) low[n] = (char)(s[n] >= 'A' && s[n] <= 'Z' ? s[n] - 'A' + 'a' : s[n]);
+    if (s[n]) return 0;
+    low[n] = '\0';
+    return !strcmp(low, "inf") || !strcmp(low, "infinity") || !strcmp(low, "nan");
+}
+
 /* One vertex set per line (declared in cli.h for tests/fuzz/fuzz_vectors.c). */
 int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_vertex v[3])
 {
@@ -271,11 +285,18 @@ int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_v
             if (count == 15)
                 return read_error("vectors: %s:%ld: more than 15 numbers (x y w u v per vertex)",
                                  path, *line);
-            errno = 0;
-            x[count] = strtod(s, &end);
-            if (end == s || (*end && *end != ' ' && *end != '\t' && *end != '\r' && *end != '\n'))
+            end = s + strcspn(s, " \t\r\n");
+            const char saved = *end;
+            *end = '\0';
+            /* Decimal only: strtod would also read "0x10" as 16 and
+             * "inf", "nan" (C11 7.22.1.3), which no coordinate means. */
+            const int decimal = cli_decimal_syntax(s, 1);
+            const int nonfinite = !decimal && non_finite_word(s);
+            x[count] = decimal ? strtod(s, NULL) : 0.0;
+            *end = saved;
+            if (!decimal && !nonfinite)
                 return read_error("vectors: %s:%ld: number %d is not a number", path, *line, count + 1);
-            if (!isfinite(x[count]))
+            if (nonfinite || !isfinite(x[count]))
                 return read_error("vectors: %s:%ld: number %d is not finite", path, *line, count + 1);
             count++, s = end;
         }
@@ -295,7 +316,7 @@ int vectors_read_triangle(FILE *in, const char *path, long *line, persp_method_v
         }
         return 1;
     }
-    if (ferror(in)) return read_error("vectors: %s: read error", path);
+    if (ferror(in)) return read_error("vectors: %s: read error: %s", path, strerror(errno ? errno : EIO));
     return 0;
 }
 
@@ -340,111 +361,182 @@ void vectors_keep_span(void *user, const persp_midpoint_span *s, const persp_mid
     l->n++;
 }
 
-int cmd_vectors(int argc, char **argv)
+/* ------------------------------------------------------------ the driver */
+
+typedef struct vectors_state {
+    const vectors_job *job;
+    const vectors_writer *w;
+    FILE *in;
+    long count;
+} vectors_state;
+
+static int vectors_body(persp_context *ctx, cli_output *out, void *user)
 {
-    const char *method = "midpoint:int", *output = NULL, *input = NULL, *module = "midpoint_int";
-    uint64_t seed = 1;
-    int triangles = 8;
-    double depth_ratio = 8.0, uv_range = 1.0;
-    cli_size size = {1024, 768}, tex = {256, 256};
-    cli_option opts[] = {
-        CLI_OPT(opt_module, &module),
-        CLI_OPT(opt_method, &method),
-        CLI_OPT(opt_triangles, &triangles),
-        CLI_OPT(cli_opt_seed, &seed),
-        CLI_OPT(opt_depth_ratio, &depth_ratio),
-        CLI_OPT(opt_uv_range, &uv_range),
-        CLI_OPT_HELP(cli_opt_size, &size, "window in pixels (default 1024x768)"),
-        CLI_OPT(opt_texture_size, &tex),
-        CLI_OPT(opt_input, &input),
-        CLI_OPT_HELP(cli_opt_output, &output, "write the vectors to FILE (default, and -: standard output)"),
-        CLI_OPT_NO_DEST(cli_opt_help),
-    };
-    cli_command cmd = {"vectors", "persp vectors --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
-    int rc = cli_parse_or_usage(&cmd, argc, argv, usage);
-    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
-    if (input && (cli_given(&cmd, &opt_triangles) || cli_given(&cmd, &cli_opt_seed) ||
-                  cli_given(&cmd, &opt_depth_ratio) || cli_given(&cmd, &opt_uv_range)))
-        return cli_error(CLI_USAGE, "vectors: --input takes the triangles from its file: --triangles, --seed, "
-                                    "--depth-ratio and --uv-range shape random ones");
-    if (vectors_shade_module(module)) {
-        if (cli_given(&cmd, &opt_method))
-            return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module %s has none", module);
-        return vectors_shade(module, input, output, triangles, (unsigned long long)seed, depth_ratio, uv_range,
-                             size.width, size.height, tex.width, tex.height);
-    }
-    if (vectors_span_module(module)) {
-        if (cli_given(&cmd, &opt_method))
-            return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module %s has none", module);
-        return vectors_span(module, input, output, triangles, (unsigned long long)seed, depth_ratio, uv_range,
-                            size.width, size.height, tex.width, tex.height);
-    }
-    const int exact = strcmp(module, "exact") == 0;
-    if (exact && cli_given(&cmd, &opt_method))
-        return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module exact has none");
-    FILE *in = NULL;
-    if (input && !(in = fopen(input, "r")))
-        return cli_error(CLI_FAIL, "vectors: %s: cannot open: %s", input, strerror(errno));
-    persp_context *ctx = NULL;
-    persp_status st = persp_context_create(NULL, &ctx);
-    if (st != PERSP_OK) {
-        if (in) fclose(in);
-        return cli_status(NULL, st, "vectors: context");
-    }
-    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-    cli_output out;
-    if ((rc = cli_output_open("vectors", output, &out)) != CLI_OK) {
-        if (in) fclose(in);
-        persp_context_destroy(ctx);
-        return rc;
-    }
-    vec_out o = {out.f, 0, 0, 0, 0, 0, NULL, 0};
-    exact_out xo = {out.f, 0, 0, 0, 0, {0.0, 0.0}};
-    if (exact)
-        fprintf(out.f, "# persp test vectors of the RTL module exact, format 1 (docs/HARDWARE.md, \"Vectors\")\n");
+    vectors_state *vs = user;
+    const vectors_job *job = vs->job;
+    const vectors_writer *w = vs->w;
+    fprintf(out->f, "%s\n# window %dx%d, texture %dx%d, ", w->title, job->width, job->height, job->tex_w, job->tex_h);
+    if (vs->in)
+        fprintf(out->f, "triangles from %s\n", job->input);
     else
-        fprintf(out.f, "# persp test vectors of %s, format 1 (docs/METHODS.md, \"Test vectors\")\n", method);
-    fprintf(out.f, "# window %dx%d, texture %dx%d, ", size.width, size.height, tex.width, tex.height);
-    if (in)
-        fprintf(out.f, "triangles from %s\n", input);
-    else
-        fprintf(out.f, "%d random triangle%s, seed %" PRIu64 ", depth ratio %g, u and v in [0, %g]\n", triangles,
-                triangles == 1 ? "" : "s", seed, depth_ratio, uv_range);
-    uint64_t state = seed;
-    long line = 0, index = 0;
-    for (;;) {
+        fprintf(out->f, "%d random triangle%s, seed %" PRIu64 ", depth ratio %g, u and v in [0, %g]\n",
+                job->triangles, job->triangles == 1 ? "" : "s", job->seed, job->depth_ratio, job->uv_range);
+    uint64_t state = job->seed;
+    long line = 0;
+    int rc = CLI_OK;
+    /* A full output ends the loop: cli_output_close names the limit. */
+    while (!cli_output_full(out)) {
         persp_method_vertex v[3];
-        if (in) {
-            int got = vectors_read_triangle(in, input, &line, v);
+        if (vs->in) {
+            int got = vectors_read_triangle(vs->in, job->input, &line, v);
             if (got != 1) {
                 rc = got < 0 ? CLI_FAIL : CLI_OK;
                 break;
             }
         } else {
-            if (index == triangles) break;
-            vectors_random_triangle(&state, size.width, size.height, depth_ratio, uv_range, v);
+            if (vs->count == job->triangles) break;
+            vectors_random_triangle(&state, job->width, job->height, job->depth_ratio, job->uv_range, v);
         }
-        rc = exact ? put_exact_triangle(ctx, v, size.width, size.height, tex.width, tex.height, index, &xo)
-                   : put_triangle(ctx, method, v, size.width, size.height, tex.width, tex.height, index, &o);
-        if (rc != CLI_OK) break;
-        index++;
+        if ((rc = w->triangle(ctx, job, v, vs->count, out->f, w->state)) != CLI_OK) break;
+        vs->count++;
     }
-    if (in) fclose(in);
-    if (rc == CLI_OK && exact)
-        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld of them out of range), "
-                       "max |du| %.9f texels, max |dv| %.9f texels\n",
-                index, xo.spans, xo.pixels, xo.hw_pixels, xo.ovf_pixels, xo.max_err[0], xo.max_err[1]);
-    else if (rc == CLI_OK)
-        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld on the integer path), %ld lattice steps, %ld re-seeds\n",
-                index, o.spans, o.pixels, o.int_pixels, o.steps, o.reseeds);
-    int out_rc = cli_output_close("vectors", &out, rc == CLI_OK);
-    if (rc == CLI_OK) rc = out_rc;
-    if (rc == CLI_OK && output && strcmp(output, "-") && exact)
-        fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld in the hardware) to %s\n", index,
-                xo.spans, xo.pixels, xo.hw_pixels, output);
-    else if (rc == CLI_OK && output && strcmp(output, "-"))
-        fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld integer) to %s\n", index, o.spans,
-                o.pixels, o.int_pixels, output);
-    persp_context_destroy(ctx);
+    if (rc == CLI_OK) w->footer(out->f, vs->count, w->state);
     return rc;
+}
+
+int vectors_run(const vectors_job *job, const vectors_writer *w)
+{
+    vectors_state vs = {job, w, NULL, 0};
+    if (job->input) {
+        /* fopen opens a folder for reading; only reading it fails, as a
+         * "read error" that does not say why. */
+        struct stat sb;
+        if (stat(job->input, &sb) == 0 && S_ISDIR(sb.st_mode))
+            return cli_error(CLI_FAIL, "vectors: %s: is a directory (--input takes a file of triangles)", job->input);
+        if (!(vs.in = fopen(job->input, "r")))
+            return cli_error(CLI_FAIL, "vectors: %s: cannot open: %s", job->input, strerror(errno));
+    }
+    cli_run_desc run = {.command = "vectors",
+                        .report = 1,
+                        .output = job->output,
+                        .output_limit = job->max_output,
+                        .limit_option = "--max-output"};
+    int rc = cli_run(&run, vectors_body, &vs);
+    if (vs.in) fclose(vs.in);
+    if (rc == CLI_OK && job->output && strcmp(job->output, "-")) w->summary(vs.count, job->output, w->state);
+    return rc;
+}
+
+/* ---------------------------------------------- midpoint_int and exact */
+
+static int midpoint_triangle(persp_context *ctx, const vectors_job *job, const persp_method_vertex v[3], long index,
+                             FILE *f, void *state)
+{
+    vec_out *o = state;
+    o->f = f;
+    return put_triangle(ctx, job->method, v, job->width, job->height, job->tex_w, job->tex_h, index, o);
+}
+
+static void midpoint_footer(FILE *f, long index, void *state)
+{
+    const vec_out *o = state;
+    fprintf(f, "# %ld triangles, %ld spans, %ld pixels (%ld on the integer path), %ld lattice steps, %ld re-seeds\n",
+            index, o->spans, o->pixels, o->int_pixels, o->steps, o->reseeds);
+}
+
+static void midpoint_summary(long index, const char *output, void *state)
+{
+    const vec_out *o = state;
+    fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld integer) to %s\n", index, o->spans,
+            o->pixels, o->int_pixels, output);
+}
+
+static int exact_triangle(persp_context *ctx, const vectors_job *job, const persp_method_vertex v[3], long index,
+                          FILE *f, void *state)
+{
+    exact_out *o = state;
+    o->f = f;
+    return put_exact_triangle(ctx, v, job->width, job->height, job->tex_w, job->tex_h, index, o);
+}
+
+static void exact_footer(FILE *f, long index, void *state)
+{
+    const exact_out *o = state;
+    fprintf(f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld of them out of range), "
+               "max |du| %.9f texels, max |dv| %.9f texels\n",
+            index, o->spans, o->pixels, o->hw_pixels, o->ovf_pixels, o->max_err[0], o->max_err[1]);
+}
+
+static void exact_summary(long index, const char *output, void *state)
+{
+    const exact_out *o = state;
+    fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld in the hardware) to %s\n", index,
+            o->spans, o->pixels, o->hw_pixels, output);
+}
+
+/* ------------------------------------------------------------- options */
+
+/* The default cap of --max-output: the largest set scripts/hw.sh writes is
+ * a few MiB; one triangle over a 1024x768 window writes about 25 MB. */
+#define VECTORS_MAX_OUTPUT ((size_t)64 << 20)
+
+static const cli_spec opt_max_output = {.name = "max-output",
+                                        .kind = CLI_KIND_CUSTOM,
+                                        .metavar = "SIZE",
+                                        .accepts = "a byte count, optionally with K, M, G or T (binary), e.g. 256M",
+                                        .help = "refuse to write more than SIZE bytes of vectors (default 64M;\n"
+                                                "K, M, G, T binary)"};
+
+int cmd_vectors(int argc, char **argv)
+{
+    vectors_job job = {.module = "midpoint_int",
+                       .method = "midpoint:int",
+                       .triangles = 8,
+                       .seed = 1,
+                       .depth_ratio = 8.0,
+                       .uv_range = 1.0,
+                       .max_output = VECTORS_MAX_OUTPUT};
+    cli_size size = {1024, 768}, tex = {256, 256};
+    cli_spec max_output_spec = opt_max_output;
+    max_output_spec.parse = cli_opt_max_memory.parse;
+    cli_option opts[] = {
+        CLI_OPT(opt_module, &job.module),
+        CLI_OPT(opt_method, &job.method),
+        CLI_OPT(opt_triangles, &job.triangles),
+        CLI_OPT(cli_opt_seed, &job.seed),
+        CLI_OPT(opt_depth_ratio, &job.depth_ratio),
+        CLI_OPT(opt_uv_range, &job.uv_range),
+        CLI_OPT_HELP(cli_opt_size, &size, "window in pixels (default 1024x768)"),
+        CLI_OPT(opt_texture_size, &tex),
+        CLI_OPT(opt_input, &job.input),
+        CLI_OPT_HELP(cli_opt_output, &job.output, "write the vectors to FILE (default, and -: standard output)"),
+        CLI_OPT(max_output_spec, &job.max_output),
+        CLI_OPT_NO_DEST(cli_opt_help),
+    };
+    cli_command cmd = {"vectors", "persp vectors --help", NULL, opts, sizeof opts / sizeof opts[0], NULL, 0, 0, NULL};
+    int rc = cli_parse_or_usage(&cmd, argc, argv, usage);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
+    job.width = size.width, job.height = size.height, job.tex_w = tex.width, job.tex_h = tex.height;
+    if (job.input && (cli_given(&cmd, &opt_triangles) || cli_given(&cmd, &cli_opt_seed) ||
+                      cli_given(&cmd, &opt_depth_ratio) || cli_given(&cmd, &opt_uv_range)))
+        return cli_error(CLI_USAGE, "vectors: --input takes the triangles from its file: --triangles, --seed, "
+                                    "--depth-ratio and --uv-range shape random ones");
+    const int exact = strcmp(job.module, "exact") == 0;
+    if ((exact || vectors_shade_module(job.module) || vectors_span_module(job.module)) && cli_given(&cmd, &opt_method))
+        return cli_error(CLI_USAGE, "vectors: --method chooses midpoint:int's lattice; --module %s has none",
+                         job.module);
+    if ((rc = cli_check_not_input("vectors", "-o", job.output, job.input)) != CLI_OK) return rc;
+    if (vectors_shade_module(job.module)) return vectors_shade(&job);
+    if (vectors_span_module(job.module)) return vectors_span(&job);
+    vec_out o = {NULL, 0, 0, 0, 0, 0, NULL, 0};
+    exact_out xo = {NULL, 0, 0, 0, 0, {0.0, 0.0}};
+    vectors_writer w = {"", exact ? exact_triangle : midpoint_triangle, exact ? exact_footer : midpoint_footer,
+                        exact ? exact_summary : midpoint_summary, exact ? (void *)&xo : (void *)&o};
+    if (exact)
+        snprintf(w.title, sizeof w.title,
+                 "# persp test vectors of the RTL module exact, format 1 (docs/HARDWARE.md, \"Vectors\")");
+    else
+        snprintf(w.title, sizeof w.title, "# persp test vectors of %s, format 1 (docs/METHODS.md, \"Test vectors\")",
+                 job.method);
+    return vectors_run(&job, &w);
 }

@@ -172,150 +172,196 @@ int view_window_run(const view_window_args *args)
 }
 #endif
 
-int cmd_view(int argc, char **argv)
-{
-    const char *texture = NULL, *method = NULL, *compare = NULL, *output = NULL, *play = NULL,
-               *record = NULL, *window_shot = NULL, *script = NULL;
-    cli_filter filter = {NULL, PERSP_FILTER_DEFAULT, 0};
-    cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
-    cli_size size = {0, 0};
-    int quiet = 0, threads = (int)cpu_count(), heat_max = 16, frames = 0, mip_levels = 0;
-    size_t max_memory = 0;
-    persp_toggle count_ops = PERSP_TOGGLE_DEFAULT;
-    double divider = 0.5;
-    view_layout layout = VIEW_LAYOUT_SPLIT;
-    view_settings left;
-    memset(&left, 0, sizeof left);
-    cli_spec compare_spec = opt_compare;
-    persp_scene_load_desc load = {PERSP_TOGGLE_DEFAULT};
-    compare_spec.parse = cli_opt_method.parse;
-    compare_spec.accepts = cli_opt_method.accepts;
-    cli_option opts[] = {
-        CLI_OPT_HELP(cli_opt_method, &method, "method of the left side (default: the scene's)"),
-        CLI_OPT(compare_spec, &compare),
-        CLI_OPT(cli_opt_filter, &filter),
-        CLI_OPT(cli_opt_wrap, &left.wrap),
-        CLI_OPT(cli_opt_shading, &shading),
-        CLI_OPT(cli_opt_depth, &left.depth),
-        CLI_OPT(cli_opt_lod, &left.lod),
-        CLI_OPT(cli_opt_lod_bias, &left.lod_bias),
-        CLI_OPT(cli_opt_pipeline, &left.pipeline),
-        CLI_OPT(cli_opt_texture, &texture),
-        CLI_OPT(cli_opt_any_folder, &load.any_folder),
-        CLI_OPT(cli_opt_up, &load.model_up),
-        CLI_OPT(cli_opt_formats, &load.formats),
-        CLI_OPT(cli_opt_import, &load.import),
-        CLI_OPT(cli_opt_import_timeout, &load.import_time_limit_ms),
-        CLI_OPT(cli_opt_crease, &load.crease_deg),
-        CLI_OPT(cli_opt_count_ops, &count_ops),
-        CLI_OPT(opt_mip_levels, &mip_levels),
-        CLI_OPT(opt_layout, &layout),
-        CLI_OPT(opt_divider, &divider),
-        CLI_OPT(opt_heat_max, &heat_max),
-        CLI_OPT_HELP(cli_opt_size, &size,
-                     "window or frame size (default: the scene's, else 1024x768)"),
-        CLI_OPT_HELP(cli_opt_threads, &threads, "worker threads, 1..256 (default: all CPUs)"),
-        CLI_OPT(cli_opt_max_memory, &max_memory),
-        CLI_OPT(opt_play, &play),
-        CLI_OPT(opt_frames, &frames),
-        CLI_OPT_HELP(cli_opt_output, &output,
-                     "folder for --play frames and screenshots (default out/frames)"),
-        CLI_OPT(opt_record, &record),
-        CLI_OPT(opt_window_shot, &window_shot),
-        CLI_OPT(opt_script, &script),
-        CLI_OPT_HELP(cli_opt_quiet, &quiet, "print nothing on success"),
-        CLI_OPT_NO_DEST(cli_opt_help),
-    };
-    const char *scene_arg[1] = {NULL};
-    cli_command cmd = {
-        "view", "persp view --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0,
-        "scene"};
-    int rc = cli_parse_or_usage(&cmd, argc, argv, view_usage);
-    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
-
-    if (method) snprintf(left.method, sizeof left.method, "%s", method);
-    left.filter = filter.filter;
-    left.max_aniso = filter.max_aniso;
-    left.shading = shading.shading;
-    left.count_ops = count_ops == PERSP_TOGGLE_ON;
-    view_settings right = left;
-    left.mip_levels = mip_levels;
-    snprintf(right.method, sizeof right.method, "%s", compare ? compare : "exact");
-    right.count_ops = 0;
-    if (!output) output = "out/frames";
-    if (strlen(left.method) != strlen(method ? method : "") ||
-        strlen(right.method) != strlen(compare ? compare : "exact"))
-        return cli_error(CLI_USAGE, "view: method spec too long");
-
-    const char *scene_name = scene_arg[0] ? scene_arg[0] : "corridor";
-    int checked = cli_check_scene("view", scene_name);
-    if (checked != CLI_OK) return checked;
+/* The options of `persp view`, as parsed and checked. */
+typedef struct view_job {
+    const char *scene_name, *texture, *method, *compare, *output, *play, *record, *window_shot, *script;
+    view_settings left, right;
+    view_layout layout;
+    double divider;
+    int heat_max, frames, quiet, threads;
+    cli_size size;
+    persp_scene_load_desc load;
     view_path path;
-    memset(&path, 0, sizeof path);
-    if (play) {
-        char err[512];
-        if (!view_path_load(play, &path, err, sizeof err))
-            return cli_error(CLI_FAIL, "view: %s", err);
-    }
+} view_job;
 
-    persp_context *ctx = NULL;
+/* The method of the left side without --method: the scene's where it names
+ * one, else affine, so that the default split shows what perspective
+ * correction changes (exact against exact would show nothing). */
+static void default_left_method(const persp_scene *scene, view_settings *left)
+{
+    persp_scene_info info;
+    persp_scene_get_info(scene, &info);
+    snprintf(left->method, sizeof left->method, "%s", strcmp(info.method, "exact") ? info.method : "affine");
+}
+
+/* The scene and the copies the layouts need: its mip levels as colours
+ * and its texture coordinates as colours. The copies load the same file:
+ * its warnings were shown with the first. */
+static int view_load(persp_context *ctx, const view_job *job, persp_scene **scene, persp_scene **tinted,
+                     persp_scene **coords, persp_image *coord_img)
+{
+    int rc = load_scene(ctx, job->scene_name, job->texture, &job->load, scene);
+    if (rc != CLI_OK) return rc;
+    persp_context_set_warning_handler(ctx, NULL, NULL);
+    /* The window offers mip levels on either side at any time. */
+    if (job->left.mip_levels || !job->play) {
+        rc = load_scene(ctx, job->scene_name, job->texture, &job->load, tinted);
+        if (rc == CLI_OK) persp_scene_tint_mip_levels(*tinted);
+    }
+    if (rc == CLI_OK && (job->layout == VIEW_LAYOUT_TEXEL || !job->play)) {
+        rc = load_scene(ctx, job->scene_name, NULL, &job->load, coords);
+        persp_status st = PERSP_OK;
+        if (rc == CLI_OK && ((st = view_coord_image(ctx, coord_img)) != PERSP_OK ||
+                             (st = persp_scene_set_texture(*coords, coord_img)) != PERSP_OK))
+            rc = cli_status(ctx, st, "view: coordinate texture");
+    }
+    persp_context_set_warning_handler(ctx, cli_warning, NULL);
+    return rc;
+}
+
+static int view_play(persp_context *ctx, const view_job *job, const view_scenes *scenes, int width, int height)
+{
+    long n = job->frames ? job->frames : (long)job->path.count;
+    double t0 = cli_now();
+    int rc = play_path(ctx, scenes, &job->path, &job->left, &job->right, job->layout, job->divider, job->heat_max,
+                       width, height, n, job->output, job->quiet);
+    const char *out = job->output;
+    if (rc == CLI_OK && !job->quiet)
+        printf("played %s (%s | %s): %ld frame%s of %dx%d in %.2f s -> %s%s\n", job->play,
+               job->left.method[0] ? job->left.method : "scene's", job->right.method, n, n == 1 ? "" : "s", width,
+               height, cli_now() - t0, out, out[0] && out[strlen(out) - 1] == '/' ? "" : "/");
+    return rc;
+}
+
+static int view_window(persp_context *ctx, const view_job *job, persp_scene *scene, persp_scene *tinted,
+                       persp_scene *coords, int width, int height)
+{
+    view_window_args a = {
+        ctx,   scene,  tinted,       coords,       job->scene_name,
+        job->left, job->right, job->layout, job->divider, job->heat_max,
+        width, height, job->threads, job->frames,  job->record ? job->record : "camera-path.json",
+        NULL,  job->output, job->window_shot, job->script, job->quiet,
+        cli_temp_file, cli_install_signal_handlers};
+    /* SDL turns SIGINT/SIGTERM into its quit event, so that the window
+     * closes cleanly, but only where the signal has its default action
+     * (SDL_INIT_EVENTS, SDL_HINT_NO_SIGNAL_HANDLERS): hand them back.
+     * Where SDL then takes neither, the window puts ours back. */
+    cli_restore_signal_handlers();
+    return view_window_run(&a);
+}
+
+static int view_body(persp_context *ctx, cli_output *out, void *user)
+{
+    (void)out;
+    view_job *job = user;
     persp_scene *scene = NULL, *tinted = NULL, *coords = NULL;
     persp_image coord_img = {0, 0, 0, NULL};
-    persp_status st;
-    persp_context_desc cd = {.threads = threads, .max_memory = cli_max_memory(max_memory)};
-    if ((st = persp_context_create(&cd, &ctx)) != PERSP_OK) {
-        view_path_free(&path);
-        return cli_status(NULL, st, "view");
+    int rc = view_load(ctx, job, &scene, &tinted, &coords, &coord_img);
+    if (rc == CLI_OK) {
+        /* The single layout compares nothing: the scene's own method. */
+        if (!job->method && job->layout != VIEW_LAYOUT_SINGLE) default_left_method(scene, &job->left);
+        view_scenes scenes = {scene, tinted, coords};
+        int width = job->size.width, height = job->size.height;
+        if (!width) persp_scene_default_size(scene, &width, &height);
+        if (!width) width = 1024, height = 768;
+        rc = job->play ? view_play(ctx, job, &scenes, width, height)
+                       : view_window(ctx, job, scene, tinted, coords, width, height);
     }
-    persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-    if ((rc = load_scene(ctx, scene_name, texture, &load, &scene)) != CLI_OK) goto done;
-    /* The window offers mip levels on either side at any time. */
-    if (mip_levels || !play) {
-        if ((rc = load_scene(ctx, scene_name, texture, &load, &tinted)) != CLI_OK) goto done;
-        persp_scene_tint_mip_levels(tinted);
-    }
-    if (layout == VIEW_LAYOUT_TEXEL || !play) {
-        if ((rc = load_scene(ctx, scene_name, NULL, &load, &coords)) != CLI_OK) goto done;
-        if ((st = view_coord_image(ctx, &coord_img)) != PERSP_OK ||
-            (st = persp_scene_set_texture(coords, &coord_img)) != PERSP_OK) {
-            rc = cli_status(ctx, st, "view: coordinate texture");
-            goto done;
-        }
-    }
-    view_scenes scenes = {scene, tinted, coords};
-    int width = size.width, height = size.height;
-    if (!width) persp_scene_default_size(scene, &width, &height);
-    if (!width) width = 1024, height = 768;
-
-    if (play) {
-        long n = frames ? frames : (long)path.count;
-        double t0 = cli_now();
-        rc = play_path(ctx, &scenes, &path, &left, &right, layout, divider, heat_max, width, height,
-                       n, output, quiet);
-        if (rc == CLI_OK && !quiet)
-            printf("played %s: %ld frame%s of %dx%d in %.2f s -> %s%s\n", play, n, n == 1 ? "" : "s",
-                   width, height, cli_now() - t0, output,
-                   output[0] && output[strlen(output) - 1] == '/' ? "" : "/");
-    } else {
-        view_window_args a = {
-            ctx,   scene,  tinted,      coords,  scene_name,
-            left,  right,  layout,      divider, heat_max,
-            width, height, threads,     frames,  record ? record : "camera-path.json",
-            NULL,  output, window_shot, script,  quiet,
-            cli_temp_file, cli_install_signal_handlers};
-        /* SDL turns SIGINT/SIGTERM into its quit event, so that the window
-         * closes cleanly, but only where the signal has its default action
-         * (SDL_INIT_EVENTS, SDL_HINT_NO_SIGNAL_HANDLERS): hand them back.
-         * Where SDL then takes neither, the window puts ours back. */
-        cli_restore_signal_handlers();
-        rc = view_window_run(&a);
-    }
-done:
-    view_path_free(&path);
     persp_image_free(ctx, &coord_img);
     persp_scene_destroy(coords);
     persp_scene_destroy(tinted);
     persp_scene_destroy(scene);
-    persp_context_destroy(ctx);
+    return rc;
+}
+
+/* Parses argv into job; CLI_OK, CLI_HELP (the help printed) or CLI_USAGE. */
+static int view_parse(int argc, char **argv, view_job *job, size_t *max_memory)
+{
+    cli_filter filter = {NULL, PERSP_FILTER_DEFAULT, 0};
+    cli_shading shading = {NULL, PERSP_SHADING_DEFAULT};
+    persp_toggle count_ops = PERSP_TOGGLE_DEFAULT;
+    int mip_levels = 0;
+    view_settings *left = &job->left;
+    cli_spec compare_spec = opt_compare;
+    compare_spec.parse = cli_opt_method.parse;
+    compare_spec.accepts = cli_opt_method.accepts;
+    cli_option opts[] = {
+        CLI_OPT_HELP(cli_opt_method, &job->method,
+                     "method of the left side (default: the scene's, or affine\n"
+                     "where the scene names none or exact and the layout\n"
+                     "compares)"),
+        CLI_OPT(compare_spec, &job->compare),
+        CLI_OPT(cli_opt_filter, &filter),
+        CLI_OPT(cli_opt_wrap, &left->wrap),
+        CLI_OPT(cli_opt_shading, &shading),
+        CLI_OPT(cli_opt_depth, &left->depth),
+        CLI_OPT(cli_opt_lod, &left->lod),
+        CLI_OPT(cli_opt_lod_bias, &left->lod_bias),
+        CLI_OPT(cli_opt_pipeline, &left->pipeline),
+        CLI_OPT(cli_opt_texture, &job->texture),
+        CLI_OPT(cli_opt_any_folder, &job->load.any_folder),
+        CLI_OPT(cli_opt_up, &job->load.model_up),
+        CLI_OPT(cli_opt_formats, &job->load.formats),
+        CLI_OPT(cli_opt_import, &job->load.import),
+        CLI_OPT(cli_opt_import_timeout, &job->load.import_time_limit_ms),
+        CLI_OPT(cli_opt_crease, &job->load.crease_deg),
+        CLI_OPT(cli_opt_count_ops, &count_ops),
+        CLI_OPT(opt_mip_levels, &mip_levels),
+        CLI_OPT(opt_layout, &job->layout),
+        CLI_OPT(opt_divider, &job->divider),
+        CLI_OPT(opt_heat_max, &job->heat_max),
+        CLI_OPT_HELP(cli_opt_size, &job->size, "window or frame size (default: the scene's, else 1024x768)"),
+        CLI_OPT_HELP(cli_opt_threads, &job->threads, "worker threads, 1..256 (default: all CPUs)"),
+        CLI_OPT(cli_opt_max_memory, max_memory),
+        CLI_OPT(opt_play, &job->play),
+        CLI_OPT(opt_frames, &job->frames),
+        CLI_OPT_HELP(cli_opt_output, &job->output, "folder for --play frames and screenshots (default out/frames)"),
+        CLI_OPT(opt_record, &job->record),
+        CLI_OPT(opt_window_shot, &job->window_shot),
+        CLI_OPT(opt_script, &job->script),
+        CLI_OPT_HELP(cli_opt_quiet, &job->quiet, "print nothing on success"),
+        CLI_OPT_NO_DEST(cli_opt_help),
+    };
+    const char *scene_arg[1] = {NULL};
+    cli_command cmd = {
+        "view", "persp view --help", NULL, opts, sizeof opts / sizeof opts[0], scene_arg, 1, 0, "scene"};
+    int rc = cli_parse_or_usage(&cmd, argc, argv, view_usage);
+    job->scene_name = scene_arg[0] ? scene_arg[0] : "corridor";
+    if (job->method) snprintf(left->method, sizeof left->method, "%s", job->method);
+    left->filter = filter.filter;
+    left->max_aniso = filter.max_aniso;
+    left->shading = shading.shading;
+    left->count_ops = count_ops == PERSP_TOGGLE_ON;
+    job->right = *left;
+    left->mip_levels = mip_levels;
+    snprintf(job->right.method, sizeof job->right.method, "%s", job->compare ? job->compare : "exact");
+    job->right.count_ops = 0;
+    return rc;
+}
+
+int cmd_view(int argc, char **argv)
+{
+    view_job job;
+    memset(&job, 0, sizeof job);
+    job.threads = (int)cpu_count();
+    job.heat_max = 16;
+    job.divider = 0.5;
+    job.layout = VIEW_LAYOUT_SPLIT;
+    job.load.any_folder = PERSP_TOGGLE_DEFAULT;
+    size_t max_memory = 0;
+    int rc = view_parse(argc, argv, &job, &max_memory);
+    if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
+    if (!job.output) job.output = "out/frames";
+    if (strlen(job.left.method) != strlen(job.method ? job.method : "") ||
+        strlen(job.right.method) != strlen(job.compare ? job.compare : "exact"))
+        return cli_error(CLI_USAGE, "view: method spec too long");
+    if ((rc = cli_check_scene("view", job.scene_name)) != CLI_OK) return rc;
+    if (job.play) {
+        char err[512];
+        if (!view_path_load(job.play, &job.path, err, sizeof err)) return cli_error(CLI_FAIL, "view: %s", err);
+    }
+    cli_run_desc run = {.command = "view", .threads = job.threads, .max_memory = max_memory};
+    rc = cli_run(&run, view_body, &job);
+    view_path_free(&job.path);
     return rc;
 }

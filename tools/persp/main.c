@@ -34,43 +34,6 @@ static void usage(FILE *out)
                  "  persp --version        print the version\n");
 }
 
-/* Every command that loads a scene or model takes --any-folder: a file
- * refused for lying outside the loaded file's folder says how to allow it. */
-static const char *folder_hint(const char *message)
-{
-    return message && strstr(message, "outside the folder") ? "; --any-folder allows files outside it"
-                                                            : "";
-}
-
-void cli_warning(void *user, const char *message)
-{
-    (void)user;
-    fprintf(stderr, "persp: warning: %s%s\n", message, folder_hint(message));
-}
-
-int cli_status(persp_context *ctx, persp_status st, const char *what)
-{
-    const char *detail = ctx ? persp_context_error(ctx) : "";
-    /* Library details start with the file they concern; do not name it twice. */
-    size_t wl = strlen(what);
-    /* The status of a refused file is an I/O error, which reads as a
-     * failing disk: the hint replaces it. */
-    const char *hint = folder_hint(detail);
-    const char *kind = hint[0] ? "refused" : persp_status_string(st);
-    /* An I/O failure's detail already gives the system's reason ("cannot
-     * open: No such file or directory"), which "(input/output error)"
-     * after it would contradict. */
-    if (st == PERSP_ERR_IO && !hint[0]) {
-        if (detail && !strncmp(detail, what, wl) && detail[wl] == ':') return cli_error(CLI_FAIL, "%s", detail);
-        if (detail && detail[0]) return cli_error(CLI_FAIL, "%s: %s", what, detail);
-    }
-    if (detail && !strncmp(detail, what, wl) && detail[wl] == ':')
-        return cli_error(CLI_FAIL, "%s (%s%s)", detail, kind, hint);
-    if (detail && detail[0])
-        return cli_error(CLI_FAIL, "%s: %s (%s%s)", what, detail, kind, hint);
-    return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
-}
-
 int cli_is_builtin(const char *name)
 {
     for (size_t i = 0; i < persp_builtin_scene_count(); i++)

@@ -337,7 +337,11 @@ static const char *filter_name(int v)
 
 static const char *filter_suffix(int v)
 {
-    return v == PERSP_FILTER_ANISO || v == PERSP_FILTER_ANISO_WINDOW ? ":N (N = 2..16)" : "";
+    /* The list names the bound PERSP_MAX_ANISO gives. */
+#define CLI_STR_(x) #x
+#define CLI_STR(x) CLI_STR_(x)
+    static const char taps[] = ":N (N = 2.." CLI_STR(PERSP_MAX_ANISO) ")";
+    return v == PERSP_FILTER_ANISO || v == PERSP_FILTER_ANISO_WINDOW ? taps : "";
 }
 
 static int parse_filter(const cli_command *cmd, const cli_option *opt, char *value)
@@ -346,8 +350,8 @@ static int parse_filter(const cli_command *cmd, const cli_option *opt, char *val
     persp_status st = persp_filter_parse(value, &f->filter, &f->max_aniso);
     /* persp_filter_parse tells a known filter with a bad tap count apart. */
     if (st == PERSP_ERR_INVALID_ARGUMENT)
-        return cli_error(CLI_USAGE, "%s: bad --filter '%s': aniso taps must be 2..16", cmd->name,
-                         value);
+        return cli_error(CLI_USAGE, "%s: bad --filter '%s': aniso taps must be 2..%d", cmd->name,
+                         value, PERSP_MAX_ANISO);
     if (st != PERSP_OK) {
         char names[512];
         list_names(names, sizeof names, PERSP_FILTER_DEFAULT + 1, PERSP_FILTER_COUNT - 1,
@@ -484,15 +488,15 @@ const cli_spec cli_opt_lod_bias = {.name = "lod-bias",
 const cli_spec cli_opt_min_lod = {.name = "min-lod",
                                   .kind = CLI_KIND_REAL,
                                   .metavar = "L",
-                                  .lo = -1000,
-                                  .hi = 1000,
+                                  .lo = -PERSP_LOD_LIMIT,
+                                  .hi = PERSP_LOD_LIMIT,
                                   .help =
                                       "clamp the level of detail from below (GL default -1000)"};
 const cli_spec cli_opt_max_lod = {.name = "max-lod",
                                   .kind = CLI_KIND_REAL,
                                   .metavar = "L",
-                                  .lo = -1000,
-                                  .hi = 1000,
+                                  .lo = -PERSP_LOD_LIMIT,
+                                  .hi = PERSP_LOD_LIMIT,
                                   .help = "clamp the level of detail from above (GL default 1000)"};
 const cli_spec cli_opt_pipeline = {.name = "pipeline",
                                    .kind = CLI_KIND_ENUM,

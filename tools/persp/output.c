@@ -10,7 +10,7 @@
  * SIGINT or SIGTERM during a write removes them before the process dies
  * (unlink is async-signal-safe, POSIX.1-2008 XSH 2.4.3).
  */
-#define _XOPEN_SOURCE 700 /* realpath, sigaction */
+#define _GNU_SOURCE /* realpath, sigaction (POSIX); fopencookie (glibc) for the capped output */
 #include "cli.h"
 
 #include <errno.h>
@@ -122,7 +122,72 @@ int cli_check_output(const char *command, const char *option, const char *path)
     return rc;
 }
 
+int cli_check_not_input(const char *command, const char *option, const char *output, const char *input)
+{
+    if (!output || !input || !strcmp(output, "-") || !strcmp(input, "-")) return CLI_OK;
+    /* stat follows links, so "s.json", "./s.json" and a link to it are the
+     * same file; a path that is not there yet cannot be the input. */
+    struct stat so, si;
+    if (stat(output, &so) != 0 || stat(input, &si) != 0) return CLI_OK;
+    if (!S_ISREG(so.st_mode) || so.st_dev != si.st_dev || so.st_ino != si.st_ino) return CLI_OK;
+    return cli_error(CLI_USAGE, "%s: %s '%s' is the input file '%s'; writing it would replace the input", command,
+                     option, output, input);
+}
+
 /* -------------------------------------------------------------- output */
+
+/* The capped stream's writer (glibc fopencookie): what would pass the
+ * limit is refused whole, so the file holds no part of what overflowed. */
+static ssize_t capped_write(void *cookie, const char *buf, size_t size)
+{
+    cli_cap *cap = cookie;
+    if (cap->over || size > cap->limit - cap->written) {
+        cap->over = 1;
+        errno = EFBIG;
+        return -1;
+    }
+    size_t n = fwrite(buf, 1, size, cap->raw);
+    cap->written += n;
+    return n == size ? (ssize_t)n : -1;
+}
+
+int cli_output_full(cli_output *out)
+{
+    return fflush(out->f) != 0 || ferror(out->f);
+}
+
+int cli_cap_begin(const char *command, cli_output *out, cli_cap *cap, size_t limit)
+{
+    cookie_io_functions_t io = {NULL, capped_write, NULL, NULL};
+    memset(cap, 0, sizeof *cap);
+    cap->raw = out->f;
+    cap->limit = limit;
+    if (!(out->f = fopencookie(cap, "w", io))) {
+        out->f = cap->raw;
+        cap->raw = NULL;
+        return cli_error(CLI_FAIL, "%s: out of memory", command);
+    }
+    return CLI_OK;
+}
+
+int cli_cap_end(const char *command, cli_output *out, cli_cap *cap, const char *option, int ok)
+{
+    if (!cap->raw) return CLI_OK;
+    int rc = CLI_OK;
+    /* Closing flushes what is left into raw: the last refusal may come now. */
+    int failed = fclose(out->f) != 0;
+    int err = errno;
+    out->f = cap->raw;
+    cap->raw = NULL;
+    if (ok && cap->over)
+        rc = cli_error(CLI_FAIL, "%s: the output would exceed %s %zu bytes; %s (raise %s to allow more)", command,
+                       option, cap->limit,
+                       out->path ? "nothing was written" : "standard output got the part up to it", option);
+    else if (ok && failed)
+        rc = cli_error(CLI_FAIL, "%s: cannot write '%s': %s", command, out->path ? out->path : "standard output",
+                       strerror(err));
+    return rc;
+}
 
 int cli_output_open(const char *command, const char *path, cli_output *out)
 {

@@ -21,7 +21,7 @@ static const char *const shade_modules[] = {"window_one", "window_two", "tw_exac
 enum { N_SHADE = (int)(sizeof shade_modules / sizeof shade_modules[0]) };
 
 /* The max_aniso the windows are made for (persp's aniso-window:16). */
-enum { WINDOW_ANISO = 16 };
+enum { WINDOW_ANISO = PERSP_MAX_ANISO };
 
 int vectors_shade_module(const char *name)
 {
@@ -149,9 +149,38 @@ static int put_triangle(persp_context *ctx, const persp_method_vertex v[3], int 
     return CLI_OK;
 }
 
-int vectors_shade(const char *module, const char *input, const char *output, int triangles, unsigned long long seed,
-                  double depth_ratio, double uv_range, int width, int height, int tex_w, int tex_h)
+static int shade_triangle(persp_context *ctx, const vectors_job *job, const persp_method_vertex v[3], long index,
+                          FILE *f, void *state)
 {
+    shade_out *o = state;
+    o->f = f;
+    return put_triangle(ctx, v, job->width, job->height, job->tex_w, job->tex_h, index, o);
+}
+
+static void shade_footer(FILE *f, long index, void *state)
+{
+    const shade_out *o = state;
+    if (o->window)
+        fprintf(f, "# %ld triangles, %ld spans, %ld pixels, %ld windows (%ld pixels magnify or leave the format), "
+                   "%ld texels, max texel position error %.9f texels, %ld windows whose texel set differs from "
+                   "the other traversal's\n",
+                index, o->spans, o->pixels, o->hw_items, o->outside, o->texels, o->err_model, o->set_diffs);
+    else
+        fprintf(f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld spans outside the format), "
+                   "max |dtw| model %.9f, max |dtw| float method %.9f\n",
+                index, o->spans, o->pixels, o->hw_items, o->outside, o->err_model, o->err_float);
+}
+
+static void shade_summary(long index, const char *output, void *state)
+{
+    const shade_out *o = state;
+    fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld %s to %s\n", index, o->spans,
+            o->window ? o->texels : o->hw_items, o->window ? "texels" : "pixels", output);
+}
+
+int vectors_shade(const vectors_job *job)
+{
+    const char *module = job->module;
     shade_out o;
     memset(&o, 0, sizeof o);
     o.window = !strncmp(module, "window_", 7);
@@ -168,65 +197,10 @@ int vectors_shade(const char *module, const char *input, const char *output, int
             return cli_error(CLI_FAIL, "vectors: out of memory");
         }
     }
-    FILE *in = NULL;
-    int rc = CLI_OK;
-    persp_context *ctx = NULL;
-    cli_output out;
-    if (input && !(in = fopen(input, "r"))) rc = cli_error(CLI_FAIL, "vectors: %s: cannot open: %s", input, strerror(errno));
-    persp_status st = rc == CLI_OK ? persp_context_create(NULL, &ctx) : PERSP_OK;
-    if (rc == CLI_OK && st != PERSP_OK) rc = cli_status(NULL, st, "vectors: context");
-    if (rc == CLI_OK) {
-        persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-        rc = cli_output_open("vectors", output, &out);
-    }
-    if (rc != CLI_OK) {
-        if (in) fclose(in);
-        if (ctx) persp_context_destroy(ctx);
-        free(o.xy), free(o.ij), free(o.xy2);
-        return rc;
-    }
-    o.f = out.f;
-    fprintf(out.f, "# persp test vectors of the RTL module %s, format 1 (docs/HARDWARE.md, \"Vectors\")\n", module);
-    fprintf(out.f, "# window %dx%d, texture %dx%d, ", width, height, tex_w, tex_h);
-    if (in)
-        fprintf(out.f, "triangles from %s\n", input);
-    else
-        fprintf(out.f, "%d random triangle%s, seed %llu, depth ratio %g, u and v in [0, %g]\n", triangles,
-                triangles == 1 ? "" : "s", seed, depth_ratio, uv_range);
-    uint64_t state = (uint64_t)seed;
-    long line = 0, index = 0;
-    for (;;) {
-        persp_method_vertex v[3];
-        if (in) {
-            int got = vectors_read_triangle(in, input, &line, v);
-            if (got != 1) {
-                rc = got < 0 ? CLI_FAIL : CLI_OK;
-                break;
-            }
-        } else {
-            if (index == triangles) break;
-            vectors_random_triangle(&state, width, height, depth_ratio, uv_range, v);
-        }
-        rc = put_triangle(ctx, v, width, height, tex_w, tex_h, index, &o);
-        if (rc != CLI_OK) break;
-        index++;
-    }
-    if (in) fclose(in);
-    if (rc == CLI_OK && o.window)
-        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels, %ld windows (%ld pixels magnify or leave the format), "
-                       "%ld texels, max texel position error %.9f texels, %ld windows whose texel set differs from "
-                       "the other traversal's\n",
-                index, o.spans, o.pixels, o.hw_items, o.outside, o.texels, o.err_model, o.set_diffs);
-    else if (rc == CLI_OK)
-        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld spans outside the format), "
-                       "max |dtw| model %.9f, max |dtw| float method %.9f\n",
-                index, o.spans, o.pixels, o.hw_items, o.outside, o.err_model, o.err_float);
-    int out_rc = cli_output_close("vectors", &out, rc == CLI_OK);
-    if (rc == CLI_OK) rc = out_rc;
-    if (rc == CLI_OK && output && strcmp(output, "-"))
-        fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld %s to %s\n", index, o.spans,
-                o.window ? o.texels : o.hw_items, o.window ? "texels" : "pixels", output);
-    persp_context_destroy(ctx);
+    vectors_writer w = {"", shade_triangle, shade_footer, shade_summary, &o};
+    snprintf(w.title, sizeof w.title, "# persp test vectors of the RTL module %s, format 1 (docs/HARDWARE.md, \"Vectors\")",
+             module);
+    int rc = vectors_run(job, &w);
     free(o.xy), free(o.ij), free(o.xy2);
     return rc;
 }

@@ -150,75 +150,47 @@ static int put_triangle(persp_context *ctx, const persp_method_vertex v[3], int 
     return CLI_OK;
 }
 
-int vectors_span(const char *module, const char *input, const char *output, int triangles, unsigned long long seed,
-                 double depth_ratio, double uv_range, int width, int height, int tex_w, int tex_h)
+static int span_triangle(persp_context *ctx, const vectors_job *job, const persp_method_vertex v[3], long index,
+                         FILE *f, void *state)
+{
+    span_out *o = state;
+    o->f = f;
+    return put_triangle(ctx, v, job->width, job->height, job->tex_w, job->tex_h, index, o);
+}
+
+static void span_footer(FILE *f, long index, void *state)
+{
+    const span_out *o = state;
+    fprintf(f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld of them out of range, "
+               "%ld spans outside the format), max |du| %.9f texels, max |dv| %.9f texels; float method %s on "
+               "the same pixels: u %.9f, v %.9f texels\n",
+            index, o->spans, o->pixels, o->hw_pixels, o->ovf_pixels, o->outside, o->err_model[0], o->err_model[1],
+            span_modules[o->mod].method, o->err_float[0], o->err_float[1]);
+}
+
+static void span_summary(long index, const char *output, void *state)
+{
+    const span_out *o = state;
+    fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld in the hardware) to %s\n", index,
+            o->spans, o->pixels, o->hw_pixels, output);
+}
+
+int vectors_span(const vectors_job *job)
 {
     span_out o;
     memset(&o, 0, sizeof o);
-    o.mod = span_index(module);
-    if (o.mod < 0) return cli_error(CLI_USAGE, "vectors: %s: not a span module", module);
-    const size_t npx = (size_t)width * (size_t)height;
+    o.mod = span_index(job->module);
+    if (o.mod < 0) return cli_error(CLI_USAGE, "vectors: %s: not a span module", job->module);
+    const size_t npx = (size_t)job->width * (size_t)job->height;
     o.fu = malloc(npx * sizeof *o.fu), o.fv = malloc(npx * sizeof *o.fv);
     if (!o.fu || !o.fv) {
         free(o.fu), free(o.fv);
         return cli_error(CLI_FAIL, "vectors: out of memory");
     }
-    FILE *in = NULL;
-    int rc = CLI_OK;
-    persp_context *ctx = NULL;
-    cli_output out;
-    if (input && !(in = fopen(input, "r"))) rc = cli_error(CLI_FAIL, "vectors: %s: cannot open: %s", input, strerror(errno));
-    persp_status st = rc == CLI_OK ? persp_context_create(NULL, &ctx) : PERSP_OK;
-    if (rc == CLI_OK && st != PERSP_OK) rc = cli_status(NULL, st, "vectors: context");
-    if (rc == CLI_OK) {
-        persp_context_set_temp_file_handler(ctx, cli_temp_file, NULL);
-        rc = cli_output_open("vectors", output, &out);
-    }
-    if (rc != CLI_OK) {
-        if (in) fclose(in);
-        if (ctx) persp_context_destroy(ctx);
-        free(o.fu), free(o.fv);
-        return rc;
-    }
-    o.f = out.f;
-    fprintf(out.f, "# persp test vectors of the RTL module %s, format 1 (docs/HARDWARE.md, \"Vectors\")\n", module);
-    fprintf(out.f, "# window %dx%d, texture %dx%d, ", width, height, tex_w, tex_h);
-    if (in)
-        fprintf(out.f, "triangles from %s\n", input);
-    else
-        fprintf(out.f, "%d random triangle%s, seed %llu, depth ratio %g, u and v in [0, %g]\n", triangles,
-                triangles == 1 ? "" : "s", seed, depth_ratio, uv_range);
-    uint64_t state = (uint64_t)seed;
-    long line = 0, index = 0;
-    for (;;) {
-        persp_method_vertex v[3];
-        if (in) {
-            int got = vectors_read_triangle(in, input, &line, v);
-            if (got != 1) {
-                rc = got < 0 ? CLI_FAIL : CLI_OK;
-                break;
-            }
-        } else {
-            if (index == triangles) break;
-            vectors_random_triangle(&state, width, height, depth_ratio, uv_range, v);
-        }
-        rc = put_triangle(ctx, v, width, height, tex_w, tex_h, index, &o);
-        if (rc != CLI_OK) break;
-        index++;
-    }
-    if (in) fclose(in);
-    if (rc == CLI_OK)
-        fprintf(out.f, "# %ld triangles, %ld spans, %ld pixels (%ld in the hardware, %ld of them out of range, "
-                       "%ld spans outside the format), max |du| %.9f texels, max |dv| %.9f texels; float method %s on "
-                       "the same pixels: u %.9f, v %.9f texels\n",
-                index, o.spans, o.pixels, o.hw_pixels, o.ovf_pixels, o.outside, o.err_model[0], o.err_model[1],
-                span_modules[o.mod].method, o.err_float[0], o.err_float[1]);
-    int out_rc = cli_output_close("vectors", &out, rc == CLI_OK);
-    if (rc == CLI_OK) rc = out_rc;
-    if (rc == CLI_OK && output && strcmp(output, "-"))
-        fprintf(stderr, "persp: vectors: %ld triangles, %ld spans, %ld pixels (%ld in the hardware) to %s\n", index,
-                o.spans, o.pixels, o.hw_pixels, output);
-    persp_context_destroy(ctx);
+    vectors_writer w = {"", span_triangle, span_footer, span_summary, &o};
+    snprintf(w.title, sizeof w.title, "# persp test vectors of the RTL module %s, format 1 (docs/HARDWARE.md, \"Vectors\")",
+             job->module);
+    int rc = vectors_run(job, &w);
     free(o.fu), free(o.fv);
     return rc;
 }

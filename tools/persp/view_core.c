@@ -415,70 +415,206 @@ static int get_number(json_t *o, const char *key, double *out, int required)
     return isfinite(*out);
 }
 
-int view_path_load(const char *path, view_path *p, char *err, size_t err_size)
+/* The line of the key `key` of the top-level object (elem < 0) or of the
+ * elem-th object of its "keys" array, for messages as the scene loader
+ * gives them (file:line); 0 where it is not found as written (escaped). */
+static size_t key_line(const char *t, size_t n, long elem, const char *key)
 {
-    memset(p, 0, sizeof *p);
-    json_error_t je;
-    json_t *root = json_load_file(path, 0, &je);
-    if (!root) {
-        /* Jansson gives no line for a file it could not open or read. */
-        if (je.line < 1)
-            snprintf(err, err_size, "%s: %s", path, je.text);
-        else
-            snprintf(err, err_size, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+    size_t line = 1, klen = strlen(key);
+    int depth = 0, in_keys = 0;
+    long count = -1;
+    for (size_t i = 0; i < n; i++) {
+        char c = t[i];
+        if (c == '\n') {
+            line++;
+        } else if (c == '{' || c == '[') {
+            depth++;
+            if (c == '{' && depth == 3 && in_keys) count++;
+        } else if (c == '}' || c == ']') {
+            depth--;
+        } else if (c == '"') {
+            size_t start = i + 1, j = start;
+            while (j < n && t[j] != '"') j += t[j] == '\\' ? 2 : 1;
+            size_t len = (j < n ? j : n) - start, k = j + 1;
+            while (k < n && (t[k] == ' ' || t[k] == '\t' || t[k] == '\r' || t[k] == '\n')) k++;
+            int is_key = k < n && t[k] == ':';
+            if (is_key && depth == 1) in_keys = len == 4 && !memcmp(t + start, "keys", 4);
+            if (is_key && len == klen && !memcmp(t + start, key, len) &&
+                ((elem < 0 && depth == 1) || (elem >= 0 && depth == 3 && in_keys && count == elem)))
+                return line;
+            i = j;
+        }
+    }
+    return 0;
+}
+
+/* "path:LINE: " where the key's line is known, else "path: ". */
+static void where(char *buf, size_t size, const char *path, size_t line)
+{
+    if (line) snprintf(buf, size, "%s:%zu: ", path, line);
+    else snprintf(buf, size, "%s: ", path);
+}
+
+/* key for a one-line message: control bytes as '?', at most 64 bytes. */
+static void printable_key(const char *key, char *buf, size_t size)
+{
+    size_t n = 0;
+    for (; key[n] && n + 1 < size && n < 64; n++) buf[n] = (unsigned char)key[n] < 0x20 || key[n] == 0x7f ? '?' : key[n];
+    buf[n] = '\0';
+}
+
+/* A key that is none of allowed (NULL-terminated; "comment" is allowed
+ * everywhere, as in scene files): 0 after the message naming file, line
+ * and key. */
+static int known_keys(json_t *obj, const char *const *allowed, const char *text, size_t n, long elem,
+                      const char *path, char *err, size_t err_size)
+{
+    const char *key;
+    json_t *v;
+    json_object_foreach(obj, key, v) {
+        int ok = !strcmp(key, "comment");
+        for (size_t i = 0; allowed[i] && !ok; i++) ok = !strcmp(key, allowed[i]);
+        if (ok) continue;
+        char at[1024], list[256] = "", shown[80];
+        where(at, sizeof at, path, key_line(text, n, elem, key));
+        printable_key(key, shown, sizeof shown);
+        for (size_t i = 0; allowed[i]; i++)
+            snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", allowed[i]);
+        if (elem < 0) snprintf(err, err_size, "%s%s: unknown key (expected one of: %s)", at, shown, list);
+        else snprintf(err, err_size, "%skeys[%ld].%s: unknown key (expected one of: %s)", at, elem, shown, list);
+        return 0;
+    }
+    return 1;
+}
+
+/* The camera path format's version: 1, the one view_path_save writes. */
+#define VIEW_PATH_VERSION 1
+
+/* The whole file, NUL-terminated, at most 64 MiB (a path of a million
+ * keys); NULL after the message. */
+static char *read_text(const char *path, size_t *size, char *err, size_t err_size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        snprintf(err, err_size, "%s: cannot open: %s", path, strerror(errno));
+        return NULL;
+    }
+    const size_t limit = (size_t)64 << 20;
+    size_t cap = 0, n = 0;
+    char *text = NULL;
+    int bad = 0, large = 0;
+    for (;;) {
+        if (n == cap) {
+            if (cap == limit) {
+                /* Full: one more byte says whether the file goes on. */
+                large = fgetc(f) != EOF;
+                break;
+            }
+            cap = cap ? (cap * 2 < limit ? cap * 2 : limit) : 4096;
+            char *grown = realloc(text, cap + 1);
+            if (!grown) {
+                bad = ENOMEM;
+                break;
+            }
+            text = grown;
+        }
+        size_t got = fread(text + n, 1, cap - n, f);
+        n += got;
+        if (got == 0) break;
+    }
+    if (!bad && ferror(f)) bad = errno ? errno : EIO;
+    fclose(f);
+    if (bad || large || !text) {
+        if (large) snprintf(err, err_size, "%s: larger than %zu bytes", path, limit);
+        else snprintf(err, err_size, "%s: cannot read: %s", path, strerror(bad ? bad : ENOMEM));
+        free(text);
+        return NULL;
+    }
+    text[n] = '\0';
+    *size = n;
+    return text;
+}
+
+/* The top-level object: known keys, and a version this reader knows. */
+static int check_root(json_t *root, const char *text, size_t n, const char *path, char *err, size_t err_size)
+{
+    static const char *const top[] = {"version", "keys", NULL};
+    if (json_is_object(root) && !known_keys(root, top, text, n, -1, path, err, err_size)) return 0;
+    json_t *version = json_object_get(root, "version");
+    if (version && !(json_is_integer(version) && json_integer_value(version) == VIEW_PATH_VERSION)) {
+        char at[1024];
+        where(at, sizeof at, path, key_line(text, n, -1, "version"));
+        snprintf(err, err_size, "%sversion: unsupported camera path version (expected %d)", at, VIEW_PATH_VERSION);
         return 0;
     }
     json_t *keys = json_object_get(root, "keys");
     if (!json_is_array(keys) || json_array_size(keys) == 0) {
         snprintf(err, err_size, "%s: expected an object with a non-empty array \"keys\"", path);
-        json_decref(root);
         return 0;
     }
+    return 1;
+}
+
+/* Key i of the path into c and *t: 0 after the message. */
+static int read_key(json_t *k, size_t i, double last_t, const char *text, size_t n, const char *path,
+                    view_camera *c, double *t, char *err, size_t err_size)
+{
+    static const char *const fields[] = {"t", "eye", "yaw", "pitch", "fovy", "near", "far", NULL};
+    memset(c, 0, sizeof *c);
+    *t = 0.0;
+    c->fovy = 60.0, c->znear = 0.1, c->zfar = 100.0;
+    if (json_is_object(k) && !known_keys(k, fields, text, n, (long)i, path, err, err_size)) return 0;
+    json_t *eye = json_object_get(k, "eye");
+    int ok = json_is_object(k) && get_number(k, "t", t, 1) && json_is_array(eye) && json_array_size(eye) == 3 &&
+             get_number(k, "yaw", &c->yaw, 1) && get_number(k, "pitch", &c->pitch, 1) &&
+             get_number(k, "fovy", &c->fovy, 0) && get_number(k, "near", &c->znear, 0) &&
+             get_number(k, "far", &c->zfar, 0);
+    for (size_t j = 0; ok && j < 3; j++) {
+        json_t *e = json_array_get(eye, j);
+        ok = json_is_number(e) && isfinite(c->eye[j] = json_number_value(e));
+    }
+    if (!ok) {
+        snprintf(err, err_size,
+                 "%s: key %zu: expected {\"t\": S, \"eye\": [X, Y, Z], \"yaw\": DEG, "
+                 "\"pitch\": DEG} and optional \"fovy\", \"near\", \"far\"",
+                 path, i);
+        return 0;
+    }
+    if (!(*t >= last_t && c->fovy > 0.0 && c->fovy < 180.0 && c->znear > 0.0 && c->zfar > c->znear)) {
+        snprintf(err, err_size,
+                 "%s: key %zu: times must not decrease, fovy must be in (0, 180) and 0 < near < far", path, i);
+        return 0;
+    }
+    return 1;
+}
+
+int view_path_load(const char *path, view_path *p, char *err, size_t err_size)
+{
+    memset(p, 0, sizeof *p);
+    size_t n = 0;
+    char *text = read_text(path, &n, err, err_size);
+    if (!text) return 0;
+    json_error_t je;
+    json_t *root = json_loadb(text, n, 0, &je);
+    if (!root) {
+        snprintf(err, err_size, "%s:%d:%d: %s", path, je.line, je.column, je.text);
+        free(text);
+        return 0;
+    }
+    int ok = check_root(root, text, n, path, err, err_size);
+    json_t *keys = json_object_get(root, "keys");
     double last_t = -INFINITY;
-    for (size_t i = 0; i < json_array_size(keys); i++) {
-        json_t *k = json_array_get(keys, i);
+    for (size_t i = 0; ok && i < json_array_size(keys); i++) {
         view_camera c;
-        memset(&c, 0, sizeof c);
-        double t = 0.0;
-        c.fovy = 60.0, c.znear = 0.1, c.zfar = 100.0;
-        json_t *eye = json_object_get(k, "eye");
-        int ok = json_is_object(k) && get_number(k, "t", &t, 1) && json_is_array(eye) &&
-                 json_array_size(eye) == 3 && get_number(k, "yaw", &c.yaw, 1) &&
-                 get_number(k, "pitch", &c.pitch, 1) && get_number(k, "fovy", &c.fovy, 0) &&
-                 get_number(k, "near", &c.znear, 0) && get_number(k, "far", &c.zfar, 0);
-        for (size_t j = 0; ok && j < 3; j++) {
-            json_t *e = json_array_get(eye, j);
-            ok = json_is_number(e) && isfinite(c.eye[j] = json_number_value(e));
-        }
-        if (ok &&
-            !(t >= last_t && c.fovy > 0.0 && c.fovy < 180.0 && c.znear > 0.0 && c.zfar > c.znear)) {
-            snprintf(err, err_size,
-                     "%s: key %zu: times must not decrease, fovy must be in (0, 180) and "
-                     "0 < near < far",
-                     path, i);
-            json_decref(root);
-            view_path_free(p);
-            return 0;
-        }
-        if (!ok) {
-            snprintf(err, err_size,
-                     "%s: key %zu: expected {\"t\": S, \"eye\": [X, Y, Z], \"yaw\": DEG, "
-                     "\"pitch\": DEG} and optional \"fovy\", \"near\", \"far\"",
-                     path, i);
-            json_decref(root);
-            view_path_free(p);
-            return 0;
-        }
+        double t;
+        ok = read_key(json_array_get(keys, i), i, last_t, text, n, path, &c, &t, err, err_size);
         last_t = t;
-        if (!view_path_add(p, t, &c)) {
-            snprintf(err, err_size, "%s: out of memory", path);
-            json_decref(root);
-            view_path_free(p);
-            return 0;
-        }
+        if (ok && !(ok = view_path_add(p, t, &c))) snprintf(err, err_size, "%s: out of memory", path);
     }
     json_decref(root);
-    return 1;
+    free(text);
+    if (!ok) view_path_free(p);
+    return ok;
 }
 
 int view_path_save(const char *path, const view_path *p, char *err, size_t err_size)

@@ -362,8 +362,8 @@ void settings_panel(const char *id, side_ui *ui, view_settings *s, bool with_ops
     ImGui::TextDisabled("%s", info.cost);
     enum_combo("filter", &s->filter, 0, PERSP_FILTER_COUNT - 1, filter_label);
     if (s->filter == PERSP_FILTER_ANISO || s->filter == PERSP_FILTER_ANISO_WINDOW) {
-        if (s->max_aniso < 1) s->max_aniso = 16;
-        ImGui::SliderInt("max aniso", &s->max_aniso, 1, 16);
+        if (s->max_aniso < 1) s->max_aniso = PERSP_MAX_ANISO;
+        ImGui::SliderInt("max aniso", &s->max_aniso, 1, PERSP_MAX_ANISO);
     }
     enum_combo("wrap", &s->wrap, 0, PERSP_WRAP_CLAMP_TO_BORDER, wrap_label);
     enum_combo("shading", &s->shading, 0, PERSP_SHADING_COUNT - 1, shading_label);
@@ -677,46 +677,86 @@ void hud(state &s, int out_w)
     ImGui::End();
 }
 
+/* The panel's camera settings. */
+static void camera_section(state &s)
+{
+    int mode = s.orbit ? 1 : 0;
+    if (ImGui::RadioButton("fly", mode == 0)) s.orbit = false;
+    ImGui::SameLine();
+    if (ImGui::RadioButton("orbit", mode == 1)) {
+        if (!s.orbit) view_camera_set_orbit(&s.cam, s.cam.orbit_dist);
+        s.orbit = true;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("reset (R)")) s.cam = s.home, camera_changed(s);
+    float fov = (float)s.cam.fovy, zn = (float)s.cam.znear;
+    if (ImGui::SliderFloat("field of view", &fov, 5.0f, 150.0f, "%.1f deg"))
+        s.cam.fovy = fov, s.cam.scene_own = 0, camera_changed(s);
+    if (ImGui::SliderFloat("near plane", &zn, 0.001f, 10.0f, "%.3f",
+                           ImGuiSliderFlags_Logarithmic)) {
+        s.cam.znear = zn;
+        if (s.cam.zfar <= zn) s.cam.zfar = zn * 1000.0;
+        s.cam.scene_own = 0, camera_changed(s);
+    }
+    float sp = (float)s.speed;
+    if (ImGui::SliderFloat("fly speed", &sp, 0.05f, 100.0f, "%.2f /s",
+                           ImGuiSliderFlags_Logarithmic))
+        s.speed = sp;
+    ImGui::SliderFloat("scale while moving", &s.move_scale, 0.125f, 1.0f, "%.3f");
+}
+
+/* The right side: its method over the left's settings, or settings of its own. */
+static void right_section(state &s)
+{
+    ImGui::Checkbox("same settings as left except the method", &s.right_follows);
+    if (s.right_follows) {
+        ImGui::PushID("rightm");
+        side_ui &ui = s.ui[1];
+        if (ImGui::BeginCombo("method", method_name((size_t)ui.method_index))) {
+            for (size_t i = 0; i < method_count(); i++)
+                if (ImGui::Selectable(method_name(i), (int)i == ui.method_index))
+                    ui.method_index = (int)i, ui.params[0] = '\0';
+            ImGui::EndCombo();
+        }
+        persp_method_info info;
+        persp_method_get((size_t)ui.method_index, &info);
+        if (info.params[0])
+            ImGui::InputTextWithHint("parameters", info.params, ui.params, sizeof ui.params);
+        else
+            ui.params[0] = '\0';
+        update_spec(&ui, &s.right);
+        if (!ui.error.empty())
+            ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
+        ImGui::PopID();
+    } else {
+        settings_panel("right", &s.ui[1], &s.right, false);
+    }
+}
+
 void panel(state &s)
 {
     ImGuiIO &io = ImGui::GetIO();
-    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - 388, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(380, io.DisplaySize.y - 16), ImGuiCond_FirstUseEver);
+    /* The panel is for changing settings, the image for looking at: at the
+     * default 1024x768 it covers under a sixth of the image (PANEL_W by
+     * PANEL_H_SHARE of the height; it was 380 by the full height, 37 %), with
+     * the camera and capture sections folded; it scrolls, folds to its title
+     * bar (double-click) and F1 hides it. */
+    const float PANEL_W = 300.0f, PANEL_H_SHARE = 0.55f;
+    ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - PANEL_W - 8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(PANEL_W, io.DisplaySize.y * PANEL_H_SHARE), ImGuiCond_FirstUseEver);
     /* A small window keeps its image visible: the panel starts folded. */
     ImGui::SetNextWindowCollapsed(io.DisplaySize.x < 900.0f, ImGuiCond_FirstUseEver);
     ImGui::Begin("persp view  (F1 hides)", &s.panel);
-    if (ImGui::CollapsingHeader("Camera", ImGuiTreeNodeFlags_DefaultOpen)) {
-        int mode = s.orbit ? 1 : 0;
-        if (ImGui::RadioButton("fly", mode == 0)) s.orbit = false;
-        ImGui::SameLine();
-        if (ImGui::RadioButton("orbit", mode == 1)) {
-            if (!s.orbit) view_camera_set_orbit(&s.cam, s.cam.orbit_dist);
-            s.orbit = true;
-        }
-        ImGui::SameLine();
-        if (ImGui::Button("reset (R)")) s.cam = s.home, camera_changed(s);
-        float fov = (float)s.cam.fovy, zn = (float)s.cam.znear;
-        if (ImGui::SliderFloat("field of view", &fov, 5.0f, 150.0f, "%.1f deg"))
-            s.cam.fovy = fov, s.cam.scene_own = 0, camera_changed(s);
-        if (ImGui::SliderFloat("near plane", &zn, 0.001f, 10.0f, "%.3f",
-                               ImGuiSliderFlags_Logarithmic)) {
-            s.cam.znear = zn;
-            if (s.cam.zfar <= zn) s.cam.zfar = zn * 1000.0;
-            s.cam.scene_own = 0, camera_changed(s);
-        }
-        float sp = (float)s.speed;
-        if (ImGui::SliderFloat("fly speed", &sp, 0.05f, 100.0f, "%.2f /s",
-                               ImGuiSliderFlags_Logarithmic))
-            s.speed = sp;
-        ImGui::SliderFloat("scale while moving", &s.move_scale, 0.125f, 1.0f, "%.3f");
-    }
+    /* In the narrower panel the labels keep 110 pixels beside the widgets. */
+    ImGui::PushItemWidth(-110.0f);
+    if (ImGui::CollapsingHeader("Camera")) camera_section(s);
     if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
         enum_combo("layout (Tab)", &s.layout, 0, 3, layout_label);
         float d = (float)s.divider;
         if (s.layout == VIEW_LAYOUT_SPLIT && ImGui::SliderFloat("divider", &d, 0.0f, 1.0f, "%.2f"))
             s.divider = d;
         bool stats = s.error_stats;
-        if (ImGui::Checkbox("error statistics (renders the right side too)", &stats))
+        if (ImGui::Checkbox("error statistics (both sides)", &stats))
             s.error_stats = stats;
         if (s.layout == VIEW_LAYOUT_DIFF || s.layout == VIEW_LAYOUT_TEXEL) {
             bool texel = s.layout == VIEW_LAYOUT_TEXEL;
@@ -731,32 +771,8 @@ void panel(state &s)
     }
     if (ImGui::CollapsingHeader("Left", ImGuiTreeNodeFlags_DefaultOpen))
         settings_panel("left", &s.ui[0], &s.left, true);
-    if (ImGui::CollapsingHeader("Right (reference)", ImGuiTreeNodeFlags_DefaultOpen)) {
-        ImGui::Checkbox("same settings as left except the method", &s.right_follows);
-        if (s.right_follows) {
-            ImGui::PushID("rightm");
-            side_ui &ui = s.ui[1];
-            if (ImGui::BeginCombo("method", method_name((size_t)ui.method_index))) {
-                for (size_t i = 0; i < method_count(); i++)
-                    if (ImGui::Selectable(method_name(i), (int)i == ui.method_index))
-                        ui.method_index = (int)i, ui.params[0] = '\0';
-                ImGui::EndCombo();
-            }
-            persp_method_info info;
-            persp_method_get((size_t)ui.method_index, &info);
-            if (info.params[0])
-                ImGui::InputTextWithHint("parameters", info.params, ui.params, sizeof ui.params);
-            else
-                ui.params[0] = '\0';
-            update_spec(&ui, &s.right);
-            if (!ui.error.empty())
-                ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", ui.error.c_str());
-            ImGui::PopID();
-        } else {
-            settings_panel("right", &s.ui[1], &s.right, false);
-        }
-    }
-    if (ImGui::CollapsingHeader("Capture", ImGuiTreeNodeFlags_DefaultOpen)) {
+    if (ImGui::CollapsingHeader("Right (reference)", ImGuiTreeNodeFlags_DefaultOpen)) right_section(s);
+    if (ImGui::CollapsingHeader("Capture")) {
         if (ImGui::Button("screenshot (P)")) screenshot(s);
         ImGui::SameLine();
         if (ImGui::Button(s.recording ? "stop recording (F5)" : "record flight (F5)"))
@@ -766,6 +782,7 @@ void panel(state &s)
             start_playing(s, s.recorded.count ? &s.recorded : s.args->play);
         ImGui::TextDisabled("screenshots: %s/\nflight: %s", s.args->shot_dir, s.args->record_path);
     }
+    ImGui::PopItemWidth();
     ImGui::End();
     if (s.right_follows) {
         /* The reference keeps its method and its real textures. */
@@ -1236,7 +1253,8 @@ int run(state &s)
 
 } // namespace
 
-extern "C" int view_window_run(const view_window_args *args)
+/* SDL's video and events on a real display: 0, or 1 after the message. */
+static int sdl_start(void)
 {
     const char *asked = getenv("SDL_VIDEODRIVER");
 #if defined(__linux__)
@@ -1274,19 +1292,27 @@ extern "C" int view_window_run(const view_window_args *args)
         return 1;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "0");
-    /* SDL installs its own SIGINT/SIGTERM handlers (the quit event, so a
-     * screenshot being written is finished before the window closes) unless
-     * SDL_HINT_NO_SIGNAL_HANDLERS is set; then the signals would kill the
-     * process in the middle of a write and leave its temporary file. There
-     * the CLI's handlers come back, which remove it (POSIX sigaction()
-     * with a NULL act only reads the action). */
+    return 0;
+}
+
+/* SDL installs its own SIGINT/SIGTERM handlers (the quit event, so a
+ * screenshot being written is finished before the window closes) unless
+ * SDL_HINT_NO_SIGNAL_HANDLERS is set; then the signals would kill the
+ * process in the middle of a write and leave its temporary file. There
+ * the CLI's handlers come back, which remove it (POSIX sigaction() with a
+ * NULL act only reads the action). */
+static void keep_signal_handlers(const view_window_args *args)
+{
     struct sigaction on_int, on_term;
     if (args->install_signal_handlers && sigaction(SIGINT, nullptr, &on_int) == 0 &&
         sigaction(SIGTERM, nullptr, &on_term) == 0 && on_int.sa_handler == SIG_DFL &&
         on_term.sa_handler == SIG_DFL)
         args->install_signal_handlers();
-    state s;
-    s.args = args;
+}
+
+/* The window and its renderer: true, or false after the message. */
+static bool open_window(state &s, const view_window_args *args)
+{
     char title[256];
     snprintf(title, sizeof title, "persp view - %s", args->scene_name);
     s.window = SDL_CreateWindow(title, SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, args->width,
@@ -1298,12 +1324,14 @@ extern "C" int view_window_run(const view_window_args *args)
      * software one is there everywhere. */
     if (s.window && !s.renderer)
         s.renderer = SDL_CreateRenderer(s.window, -1, SDL_RENDERER_SOFTWARE);
-    if (!s.window || !s.renderer) {
-        fprintf(stderr, "persp: view: cannot open a window: %s\n", SDL_GetError());
-        if (s.window) SDL_DestroyWindow(s.window);
-        SDL_Quit();
-        return 1;
-    }
+    if (s.window && s.renderer) return true;
+    fprintf(stderr, "persp: view: cannot open a window: %s\n", SDL_GetError());
+    if (s.window) SDL_DestroyWindow(s.window);
+    return false;
+}
+
+static void imgui_start(state &s)
+{
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO &io = ImGui::GetIO();
@@ -1315,53 +1343,64 @@ extern "C" int view_window_run(const view_window_args *args)
         }
     ImGui::StyleColorsDark();
     ImGui_ImplSDL2_InitForSDLRenderer(s.window);
-    int rc = 1;
-    if (!imgui_sdl_draw_init(s.renderer)) {
-        fprintf(stderr, "persp: view: cannot create the font texture: %s\n", SDL_GetError());
-    } else {
-        std::string err;
-        if (args->script && !load_script(args->script, &s.sc, &err)) {
-            fprintf(stderr, "persp: view: %s\n", err.c_str());
-            goto cleanup;
-        }
-        s.scripted = args->script != nullptr;
-        s.left = args->left;
-        s.right = args->right;
-        s.layout = args->layout;
-        s.divider = args->divider;
-        s.heat_max = args->heat_max;
-        persp_scene_info info;
-        persp_scene_get_info(args->scene, &info);
-        side_from_spec(&s.ui[0], s.left.method[0] ? s.left.method : info.method);
-        side_from_spec(&s.ui[1], s.right.method);
-        view_camera_from_scene(&s.home, args->scene, args->width, args->height);
-        s.cam = s.home;
-        s.wk.ctx = args->ctx;
-        s.wk.scenes = view_scenes{args->scene, args->tinted, args->coords};
-        s.wk.lock = SDL_CreateMutex();
-        s.wk.wake = SDL_CreateCond();
-        s.wk.done = SDL_CreateCond();
-        if (persp_context_create(nullptr, &s.ui_ctx) == PERSP_OK && args->temp_file)
-            persp_context_set_temp_file_handler(s.ui_ctx, args->temp_file, nullptr);
-        if (!s.ui_ctx || !s.wk.lock || !s.wk.wake ||
-            !s.wk.done || !(s.wk.thread = SDL_CreateThread(worker_main, "persp render", &s.wk))) {
-            fprintf(stderr, "persp: view: cannot start the render thread: %s\n", SDL_GetError());
-        } else {
-            rc = run(s);
-            SDL_LockMutex(s.wk.lock);
-            s.wk.quit = true;
-            SDL_CondSignal(s.wk.wake);
-            SDL_UnlockMutex(s.wk.lock);
-            SDL_WaitThread(s.wk.thread, nullptr);
-        }
-    cleanup:
-        for (view_frame &f : s.wk.frames)
-            view_frame_free(&f);
-        if (s.wk.done) SDL_DestroyCond(s.wk.done);
-        if (s.wk.wake) SDL_DestroyCond(s.wk.wake);
-        if (s.wk.lock) SDL_DestroyMutex(s.wk.lock);
-        persp_context_destroy(s.ui_ctx);
+}
+
+/* The settings, camera and scenes of the arguments into s. */
+static void session_state(state &s, const view_window_args *args)
+{
+    s.scripted = args->script != nullptr;
+    s.left = args->left;
+    s.right = args->right;
+    s.layout = args->layout;
+    s.divider = args->divider;
+    s.heat_max = args->heat_max;
+    persp_scene_info info;
+    persp_scene_get_info(args->scene, &info);
+    side_from_spec(&s.ui[0], s.left.method[0] ? s.left.method : info.method);
+    side_from_spec(&s.ui[1], s.right.method);
+    view_camera_from_scene(&s.home, args->scene, args->width, args->height);
+    s.cam = s.home;
+    s.wk.ctx = args->ctx;
+    s.wk.scenes = view_scenes{args->scene, args->tinted, args->coords};
+}
+
+/* The render thread beside the event loop, until the window closes. */
+static int session(state &s, const view_window_args *args)
+{
+    std::string err;
+    if (args->script && !load_script(args->script, &s.sc, &err)) {
+        fprintf(stderr, "persp: view: %s\n", err.c_str());
+        return 1;
     }
+    session_state(s, args);
+    s.wk.lock = SDL_CreateMutex();
+    s.wk.wake = SDL_CreateCond();
+    s.wk.done = SDL_CreateCond();
+    if (persp_context_create(nullptr, &s.ui_ctx) == PERSP_OK && args->temp_file)
+        persp_context_set_temp_file_handler(s.ui_ctx, args->temp_file, nullptr);
+    int rc = 1;
+    if (!s.ui_ctx || !s.wk.lock || !s.wk.wake || !s.wk.done ||
+        !(s.wk.thread = SDL_CreateThread(worker_main, "persp render", &s.wk))) {
+        fprintf(stderr, "persp: view: cannot start the render thread: %s\n", SDL_GetError());
+    } else {
+        rc = run(s);
+        SDL_LockMutex(s.wk.lock);
+        s.wk.quit = true;
+        SDL_CondSignal(s.wk.wake);
+        SDL_UnlockMutex(s.wk.lock);
+        SDL_WaitThread(s.wk.thread, nullptr);
+    }
+    return rc;
+}
+
+static void close_window(state &s)
+{
+    for (view_frame &f : s.wk.frames)
+        view_frame_free(&f);
+    if (s.wk.done) SDL_DestroyCond(s.wk.done);
+    if (s.wk.wake) SDL_DestroyCond(s.wk.wake);
+    if (s.wk.lock) SDL_DestroyMutex(s.wk.lock);
+    persp_context_destroy(s.ui_ctx);
     view_path_free(&s.recorded);
     view_path_free(&s.script_path);
     view_frame_free(&s.frame);
@@ -1372,5 +1411,24 @@ extern "C" int view_window_run(const view_window_args *args)
     SDL_DestroyRenderer(s.renderer);
     SDL_DestroyWindow(s.window);
     SDL_Quit();
+}
+
+extern "C" int view_window_run(const view_window_args *args)
+{
+    if (sdl_start() != 0) return 1;
+    keep_signal_handlers(args);
+    state s;
+    s.args = args;
+    if (!open_window(s, args)) {
+        SDL_Quit();
+        return 1;
+    }
+    imgui_start(s);
+    int rc = 1;
+    if (!imgui_sdl_draw_init(s.renderer))
+        fprintf(stderr, "persp: view: cannot create the font texture: %s\n", SDL_GetError());
+    else
+        rc = session(s, args);
+    close_window(s);
     return rc;
 }
