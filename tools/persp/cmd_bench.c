@@ -797,7 +797,8 @@ typedef struct bench_session {
     image_diff diff;
     int have_diff, failures, streaming;
     int peer_timed; /* the peer's runs are done: rows can give their ratio to it */
-    cli_output out;
+    cli_output *out;
+    size_t max_memory;
     double rss_start_mib, rss_mib;
 } bench_session;
 
@@ -874,20 +875,15 @@ static int bench_parse(int argc, char **argv, bench_session *s, size_t *max_memo
     return CLI_OK;
 }
 
-/* The context, the scene, the image size and the framebuffer. */
-static int bench_open(bench_session *s, size_t max_memory)
+/* The scene, the image size and the framebuffer, in the context cli_run made. */
+static int bench_open(bench_session *s, persp_context *ctx)
 {
     bench_opts *o = &s->o;
     persp_bench *b = &s->b;
-    persp_context_desc cd = {.threads = o->threads, .max_memory = cli_max_memory(max_memory), .simd = o->simd};
-    persp_status st = persp_context_create(&cd, &b->ctx);
-    if (st == PERSP_ERR_UNSUPPORTED)
-        return cli_error(CLI_FAIL, "bench: this CPU cannot run --simd %s", persp_simd_name(o->simd));
-    if (st != PERSP_OK) return cli_status(NULL, st, "bench");
+    persp_status st;
+    b->ctx = ctx;
     o->simd_asked = o->simd;
     o->simd = persp_context_simd(b->ctx);
-    persp_context_set_temp_file_handler(b->ctx, cli_temp_file, NULL);
-    persp_context_set_warning_handler(b->ctx, cli_warning, NULL);
     if (cli_is_builtin(o->scene)) st = persp_scene_builtin(b->ctx, o->scene, &b->scene);
     else st = persp_scene_load_ex(b->ctx, o->scene, &o->load, &b->scene);
     if (st != PERSP_OK) return cli_status(b->ctx, st, o->scene);
@@ -925,7 +921,7 @@ static void bench_row_done(bench_session *s, method_result *m)
     if (m->ok && !strcmp(m->spec, "exact")) s->exact = m;
     const peer_result *peer = s->peer_timed ? &s->peer : NULL;
     if (s->streaming)
-        print_text_row(s->out.f, &s->o, m, s->exact, peer);
+        print_text_row(s->out->f, &s->o, m, s->exact, peer);
     else if (isatty(STDERR_FILENO))
         print_text_row(stderr, &s->o, m, s->exact, peer);
 }
@@ -976,7 +972,7 @@ static int bench_measure(bench_session *s)
 {
     bench_opts *o = &s->o;
     int rc = CLI_OK;
-    if (s->streaming) print_text_head(s->out.f, o);
+    if (s->streaming) print_text_head(s->out->f, o);
     prepare_method(&s->b, o, &s->results[0]);
 #ifdef PERSP_HAVE_OSMESA
     peer_proc pp;
@@ -1010,6 +1006,40 @@ static int bench_measure(bench_session *s)
     return rc;
 }
 
+static int bench_report_out(bench_session *s);
+
+/* The measurements and the report, in the skeleton's context and output. */
+static int bench_body(persp_context *ctx, cli_output *out, void *user)
+{
+    bench_session *s = user;
+    s->out = out;
+    int rc = bench_open(s, ctx);
+    if (rc == CLI_OK) rc = bench_report_out(s);
+    /* The scene is the context's, which cli_run destroys after this. */
+    persp_scene_destroy(s->b.scene);
+    s->b.scene = NULL;
+    return rc;
+}
+
+static int bench_report_out(bench_session *s)
+{
+    cli_output *out = s->out;
+    int rc;
+    s->streaming = !s->o.json;
+    rc = bench_measure(s);
+    bench_report report = {&s->o, s->results, s->count, s->exact, s->o.peer && s->peer.ok ? &s->peer : NULL,
+                           s->have_diff ? &s->diff : NULL, s->rss_mib, s->rss_start_mib};
+    if (s->o.json)
+        print_json(out->f, &report);
+    else
+        print_text_tail(out->f, &report);
+    if (s->failures && rc == CLI_OK) rc = CLI_FAIL;
+    for (size_t i = 0; i < s->count; i++)
+        if (!s->results[i].ok)
+            cli_error(CLI_FAIL, "bench: method %s failed: %s", s->results[i].spec, s->results[i].error);
+    return rc;
+}
+
 int cmd_bench(int argc, char **argv)
 {
     bench_session s;
@@ -1017,10 +1047,9 @@ int cmd_bench(int argc, char **argv)
     /* Resident size before any rendering: shared libraries (with OSMesa
      * linked in, mostly libLLVM's relocated pages) that persp does not use. */
     s.rss_start_mib = peak_rss_mib(RUSAGE_SELF);
-    size_t max_memory = 0;
     const char *output = NULL;
     int child = 0;
-    int rc = bench_parse(argc, argv, &s, &max_memory, &output, &child);
+    int rc = bench_parse(argc, argv, &s, &s.max_memory, &output, &child);
     if (rc != CLI_OK) return rc == CLI_HELP ? CLI_OK : rc;
 #ifdef PERSP_HAVE_OSMESA
     if (child) {
@@ -1032,35 +1061,15 @@ int cmd_bench(int argc, char **argv)
     if ((rc = cli_check_scene("bench", s.o.scene)) != CLI_OK) return rc;
     if (!(s.results = calloc(BENCH_MAX_METHODS, sizeof *s.results)))
         return cli_error(CLI_FAIL, "bench: out of memory");
-    if ((rc = collect_methods(s.o.method, s.results, &s.count)) != CLI_OK ||
-        (rc = cli_output_open("bench", output, &s.out)) != CLI_OK) {
-        free(s.results);
-        return rc;
+    if ((rc = collect_methods(s.o.method, s.results, &s.count)) == CLI_OK) {
+        cli_run_desc d = {.command = "bench", .threads = s.o.threads, .max_memory = s.max_memory,
+                          .simd = s.o.simd, .report = 1, .output = output};
+        rc = cli_run(&d, bench_body, &s);
     }
-    int printed = 0;
-    if ((rc = bench_open(&s, max_memory)) == CLI_OK) {
-        s.streaming = !s.o.json;
-        rc = bench_measure(&s);
-        bench_report report = {&s.o, s.results, s.count, s.exact, s.o.peer && s.peer.ok ? &s.peer : NULL,
-                               s.have_diff ? &s.diff : NULL, s.rss_mib, s.rss_start_mib};
-        if (s.o.json)
-            print_json(s.out.f, &report);
-        else
-            print_text_tail(s.out.f, &report);
-        printed = 1;
-        if (s.failures && rc == CLI_OK) rc = CLI_FAIL;
-        for (size_t i = 0; i < s.count; i++)
-            if (!s.results[i].ok)
-                cli_error(CLI_FAIL, "bench: method %s failed: %s", s.results[i].spec, s.results[i].error);
-    }
-    int out_rc = cli_output_close("bench", &s.out, printed);
-    if (rc == CLI_OK) rc = out_rc;
     free(s.exact_image);
     free(s.peer.pixels);
     free(s.b.fb.color);
     free(s.b.fb.depth);
-    persp_scene_destroy(s.b.scene);
-    persp_context_destroy(s.b.ctx);
     free(s.results);
     return rc;
 }
