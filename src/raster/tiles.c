@@ -444,11 +444,38 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
     if (lb->n && lb->n + box > PERSP_LANE_MAX) shade_lanes(sc, lb, busy);
     persp_row_walk walk;
     persp__row_walk_init(&walk, t, ya, yb - ya + 1, x0, x1);
+    const int depth_test = sc->ds->depth_test, invw = sc->f->depth_mode == PERSP_DEPTH_INVW;
     for (int y = ya; y <= yb; y++) {
         int lo, hi;
         if (!persp__row_walk_next(&walk, &lo, &hi)) continue;
-        const int len = hi - lo + 1;
-        const int32_t base = (y - sc->oy) * PERSP_TILE + (lo - sc->ox);
+        const int32_t row = (y - sc->oy) * PERSP_TILE + (lo - sc->ox);
+        /* The row's start values as shade_batch and exact_span compute them. */
+        const double px = lo + 0.5, py = y + 0.5;
+        const float Q = (float)(t->rat.g * px + t->rat.h * py + t->rat.i);
+        const float Z = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
+        /* The row is trimmed to its first and last pixel in front of the
+         * tile's depth buffer, with the lane values shade_lanes tests (the
+         * same floats). A pixel a pending lane of the batch covers may be
+         * drawn nearer before this row is shaded, never farther (the test
+         * is strict and a passing pixel writes its own depth), so a pixel
+         * hidden now stays hidden: the trim drops only lanes that shade_lanes
+         * would find dead. Under overdraw whole rows go (the soup: most). */
+        int a = 0, b = hi - lo;
+        if (depth_test) {
+            const float *drow = sc->depth + row;
+            if (invw) {
+                while (a <= b && !(Q + (float)a * dq > drow[a])) a++;
+                while (b > a && !(Q + (float)b * dq > drow[b])) b--;
+            } else {
+                while (a <= b && !(Z + (float)a * dz < drow[a])) a++;
+                while (b > a && !(Z + (float)b * dz < drow[b])) b--;
+            }
+            /* Trimmed pixels are fragments that failed the depth test. */
+            sc->stats->fragments += (uint64_t)(hi - lo + 1 - (a > b ? 0 : b - a + 1));
+            if (a > b) continue;
+        }
+        const int len = b - a + 1;
+        const int32_t base = row + a;
         /* PERSP_TILE is 64: the row's pixels are bits of one word. */
         const uint64_t mask = (len == 64 ? ~0ull : (1ull << len) - 1) << (base & 63);
         if (lb->n + len > PERSP_LANE_MAX || (busy[base >> 6] & mask)) shade_lanes(sc, lb, busy);
@@ -464,12 +491,8 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
             lb->seg_tri[lb->nseg++] = t;
         }
         busy[base >> 6] |= mask;
-        /* The row's start values as shade_batch and exact_span compute them. */
-        const double px = lo + 0.5, py = y + 0.5;
         const float U = (float)(t->rat.a * px + t->rat.b * py + t->rat.c);
         const float V = (float)(t->rat.d * px + t->rat.e * py + t->rat.f);
-        const float Q = (float)(t->rat.g * px + t->rat.h * py + t->rat.i);
-        const float Z = (float)(t->zp[0] * px + t->zp[1] * py + t->zp[2]);
         float A = 0.0f, B = 0.0f;
         if (weights) {
             A = (float)(t->bary.a * px + t->bary.b * py + t->bary.c);
@@ -487,7 +510,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
             for (int k0 = 0; k0 < len; k0 += LANE_GROUP)
                 for (int j = 0; j < LANE_GROUP; j++) {
                     const int k = k0 + j;
-                    const float fk = (float)k;
+                    const float fk = (float)(a + k);
                     lq[k] = Q + fk * dq;
                     lz[k] = Z + fk * dz;
                     lu[k] = U + fk * du;
@@ -500,7 +523,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
             for (int k0 = 0; k0 < len; k0 += LANE_GROUP)
                 for (int j = 0; j < LANE_GROUP; j++) {
                     const int k = k0 + j;
-                    const float fk = (float)k;
+                    const float fk = (float)(a + k);
                     lq[k] = Q + fk * dq;
                     lz[k] = Z + fk * dz;
                     lu[k] = U + fk * du;
