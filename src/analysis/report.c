@@ -328,7 +328,8 @@ static int read_row(json_t *o, double rel_floor, persp_accuracy_row *r, char *wh
         "relpt_v", "relspan_u", "relspan_v", "ops_per_pixel"};
     if (!json_is_object(o)) return snprintf(why, why_size, "is not an object"), 0;
     const char *extra = unknown_key(o, keys, sizeof keys / sizeof keys[0]);
-    if (extra) return snprintf(why, why_size, "has an unknown key '%.64s'", extra), 0;
+    char q[PERSP_QUOTE_BYTES];
+    if (extra) return snprintf(why, why_size, "has an unknown key '%s'", persp__quote(extra, strlen(extra), q, sizeof q)), 0;
     memset(r, 0, sizeof *r);
     const char *names[2] = {"method", "case"};
     char *dest[2] = {r->method, r->case_name};
@@ -362,7 +363,9 @@ static int read_row(json_t *o, double rel_floor, persp_accuracy_row *r, char *wh
     r->div_px = r->mul_px = r->add_px = r->cmp_px = NAN;
     if (json_is_object(ops)) {
         extra = unknown_key(ops, row_ops, 4);
-        if (extra) return snprintf(why, why_size, "'ops_per_pixel' has an unknown key '%.64s'", extra), 0;
+        if (extra)
+            return snprintf(why, why_size, "'ops_per_pixel' has an unknown key '%s'",
+                            persp__quote(extra, strlen(extra), q, sizeof q)), 0;
         double *o4[] = {&r->div_px, &r->mul_px, &r->add_px, &r->cmp_px};
         for (size_t k = 0; k < 4; k++)
             if (!read_num(ops, row_ops[k], o4[k]))
@@ -403,9 +406,10 @@ static persp_status read_root(persp_context *ctx, const char *path, json_t *root
         !(rel_floor > 0.0 && rel_floor < 1.0))
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a persp accuracy JSON report", path);
     const char *extra = unknown_key(root, top, sizeof top / sizeof top[0]);
+    char q[PERSP_QUOTE_BYTES];
     if (extra)
-        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: unknown key '%.64s' (not written by persp accuracy)",
-                           path, extra);
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: unknown key '%s' (not written by persp accuracy)",
+                           path, persp__quote(extra, strlen(extra), q, sizeof q));
     /* The texts persp writes beside the rows are this version's: a file that
      * says otherwise came from another version or was edited, and a merge
      * would write this version's texts over its rows. */
@@ -450,8 +454,8 @@ static persp_status read_root(persp_context *ctx, const char *path, json_t *root
             goto done;
         }
         if ((extra = unknown_key(sh, shard_keys, sizeof shard_keys / sizeof shard_keys[0]))) {
-            st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: shard description has an unknown key '%.64s'",
-                             path, extra);
+            st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: shard description has an unknown key '%s'",
+                             path, persp__quote(extra, strlen(extra), q, sizeof q));
             goto done;
         }
         /* The floor the rows were measured with is a setting of the sweep;
@@ -511,13 +515,15 @@ persp_status persp_accuracy_read(persp_context *ctx, const char *path, persp_acc
         return st;
     }
     json_error_t err;
+    char qe[PERSP_QUOTE_BYTES * 2];
     json_t *root = json_loadb(text, size, JSON_REJECT_DUPLICATES, &err);
     if (!root && persp__json_parse_ran_out(text, size, &err))
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory parsing the JSON", path);
     else if (root && !persp__json_tree_matches(ctx, text, size, root))
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory parsing the JSON", path);
     else if (!root)
-        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: %s", path, err.line, err.column, err.text);
+        st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%d:%d: %s", path, err.line, err.column,
+                         persp__quote(err.text, strlen(err.text), qe, sizeof qe));
     else
         st = read_root(ctx, path, root, out);
     json_decref(root);
@@ -529,8 +535,8 @@ persp_status persp_accuracy_read(persp_context *ctx, const char *path, persp_acc
 /* How merge names part i in its messages: its file, or its position. */
 static const char *part_name(const persp_accuracy_result *p, size_t i, char *buf, size_t size)
 {
-    if (p->source[0]) snprintf(buf, size, "%s", p->source);
-    else snprintf(buf, size, "shard %zu", i + 1);
+    if (p->source[0]) return p->source;
+    snprintf(buf, size, "shard %zu", i + 1);
     return buf;
 }
 
@@ -578,21 +584,20 @@ persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_resul
     size_t shards = (size_t)p0->shard_count, total = p0->total;
     for (size_t i = 1; i < count; i++) {
         const persp_accuracy_result *p = parts[i];
-        part_name(p0, 0, n0, sizeof n0);
-        part_name(p, i, ni, sizeof ni);
+        const char *a = part_name(p0, 0, n0, sizeof n0), *b = part_name(p, i, ni, sizeof ni);
         if (p->shard_count != p0->shard_count)
             return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                               "merge: %s is a shard of %d, %s of %d: not one sweep", ni,
-                               p->shard_count, n0, p0->shard_count);
+                               "merge: %s is a shard of %d, %s of %d: not one sweep", b,
+                               p->shard_count, a, p0->shard_count);
         if (strcmp(p->sweep, p0->sweep)) {
             sweep_difference(p0->sweep, p->sweep, diff, sizeof diff);
             return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                               "merge: %s is not a shard of the same sweep as %s: setting %s", ni, n0,
+                               "merge: %s is not a shard of the same sweep as %s: setting %s", b, a,
                                diff);
         }
         if (p->total != total)
             return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                               "merge: %s says the sweep has %zu rows, %s says %zu", ni, p->total, n0,
+                               "merge: %s says the sweep has %zu rows, %s says %zu", b, p->total, a,
                                total);
     }
     for (size_t i = 0; i < count; i++)
