@@ -28,6 +28,25 @@ grep -q '"shard"' "$tmp/merged.json" && bad "merged JSON still describes a shard
 "$persp" merge -o "$tmp/m2.json" "$tmp"/shard*.json && cmp -s "$tmp/full.json" "$tmp/m2.json" && ok ||
     bad "merge -o"
 
+# The GNU Parallel recipe of docs/SWEEPS.md: a slice that fails leaves no
+# file, the merge names it, and --resume-failed runs that slice alone.
+if command -v parallel >/dev/null 2>&1; then
+    mkdir -p "$tmp/p"
+    printf '#!/bin/sh\ncase "$*" in *"--shard 2/3"*) [ -e "%s/p/again" ] || { touch "%s/p/again"; exit 1; } ;; esac\nexec "%s" "$@"\n' \
+        "$tmp" "$tmp" "$persp" >"$tmp/flaky"
+    chmod +x "$tmp/flaky"
+    recipe=(parallel --will-cite --joblog "$tmp/p/joblog" -j 3
+            "'$tmp/flaky' ${sweep[*]} --shard {}/3 -o '$tmp'/p/shard-{}-of-3.json" ::: 1 2 3)
+    "${recipe[@]}" 2>/dev/null && bad "parallel: a failed slice is not reported" || ok
+    expect 1 "missing shard 2 of 3 \(2 files given\)" -- "$persp" merge -o "$tmp/p/accuracy.json" \
+        "$tmp"/p/shard-*-of-3.json
+    "${recipe[@]:0:4}" --resume-failed "${recipe[@]:4}" || bad "parallel --resume-failed"
+    [ "$(grep -c -- '--shard 2/3' "$tmp/p/joblog")" -eq 2 ] && [ "$(grep -c -- '--shard 1/3' "$tmp/p/joblog")" -eq 1 ] &&
+        ok || bad "--resume-failed ran other slices than the failed one: $(cat "$tmp/p/joblog")"
+    "$persp" merge -o "$tmp/p/accuracy.json" "$tmp"/p/shard-*-of-3.json &&
+        cmp -s "$tmp/full.json" "$tmp/p/accuracy.json" && ok || bad "parallel recipe: merged JSON differs"
+fi
+
 # The merged result feeds the page's tables as the measured one would.
 "$persp" merge --csv "$tmp"/shard*.json >"$tmp/m.csv" && "$persp" "${sweep[@]:0:7}" --csv >"$tmp/f.csv" &&
     cmp -s "$tmp/m.csv" "$tmp/f.csv" && ok || bad "merged CSV differs"
