@@ -132,6 +132,30 @@ expect 1 "out of memory.*parsing the JSON|budget" -- "$persp" merge --max-memory
 "$persp" merge --max-memory 64M "$tmp"/shard[123].json >"$tmp/mm.json" && cmp -s "$tmp/full.json" "$tmp/mm.json" &&
     ok || bad "merge --max-memory 64M"
 expect 2 "max-memory" -- "$persp" merge --max-memory 0 "$tmp"/shard[123].json
+# A 20 MB slice (30000 rows) under a 64 MiB budget: refused before jansson
+# builds its tree (some 200 MiB), so the process stays near the budget.
+python3 - "$tmp/shard1.json" "$tmp/big.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+rows, n = d["rows"], 30000
+d["rows"] = [rows[i % len(rows)] for i in range(n)]
+d["shard"].update(index=0, count=1, rows=n, row_index=list(range(n)))
+open(sys.argv[2], "w").write(json.dumps(d, indent=2) + "\n")
+PY
+peak=$(python3 - "$persp" "$tmp/big.json" "$tmp/big.out" <<'PY'
+import resource, subprocess, sys
+r = subprocess.run([sys.argv[1], "merge", "--max-memory", "64M", sys.argv[2], "-o", sys.argv[3]],
+                   stderr=subprocess.PIPE, text=True)
+print(r.returncode, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss // 1024, r.stderr.strip())
+PY
+)
+case "$peak" in
+"1 "*"parsing the JSON: needs"*"over the memory budget of 64.0 MiB"*) ok ;;
+*) bad "a 20 MB slice under --max-memory 64M: $peak" ;;
+esac
+[ "$(cut -d' ' -f2 <<<"$peak")" -lt 96 ] && ok || bad "merge under --max-memory 64M peaked at $(cut -d' ' -f2 <<<"$peak") MiB"
+[ ! -e "$tmp/big.out" ] && ok || bad "a refused merge left its output"
+"$persp" merge --max-memory 512M "$tmp/big.json" -o "$tmp/big.out" && ok || bad "a 20 MB slice under 512M"
 echo '{"rows": 3}' >"$tmp/bad.json"
 expect 1 "not a persp accuracy JSON report" -- "$persp" merge "$tmp/bad.json"
 expect 1 "cannot open" -- "$persp" merge "$tmp/none.json"
