@@ -114,8 +114,10 @@ merge)
         case "$missing" in *,*) what="slices $missing" ;; esac
         echo "slurm_sweep: missing $what of $n (failed, cancelled or not run: see" \
             "$dir/logs/shard-K-of-$n.*.log). To measure just those and merge again:" >&2
-        printf '  PERSP=%q SWEEP_DIR=%q SWEEP_ARGS=%q %q submit %s %s\n' "$persp" "$dir" "$args" \
-            "$script" "$n" "$missing" >&2
+        extra=""
+        [ -z "${SWEEP_SBATCH:-}" ] || extra=$(printf 'SWEEP_SBATCH=%q ' "$SWEEP_SBATCH")
+        printf '  %sPERSP=%q SWEEP_DIR=%q SWEEP_ARGS=%q %q submit %s %s\n' "$extra" "$persp" "$dir" \
+            "$args" "$script" "$n" "$missing" >&2
         exit 1
     fi
     files=()

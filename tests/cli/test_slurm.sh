@@ -133,17 +133,23 @@ ls "$d/logs" | grep -q 4294967294 && bad "a log named after Slurm's NO_VAL: $(ls
 
 # ------------------------- a cancelled slice: named, then re-run alone
 echo "[${SECONDS}s] a cancelled slice: named, then re-run alone"
+# Slice 2 runs long the first time (a binary that waits), and is cancelled
+# while it runs.
 d="$tmp/b"
-SWEEP_SBATCH=--hold submit "$d" 3 && {
+printf '#!/bin/sh\ncase "$*" in *"--shard 2/3"*) [ -e "%s/slow" ] || { touch "%s/slow"; sleep 60; } ;; esac\nexec "%s" "$@"\n' \
+    "$tmp" "$tmp" "$persp" >"$tmp/slow-persp"
+chmod +x "$tmp/slow-persp"
+PERSP="$tmp/slow-persp" submit "$d" 3 && {
+    for _ in $(seq 100); do [ -e "$tmp/slow" ] && break; sleep 0.1; done
+    [ "$(squeue -h -j "${jid}_2" -o %T)" = RUNNING ] && ok || bad "slice 2 is not running: $(squeue)"
     scancel "${jid}_2"
-    scontrol release "$jid" "$mid"
     wait_jobs "$jid" "$mid"
 }
 [ "$(state "$mid")" = FAILED ] && ok || bad "cancelled slice: merge job $(state "$mid"), expected FAILED"
 log="$d/logs/merge-of-3.$mid.log"
 grep -q "missing slice 2 of 3" "$log" && ok || bad "merge does not name the cancelled slice: $(cat "$log")"
 [ ! -e "$d/accuracy.json" ] && ok || bad "a merge of a cancelled sweep wrote accuracy.json"
-rerun=$(grep -E '^  PERSP=.* submit 3 2$' "$log")
+rerun=$(grep -E '^  PERSP=.*slow-persp .* submit 3 2$' "$log")
 [ -n "$rerun" ] && ok || bad "no re-run command in: $(cat "$log")"
 eval "$rerun" >/dev/null && read -r jid2 mid2 <"$d/logs/jobs-of-3" && wait_jobs "$jid2" "$mid2"
 [ "$(scontrol show job "$jid2" | grep -c 'ArrayTaskId=')" -le 1 ] && ok || bad "the re-run ran more than slice 2"
