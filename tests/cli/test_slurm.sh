@@ -133,17 +133,28 @@ ls "$d/logs" | grep -q 4294967294 && bad "a log named after Slurm's NO_VAL: $(ls
 
 # ------------------------- a cancelled slice: named, then re-run alone
 echo "[${SECONDS}s] a cancelled slice: named, then re-run alone"
-# Slice 2 runs long the first time (a binary that waits), and is cancelled
-# while it runs.
+# Slice 2 runs long the first time (a binary that waits until told to
+# stop), and is cancelled while it runs; the wait ends with the test even
+# where the cancel leaves it running.
 d="$tmp/b"
-printf '#!/bin/sh\ncase "$*" in *"--shard 2/3"*) [ -e "%s/slow" ] || { touch "%s/slow"; sleep 60; } ;; esac\nexec "%s" "$@"\n' \
-    "$tmp" "$tmp" "$persp" >"$tmp/slow-persp"
+cat >"$tmp/slow-persp" <<EOF
+#!/bin/sh
+case "\$*" in *"--shard 2/3"*)
+    if [ ! -e "$tmp/slow" ]; then
+        touch "$tmp/slow"
+        while [ -d "$tmp" ] && [ ! -e "$tmp/stop" ]; do sleep 0.2; done
+        exit 1
+    fi ;;
+esac
+exec "$persp" "\$@"
+EOF
 chmod +x "$tmp/slow-persp"
 PERSP="$tmp/slow-persp" submit "$d" 3 && {
     for _ in $(seq 100); do [ -e "$tmp/slow" ] && break; sleep 0.1; done
     [ "$(squeue -h -j "${jid}_2" -o %T)" = RUNNING ] && ok || bad "slice 2 is not running: $(squeue)"
     scancel "${jid}_2"
     wait_jobs "$jid" "$mid"
+    touch "$tmp/stop"
 }
 [ "$(state "$mid")" = FAILED ] && ok || bad "cancelled slice: merge job $(state "$mid"), expected FAILED"
 log="$d/logs/merge-of-3.$mid.log"
