@@ -68,11 +68,17 @@ check_slices() {
     done
 }
 
-# The slices of 1..N whose file is missing, as "2,5,6".
+# The slices of 1..N whose file is missing, as an array spec ("2,5-7").
 missing_slices() {
-    local n="$1" k list=""
-    for ((k = 1; k <= n; k++)); do
-        [ -s "$(shard_file "$k" "$n")" ] || list="$list${list:+,}$k"
+    local n="$1" k from=0 list=""
+    for ((k = 1; k <= n + 1; k++)); do
+        if [ "$k" -le "$n" ] && [ ! -s "$(shard_file "$k" "$n")" ]; then
+            [ "$from" -gt 0 ] || from=$k
+        elif [ "$from" -gt 0 ]; then
+            list="$list${list:+,}$from"
+            [ "$from" -eq $((k - 1)) ] || list="$list-$((k - 1))"
+            from=0
+        fi
     done
     echo "$list"
 }
@@ -111,7 +117,7 @@ merge)
     missing=$(missing_slices "$n")
     if [ -n "$missing" ]; then
         what="slice $missing"
-        case "$missing" in *,*) what="slices $missing" ;; esac
+        case "$missing" in *[,-]*) what="slices $missing" ;; esac
         echo "slurm_sweep: missing $what of $n (failed, cancelled or not run: see" \
             "$dir/logs/shard-K-of-$n.*.log). To measure just those and merge again:" >&2
         extra=""

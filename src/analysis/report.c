@@ -615,12 +615,17 @@ persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_resul
         char list[PERSP_ERRMSG_BYTES / 2];
         size_t len = 0, missing = shards - count, listed = 0;
         list[0] = '\0';
-        for (size_t k = 0; k < shards && len + 24 < sizeof list; k++)
-            if (!have[k]) {
-                int w = snprintf(list + len, sizeof list - len, "%s%zu", listed ? "," : "", k + 1);
-                if (w > 0) len += (size_t)w;
-                listed++;
-            }
+        /* Runs as "a-b", the form of sbatch --array and of a re-run's list. */
+        for (size_t k = 0; k < shards && len + 48 < sizeof list; k++) {
+            if (have[k]) continue;
+            size_t end = k;
+            while (end + 1 < shards && !have[end + 1]) end++;
+            int w = end > k ? snprintf(list + len, sizeof list - len, "%s%zu-%zu", listed ? "," : "", k + 1, end + 1)
+                            : snprintf(list + len, sizeof list - len, "%s%zu", listed ? "," : "", k + 1);
+            if (w > 0) len += (size_t)w;
+            listed += end - k + 1;
+            k = end;
+        }
         persp__free(ctx, have);
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: missing shard%s %s%s of %zu (%zu file%s given)",
                            missing == 1 ? "" : "s", list, listed < missing ? ",..." : "", shards, count,

@@ -53,6 +53,10 @@ fi
 
 expect 1 "missing shard 3 of 3 \(2 files given\)" -- "$persp" merge "$tmp/shard1.json" "$tmp/shard2.json"
 expect 1 "missing shards 1,3 of 3 \(1 file given\)" -- "$persp" merge "$tmp/shard2.json"
+# Runs of missing slices as sbatch --array writes them; a slice with no rows
+# (more slices than rows) reads and merges like any other.
+"$persp" accuracy --case paper-quad --json --shard 40/40 -o "$tmp/s40.json" || bad "slice 40 of 40"
+expect 1 "missing shards 1-39 of 40 \(1 file given\)" -- "$persp" merge "$tmp/s40.json"
 expect 1 "given twice" -- "$persp" merge "$tmp/shard1.json" "$tmp/shard1.json" "$tmp/shard2.json"
 expect 1 "whole run, not a shard" -- "$persp" merge "$tmp/full.json"
 "$persp" accuracy --case paper-quad --json --shard 2/3 >"$tmp/other.json"
