@@ -93,6 +93,7 @@ done
 # ---------------------------------------------------------------- helpers
 echo "[${SECONDS}s] helpers"
 args="--case paper-quad,random-triangles,floor --size 96x72 --triangles 3"
+# shellcheck disable=SC2086
 "$persp" accuracy $args --json -o "$tmp/full.json" || bad "unsharded run"
 export PERSP="$persp" SWEEP_ARGS="$args"
 unset SWEEP_SBATCH SWEEP_PAGE
