@@ -8,7 +8,8 @@
 # cancelled slice makes the merge name it and the command that re-runs it
 # alone; a stepped array measures the slices it names; slices of other
 # sweeps in the folder are left out; a binary that does not run is refused
-# before anything is queued. Skipped (77) only where the daemons cannot run.
+# before anything is queued. Skipped (77) only where the daemons cannot run:
+# not installed, or not root.
 set -u
 persp="$1"
 . "$(dirname "$0")/lib.sh"
@@ -43,17 +44,25 @@ daemons_stop() {
 }
 trap 'daemons_stop; rm -rf "$tmp"' EXIT
 
-free_port() { python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+# Two free ports, held together while chosen so that they differ.
+read -r port_ctld port_d < <(python3 -c '
+import socket
+s = [socket.socket() for _ in range(2)]
+for k in s: k.bind(("127.0.0.1", 0))
+print(*[k.getsockname()[1] for k in s])')
+# Installed and run as root, the daemons are expected to start: a failure
+# is this test's (its configuration), reported with their logs.
+fail_start() { echo "FAIL: $1 does not start: $(tail -n 5 "$2" 2>/dev/null)"; exit 1; }
 host=$(hostname -s)
-mungekey --create --keyfile="$sl/munge/munge.key" >/dev/null 2>&1 || skip "mungekey cannot create a key"
+mungekey --create --keyfile="$sl/munge/munge.key" >/dev/null 2>&1 || fail_start mungekey /dev/null
 munged --force --socket="$sl/munge/sock" --key-file="$sl/munge/munge.key" --log-file="$sl/log/munged.log" \
     --pid-file="$sl/munge/munged.pid" --seed-file="$sl/munge/seed" >/dev/null 2>&1 ||
-    skip "munged does not start: $(tail -n 3 "$sl/log/munged.log" 2>/dev/null)"
+    fail_start munged "$sl/log/munged.log"
 cat >"$sl/slurm.conf" <<EOF
 ClusterName=persptest
 SlurmctldHost=$host(127.0.0.1)
-SlurmctldPort=$(free_port)
-SlurmdPort=$(free_port)
+SlurmctldPort=$port_ctld
+SlurmdPort=$port_d
 AuthType=auth/munge
 CredType=cred/munge
 AuthInfo=socket=$sl/munge/sock
@@ -81,14 +90,13 @@ NodeName=persp-node NodeHostname=$host NodeAddr=127.0.0.1 CPUs=$(nproc) State=UN
 PartitionName=test Nodes=ALL Default=YES MaxTime=INFINITE State=UP
 EOF
 export SLURM_CONF="$sl/slurm.conf"
-slurmctld -i >/dev/null 2>&1 || skip "slurmctld does not start: $(tail -n 3 "$sl/log/slurmctld.log")"
-slurmd -N persp-node >/dev/null 2>&1 || skip "slurmd does not start: $(tail -n 3 "$sl/log/slurmd.log")"
+slurmctld -i >/dev/null 2>&1 || fail_start slurmctld "$sl/log/slurmctld.log"
+slurmd -N persp-node >/dev/null 2>&1 || fail_start slurmd "$sl/log/slurmd.log"
 for _ in $(seq 100); do
     [ "$(sinfo -h -o %T 2>/dev/null)" = idle ] && break
     sleep 0.2
 done
-[ "$(sinfo -h -o %T 2>/dev/null)" = idle ] ||
-    skip "the node did not come up: $(tail -n 3 "$sl/log/slurmd.log" "$sl/log/slurmctld.log")"
+[ "$(sinfo -h -o %T 2>/dev/null)" = idle ] || fail_start "the node ($(sinfo -h -o %T 2>&1))" "$sl/log/slurmd.log"
 
 # ---------------------------------------------------------------- helpers
 echo "[${SECONDS}s] helpers"
