@@ -6,9 +6,9 @@
 # its daemons stopped by their PIDs on exit. The commands are those of
 # docs/SWEEPS.md: a full sweep gives the unsharded JSON byte for byte; a
 # cancelled slice makes the merge name it and the command that re-runs it
-# alone; a stepped array measures the slices it names; slices of other
-# sweeps in the folder are left out; a binary that does not run is refused
-# before anything is queued. Skipped (77) only where the daemons cannot run:
+# alone; a stepped, throttled or offset array measures the slices it
+# names; slices of other sweeps in the folder are left out; a binary that
+# does not run is refused before anything is queued. Skipped (77) only where the daemons cannot run:
 # not installed, or not root.
 set -u
 persp="$1"
@@ -128,7 +128,8 @@ same() { cmp -s "$tmp/full.json" "$1/accuracy.json" && ok || bad "$2: $1/accurac
 # ------------------------------------------------ a full sweep, 4 slices
 echo "[${SECONDS}s] a full sweep, 4 slices"
 d="$tmp/a"
-submit "$d" 4 && wait_jobs "$jid" "$mid"
+submit "$d" 4 1-4%2 && wait_jobs "$jid" "$mid"
+scontrol show job "$jid" | grep -q 'ArrayTaskThrottle=2' && ok || bad "the array is not throttled to 2"
 [ "$(state "$mid")" = COMPLETED ] && ok || bad "full sweep: merge job $(state "$mid"): $(cat "$d"/logs/merge-* 2>&1)"
 same "$d" "full sweep"
 [ -s "$d/page/index.html" ] && ok || bad "full sweep: no page"
@@ -203,7 +204,11 @@ submit "$d" 3 && wait_jobs "$jid" "$mid"
 SWEEP_DIR="$d" SWEEP_ARGS="--case paper-quad --size 96x72" bash "$script" 2/4 || bad "a slice run outside Slurm"
 echo '{"rows": 3}' >"$d/shard-1-of-4.json"
 rm -f "$d/accuracy.json"
-submit "$d" 4 && wait_jobs "$jid" "$mid"
+# In two parts, the second half first (an array that does not start at 1).
+submit "$d" 4 3-4 && wait_jobs "$jid" "$mid"
+grep -q "missing slices 1-2 of 4" "$d/logs/merge-of-4.$mid.log" && ok ||
+    bad "offset array: $(cat "$d/logs/merge-of-4.$mid.log")"
+submit "$d" 4 1-2 && wait_jobs "$jid" "$mid"
 [ "$(state "$mid")" = COMPLETED ] && ok || bad "stale folder: $(cat "$d/logs/merge-of-4.$mid.log")"
 same "$d" "stale folder"
 
