@@ -19,8 +19,12 @@ aarch64="gcc-aarch64-linux-gnu g++-aarch64-linux-gnu qemu-user libc6-dev:arm64 l
 # runs the testbenches, Yosys synthesizes, nextpnr-ice40 and the IceStorm
 # chip database place and route for the iCE40 UP5K.
 hw="verilator yosys nextpnr-ice40 fpga-icestorm"
+# --slurm: a one-node Slurm for tests/cli/test_slurm.sh, which starts munged,
+# slurmctld and slurmd itself in its temporary folder (docs/SWEEPS.md).
+slurm="slurm-wlm munge"
 want="$required"
 [ "${1:-}" = "--hw" ] && want="$required $hw"
+[ "${1:-}" = "--slurm" ] && want="$required $slurm"
 [ "${1:-}" = "--optional" ] && want="$required $optional"
 [ "${1:-}" = "--aarch64" ] && want="$required $aarch64"
 missing=""

@@ -87,6 +87,9 @@ struct persp_accuracy_result {
     size_t total;
     int shard_index, shard_count;
     char sweep[1024];
+    /* The file persp_accuracy_read took it from ("" otherwise): merge's
+     * messages name it. */
+    char source[256];
 };
 
 /* ----------------------------------------------------------------- cases */

@@ -84,8 +84,18 @@ static void test_merge_equals_whole(void **state)
     /* Incomplete, repeated, or a whole run: refused. */
     persp_accuracy_result *bad = NULL;
     assert_int_equal(persp_accuracy_merge(ctx, order, 2, &bad), PERSP_ERR_INVALID_ARGUMENT);
+    /* The detail names what a re-run needs: the missing shard's number. */
+    assert_string_equal(persp_context_error(ctx), "merge: missing shard 2 of 3 (2 files given)");
+    const persp_accuracy_result *last[1] = {parts[2]};
+    assert_int_equal(persp_accuracy_merge(ctx, last, 1, &bad), PERSP_ERR_INVALID_ARGUMENT);
+    assert_string_equal(persp_context_error(ctx), "merge: missing shards 1-2 of 3 (1 file given)");
     const persp_accuracy_result *twice[3] = {parts[0], parts[0], parts[1]};
     assert_int_equal(persp_accuracy_merge(ctx, twice, 3, &bad), PERSP_ERR_INVALID_ARGUMENT);
+    assert_string_equal(persp_context_error(ctx), "merge: shard 1 of 3 given twice (shard 1, shard 2)");
+    /* Read from files, the shards are named by their file. */
+    const persp_accuracy_result *twice_read[3] = {read[0], read[0], read[1]};
+    assert_int_equal(persp_accuracy_merge(ctx, twice_read, 3, &bad), PERSP_ERR_INVALID_ARGUMENT);
+    assert_non_null(strstr(persp_context_error(ctx), "given twice ("));
     const persp_accuracy_result *one[1] = {whole};
     assert_int_equal(persp_accuracy_merge(ctx, one, 1, &bad), PERSP_ERR_INVALID_ARGUMENT);
     assert_null(bad);
