@@ -512,50 +512,118 @@ static persp_wrap wrap_of(unsigned m)
     }
 }
 
+/* A material's texture as the wire gives it. */
+typedef struct wire_tex {
+    uint8_t kind, wrap[2];
+    uint32_t emb;
+    char file[WIRE_MAX_TEXT + 1];
+} wire_tex;
+
+static persp_status get_texture_head(receiver *r, wire_tex *t)
+{
+    if (!get(r, &t->kind, 1) || !get(r, &t->emb, sizeof t->emb) || !get(r, t->wrap, 2)) return LOST;
+    return PERSP_OK;
+}
+
+/* Whether the texture names what the importer sent: an embedded texture
+ * it announced, a kind persp knows. */
+static int texture_sound(const receiver *r, const wire_tex *t)
+{
+    if (t->kind > WIRE_TEX_EMBEDDED_MISSING) return 0;
+    if (t->kind != WIRE_TEX_EMBEDDED) return 1;
+    return t->emb < r->counts[2] && r->embedded_index[t->emb] != -1;
+}
+
+/* The scene texture of t (-1: none, after saying why where it is the
+ * model's fault); material: its quoted name. */
+static int texture_of(receiver *r, const char *name, const wire_tex *t)
+{
+    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
+    persp__quote(name, strlen(name), qm, sizeof qm);
+    persp__quote(t->file, strlen(t->file), qf, sizeof qf);
+    if (t->kind == WIRE_TEX_FILE) {
+        int index = persp__model_texture_file(&r->refs, name, t->file);
+        if (r->refs.out_of_memory) r->out_of_memory = 1;
+        return index;
+    }
+    if (t->kind == WIRE_TEX_EMBEDDED_MISSING) {
+        persp__warn(r->ctx,
+                    "%s: material '%s' names embedded texture '%s', which the file lacks; drawing it "
+                    "untextured",
+                    r->display, qm, qf);
+        return -1;
+    }
+    if (t->kind == WIRE_TEX_EMBEDDED) {
+        if (r->embedded_index[t->emb] == -3) {
+            r->out_of_memory = 1;
+            persp__model_texture_oom(r->ctx, r->display, qf, qm);
+        }
+        return r->embedded_index[t->emb] >= 0 ? r->embedded_index[t->emb] : -1;
+    }
+    return -1;
+}
+
+/* The emissive colour and map onto m. Emission is added before the texel
+ * modulates (GL_EMISSION, persp_material.emission), so it is glTF's
+ * emissive × emissiveTexture exactly when the emissive map is the base
+ * colour texture (a label drawn in both) or when there is no base colour
+ * texture (the emissive map is then drawn as the texture, exact for a
+ * black base colour: ambient and diffuse are then zero). */
+static void set_emission(receiver *r, persp_material *m, const char *name, const float ke[3], int has_ke,
+                         const wire_tex *glow)
+{
+    for (int k = 0; k < 3; k++)
+        m->emission[k] = has_ke && isfinite(ke[k]) ? fminf(fmaxf(ke[k], 0.0f), 1.0f) : 0.0f;
+    if (glow->kind == WIRE_TEX_NONE || !(m->emission[0] > 0.0f || m->emission[1] > 0.0f || m->emission[2] > 0.0f))
+        return;
+    const int t = texture_of(r, name, glow);
+    if (t < 0 || t == m->texture) return;
+    if (m->texture < 0) {
+        m->texture = t;
+        m->env = PERSP_TEXENV_MODULATE;
+        m->sampler.wrap_s = wrap_of(glow->wrap[0]);
+        m->sampler.wrap_t = wrap_of(glow->wrap[1]);
+        return;
+    }
+    char qm[PERSP_QUOTE_BYTES];
+    persp__warn(r->ctx,
+                "%s: material '%s': its emissive map is not its base colour texture; the glow is drawn "
+                "through the base colour texture instead",
+                r->display, persp__quote(name, strlen(name), qm, sizeof qm));
+}
+
 static persp_status take_material(receiver *r)
 {
-    uint32_t index, emb;
-    uint8_t flags, kind, wrap[2];
-    float col[9], shin;
-    char name[WIRE_MAX_TEXT + 1], file[WIRE_MAX_TEXT + 1];
+    uint32_t index;
+    uint8_t flags;
+    float col[9], shin, ke[3];
+    char name[WIRE_MAX_TEXT + 1];
+    wire_tex base, glow;
     if (!get(r, &index, sizeof index) || !get(r, &flags, 1) || !get(r, col, sizeof col) ||
-        !get(r, &shin, sizeof shin) || !get(r, &kind, 1) || !get(r, &emb, sizeof emb) || !get(r, wrap, 2))
+        !get(r, &shin, sizeof shin))
         return LOST;
-    persp_status st = get_text(r, name);
-    if (st == PERSP_OK) st = get_text(r, file);
+    persp_status st = get_texture_head(r, &base);
+    if (st == PERSP_OK) st = get_text(r, name);
+    if (st == PERSP_OK) st = get_text(r, base.file);
+    if (st == PERSP_OK && !get(r, ke, sizeof ke)) st = LOST;
+    if (st == PERSP_OK) st = get_texture_head(r, &glow);
+    if (st == PERSP_OK) st = get_text(r, glow.file);
     if (st != PERSP_OK) return st;
     if (!r->header || index >= r->counts[1] || r->material_index[index] != -1)
         return bad_answer(r, "a material out of order");
-    if (kind > WIRE_TEX_EMBEDDED_MISSING || (kind == WIRE_TEX_EMBEDDED && emb >= r->counts[2]) ||
-        (kind == WIRE_TEX_EMBEDDED && r->embedded_index[emb] == -1))
-        return bad_answer(r, "a material's texture");
+    if (!texture_sound(r, &base) || !texture_sound(r, &glow)) return bad_answer(r, "a material's texture");
     persp_material m = persp__material_default();
-    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
-    persp__quote(name, strlen(name), qm, sizeof qm);
-    persp__quote(file, strlen(file), qf, sizeof qf);
     if (!(flags & WIRE_MAT_STAND_IN)) {
         persp__model_set_colours(&m, flags & WIRE_MAT_KD ? col : NULL, flags & WIRE_MAT_KS ? col + 3 : NULL,
                                  flags & WIRE_MAT_KA ? col + 6 : NULL, isfinite(shin) ? shin : 0.0f);
-        if (kind == WIRE_TEX_FILE) {
-            m.texture = persp__model_texture_file(&r->refs, name, file);
-            if (r->refs.out_of_memory) r->out_of_memory = 1;
-        } else if (kind == WIRE_TEX_EMBEDDED_MISSING) {
-            persp__warn(r->ctx,
-                        "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
-                        "it untextured",
-                        r->display, qm, qf);
-        } else if (kind == WIRE_TEX_EMBEDDED) {
-            if (r->embedded_index[emb] == -3) {
-                r->out_of_memory = 1;
-                persp__model_texture_oom(r->ctx, r->display, qf, qm);
-            }
-            m.texture = r->embedded_index[emb] >= 0 ? r->embedded_index[emb] : -1;
-        }
+        m.texture = texture_of(r, name, &base);
         if (m.texture >= 0) {
             m.env = PERSP_TEXENV_MODULATE;
-            m.sampler.wrap_s = wrap_of(wrap[0]);
-            m.sampler.wrap_t = wrap_of(wrap[1]);
+            m.sampler.wrap_s = wrap_of(base.wrap[0]);
+            m.sampler.wrap_t = wrap_of(base.wrap[1]);
         }
+        set_emission(r, &m, name, ke, (flags & WIRE_MAT_KE) != 0, &glow);
+        m.unlit = (flags & WIRE_MAT_UNLIT) != 0;
     }
     return persp__scene_add_material(r->scene, &m, &r->material_index[index]);
 }

@@ -148,22 +148,36 @@ static const char *gltf_json(const char *display, const char *buf, size_t size, 
     return NULL;
 }
 
-/* A texture transform the file asks for and persp does not apply (see the
- * post-processing steps in load_owned) is said, not silently dropped. */
+/* KHR_texture_transform's offset, rotation and scale are applied to the
+ * vertices (gltf_uv_map in src/io/import_serve.c); its texCoord, which
+ * picks another coordinate set, does not reach persp through Assimp 5.2's
+ * reader (it reads the other three only), so a transform naming one is
+ * said, not silently drawn with the textureInfo's set. */
 static void warn_gltf_extensions(persp_context *ctx, const char *display, const char *buf,
                                  size_t size)
 {
     static const char ext[] = "\"KHR_texture_transform\"";
     size_t len = 0;
     const char *json = gltf_json(display, buf, size, &len);
-    for (const char *p = json; p && p + sizeof ext - 1 <= json + len; p++)
-        if (!memcmp(p, ext, sizeof ext - 1)) {
-            persp__warn(ctx,
-                        "%s: KHR_texture_transform is not applied; textures are placed by the "
-                        "coordinates as stored",
-                        display);
-            return;
+    const char *end = json ? json + len : NULL;
+    for (const char *p = json; p && p + sizeof ext - 1 <= end; p++) {
+        if (memcmp(p, ext, sizeof ext - 1) != 0) continue;
+        const char *q = p + sizeof ext - 1;
+        while (q < end && (*q == ' ' || *q == '\t' || *q == '\n' || *q == '\r' || *q == ':')) q++;
+        if (q >= end || *q != '{') continue;
+        /* The object's members, up to its closing brace. */
+        for (int depth = 0; q < end; q++) {
+            if (*q == '{') depth++;
+            if (*q == '}' && --depth == 0) break;
+            if (end - q >= 10 && !memcmp(q, "\"texCoord\"", 10)) {
+                persp__warn(ctx,
+                            "%s: a KHR_texture_transform's texCoord is not applied; its texture reads the "
+                            "coordinate set its textureInfo names",
+                            display);
+                return;
+            }
         }
+    }
 }
 
 /* Extensions a glTF may require (glTF 2.0 §3.12, "extensionsRequired")
