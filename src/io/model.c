@@ -793,6 +793,20 @@ static const model_format *format_of_content(const char *data, size_t size)
     return NULL;
 }
 
+const char *persp__model_content_format(const char *data, size_t size, const char **ext)
+{
+    const model_format *f = format_of_content(data, size);
+    if (ext) *ext = f ? f->ext : NULL;
+    return f ? f->name : NULL;
+}
+
+const char *persp__model_article(const char *format)
+{
+    /* Initials read as letters that begin with a vowel sound: F, L, M, N,
+     * S, X (eff, el, em, en, ess, ex), and the vowels. */
+    return format && strchr("AEIOUFLMNSXaeiou", format[0]) ? "an" : "a";
+}
+
 /* The name Assimp is given for the model (its extension picks the reader),
  * or an error: a format not enabled, or content that is not what the name
  * says. */
@@ -819,8 +833,8 @@ static persp_status pick_reader(persp_context *ctx, const char *display, const c
             if (by_content)
                 snprintf(seems, sizeof seems, " (it looks like %s: rename it .%s)", by_content->name,
                          by_content->ext);
-            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the content is not that of a %s file%s", display,
-                               by_name->name, seems);
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the content is not that of %s %s file%s", display,
+                               persp__model_article(by_name->name), by_name->name, seems);
         }
         snprintf(main_name, cap, "%s", base[0] ? base : "model");
         return PERSP_OK;

@@ -66,6 +66,12 @@ void persp__model_free(persp_context *ctx, persp_model *model);
 /* 1 when a model file is streamed rather than read whole (OBJ, by the
  * name): persp__scene_from_model then takes no data. */
 int persp__model_streams(const char *path);
+/* The model format the first bytes of a file show ("binary glTF", "PLY",
+ * ...; *ext its extension), or NULL: for a message when a file named for
+ * one format holds another. */
+const char *persp__model_content_format(const char *data, size_t size, const char **ext);
+/* "a" or "an" before a format's name as it is spoken ("an STL", "a PLY"). */
+const char *persp__model_article(const char *format);
 
 /* 1 when path names a model rather than a JSON scene: an extension Assimp
  * reads other than .json, or (data given) content that is not a JSON

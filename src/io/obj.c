@@ -1170,14 +1170,28 @@ static void free_reader(obj_reader *r)
         persp__free(r->ctx, blocks[i]);
 }
 
+/* No faces: when the file's first bytes are another model format's (a
+ * GLB named .obj), that is the cause to name. */
+static persp_status nothing_to_draw(obj_reader *r, obj_lines *l, const char *data, size_t size)
+{
+    char head[4096];
+    size_t n = size < sizeof head ? size : sizeof head;
+    if (l->f) n = fseek(l->f, 0, SEEK_SET) == 0 ? fread(head, 1, sizeof head, l->f) : 0;
+    else if (n) memcpy(head, data, n);
+    const char *ext = NULL, *other = persp__model_content_format(head, n, &ext);
+    if (other)
+        return persp__fail(r->ctx, PERSP_ERR_FORMAT,
+                           "%s: the content is not that of an OBJ file (it looks like %s: rename it .%s)",
+                           r->display, other, ext);
+    return persp__fail(r->ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", r->display);
+}
+
 static persp_status load(obj_reader *r, obj_lines *l, const char *data, size_t size)
 {
     r->pass = 1;
     persp_status st = run_pass(r, l, data, size);
     if (st != PERSP_OK) return st;
-    if (r->nruns == 0)
-        return persp__fail(r->ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw",
-                           r->display);
+    if (r->nruns == 0) return nothing_to_draw(r, l, data, size);
     for (size_t i = 0; i < r->nruns; i++)
         if (r->runs[i].normals == 2 || (r->bad_vn && r->runs[i].normals)) r->force_normals = 1;
     size_t mp = r->max_poly;

@@ -127,7 +127,24 @@ static void test_causes_named(void **state)
         {"wide.dae", "wide.dae: a model file in UTF-16 or UTF-32", PERSP_ERR_FORMAT},
         {"quant.gltf", "quant.gltf: the file requires the glTF extension KHR_mesh_quantization",
          PERSP_ERR_UNSUPPORTED},
+        /* A file named for one format holding another: the content named,
+         * also for OBJ, whose reader would find no faces in it. */
+        {"glb.obj", "glb.obj: the content is not that of an OBJ file (it looks like binary glTF: rename it .glb)",
+         PERSP_ERR_FORMAT},
+        {"ply.stl", "ply.stl: the content is not that of an STL file (it looks like PLY: rename it .ply)",
+         PERSP_ERR_FORMAT},
     };
+    char glb[1024];
+    test_source_path(glb, sizeof glb, "tests/data/models/embedded.glb");
+    FILE *gf = fopen(glb, "rb");
+    assert_non_null(gf);
+    static char bytes[1 << 16];
+    const size_t nb = fread(bytes, 1, sizeof bytes, gf);
+    fclose(gf);
+    write_file("glb.obj", bytes, nb);
+    write_text("ply.stl", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     /* A texture that is there but no image persp reads: said so, not
      * reported missing "beside the model" as well. */
     char path[1024], warning[1024] = "";
