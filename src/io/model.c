@@ -825,6 +825,7 @@ static persp_status pick_reader(persp_context *ctx, const char *display, const c
                            "%s: a model file in UTF-16 or UTF-32 (persp reads ASCII or UTF-8: save it as "
                            "UTF-8)",
                            display);
+    if (size == 0) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the file is empty", display);
     const model_format *by_name = format_of_name(base);
     const model_format *by_content = format_of_content(data, size);
     if (by_name) {

@@ -187,8 +187,12 @@ static void warn_gltf_extensions(persp_context *ctx, const char *display, const 
 static persp_status check_gltf_required(persp_context *ctx, const char *display, const char *buf,
                                         size_t size)
 {
-    static const char *const unread[] = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
-                                         "EXT_meshopt_compression", "EXT_mesh_gpu_instancing"};
+    /* The techniques (a draft's GLSL materials, which the glTF sample
+     * models use) hold the only texture of their material: drawn without
+     * them, the model came out white. */
+    static const char *const unread[] = {"KHR_mesh_quantization",   "KHR_draco_mesh_compression",
+                                         "EXT_meshopt_compression", "EXT_mesh_gpu_instancing",
+                                         "KHR_techniques_webgl",    "KHR_technique_webgl"};
     static const char key[] = "\"extensionsRequired\"";
     size_t len = 0;
     const char *json = gltf_json(display, buf, size, &len);

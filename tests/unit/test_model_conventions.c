@@ -118,6 +118,8 @@ static void test_causes_named(void **state)
     wide[0] = '\xff', wide[1] = '\xfe';
     for (size_t i = 0; i < sizeof dae - 1; i++) wide[2 + 2 * i] = dae[i], wide[3 + 2 * i] = 0;
     write_file("wide.dae", wide, 2 + 2 * (sizeof dae - 1));
+    write_text("tech.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_technique_webgl\"],"
+                            "\"extensionsRequired\":[\"KHR_technique_webgl\"],\"scenes\":[{\"nodes\":[]}]}");
     write_text("quant.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_mesh_quantization\"],"
                              "\"extensionsRequired\":[\"KHR_mesh_quantization\"],\"scenes\":[{\"nodes\":[]}]}");
     static const struct {
@@ -126,6 +128,8 @@ static void test_causes_named(void **state)
     } cases[] = {
         {"wide.dae", "wide.dae: a model file in UTF-16 or UTF-32", PERSP_ERR_FORMAT},
         {"quant.gltf", "quant.gltf: the file requires the glTF extension KHR_mesh_quantization",
+         PERSP_ERR_UNSUPPORTED},
+        {"tech.gltf", "tech.gltf: the file requires the glTF extension KHR_technique_webgl",
          PERSP_ERR_UNSUPPORTED},
         /* A file named for one format holding another: the content named,
          * also for OBJ, whose reader would find no faces in it. */
