@@ -563,35 +563,6 @@ static int texture_of(receiver *r, const char *name, const wire_tex *t)
     return -1;
 }
 
-/* The emissive colour and map onto m. Emission is added before the texel
- * modulates (GL_EMISSION, persp_material.emission), so it is glTF's
- * emissive × emissiveTexture exactly when the emissive map is the base
- * colour texture (a label drawn in both) or when there is no base colour
- * texture (the emissive map is then drawn as the texture, exact for a
- * black base colour: ambient and diffuse are then zero). */
-static void set_emission(receiver *r, persp_material *m, const char *name, const float ke[3], int has_ke,
-                         const wire_tex *glow)
-{
-    for (int k = 0; k < 3; k++)
-        m->emission[k] = has_ke && isfinite(ke[k]) ? fminf(fmaxf(ke[k], 0.0f), 1.0f) : 0.0f;
-    if (glow->kind == WIRE_TEX_NONE || !(m->emission[0] > 0.0f || m->emission[1] > 0.0f || m->emission[2] > 0.0f))
-        return;
-    const int t = texture_of(r, name, glow);
-    if (t < 0 || t == m->texture) return;
-    if (m->texture < 0) {
-        m->texture = t;
-        m->env = PERSP_TEXENV_MODULATE;
-        m->sampler.wrap_s = wrap_of(glow->wrap[0]);
-        m->sampler.wrap_t = wrap_of(glow->wrap[1]);
-        return;
-    }
-    char qm[PERSP_QUOTE_BYTES];
-    persp__warn(r->ctx,
-                "%s: material '%s': its emissive map is not its base colour texture; the glow is drawn "
-                "through the base colour texture instead",
-                r->display, persp__quote(name, strlen(name), qm, sizeof qm));
-}
-
 static persp_status take_material(receiver *r)
 {
     uint32_t index;
@@ -622,7 +593,9 @@ static persp_status take_material(receiver *r)
             m.sampler.wrap_s = wrap_of(base.wrap[0]);
             m.sampler.wrap_t = wrap_of(base.wrap[1]);
         }
-        set_emission(r, &m, name, ke, (flags & WIRE_MAT_KE) != 0, &glow);
+        if (persp__model_set_emission(&m, flags & WIRE_MAT_KE ? ke : NULL) && glow.kind != WIRE_TEX_NONE)
+            persp__model_set_glow_map(r->ctx, r->display, name, &m, texture_of(r, name, &glow),
+                                      wrap_of(glow.wrap[0]), wrap_of(glow.wrap[1]));
         m.unlit = (flags & WIRE_MAT_UNLIT) != 0;
     }
     return persp__scene_add_material(r->scene, &m, &r->material_index[index]);

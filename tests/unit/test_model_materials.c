@@ -298,6 +298,36 @@ static void test_emissive_map(void **state)
     assert_true(distinct >= 4);
 }
 
+/* MTL's Ke and map_Ke (Blender's OBJ exporter writes them) read by
+ * persp's OBJ reader: the same glow. */
+static void test_obj_emission(void **state)
+{
+    (void)state;
+    const char *obj = "mtllib e.mtl\nusemtl m\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                      "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nf 1/1 2/2 3/3 4/4\n";
+    write_file("e.obj", obj, strlen(obj));
+    const char *mtl = "newmtl m\nKd 0 0 0\nKe 1 0.6 0\n";
+    write_file("e.mtl", mtl, strlen(mtl));
+    static frame f;
+    persp_scene_material m;
+    render("e.obj", &f, &m);
+    assert_true(m.emission[0] == 1.0f && fabsf(m.emission[1] - 0.6f) < 1e-6f && m.emission[2] == 0.0f);
+    for (int i = 0; i < SIDE * SIDE; i++) {
+        const uint8_t *p = f.color + 4 * i;
+        if (!is_background(p) && !(p[0] == 255 && p[1] >= 153 && p[2] < p[1]))
+            fail_msg("e.obj: pixel %d is (%d, %d, %d), not the emission", i, p[0], p[1], p[2]);
+    }
+    mtl = "newmtl m\nKd 0 0 0\nKe 1 1 1\nmap_Ke glow.png\n";
+    write_file("e.mtl", mtl, strlen(mtl));
+    render("e.obj", &f, &m);
+    assert_true(m.texture >= 0);
+    for (int i = 0; i < SIDE * SIDE; i++) {
+        const uint8_t *p = f.color + 4 * i;
+        if (!is_background(p) && p[2] < 120)
+            fail_msg("e.obj: pixel %d is (%d, %d, %d): map_Ke is not drawn", i, p[0], p[1], p[2]);
+    }
+}
+
 /* A base colour texture and another emissive map: drawn through the base
  * colour texture, said. */
 static void test_emissive_map_beside_base_warned(void **state)
@@ -390,6 +420,7 @@ int main(void)
         cmocka_unit_test(test_emissive_colour),
         cmocka_unit_test(test_emissive_map),
         cmocka_unit_test(test_emissive_map_beside_base_warned),
+        cmocka_unit_test(test_obj_emission),
         cmocka_unit_test(test_unlit_colour),
         cmocka_unit_test(test_unlit_texture),
     };
