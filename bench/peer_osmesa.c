@@ -680,8 +680,12 @@ static void draw_fixed(bench_peer *p, const peer_object *o)
         glEnable(GL_TEXTURE_2D);
         glBindTexture(GL_TEXTURE_2D, o->texture);
         glBindSampler(0, o->sampler);
+        /* Unlit, an unlit material's colour tints its texels (the current
+         * colour: this path binds no colour array to textured objects). */
+        const int tint = p->path == PATH_UNLIT && m->unlit && modulate;
+        if (tint) glColor4f(m->diffuse[0], m->diffuse[1], m->diffuse[2], 1.0f);
         glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE,
-                  p->path == PATH_FIXED && modulate ? GL_MODULATE : GL_REPLACE);
+                  (p->path == PATH_FIXED && modulate) || tint ? GL_MODULATE : GL_REPLACE);
     } else {
         glDisable(GL_TEXTURE_2D);
     }
