@@ -73,6 +73,15 @@ persp_status persp__load_stb(persp_context *ctx, const unsigned char *data, size
                            stbi_failure_reason() ? stbi_failure_reason() : "unreadable");
     persp_status st = persp__image_check_size(ctx, name, w, h);
     if (st != PERSP_OK) return st;
+    /* Each byte of the file yields at most so many pixels (GIF: a 12-bit
+     * LZW code stands for at most 4096 indices, GIF89a Appendix F; HDR: an
+     * RLE run of at most 127 values takes 2 bytes for each of the 4
+     * components, Radiance's "new" scanline coding): a header declaring
+     * more than the file can hold is refused before stb allocates for it. */
+    const uint64_t most = (uint64_t)size * (gif ? 2730u : 31u) + 4096u;
+    if ((uint64_t)w * (uint64_t)h > most)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the %s header declares %dx%d pixels, more than the file's "
+                           "%zu bytes can hold", name, format, w, h, size);
     const size_t work = (size_t)w * (size_t)h * (gif ? GIF_WORK_PER_PIXEL : HDR_WORK_PER_PIXEL) + 4096;
     char what[PERSP_ERRMSG_BYTES / 2];
     snprintf(what, sizeof what, "%s: decoding the %s image", name, format);

@@ -20,7 +20,7 @@
 #include <string.h>
 
 typedef struct buf {
-    unsigned char b[1 << 14];
+    unsigned char b[1 << 16];
     size_t n;
 } buf;
 
@@ -324,7 +324,18 @@ static void test_gif_budget(void **state)
     unsigned char idx[4] = {0, 0, 0, 0};
     gif_image(&o, 0, 0, 2, 2, idx);
     put8(&o, 0x3b);
-    expect_refused(ctx, &o, "big.gif", PERSP_ERR_OUT_OF_MEMORY, "decoding the GIF image");
+    expect_refused(ctx, &o, "big.gif", PERSP_ERR_FORMAT, "more than the file's");
+    /* 1024 × 1024 that the file could hold: refused by the budget. */
+    static buf pad;
+    pad.n = 0;
+    for (size_t i = 0; i < o.n - 1; i++) put8(&pad, o.b[i]);
+    put8(&pad, 0x21), put8(&pad, 0xfe); /* a comment extension: 200 sub-blocks of 255 bytes */
+    for (int k = 0; k < 200; k++) {
+        put8(&pad, 255);
+        for (int i = 0; i < 255; i++) put8(&pad, 'x');
+    }
+    put8(&pad, 0), put8(&pad, 0x3b);
+    expect_refused(ctx, &pad, "big.gif", PERSP_ERR_OUT_OF_MEMORY, "decoding the GIF image");
     persp_context_destroy(ctx);
 }
 
