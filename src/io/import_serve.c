@@ -15,6 +15,7 @@
  * of files Assimp left open when it gave up.
  */
 #include "io/import_wire.h"
+#include "io/json_text.h"
 #include "io/model.h"
 
 #include <assimp/cfileio.h>
@@ -308,6 +309,8 @@ typedef struct conv {
     uint8_t *embedded_sent; /* per aiTexture */
     int stand_in;           /* every material is the reader's stand-in (ply_has_materials) */
     int gltf;               /* a glTF or GLB: its texture transforms are applied (gltf_uv_map) */
+    int *texcoord;          /* glTF: per aiMaterial, the set KHR_texture_transform's texCoord
+                               names for the base colour texture, -1 none (gltf_texcoords) */
     int error;              /* an 'E' was sent, or the socket failed */
 } conv;
 
@@ -339,6 +342,57 @@ static void mul(const float a[16], const float b[16], float out[16])
             t[col * 4 + r] = v;
         }
     memcpy(out, t, sizeof t);
+}
+
+/* The texture's KHR_texture_transform texCoord, -1 when it names none. */
+static int transform_texcoord(json_t *texture_info)
+{
+    json_t *t = json_object_get(json_object_get(json_object_get(texture_info, "extensions"), "KHR_texture_transform"),
+                                "texCoord");
+    return json_is_integer(t) && json_integer_value(t) >= 0 && json_integer_value(t) < AI_MAX_NUMBER_OF_TEXTURECOORDS
+               ? (int)json_integer_value(t)
+               : -1;
+}
+
+/* KHR_texture_transform's texCoord "overrides the textureInfo texCoord
+ * value if supplied" (the extension's README), which Assimp 5.2's reader
+ * does not read: taken from the JSON here for each material's base colour
+ * (or, with KHR_materials_pbrSpecularGlossiness, diffuse) texture. The
+ * reader makes one aiMaterial per glTF material, in their order (its
+ * ImportMaterials; a default one may follow). Fills out[0..n) (-1: none);
+ * 0 when out of memory. */
+static int gltf_texcoords(const serve *s, unsigned n, int *out)
+{
+    for (unsigned i = 0; i < n; i++) out[i] = -1;
+    const char *json = s->data;
+    size_t len = s->size;
+    if (len >= 20 && !memcmp(s->data, "glTF", 4)) {
+        /* GLB: the JSON chunk (checked by persp before it was sent). */
+        uint32_t chunk;
+        memcpy(&chunk, s->data + 12, sizeof chunk);
+        json = s->data + 20;
+        len = chunk <= s->size - 20 ? chunk : s->size - 20;
+    }
+    json_error_t err;
+    json_t *root = json_loadb(json, len, 0, &err);
+    if (!root) return !persp__json_parse_ran_out(json, len, &err);
+    json_t *used = json_object_get(root, "extensionsUsed");
+    int supported = 0;
+    for (size_t k = 0; k < json_array_size(used); k++)
+        supported |= json_is_string(json_array_get(used, k)) &&
+                     !strcmp(json_string_value(json_array_get(used, k)), "KHR_texture_transform");
+    json_t *mats = json_object_get(root, "materials");
+    for (unsigned i = 0; supported && i < n && i < json_array_size(mats); i++) {
+        json_t *m = json_array_get(mats, i);
+        int tc = transform_texcoord(json_object_get(json_object_get(m, "pbrMetallicRoughness"), "baseColorTexture"));
+        if (tc < 0)
+            tc = transform_texcoord(json_object_get(
+                json_object_get(json_object_get(m, "extensions"), "KHR_materials_pbrSpecularGlossiness"),
+                "diffuseTexture"));
+        out[i] = tc;
+    }
+    json_decref(root);
+    return 1;
 }
 
 /* The UV channel the material's diffuse texture reads, or 0. */
@@ -502,6 +556,8 @@ static int send_mesh(conv *c, unsigned index)
     unsigned uv = am->mMaterialIndex < c->ai->mNumMaterials
                       ? material_uv(c->ai->mMaterials[am->mMaterialIndex])
                       : 0;
+    if (c->texcoord && am->mMaterialIndex < c->ai->mNumMaterials && c->texcoord[am->mMaterialIndex] >= 0)
+        uv = (unsigned)c->texcoord[am->mMaterialIndex];
     const struct aiVector3D *tc = am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
     float uvmap[6];
     const float *map = c->gltf && am->mMaterialIndex < c->ai->mNumMaterials &&
@@ -919,7 +975,11 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
                   (s->size >= 4 && !memcmp(s->data, "ply", 3) && (s->data[3] == '\n' || s->data[3] == '\r'))) &&
                  !ply_has_materials(s->data, s->size);
     c.gltf = persp__model_has_ext(s->main_name, "gltf") || persp__model_has_ext(s->main_name, "glb");
-    if (!c.mesh_sent || !c.material_sent || !c.embedded_sent) {
+    int texcoords_read = 1;
+    if (c.gltf)
+        texcoords_read = (c.texcoord = malloc((ai->mNumMaterials + 1u) * sizeof *c.texcoord)) != NULL &&
+                         gltf_texcoords(s, ai->mNumMaterials, c.texcoord);
+    if (!texcoords_read || !c.mesh_sent || !c.material_sent || !c.embedded_sent) {
         fail(&c, WIRE_ERR_OUT_OF_MEMORY, "out of memory");
     } else if (put_u8(s, WIRE_HEADER) && put_u32(s, ai->mNumMeshes) && put_u32(s, ai->mNumMaterials) &&
                put_u32(s, ai->mNumTextures)) {
@@ -933,6 +993,7 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
     }
     free(c.mesh_sent);
     free(c.material_sent);
+    free(c.texcoord);
     free(c.embedded_sent);
     aiReleaseImport(ai);
 }

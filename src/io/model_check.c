@@ -148,38 +148,6 @@ static const char *gltf_json(const char *display, const char *buf, size_t size, 
     return NULL;
 }
 
-/* KHR_texture_transform's offset, rotation and scale are applied to the
- * vertices (gltf_uv_map in src/io/import_serve.c); its texCoord, which
- * picks another coordinate set, does not reach persp through Assimp 5.2's
- * reader (it reads the other three only), so a transform naming one is
- * said, not silently drawn with the textureInfo's set. */
-static void warn_gltf_extensions(persp_context *ctx, const char *display, const char *buf,
-                                 size_t size)
-{
-    static const char ext[] = "\"KHR_texture_transform\"";
-    size_t len = 0;
-    const char *json = gltf_json(display, buf, size, &len);
-    const char *end = json ? json + len : NULL;
-    for (const char *p = json; p && p + sizeof ext - 1 <= end; p++) {
-        if (memcmp(p, ext, sizeof ext - 1) != 0) continue;
-        const char *q = p + sizeof ext - 1;
-        while (q < end && (*q == ' ' || *q == '\t' || *q == '\n' || *q == '\r' || *q == ':')) q++;
-        if (q >= end || *q != '{') continue;
-        /* The object's members, up to its closing brace. */
-        for (int depth = 0; q < end; q++) {
-            if (*q == '{') depth++;
-            if (*q == '}' && --depth == 0) break;
-            if (end - q >= 10 && !memcmp(q, "\"texCoord\"", 10)) {
-                persp__warn(ctx,
-                            "%s: a KHR_texture_transform's texCoord is not applied; its texture reads the "
-                            "coordinate set its textureInfo names",
-                            display);
-                return;
-            }
-        }
-    }
-}
-
 /* Extensions a glTF may require (glTF 2.0 §3.12, "extensionsRequired")
  * that Assimp 5.2's reader cannot read: it then drops or misreads the
  * attributes (quantized positions came out as a model of zero area), so
@@ -635,7 +603,6 @@ persp_status persp__model_check(persp_context *ctx, const char *display, const c
     persp_status st = check_gltf_images(ctx, display, buf, size);
     if (st == PERSP_OK) st = check_gltf_required(ctx, display, buf, size);
     if (st != PERSP_OK) return st;
-    warn_gltf_extensions(ctx, display, buf, size);
     st = check_gltf_kind(ctx, display, buf, size);
     if (st == PERSP_OK) st = check_obj_mtllib(ctx, display, buf, size);
     if (st == PERSP_OK) st = check_glb(ctx, display, (const unsigned char *)buf, size);

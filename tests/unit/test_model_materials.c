@@ -159,20 +159,43 @@ static void test_texture_transform_applied(void **state)
     }
 }
 
-/* The transform's texCoord does not reach persp through the reader: said. */
-static void test_texture_transform_texcoord_warned(void **state)
+/* The transform's texCoord picks the coordinate set it transforms
+ * ("overrides the textureInfo texCoord"): TEXCOORD_1 here, scaled. */
+static void test_texture_transform_texcoord(void **state)
 {
     (void)state;
     write_gltf("tc.gltf", "\"KHR_texture_transform\"",
-               "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0, \"extensions\": "
-               "{\"KHR_texture_transform\": {\"scale\": [2, 2], \"texCoord\": 1}}}}}");
+               "{\"pbrMetallicRoughness\": {\"baseColorTexture\": {\"index\": 0, \"texCoord\": 0, "
+               "\"extensions\": {\"KHR_texture_transform\": {\"scale\": [2, 2], \"texCoord\": 1}}}}}");
+    /* A second set: the normals' first 32 bytes read as 4 VEC2, (0, 0),
+     * (1, 0), (0, 1), (0, 0) in glTF's terms. */
     char path[1024];
     tmp_path(path, sizeof path, "tc.gltf");
+    static char text[8192], edited[8400];
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    const size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    const char *attr = strstr(text, "\"TEXCOORD_0\": 2}"), *last = strrchr(text, ']');
+    assert_true(attr && last);
+    snprintf(edited, sizeof edited, "%.*s\"TEXCOORD_0\": 2, \"TEXCOORD_1\": 4}%.*s,\n {\"bufferView\": 1, "
+             "\"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"}%s",
+             (int)(attr - text), text, (int)(last - attr - 16), attr + 16, last);
+    write_file("tc.gltf", edited, strlen(edited));
     loaded l;
     load_path(&l, path);
-    (void)mesh_of(&l, 0);
-    assert_int_equal(l.warn.count, 1);
-    assert_non_null(strstr(l.warn.last, "texCoord is not applied"));
+    const persp_mesh *m = mesh_of(&l, 0);
+    assert_int_equal(l.warn.count, 0);
+    assert_int_equal(m->vertex_count, 4);
+    static const float set1[4][2] = {{0, 0}, {1, 0}, {0, 1}, {0, 0}};
+    for (size_t i = 0; i < 4; i++) {
+        const double want[2] = {2.0 * set1[i][0], 1.0 - 2.0 * set1[i][1]};
+        for (int c = 0; c < 2; c++)
+            if (fabs(m->vertices[i].uv[c] - want[c]) > 1e-6)
+                fail_msg("vertex %zu: uv[%d] %g, TEXCOORD_1 scaled gives %g", i, c, (double)m->vertices[i].uv[c],
+                         want[c]);
+    }
     unload(&l);
 }
 
@@ -415,7 +438,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_texture_transform_applied),
-        cmocka_unit_test(test_texture_transform_texcoord_warned),
+        cmocka_unit_test(test_texture_transform_texcoord),
         cmocka_unit_test(test_windows_separators),
         cmocka_unit_test(test_emissive_colour),
         cmocka_unit_test(test_emissive_map),
