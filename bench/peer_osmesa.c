@@ -653,12 +653,18 @@ static void draw_fixed(bench_peer *p, const peer_object *o)
     int textured = o->texture != 0, modulate = m->env == PERSP_SCENE_TEXENV_MODULATE;
     glLoadMatrixf(o->mv);
     if (p->path == PATH_FIXED) {
-        float a[4] = {m->ambient[0], m->ambient[1], m->ambient[2], 1.0f};
-        float d[4] = {m->diffuse[0], m->diffuse[1], m->diffuse[2], 1.0f};
+        /* An unlit material (persp draws it unlit in every mode) is its
+         * diffuse colour as emission with no other term. */
+        const float lit = m->unlit ? 0.0f : 1.0f;
+        float a[4] = {lit * m->ambient[0], lit * m->ambient[1], lit * m->ambient[2], 1.0f};
+        float d[4] = {lit * m->diffuse[0], lit * m->diffuse[1], lit * m->diffuse[2], 1.0f};
+        float e[4] = {m->unlit ? m->diffuse[0] : m->emission[0], m->unlit ? m->diffuse[1] : m->emission[1],
+                      m->unlit ? m->diffuse[2] : m->emission[2], 1.0f};
         /* persp leaves out the specular term at shininess 0, where GL's
          * (N·H)^0 would be 1; GL limits the exponent to 128 (§2.14.1). */
-        float sc = m->shininess > 0.0f ? 1.0f : 0.0f;
+        float sc = m->shininess > 0.0f ? lit : 0.0f;
         float s[4] = {sc * m->specular[0], sc * m->specular[1], sc * m->specular[2], 1.0f};
+        glMaterialfv(GL_FRONT_AND_BACK, GL_EMISSION, e);
         glMaterialfv(GL_FRONT_AND_BACK, GL_AMBIENT, a);
         glMaterialfv(GL_FRONT_AND_BACK, GL_DIFFUSE, d);
         glMaterialfv(GL_FRONT_AND_BACK, GL_SPECULAR, s);
@@ -674,8 +680,12 @@ static void draw_fixed(bench_peer *p, const peer_object *o)
         glEnable(GL_TEXTURE_2D);
         glBindTexture(GL_TEXTURE_2D, o->texture);
         glBindSampler(0, o->sampler);
+        /* Unlit, an unlit material's colour tints its texels (the current
+         * colour: this path binds no colour array to textured objects). */
+        const int tint = p->path == PATH_UNLIT && m->unlit && modulate;
+        if (tint) glColor4f(m->diffuse[0], m->diffuse[1], m->diffuse[2], 1.0f);
         glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE,
-                  p->path == PATH_FIXED && modulate ? GL_MODULATE : GL_REPLACE);
+                  (p->path == PATH_FIXED && modulate) || tint ? GL_MODULATE : GL_REPLACE);
     } else {
         glDisable(GL_TEXTURE_2D);
     }
@@ -689,12 +699,18 @@ static void draw_glsl(bench_peer *p, const peer_object *o)
     glUniformMatrix4fv(pp->mvp, 1, GL_FALSE, o->mvp);
     glUniformMatrix4fv(pp->mv, 1, GL_FALSE, o->mv);
     glUniformMatrix3fv(pp->nm, 1, GL_FALSE, o->nm);
-    float a[3];
-    for (int c = 0; c < 3; c++) a[c] = p->ambient[c] * m->ambient[c];
-    float sc = m->shininess > 0.0f ? 1.0f : 0.0f;
+    /* Emission joins the ambient term, as in persp's lighting; an unlit
+     * material is its diffuse colour alone. */
+    const float lit = m->unlit ? 0.0f : 1.0f;
+    float a[3], d[3];
+    for (int c = 0; c < 3; c++) {
+        a[c] = m->unlit ? m->diffuse[c] : p->ambient[c] * m->ambient[c] + m->emission[c];
+        d[c] = lit * m->diffuse[c];
+    }
+    float sc = m->shininess > 0.0f ? lit : 0.0f;
     float s[3] = {sc * m->specular[0], sc * m->specular[1], sc * m->specular[2]};
     glUniform3fv(pp->ambient, 1, a);
-    glUniform3fv(pp->diffuse, 1, m->diffuse);
+    glUniform3fv(pp->diffuse, 1, d);
     glUniform3fv(pp->specular, 1, s);
     glUniform1f(pp->shininess, m->shininess);
     if (o->texture) {

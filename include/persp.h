@@ -709,6 +709,9 @@ typedef struct persp_scene_material {
     int specular_texture;      /* 1: the texel modulates the specular term too */
     persp_scene_texenv env;
     persp_sampler_desc sampler; /* filter DEFAULT: bilinear */
+    float emission[3];         /* added to ambient + diffuse before the texel modulates them
+                                  (GL_EMISSION) */
+    int unlit;                 /* 1: no lighting: vertex colour × diffuse × texel */
 } persp_scene_material;
 
 /* One drawn object: an indexed triangle mesh (counter-clockwise = front)

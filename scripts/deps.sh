@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages persp needs to build and test, only those missing.
-# libassimp-dev imports models (OBJ, glTF, PLY, STL, FBX, ...); libosmesa6-dev brings the Mesa peer (llvmpipe) that the tests compare images with;
+# libassimp-dev imports models (OBJ, glTF, PLY, STL, FBX, ...); libstb-dev (stb_image) decodes GIF and HDR textures; libosmesa6-dev brings the Mesa peer (llvmpipe) that the tests compare images with;
 # g++ compiles the public headers as C++ (tests/package); clang (for the
 # libFuzzer harnesses) is installed with --optional. GNU parallel runs the
 # sharded sweep of tests/cli/test_shard.sh; chromium (headless) loads the page
@@ -8,7 +8,7 @@
 set -eu
 # libsdl2-dev, libimgui-dev and fonts-dejavu-core build the window of `persp view`;
 # xvfb runs it in a real X window in tests/cli/test_view_xvfb.sh.
-required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core libassimp-dev xvfb"
+required="cmake make gcc g++ pkg-config python3 libpng-dev libjpeg62-turbo-dev libjansson-dev libcmocka-dev libosmesa6-dev parallel chromium libsdl2-dev libimgui-dev fonts-dejavu-core libassimp-dev libstb-dev xvfb"
 optional="clang"
 # --aarch64: the cross build of `make test-aarch64` (cmake/aarch64-linux-gnu.cmake):
 # the cross compiler, qemu-user to run its tests, and the arm64 builds of the

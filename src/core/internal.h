@@ -106,8 +106,8 @@ PERSP_INTERNAL void persp__free(persp_context *ctx, void *ptr);
  * starts); what names it in the detail of the PERSP_ERR_OUT_OF_MEMORY
  * returned when it does not fit. Release the same amount once the library
  * has freed it. Without a budget both only count. */
-persp_status persp__mem_reserve(persp_context *ctx, size_t bytes, const char *what);
-void persp__mem_release(persp_context *ctx, size_t bytes);
+PERSP_INTERNAL persp_status persp__mem_reserve(persp_context *ctx, size_t bytes, const char *what);
+PERSP_INTERNAL void persp__mem_release(persp_context *ctx, size_t bytes);
 /* Bytes of the budget still free (SIZE_MAX without a budget). */
 size_t persp__mem_available(const persp_context *ctx);
 
@@ -151,7 +151,7 @@ int persp__parse_double(const char *text, double lo, double hi, double *out);
  * outside printable ASCII become \xHH, a backslash doubles, and what does
  * not fit in size bytes ends in "...". Returns buf. */
 #define PERSP_QUOTE_BYTES 64
-const char *persp__quote(const char *text, size_t len, char *buf, size_t size);
+PERSP_INTERNAL const char *persp__quote(const char *text, size_t len, char *buf, size_t size);
 
 /* Clears the context's error detail (called at the start of a public call). */
 PERSP_INTERNAL void persp__clear_error(persp_context *ctx);

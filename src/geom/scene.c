@@ -222,6 +222,8 @@ persp_status persp_scene_get_object(const persp_scene *s, size_t index, persp_sc
     om->specular_texture = om->texture >= 0 && m->specular_texture >= 0;
     om->env = m->env == PERSP_TEXENV_MODULATE ? PERSP_SCENE_TEXENV_MODULATE : PERSP_SCENE_TEXENV_REPLACE;
     om->sampler = m->sampler;
+    memcpy(om->emission, m->emission, sizeof om->emission);
+    om->unlit = m->unlit;
     return PERSP_OK;
 }
 

@@ -74,6 +74,13 @@ typedef struct persp_material {
     int specular_texture; /* index or -1: texture also modulates specular */
     persp_texenv env;
     persp_sampler_desc sampler;
+    /* Light the surface gives off itself, added to the lit colour before a
+     * modulating texel multiplies it (OpenGL 1.5 §2.14.1, "e_cm"): a
+     * constant of the draw, folded into its ambient term (shade.c). */
+    float emission[3];
+    /* 1: drawn without lighting, as vertex colour × diffuse × texel (glTF
+     * KHR_materials_unlit; scene_render.c draws it with shading none). */
+    int unlit;
 } persp_material;
 
 typedef struct persp_object {

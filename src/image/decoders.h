@@ -1,7 +1,9 @@
 /*
  * persp's own decoders, for the image formats that have no system library
  * persp links (PNG and JPEG are read through libpng and libjpeg in
- * load.c): Truevision TGA (tga.c) and Windows BMP (bmp.c).
+ * load.c): Truevision TGA (tga.c), Windows BMP (bmp.c) and Netpbm
+ * (pnm.c); GIF and Radiance HDR through stb_image (stb.c), whose working
+ * memory is reserved from the budget.
  *
  * Each reads a whole file from memory into RGBA8, row 0 the bottom row of
  * the displayed picture (persp.h), alpha 255 where the file has none. Every
@@ -28,6 +30,18 @@ int persp__tga_recognised(const unsigned char *data, size_t size);
 persp_status persp__load_tga(persp_context *ctx, const unsigned char *data, size_t size,
                              const char *name, persp_image *out);
 persp_status persp__load_bmp(persp_context *ctx, const unsigned char *data, size_t size,
+                             const char *name, persp_image *out);
+
+/* Netpbm P1 to P6 (pnm.c): "P", the digit, then white space. */
+int persp__pnm_recognised(const unsigned char *data, size_t size);
+persp_status persp__load_pnm(persp_context *ctx, const unsigned char *data, size_t size,
+                             const char *name, persp_image *out);
+
+/* GIF (its first frame) and Radiance HDR (tone-mapped) through stb_image
+ * (stb.c), by their signatures. */
+int persp__gif_recognised(const unsigned char *data, size_t size);
+int persp__hdr_recognised(const unsigned char *data, size_t size);
+persp_status persp__load_stb(persp_context *ctx, const unsigned char *data, size_t size,
                              const char *name, persp_image *out);
 
 /* persp_image_alloc whose detail names the file: its own says "image: ...",

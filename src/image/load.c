@@ -1,8 +1,8 @@
 /*
  * RGBA8 images: PNG and JPEG decoding, and the choice of decoder (by the
- * content; TGA, which has no signature, also by the name); TGA and BMP are
- * decoded in tga.c and bmp.c, encoding is in write.c,
- * allocation in src/core/image_alloc.c.
+ * content; TGA, which has no signature, also by the name); TGA, BMP and
+ * Netpbm are decoded in tga.c, bmp.c and pnm.c, GIF and Radiance HDR in
+ * stb.c; encoding is in write.c, allocation in src/core/image_alloc.c.
  *
  * Rows are stored bottom-to-top (row 0 = bottom of the displayed image,
  * docs/CONVENTIONS.md); both file formats store the top row first, so every
@@ -487,12 +487,16 @@ persp_status persp_image_load_memory(persp_context *ctx, const void *data, size_
         return load_jpeg(ctx, data, size, name, out);
     if (size >= 2 && b[0] == 'B' && b[1] == 'M')
         return persp__load_bmp(ctx, b, size, display_name(name), out);
+    if (persp__gif_recognised(b, size) || persp__hdr_recognised(b, size))
+        return persp__load_stb(ctx, b, size, display_name(name), out);
+    if (persp__pnm_recognised(b, size)) return persp__load_pnm(ctx, b, size, display_name(name), out);
     /* TGA has no signature: a file named .tga is read as one (its errors
      * then say what is wrong with it); any other only when its header is a
      * consistent TGA header. */
     if (has_tga_name(name) || persp__tga_recognised(b, size))
         return persp__load_tga(ctx, b, size, display_name(name), out);
-    return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a PNG, JPEG, TGA or BMP image",
+    return persp__fail(ctx, PERSP_ERR_FORMAT,
+                       "%s: not an image persp reads (PNG, JPEG, TGA, BMP, GIF, Netpbm, Radiance HDR)",
                               display_name(name));
 }
 

@@ -5,6 +5,7 @@
 #ifndef PERSP_IO_TEXT_H
 #define PERSP_IO_TEXT_H
 
+#include "core/shared.h"
 #include "persp.h"
 
 #include <stddef.h>
@@ -16,7 +17,7 @@
 
 /* Reads a whole file into a NUL-terminated buffer owned by the caller
  * (persp__free). PERSP_ERR_IO / PERSP_ERR_TOO_LARGE with the path in the detail. */
-persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size);
+PERSP_INTERNAL persp_status persp__read_file(persp_context *ctx, const char *path, char **data, size_t *size);
 
 /* The folder part of path, "" for a bare name ("a/b.obj" -> "a/"). */
 void persp__path_dir(const char *path, char *out, size_t size);

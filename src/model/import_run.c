@@ -62,7 +62,16 @@ int persp__import_helper_path(const char *given, char *out, size_t cap)
     char dir[PERSP_PATH_MAX];
     const char *self = info.dli_fname;
     char resolved[PERSP_PATH_MAX];
-    if (realpath(self, resolved)) self = resolved;
+    /* In the program itself (libpersp.a linked in), glibc names the
+     * program by its argv[0], which has no folder when it was found on
+     * PATH or exec'd with a bare name (the bench peer's child): the
+     * executable's own link says where it is. */
+    if (!strchr(self, '/')) {
+        const ssize_t n = readlink("/proc/self/exe", resolved, sizeof resolved - 1);
+        if (n > 0) resolved[n] = '\0', self = resolved;
+    } else if (realpath(self, resolved)) {
+        self = resolved;
+    }
     const char *slash = strrchr(self, '/');
     if (!slash) return 0;
     snprintf(dir, sizeof dir, "%.*s", (int)(slash - self), self);

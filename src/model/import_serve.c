@@ -14,6 +14,7 @@
  * every block the importer was handed is freed at the end, including those
  * of files Assimp left open when it gave up.
  */
+#include "io/json_text.h"
 #include "model/import_wire.h"
 #include "model/model.h"
 
@@ -307,6 +308,9 @@ typedef struct conv {
     uint8_t *material_sent; /* per aiMaterial */
     uint8_t *embedded_sent; /* per aiTexture */
     int stand_in;           /* every material is the reader's stand-in (ply_has_materials) */
+    int gltf;               /* a glTF or GLB: its texture transforms are applied (gltf_uv_map) */
+    int *texcoord;          /* glTF: per aiMaterial, the set KHR_texture_transform's texCoord
+                               names for the base colour texture, -1 none (gltf_texcoords) */
     int error;              /* an 'E' was sent, or the socket failed */
 } conv;
 
@@ -340,6 +344,57 @@ static void mul(const float a[16], const float b[16], float out[16])
     memcpy(out, t, sizeof t);
 }
 
+/* The texture's KHR_texture_transform texCoord, -1 when it names none. */
+static int transform_texcoord(json_t *texture_info)
+{
+    json_t *t = json_object_get(json_object_get(json_object_get(texture_info, "extensions"), "KHR_texture_transform"),
+                                "texCoord");
+    return json_is_integer(t) && json_integer_value(t) >= 0 && json_integer_value(t) < AI_MAX_NUMBER_OF_TEXTURECOORDS
+               ? (int)json_integer_value(t)
+               : -1;
+}
+
+/* KHR_texture_transform's texCoord "overrides the textureInfo texCoord
+ * value if supplied" (the extension's README), which Assimp 5.2's reader
+ * does not read: taken from the JSON here for each material's base colour
+ * (or, with KHR_materials_pbrSpecularGlossiness, diffuse) texture. The
+ * reader makes one aiMaterial per glTF material, in their order (its
+ * ImportMaterials; a default one may follow). Fills out[0..n) (-1: none);
+ * 0 when out of memory. */
+static int gltf_texcoords(const serve *s, unsigned n, int *out)
+{
+    for (unsigned i = 0; i < n; i++) out[i] = -1;
+    const char *json = s->data;
+    size_t len = s->size;
+    if (len >= 20 && !memcmp(s->data, "glTF", 4)) {
+        /* GLB: the JSON chunk (checked by persp before it was sent). */
+        uint32_t chunk;
+        memcpy(&chunk, s->data + 12, sizeof chunk);
+        json = s->data + 20;
+        len = chunk <= s->size - 20 ? chunk : s->size - 20;
+    }
+    json_error_t err;
+    json_t *root = json_loadb(json, len, 0, &err);
+    if (!root) return !persp__json_parse_ran_out(json, len, &err);
+    json_t *used = json_object_get(root, "extensionsUsed");
+    int supported = 0;
+    for (size_t k = 0; k < json_array_size(used); k++)
+        supported |= json_is_string(json_array_get(used, k)) &&
+                     !strcmp(json_string_value(json_array_get(used, k)), "KHR_texture_transform");
+    json_t *mats = json_object_get(root, "materials");
+    for (unsigned i = 0; supported && i < n && i < json_array_size(mats); i++) {
+        json_t *m = json_array_get(mats, i);
+        int tc = transform_texcoord(json_object_get(json_object_get(m, "pbrMetallicRoughness"), "baseColorTexture"));
+        if (tc < 0)
+            tc = transform_texcoord(json_object_get(
+                json_object_get(json_object_get(m, "extensions"), "KHR_materials_pbrSpecularGlossiness"),
+                "diffuseTexture"));
+        out[i] = tc;
+    }
+    json_decref(root);
+    return 1;
+}
+
 /* The UV channel the material's diffuse texture reads, or 0. */
 static unsigned material_uv(const struct aiMaterial *mat)
 {
@@ -353,10 +408,43 @@ static unsigned material_uv(const struct aiMaterial *mat)
     return 0;
 }
 
+/* glTF's KHR_texture_transform of the material's base colour texture as
+ * the affine map of the coordinates Assimp gives (u' = m0 u + m1 v + m2,
+ * v' = m3 u + m4 v + m5); 0 when it has none. The extension (its README:
+ * offset, rotation, scale; "rotation": counter-clockwise, its example of
+ * the lower left quadrant fixes the sign) maps glTF coordinates, whose v
+ * runs down the image, by uv' = T(offset) R(rotation) S(scale) uv with
+ * u' = cos·sx·u + sin·sy·v + ox, v' = −sin·sx·u + cos·sy·v + oy. Assimp 5.2
+ * hands it on as an aiUVTransform for its own convention (rotation
+ * negated, about the texture's centre, v flipped: glTF2Importer), which
+ * its TransformUVCoords step misapplies; the offset is recovered from that
+ * translation and the map applied here, on coordinates whose v Assimp has
+ * already flipped (v_gltf = 1 − v). Affine in uv, so applying it to the
+ * vertices is exact and costs nothing per pixel. */
+static int gltf_uv_map(const struct aiMaterial *mat, float m[6])
+{
+    static const enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
+    struct aiUVTransform x;
+    int found = 0;
+    for (int t = 0; t < 2 && !found; t++)
+        found = aiGetMaterialUVTransform(mat, _AI_MATKEY_UVTRANSFORM_BASE, types[t], 0, &x) == aiReturn_SUCCESS;
+    if (!found) return 0;
+    const double r = -(double)x.mRotation, sx = x.mScaling.x, sy = x.mScaling.y;
+    const double cr = cos(r), sr = sin(r);
+    const double ox = x.mTranslation.x - 0.5 * sx * (-cr + sr + 1.0);
+    const double oy = 0.5 * sy * (sr + cr - 1.0) + 1.0 - sy - x.mTranslation.y;
+    if (!isfinite(ox) || !isfinite(oy) || !isfinite(sx) || !isfinite(sy) || !isfinite(r)) return 0;
+    /* u' from (u, v_g = 1 − v); v' = 1 − v_g'. */
+    const double a = cr * sx, b = sr * sy, d = -sr * sx, e = cr * sy;
+    m[0] = (float)a, m[1] = (float)-b, m[2] = (float)(b + ox);
+    m[3] = (float)-d, m[4] = (float)e, m[5] = (float)(1.0 - e - oy);
+    return 1;
+}
+
 /* A vertex as persp stores it (position, normal, uv, rgba); 0 if its
  * position is not finite. */
 static int convert_vertex(const struct aiMesh *am, unsigned i, const struct aiVector3D *tc,
-                          const struct aiColor4D *col, float v[12])
+                          const struct aiColor4D *col, const float *uvmap, float v[12])
 {
     memset(v, 0, 12 * sizeof *v);
     const struct aiVector3D *p = &am->mVertices[i];
@@ -364,7 +452,15 @@ static int convert_vertex(const struct aiMesh *am, unsigned i, const struct aiVe
     v[0] = p->x, v[1] = p->y, v[2] = p->z;
     if (am->mNormals && persp__model_finite3(am->mNormals[i].x, am->mNormals[i].y, am->mNormals[i].z))
         v[3] = am->mNormals[i].x, v[4] = am->mNormals[i].y, v[5] = am->mNormals[i].z;
-    if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) v[6] = tc[i].x, v[7] = tc[i].y;
+    if (tc && isfinite(tc[i].x) && isfinite(tc[i].y)) {
+        v[6] = tc[i].x, v[7] = tc[i].y;
+        if (uvmap) {
+            const float u = v[6], w = v[7];
+            v[6] = uvmap[0] * u + uvmap[1] * w + uvmap[2];
+            v[7] = uvmap[3] * u + uvmap[4] * w + uvmap[5];
+            if (!isfinite(v[6]) || !isfinite(v[7])) v[6] = v[7] = 0.0f;
+        }
+    }
     if (col) {
         const float c[3] = {col[i].r, col[i].g, col[i].b};
         for (int k = 0; k < 3; k++)
@@ -395,7 +491,7 @@ static uint64_t vertex_hash(const float v[12])
  * distinct count, or SIZE_MAX (out of memory) or SIZE_MAX - 1 (a position
  * is not finite). */
 static size_t join_vertices(const struct aiMesh *am, const struct aiVector3D *tc,
-                            const struct aiColor4D *col, uint32_t *remap)
+                            const struct aiColor4D *col, const float *uvmap, uint32_t *remap)
 {
     const size_t n = am->mNumVertices;
     size_t cap = 16;
@@ -406,7 +502,7 @@ static size_t join_vertices(const struct aiMesh *am, const struct aiVector3D *tc
     size_t count = 0;
     for (size_t i = 0; i < n; i++) {
         float v[12], r[12];
-        if (!convert_vertex(am, (unsigned)i, tc, col, v)) {
+        if (!convert_vertex(am, (unsigned)i, tc, col, uvmap, v)) {
             free(table);
             return SIZE_MAX - 1;
         }
@@ -417,7 +513,7 @@ static size_t join_vertices(const struct aiMesh *am, const struct aiVector3D *tc
                 remap[i] = (uint32_t)count++;
                 break;
             }
-            (void)convert_vertex(am, first, tc, col, r);
+            (void)convert_vertex(am, first, tc, col, uvmap, r);
             if (!memcmp(r, v, sizeof v)) {
                 remap[i] = remap[first];
                 break;
@@ -460,11 +556,18 @@ static int send_mesh(conv *c, unsigned index)
     unsigned uv = am->mMaterialIndex < c->ai->mNumMaterials
                       ? material_uv(c->ai->mMaterials[am->mMaterialIndex])
                       : 0;
+    if (c->texcoord && am->mMaterialIndex < c->ai->mNumMaterials && c->texcoord[am->mMaterialIndex] >= 0)
+        uv = (unsigned)c->texcoord[am->mMaterialIndex];
     const struct aiVector3D *tc = am->mTextureCoords[uv] ? am->mTextureCoords[uv] : am->mTextureCoords[0];
+    float uvmap[6];
+    const float *map = c->gltf && am->mMaterialIndex < c->ai->mNumMaterials &&
+                               gltf_uv_map(c->ai->mMaterials[am->mMaterialIndex], uvmap)
+                           ? uvmap
+                           : NULL;
     const struct aiColor4D *col = colours_usable(am) ? am->mColors[0] : NULL;
     uint32_t *remap = malloc((size_t)am->mNumVertices * sizeof *remap);
     if (!remap) return fail(c, WIRE_ERR_OUT_OF_MEMORY, "out of memory converting a mesh");
-    size_t unique = join_vertices(am, tc, col, remap);
+    size_t unique = join_vertices(am, tc, col, map, remap);
     if (unique == SIZE_MAX) {
         free(remap);
         return fail(c, WIRE_ERR_OUT_OF_MEMORY, "out of memory converting a mesh");
@@ -500,7 +603,7 @@ static int send_mesh(conv *c, unsigned index)
     for (unsigned i = 0; ok && i < am->mNumVertices; i++)
         if (remap[i] == emitted) {
             float v[12];
-            (void)convert_vertex(am, i, tc, col, v);
+            (void)convert_vertex(am, i, tc, col, map, v);
             ok = put(c->s, v, sizeof v);
             emitted++;
         }
@@ -580,49 +683,100 @@ static long embedded_of(const struct aiScene *ai, const char *file)
     return emb;
 }
 
+/* A texture of a material: where its image is (a file, an embedded
+ * texture, or a "*N" the file lacks) and how it wraps. */
+typedef struct mat_tex {
+    unsigned kind, wrap[2];
+    long emb;
+    struct aiString file;
+} mat_tex;
+
+/* The first texture of the given types the material names. */
+static void material_texture(const conv *c, const struct aiMaterial *am, const enum aiTextureType *types,
+                             int ntypes, mat_tex *t)
+{
+    t->kind = WIRE_TEX_NONE, t->wrap[0] = t->wrap[1] = WIRE_WRAP_REPEAT, t->emb = -1;
+    t->file.length = 0, t->file.data[0] = '\0';
+    enum aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+    for (int k = 0; k < ntypes; k++) {
+        if (aiGetMaterialTexture(am, types[k], 0, &t->file, NULL, NULL, NULL, NULL, modes, NULL) !=
+            aiReturn_SUCCESS)
+            continue;
+        if (t->file.length == 0) return;
+        t->emb = embedded_of(c->ai, t->file.data);
+        t->kind = t->emb >= 0 ? WIRE_TEX_EMBEDDED : t->emb == -2 ? WIRE_TEX_EMBEDDED_MISSING : WIRE_TEX_FILE;
+        t->wrap[0] = wrap_of(modes[0]), t->wrap[1] = wrap_of(modes[1]);
+        return;
+    }
+    t->file.length = 0, t->file.data[0] = '\0';
+}
+
+static int put_texture(conv *c, const mat_tex *t)
+{
+    return put_u8(c->s, (uint8_t)t->kind) && put_u32(c->s, t->emb >= 0 ? (uint32_t)t->emb : WIRE_NONE) &&
+           put_u8(c->s, (uint8_t)t->wrap[0]) && put_u8(c->s, (uint8_t)t->wrap[1]);
+}
+
+/* Colours (diffuse, specular, ambient, emissive), shininess and the
+ * shading model into *flags. An unlit material (glTF's
+ * KHR_materials_unlit, which Assimp 5.2 gives as aiShadingMode_Unlit;
+ * COLLADA's <constant>) is drawn with its base colour alone. */
+static void material_colours(const struct aiMaterial *am, unsigned *flags, float col[12], float *shin)
+{
+    static const struct {
+        const char *key;
+        unsigned flag;
+    } keys[4] = {{"$clr.diffuse", WIRE_MAT_KD},
+                 {"$clr.specular", WIRE_MAT_KS},
+                 {"$clr.ambient", WIRE_MAT_KA},
+                 {"$clr.emissive", WIRE_MAT_KE}};
+    for (int k = 0; k < 4; k++) {
+        struct aiColor4D v;
+        if (aiGetMaterialColor(am, keys[k].key, 0, 0, &v) != aiReturn_SUCCESS) continue;
+        *flags |= keys[k].flag;
+        col[3 * k] = v.r, col[3 * k + 1] = v.g, col[3 * k + 2] = v.b;
+    }
+    unsigned one = 1;
+    if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, shin, &one) != aiReturn_SUCCESS) *shin = 0;
+    int model = 0;
+    one = 1;
+    if (aiGetMaterialIntegerArray(am, AI_MATKEY_SHADING_MODEL, &model, &one) == aiReturn_SUCCESS &&
+        model == aiShadingMode_Unlit)
+        *flags |= WIRE_MAT_UNLIT;
+}
+
 static int send_material(conv *c, unsigned index)
 {
     const struct aiMaterial *am = c->ai->mMaterials[index];
     struct aiString name;
     if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) != aiReturn_SUCCESS)
         name.length = 0, name.data[0] = '\0';
-    unsigned flags = 0, kind = WIRE_TEX_NONE, wrap[2] = {WIRE_WRAP_REPEAT, WIRE_WRAP_REPEAT};
-    float col[9] = {0}, shin = 0;
-    long emb = -1;
-    struct aiString file;
-    file.length = 0, file.data[0] = '\0';
+    unsigned flags = 0;
+    float col[12] = {0}, shin = 0;
+    mat_tex base, glow;
+    memset(&base, 0, sizeof base);
+    memset(&glow, 0, sizeof glow);
+    base.emb = glow.emb = -1;
     /* Assimp's stand-in for geometry without a material: persp's default. */
     if (c->stand_in || !strcmp(name.data, AI_DEFAULT_MATERIAL_NAME)) {
         flags |= WIRE_MAT_STAND_IN;
     } else {
-        struct aiColor4D v;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &v) == aiReturn_SUCCESS)
-            flags |= WIRE_MAT_KD, col[0] = v.r, col[1] = v.g, col[2] = v.b;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &v) == aiReturn_SUCCESS)
-            flags |= WIRE_MAT_KS, col[3] = v.r, col[4] = v.g, col[5] = v.b;
-        if (aiGetMaterialColor(am, AI_MATKEY_COLOR_AMBIENT, &v) == aiReturn_SUCCESS)
-            flags |= WIRE_MAT_KA, col[6] = v.r, col[7] = v.g, col[8] = v.b;
-        unsigned one = 1;
-        if (aiGetMaterialFloatArray(am, AI_MATKEY_SHININESS, &shin, &one) != aiReturn_SUCCESS) shin = 0;
-        enum aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-        enum aiTextureType types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
-        for (int t = 0; t < 2; t++) {
-            if (aiGetMaterialTexture(am, types[t], 0, &file, NULL, NULL, NULL, NULL, modes, NULL) !=
-                aiReturn_SUCCESS)
-                continue;
-            if (file.length == 0) break;
-            emb = embedded_of(c->ai, file.data);
-            kind = emb >= 0 ? WIRE_TEX_EMBEDDED : emb == -2 ? WIRE_TEX_EMBEDDED_MISSING : WIRE_TEX_FILE;
-            wrap[0] = wrap_of(modes[0]), wrap[1] = wrap_of(modes[1]);
-            break;
-        }
+        material_colours(am, &flags, col, &shin);
+        static const enum aiTextureType base_types[2] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
+        static const enum aiTextureType glow_types[1] = {aiTextureType_EMISSIVE};
+        material_texture(c, am, base_types, 2, &base);
+        material_texture(c, am, glow_types, 1, &glow);
     }
-    if (kind == WIRE_TEX_EMBEDDED && !c->embedded_sent[emb] && !send_embedded(c, (unsigned)emb)) return 0;
-    if (!(put_u8(c->s, WIRE_MATERIAL) && put_u32(c->s, index) && put_u8(c->s, flags) &&
-          put(c->s, col, sizeof col) && put(c->s, &shin, sizeof shin) && put_u8(c->s, kind) &&
-          put_u32(c->s, emb >= 0 ? (uint32_t)emb : WIRE_NONE) && put_u8(c->s, wrap[0]) &&
-          put_u8(c->s, wrap[1]) && put_text(c->s, name.data) &&
-          put_text(c->s, kind == WIRE_TEX_NONE ? "" : file.data)))
+    const mat_tex *tex[2] = {&base, &glow};
+    for (int k = 0; k < 2; k++)
+        if (tex[k]->kind == WIRE_TEX_EMBEDDED && !c->embedded_sent[tex[k]->emb] &&
+            !send_embedded(c, (unsigned)tex[k]->emb))
+            return 0;
+    if (!(put_u8(c->s, WIRE_MATERIAL) && put_u32(c->s, index) && put_u8(c->s, (uint8_t)flags) &&
+          put(c->s, col, 9 * sizeof *col) && put(c->s, &shin, sizeof shin) && put_texture(c, &base) &&
+          put_text(c->s, name.data) && put_text(c->s, base.kind == WIRE_TEX_NONE ? "" : base.file.data) &&
+          put(c->s, col + 9, 3 * sizeof *col) && put_texture(c, &glow) &&
+          put_text(c->s, glow.kind == WIRE_TEX_NONE ? "" : glow.file.data)))
         return c->error = 1, 0;
     c->material_sent[index] = 1;
     return 1;
@@ -777,7 +931,8 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
      * per vertex; without it such a texture was drawn as one texel's
      * colour. TransformUVCoords is left out: Assimp 5.2 scales glTF's
      * KHR_texture_transform about the texture's centre, not its origin as
-     * the extension says (a scale of 2 gave u in [-0.5, 1.5]). Normals the
+     * the extension says (a scale of 2 gave u in [-0.5, 1.5]); persp
+     * applies the extension itself (gltf_uv_map). Normals the
      * file lacks are not Assimp's to make: its GenSmoothNormals cannot split
      * a vertex the file shares between faces (a PLY cube of 8 vertices came
      * out with one normal a corner), so persp makes them after the import,
@@ -819,7 +974,12 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
     c.stand_in = (persp__model_has_ext(s->main_name, "ply") ||
                   (s->size >= 4 && !memcmp(s->data, "ply", 3) && (s->data[3] == '\n' || s->data[3] == '\r'))) &&
                  !ply_has_materials(s->data, s->size);
-    if (!c.mesh_sent || !c.material_sent || !c.embedded_sent) {
+    c.gltf = persp__model_has_ext(s->main_name, "gltf") || persp__model_has_ext(s->main_name, "glb");
+    int texcoords_read = 1;
+    if (c.gltf)
+        texcoords_read = (c.texcoord = malloc((ai->mNumMaterials + 1u) * sizeof *c.texcoord)) != NULL &&
+                         gltf_texcoords(s, ai->mNumMaterials, c.texcoord);
+    if (!texcoords_read || !c.mesh_sent || !c.material_sent || !c.embedded_sent) {
         fail(&c, WIRE_ERR_OUT_OF_MEMORY, "out of memory");
     } else if (put_u8(s, WIRE_HEADER) && put_u32(s, ai->mNumMeshes) && put_u32(s, ai->mNumMaterials) &&
                put_u32(s, ai->mNumTextures)) {
@@ -833,6 +993,7 @@ static void import_and_send(serve *s, uint64_t max_vertices, int (*out_of_memory
     }
     free(c.mesh_sent);
     free(c.material_sent);
+    free(c.texcoord);
     free(c.embedded_sent);
     aiReleaseImport(ai);
 }

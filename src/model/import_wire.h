@@ -20,7 +20,9 @@
  *            bottom row first)
  *   'T'      u32 index, u8 flags, f32 kd[3], ks[3], ka[3], shininess,
  *            u8 texture kind, u32 embedded index, u8 wrap s, wrap t,
- *            u32 length, name, u32 length, file
+ *            u32 length, name, u32 length, file, then the emissive map:
+ *            f32 ke[3], u8 texture kind, u32 embedded index, u8 wrap s,
+ *            wrap t, u32 length, file
  *   'M'      u32 index, u8 flags, u64 vertices, u64 indices, then
  *            vertices * 12 f32 (position, normal, uv, rgba), indices * u32
  *   'P'      u32 mesh, u32 material (WIRE_NONE: the default), f32 xf[16]
@@ -35,7 +37,7 @@
 #include <stdint.h>
 
 #define WIRE_MAGIC 0x706d6970u /* "pimp" */
-#define WIRE_VERSION 1u
+#define WIRE_VERSION 2u
 #define WIRE_NONE 0xffffffffu
 
 /* Longest name or message a record carries. */
@@ -60,6 +62,8 @@ enum { WIRE_FILE_OK = 0, WIRE_FILE_MISSING = 1 };
 #define WIRE_MAT_KD 2u
 #define WIRE_MAT_KS 4u
 #define WIRE_MAT_KA 8u
+#define WIRE_MAT_KE 16u    /* an emissive colour */
+#define WIRE_MAT_UNLIT 32u /* the shading model is unlit (glTF KHR_materials_unlit, COLLADA <constant>) */
 enum { WIRE_TEX_NONE = 0, WIRE_TEX_FILE, WIRE_TEX_EMBEDDED, WIRE_TEX_EMBEDDED_MISSING };
 enum { WIRE_WRAP_REPEAT = 0, WIRE_WRAP_CLAMP, WIRE_WRAP_MIRROR, WIRE_WRAP_DECAL };
 

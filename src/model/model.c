@@ -512,50 +512,91 @@ static persp_wrap wrap_of(unsigned m)
     }
 }
 
+/* A material's texture as the wire gives it. */
+typedef struct wire_tex {
+    uint8_t kind, wrap[2];
+    uint32_t emb;
+    char file[WIRE_MAX_TEXT + 1];
+} wire_tex;
+
+static persp_status get_texture_head(receiver *r, wire_tex *t)
+{
+    if (!get(r, &t->kind, 1) || !get(r, &t->emb, sizeof t->emb) || !get(r, t->wrap, 2)) return LOST;
+    return PERSP_OK;
+}
+
+/* Whether the texture names what the importer sent: an embedded texture
+ * it announced, a kind persp knows. */
+static int texture_sound(const receiver *r, const wire_tex *t)
+{
+    if (t->kind > WIRE_TEX_EMBEDDED_MISSING) return 0;
+    if (t->kind != WIRE_TEX_EMBEDDED) return 1;
+    return t->emb < r->counts[2] && r->embedded_index[t->emb] != -1;
+}
+
+/* The scene texture of t (-1: none, after saying why where it is the
+ * model's fault); material: its quoted name. */
+static int texture_of(receiver *r, const char *name, const wire_tex *t)
+{
+    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
+    persp__quote(name, strlen(name), qm, sizeof qm);
+    persp__quote(t->file, strlen(t->file), qf, sizeof qf);
+    if (t->kind == WIRE_TEX_FILE) {
+        int index = persp__model_texture_file(&r->refs, name, t->file);
+        if (r->refs.out_of_memory) r->out_of_memory = 1;
+        return index;
+    }
+    if (t->kind == WIRE_TEX_EMBEDDED_MISSING) {
+        persp__warn(r->ctx,
+                    "%s: material '%s' names embedded texture '%s', which the file lacks; drawing it "
+                    "untextured",
+                    r->display, qm, qf);
+        return -1;
+    }
+    if (t->kind == WIRE_TEX_EMBEDDED) {
+        if (r->embedded_index[t->emb] == -3) {
+            r->out_of_memory = 1;
+            persp__model_texture_oom(r->ctx, r->display, qf, qm);
+        }
+        return r->embedded_index[t->emb] >= 0 ? r->embedded_index[t->emb] : -1;
+    }
+    return -1;
+}
+
 static persp_status take_material(receiver *r)
 {
-    uint32_t index, emb;
-    uint8_t flags, kind, wrap[2];
-    float col[9], shin;
-    char name[WIRE_MAX_TEXT + 1], file[WIRE_MAX_TEXT + 1];
+    uint32_t index;
+    uint8_t flags;
+    float col[9], shin, ke[3];
+    char name[WIRE_MAX_TEXT + 1];
+    wire_tex base, glow;
     if (!get(r, &index, sizeof index) || !get(r, &flags, 1) || !get(r, col, sizeof col) ||
-        !get(r, &shin, sizeof shin) || !get(r, &kind, 1) || !get(r, &emb, sizeof emb) || !get(r, wrap, 2))
+        !get(r, &shin, sizeof shin))
         return LOST;
-    persp_status st = get_text(r, name);
-    if (st == PERSP_OK) st = get_text(r, file);
+    persp_status st = get_texture_head(r, &base);
+    if (st == PERSP_OK) st = get_text(r, name);
+    if (st == PERSP_OK) st = get_text(r, base.file);
+    if (st == PERSP_OK && !get(r, ke, sizeof ke)) st = LOST;
+    if (st == PERSP_OK) st = get_texture_head(r, &glow);
+    if (st == PERSP_OK) st = get_text(r, glow.file);
     if (st != PERSP_OK) return st;
     if (!r->header || index >= r->counts[1] || r->material_index[index] != -1)
         return bad_answer(r, "a material out of order");
-    if (kind > WIRE_TEX_EMBEDDED_MISSING || (kind == WIRE_TEX_EMBEDDED && emb >= r->counts[2]) ||
-        (kind == WIRE_TEX_EMBEDDED && r->embedded_index[emb] == -1))
-        return bad_answer(r, "a material's texture");
+    if (!texture_sound(r, &base) || !texture_sound(r, &glow)) return bad_answer(r, "a material's texture");
     persp_material m = persp__material_default();
-    char qm[PERSP_QUOTE_BYTES], qf[PERSP_QUOTE_BYTES];
-    persp__quote(name, strlen(name), qm, sizeof qm);
-    persp__quote(file, strlen(file), qf, sizeof qf);
     if (!(flags & WIRE_MAT_STAND_IN)) {
         persp__model_set_colours(&m, flags & WIRE_MAT_KD ? col : NULL, flags & WIRE_MAT_KS ? col + 3 : NULL,
                                  flags & WIRE_MAT_KA ? col + 6 : NULL, isfinite(shin) ? shin : 0.0f);
-        if (kind == WIRE_TEX_FILE) {
-            m.texture = persp__model_texture_file(&r->refs, name, file);
-            if (r->refs.out_of_memory) r->out_of_memory = 1;
-        } else if (kind == WIRE_TEX_EMBEDDED_MISSING) {
-            persp__warn(r->ctx,
-                        "%s: material '%s' names embedded texture '%s', which the file lacks; drawing "
-                        "it untextured",
-                        r->display, qm, qf);
-        } else if (kind == WIRE_TEX_EMBEDDED) {
-            if (r->embedded_index[emb] == -3) {
-                r->out_of_memory = 1;
-                persp__model_texture_oom(r->ctx, r->display, qf, qm);
-            }
-            m.texture = r->embedded_index[emb] >= 0 ? r->embedded_index[emb] : -1;
-        }
+        m.texture = texture_of(r, name, &base);
         if (m.texture >= 0) {
             m.env = PERSP_TEXENV_MODULATE;
-            m.sampler.wrap_s = wrap_of(wrap[0]);
-            m.sampler.wrap_t = wrap_of(wrap[1]);
+            m.sampler.wrap_s = wrap_of(base.wrap[0]);
+            m.sampler.wrap_t = wrap_of(base.wrap[1]);
         }
+        if (persp__model_set_emission(&m, flags & WIRE_MAT_KE ? ke : NULL) && glow.kind != WIRE_TEX_NONE)
+            persp__model_set_glow_map(r->ctx, r->display, name, &m, texture_of(r, name, &glow),
+                                      wrap_of(glow.wrap[0]), wrap_of(glow.wrap[1]));
+        m.unlit = (flags & WIRE_MAT_UNLIT) != 0;
     }
     return persp__scene_add_material(r->scene, &m, &r->material_index[index]);
 }
@@ -725,6 +766,20 @@ static const model_format *format_of_content(const char *data, size_t size)
     return NULL;
 }
 
+const char *persp__model_content_format(const char *data, size_t size, const char **ext)
+{
+    const model_format *f = format_of_content(data, size);
+    if (ext) *ext = f ? f->ext : NULL;
+    return f ? f->name : NULL;
+}
+
+const char *persp__model_article(const char *format)
+{
+    /* Initials read as letters that begin with a vowel sound: F, L, M, N,
+     * S, X (eff, el, em, en, ess, ex), and the vowels. */
+    return format && strchr("AEIOUFLMNSXaeiou", format[0]) ? "an" : "a";
+}
+
 /* The name Assimp is given for the model (its extension picks the reader),
  * or an error: a format not enabled, or content that is not what the name
  * says. */
@@ -743,6 +798,7 @@ static persp_status pick_reader(persp_context *ctx, const char *display, const c
                            "%s: a model file in UTF-16 or UTF-32 (persp reads ASCII or UTF-8: save it as "
                            "UTF-8)",
                            display);
+    if (size == 0) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the file is empty", display);
     const model_format *by_name = format_of_name(base);
     const model_format *by_content = format_of_content(data, size);
     if (by_name) {
@@ -751,8 +807,8 @@ static persp_status pick_reader(persp_context *ctx, const char *display, const c
             if (by_content)
                 snprintf(seems, sizeof seems, " (it looks like %s: rename it .%s)", by_content->name,
                          by_content->ext);
-            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the content is not that of a %s file%s", display,
-                               by_name->name, seems);
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the content is not that of %s %s file%s", display,
+                               persp__model_article(by_name->name), by_name->name, seems);
         }
         snprintf(main_name, cap, "%s", base[0] ? base : "model");
         return PERSP_OK;

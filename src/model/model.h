@@ -66,6 +66,12 @@ void persp__model_free(persp_context *ctx, persp_model *model);
 /* 1 when a model file is streamed rather than read whole (OBJ, by the
  * name): persp__scene_from_model then takes no data. */
 int persp__model_streams(const char *path);
+/* The model format the first bytes of a file show ("binary glTF", "PLY",
+ * ...; *ext its extension), or NULL: for a message when a file named for
+ * one format holds another. */
+const char *persp__model_content_format(const char *data, size_t size, const char **ext);
+/* "a" or "an" before a format's name as it is spoken ("an STL", "a PLY"). */
+const char *persp__model_article(const char *format);
 
 /* 1 when path names a model rather than a JSON scene: an extension Assimp
  * reads other than .json, or (data given) content that is not a JSON
@@ -150,6 +156,18 @@ int persp__model_texture_file(persp_model_refs *refs, const char *material, cons
  * positive (at most 1000), all clamped to [0, 1000]. */
 void persp__model_set_colours(persp_material *m, const float *kd, const float *ks,
                               const float *ka, float shininess);
+/* The emissive colour ke (NULL: none) onto m, each channel clamped to
+ * [0, 1]; 1 when m glows (a channel above 0): its emissive map is then
+ * worth reading. */
+int persp__model_set_emission(persp_material *m, const float *ke);
+/* A glowing m's emissive map (scene texture glow, -1: none). Emission is
+ * added before the texel modulates (persp_material.emission), so the map
+ * is exact as the base colour texture itself (a label drawn in both) or,
+ * with no base colour texture, as the texture (exact for a black base
+ * colour: ambient and diffuse then add nothing); another image beside a
+ * base colour texture is drawn through that texture, with a warning. */
+void persp__model_set_glow_map(persp_context *ctx, const char *display, const char *material, persp_material *m,
+                               int glow, persp_wrap wrap_s, persp_wrap wrap_t);
 /* Appends a part and grows out's bounding box by its transformed vertices;
  * material_name: the material's name in the file, for messages. */
 persp_status persp__model_add_part(persp_scene *scene, persp_model *out, size_t *cap, int mesh,

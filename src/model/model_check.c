@@ -148,24 +148,6 @@ static const char *gltf_json(const char *display, const char *buf, size_t size, 
     return NULL;
 }
 
-/* A texture transform the file asks for and persp does not apply (see the
- * post-processing steps in load_owned) is said, not silently dropped. */
-static void warn_gltf_extensions(persp_context *ctx, const char *display, const char *buf,
-                                 size_t size)
-{
-    static const char ext[] = "\"KHR_texture_transform\"";
-    size_t len = 0;
-    const char *json = gltf_json(display, buf, size, &len);
-    for (const char *p = json; p && p + sizeof ext - 1 <= json + len; p++)
-        if (!memcmp(p, ext, sizeof ext - 1)) {
-            persp__warn(ctx,
-                        "%s: KHR_texture_transform is not applied; textures are placed by the "
-                        "coordinates as stored",
-                        display);
-            return;
-        }
-}
-
 /* Extensions a glTF may require (glTF 2.0 §3.12, "extensionsRequired")
  * that Assimp 5.2's reader cannot read: it then drops or misreads the
  * attributes (quantized positions came out as a model of zero area), so
@@ -173,8 +155,12 @@ static void warn_gltf_extensions(persp_context *ctx, const char *display, const 
 static persp_status check_gltf_required(persp_context *ctx, const char *display, const char *buf,
                                         size_t size)
 {
-    static const char *const unread[] = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
-                                         "EXT_meshopt_compression", "EXT_mesh_gpu_instancing"};
+    /* The techniques (a draft's GLSL materials, which the glTF sample
+     * models use) hold the only texture of their material: drawn without
+     * them, the model came out white. */
+    static const char *const unread[] = {"KHR_mesh_quantization",   "KHR_draco_mesh_compression",
+                                         "EXT_meshopt_compression", "EXT_mesh_gpu_instancing",
+                                         "KHR_techniques_webgl",    "KHR_technique_webgl"};
     static const char key[] = "\"extensionsRequired\"";
     size_t len = 0;
     const char *json = gltf_json(display, buf, size, &len);
@@ -408,138 +394,165 @@ static persp_status check_ply_binary(persp_context *ctx, const char *display,
     return PERSP_OK;
 }
 
-persp_status persp__model_check(persp_context *ctx, const char *display, const char *buf,
-                                size_t size)
+/* The PLY header's lines up to end_header (*at, or end when there is
+ * none): only its own keywords, and up to 64 element lines into elements
+ * (*n). */
+static persp_status ply_header_lines(persp_context *ctx, const char *display, const char *buf, const char *end,
+                                     const char **elements, int *count, const char **at)
 {
-    persp_status ist = check_gltf_images(ctx, display, buf, size);
-    if (ist != PERSP_OK) return ist;
-    ist = check_gltf_required(ctx, display, buf, size);
-    if (ist != PERSP_OK) return ist;
-    warn_gltf_extensions(ctx, display, buf, size);
-    persp_status kst = check_gltf_kind(ctx, display, buf, size);
-    if (kst != PERSP_OK) return kst;
-    persp_status ost = check_obj_mtllib(ctx, display, buf, size);
-    if (ost != PERSP_OK) return ost;
-    const char *end = buf + size, *p = buf;
-    persp_status gst = check_glb(ctx, display, (const unsigned char *)buf, size);
-    if (gst != PERSP_OK) return gst;
-    if (persp__model_has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3))) {
-        if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
-              (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))
-            return persp__fail(ctx, PERSP_ERR_FORMAT,
-                               "%s:1: expected 'ply' alone on the first line", display);
-        /* element lines until end_header; counts checked against what follows */
-        const char *elements[64];
-        int n = 0;
-        /* Assimp's PLY reader loops without end on some malformed headers:
-         * only the header's own keywords, up to end_header, get to it, and
-         * lines of plain text before the first element, which it skips like
-         * comments (old Blender exports carry one on line 3). Inside an
-         * element such a line ends its property list, and the reader then
-         * sized arrays by garbage: 300 bytes with "foo" and a hundred
-         * digits there took 18 GB (found by the model fuzzer). */
-        static const char *const keys[] = {"format", "comment", "obj_info", "element", "property"};
-        size_t line = 1;
-        for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
-            line++;
-            if (!strncmp(p, "end_header", 10)) break;
-            int known = 0;
-            for (size_t k = 0; k < sizeof keys / sizeof keys[0] && !known; k++) {
-                size_t kl = strlen(keys[k]);
-                known = (size_t)(end - p) > kl && !strncmp(p, keys[k], kl) &&
-                        (p[kl] == ' ' || p[kl] == '\t' || p[kl] == '\n' || p[kl] == '\r');
-            }
-            if (!known && n == 0 && printable_line(p, end)) known = 1;
-            if (!known)
-                return persp__fail(ctx, PERSP_ERR_FORMAT,
-                                   "%s:%zu: expected a PLY header keyword (format, comment, "
-                                   "obj_info, element, property, end_header)",
-                                   display, line);
-            const char *bad = NULL;
-            if (!strncmp(p, "format", 6) && strncmp(p, "format ascii 1.0", 16) != 0 &&
-                strncmp(p, "format binary_little_endian 1.0", 31) != 0 &&
-                strncmp(p, "format binary_big_endian 1.0", 28) != 0)
-                bad = "expected format ascii, binary_little_endian or binary_big_endian 1.0";
-            if (!strncmp(p, "property", 8) && n == 0) bad = "a property before any element";
-            if (bad) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%zu: %s", display, line, bad);
-            if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
+    int n = 0;
+    const char *p;
+    /* Assimp's PLY reader loops without end on some malformed headers:
+     * only the header's own keywords, up to end_header, get to it, and
+     * lines of plain text before the first element, which it skips like
+     * comments (old Blender exports carry one on line 3). Inside an
+     * element such a line ends its property list, and the reader then
+     * sized arrays by garbage: 300 bytes with "foo" and a hundred
+     * digits there took 18 GB (found by the model fuzzer). */
+    static const char *const keys[] = {"format", "comment", "obj_info", "element", "property"};
+    size_t line = 1;
+    for (p = next_line(buf, end); p < end; p = next_line(p, end)) {
+        line++;
+        if (!strncmp(p, "end_header", 10)) break;
+        int known = 0;
+        for (size_t k = 0; k < sizeof keys / sizeof keys[0] && !known; k++) {
+            size_t kl = strlen(keys[k]);
+            known = (size_t)(end - p) > kl && !strncmp(p, keys[k], kl) &&
+                    (p[kl] == ' ' || p[kl] == '\t' || p[kl] == '\n' || p[kl] == '\r');
         }
-        /* Header lines end as '\n' reads them here only when no other byte
-         * Assimp's reader takes for a line end (ply_line_end) is among them. */
-        for (const char *h = buf; h < p; h++)
-            if ((*h == '\r' && h + 1 < p && h[1] != '\n') || *h == '\0' || *h == '\f')
-                return persp__fail(ctx, PERSP_ERR_FORMAT,
-                                   "%s: the PLY header holds a carriage return, form feed or NUL "
-                                   "byte inside a line",
-                                   display);
-        const char *after = p + 10;
-        if (p >= end || n == 0 ||
-            !(after < end &&
-              (*after == '\n' || (*after == '\r' && after + 1 < end && after[1] == '\n'))))
+        if (!known && n == 0 && printable_line(p, end)) known = 1;
+        if (!known)
             return persp__fail(ctx, PERSP_ERR_FORMAT,
-                               "%s: the PLY header has no element or no end_header line", display);
-        size_t room = (size_t)(end - next_line(p, end));
-        unsigned long long vertices = 0;
-        for (int i = 0; i < n; i++) {
-            const char *q = elements[i] + 8;
-            while (q < end && *q == ' ')
-                q++;
-            /* Assimp 5.2 reads the count of an element whose name it does
-             * not know from where the name starts, so a name of digits
-             * would be taken as a count this check never saw. */
-            if (q < end && isdigit((unsigned char)*q))
-                return persp__fail(ctx, PERSP_ERR_FORMAT,
-                                   "%s: PLY element %d: the name starts with a digit", display,
-                                   i + 1);
-            /* A second element of a name: Assimp 5.2's PLY loader sizes
-             * the vertex array by the first "vertex" element and writes
-             * the instances of every one into it (a heap overflow, found
-             * by the model fuzzer; it corrupted the heap unseen until a
-             * later import freed). The format gives every element its
-             * own name. */
-            const char *name_end = q;
-            while (name_end < end && *name_end != ' ' && *name_end != '\t' && *name_end != '\n' &&
-                   *name_end != '\r')
-                name_end++;
-            for (int k = 0; k < i; k++) {
-                const char *o = elements[k] + 8;
-                while (o < end && *o == ' ')
-                    o++;
-                const size_t len = (size_t)(name_end - q);
-                if ((size_t)(end - o) > len && !strncmp(o, q, len) &&
-                    (o[len] == ' ' || o[len] == '\t' || o[len] == '\n' || o[len] == '\r'))
-                    return persp__fail(ctx, PERSP_ERR_FORMAT,
-                                       "%s: PLY elements %d and %d have the same name '%.*s'",
-                                       display, k + 1, i + 1, (int)PERSP_MIN(len, (size_t)40), q);
-            }
-            int vertex = !strncmp(q, "vertex ", 7);
-            while (q < end && *q != ' ' && *q != '\n')
-                q++;
-            unsigned long long count = strtoull(q, NULL, 10);
-            persp_status st =
-                check_count(ctx, display, vertex ? "vertices" : "elements", count, room,
-                            vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
-            if (st != PERSP_OK) return st;
-            if (vertex) vertices += count;
-        }
-        /* the format line is among the header's lines checked above */
-        const char *fmt = NULL;
-        for (const char *l = next_line(buf, end); l < p && !fmt; l = next_line(l, end))
-            if (!strncmp(l, "format ", 7)) fmt = l + 7;
-        persp_status lst = PERSP_OK;
-        if (fmt && !strncmp(fmt, "ascii", 5))
-            lst = check_ply_lists(ctx, display, elements, n, p, end);
-        else if (fmt && !strncmp(fmt, "binary_", 7))
-            lst = check_ply_binary(ctx, display, elements, n, p, end, !strncmp(fmt, "binary_big", 10));
-        if (lst != PERSP_OK) return lst;
-        /* Nothing to draw without vertices, and Assimp 5.2's PLY loader,
-         * given faces or colours but no vertex element, sizes an array by
-         * a count that has wrapped below zero (34 GB). */
-        if (vertices == 0)
-            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the PLY header declares no vertices",
-                               display);
-        return PERSP_OK;
+                               "%s:%zu: expected a PLY header keyword (format, comment, "
+                               "obj_info, element, property, end_header)",
+                               display, line);
+        const char *bad = NULL;
+        if (!strncmp(p, "format", 6) && strncmp(p, "format ascii 1.0", 16) != 0 &&
+            strncmp(p, "format binary_little_endian 1.0", 31) != 0 &&
+            strncmp(p, "format binary_big_endian 1.0", 28) != 0)
+            bad = "expected format ascii, binary_little_endian or binary_big_endian 1.0";
+        if (!strncmp(p, "property", 8) && n == 0) bad = "a property before any element";
+        if (bad) return persp__fail(ctx, PERSP_ERR_FORMAT, "%s:%zu: %s", display, line, bad);
+        if (!strncmp(p, "element ", 8) && n < 64) elements[n++] = p;
     }
+    *count = n;
+    *at = p;
+    return PERSP_OK;
+}
+
+/* The header's bytes up to end_header at p, and end_header itself on a
+ * line of its own after at least one element. */
+static persp_status ply_header_end(persp_context *ctx, const char *display, const char *buf, const char *end,
+                                   const char *p, int n)
+{
+    /* Header lines end as '\n' reads them here only when no other byte
+     * Assimp's reader takes for a line end (ply_line_end) is among them. */
+    for (const char *h = buf; h < p; h++)
+        if ((*h == '\r' && h + 1 < p && h[1] != '\n') || *h == '\0' || *h == '\f')
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: the PLY header holds a carriage return, form feed or NUL "
+                               "byte inside a line",
+                               display);
+    const char *after = p + 10;
+    if (p >= end || n == 0 ||
+        !(after < end &&
+          (*after == '\n' || (*after == '\r' && after + 1 < end && after[1] == '\n'))))
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: the PLY header has no element or no end_header line", display);
+    return PERSP_OK;
+}
+
+/* Each element's name and count: no name of digits, no name twice, no
+ * count the rest of the file cannot hold; *vertices: the vertex count. */
+static persp_status ply_element_counts(persp_context *ctx, const char *display, const char *end, const char *p,
+                                       const char *const *elements, int n, unsigned long long *vertices)
+{
+    size_t room = (size_t)(end - next_line(p, end));
+    *vertices = 0;
+    for (int i = 0; i < n; i++) {
+        const char *q = elements[i] + 8;
+        while (q < end && *q == ' ')
+            q++;
+        /* Assimp 5.2 reads the count of an element whose name it does
+         * not know from where the name starts, so a name of digits
+         * would be taken as a count this check never saw. */
+        if (q < end && isdigit((unsigned char)*q))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: PLY element %d: the name starts with a digit", display,
+                               i + 1);
+        /* A second element of a name: Assimp 5.2's PLY loader sizes
+         * the vertex array by the first "vertex" element and writes
+         * the instances of every one into it (a heap overflow, found
+         * by the model fuzzer; it corrupted the heap unseen until a
+         * later import freed). The format gives every element its
+         * own name. */
+        const char *name_end = q;
+        while (name_end < end && *name_end != ' ' && *name_end != '\t' && *name_end != '\n' &&
+               *name_end != '\r')
+            name_end++;
+        for (int k = 0; k < i; k++) {
+            const char *o = elements[k] + 8;
+            while (o < end && *o == ' ')
+                o++;
+            const size_t len = (size_t)(name_end - q);
+            if ((size_t)(end - o) > len && !strncmp(o, q, len) &&
+                (o[len] == ' ' || o[len] == '\t' || o[len] == '\n' || o[len] == '\r'))
+                return persp__fail(ctx, PERSP_ERR_FORMAT,
+                                   "%s: PLY elements %d and %d have the same name '%.*s'",
+                                   display, k + 1, i + 1, (int)PERSP_MIN(len, (size_t)40), q);
+        }
+        int vertex = !strncmp(q, "vertex ", 7);
+        while (q < end && *q != ' ' && *q != '\n')
+            q++;
+        unsigned long long count = strtoull(q, NULL, 10);
+        persp_status st =
+            check_count(ctx, display, vertex ? "vertices" : "elements", count, room,
+                        vertex ? PERSP_SCENE_MAX_VERTICES : (unsigned long long)-1);
+        if (st != PERSP_OK) return st;
+        if (vertex) *vertices += count;
+    }
+    return PERSP_OK;
+}
+
+/* A PLY file's header, its element counts and lists against the bytes
+ * that follow (Assimp 5.2's reader trusts them). */
+static persp_status check_ply(persp_context *ctx, const char *display, const char *buf, size_t size)
+{
+    const char *end = buf + size, *p = NULL;
+    if (!(size >= 4 && !memcmp(buf, "ply", 3) &&
+          (buf[3] == '\n' || (buf[3] == '\r' && size >= 5 && buf[4] == '\n'))))
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s:1: expected 'ply' alone on the first line", display);
+    const char *elements[64];
+    int n = 0;
+    unsigned long long vertices = 0;
+    persp_status st = ply_header_lines(ctx, display, buf, end, elements, &n, &p);
+    if (st == PERSP_OK) st = ply_header_end(ctx, display, buf, end, p, n);
+    if (st == PERSP_OK) st = ply_element_counts(ctx, display, end, p, elements, n, &vertices);
+    if (st != PERSP_OK) return st;
+    /* the format line is among the header's lines checked above */
+    const char *fmt = NULL;
+    for (const char *l = next_line(buf, end); l < p && !fmt; l = next_line(l, end))
+        if (!strncmp(l, "format ", 7)) fmt = l + 7;
+    persp_status lst = PERSP_OK;
+    if (fmt && !strncmp(fmt, "ascii", 5))
+        lst = check_ply_lists(ctx, display, elements, n, p, end);
+    else if (fmt && !strncmp(fmt, "binary_", 7))
+        lst = check_ply_binary(ctx, display, elements, n, p, end, !strncmp(fmt, "binary_big", 10));
+    if (lst != PERSP_OK) return lst;
+    /* Nothing to draw without vertices, and Assimp 5.2's PLY loader,
+     * given faces or colours but no vertex element, sizes an array by
+     * a count that has wrapped below zero (34 GB). */
+    if (vertices == 0)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: the PLY header declares no vertices",
+                           display);
+    return PERSP_OK;
+}
+
+/* An OFF file's counts against the bytes that follow. */
+static persp_status check_off(persp_context *ctx, const char *display, const char *buf, size_t size)
+{
+    const char *end = buf + size, *p;
     /* OFF, COFF, NOFF, STOFF, ...: the counts follow the keyword, after
      * comment lines. The keyword is optional (as the format has it, and
      * Assimp 5.2's reader then takes the counts from the first line), so a
@@ -584,3 +597,17 @@ persp_status persp__model_check(persp_context *ctx, const char *display, const c
     return st;
 }
 
+persp_status persp__model_check(persp_context *ctx, const char *display, const char *buf,
+                                size_t size)
+{
+    persp_status st = check_gltf_images(ctx, display, buf, size);
+    if (st == PERSP_OK) st = check_gltf_required(ctx, display, buf, size);
+    if (st != PERSP_OK) return st;
+    st = check_gltf_kind(ctx, display, buf, size);
+    if (st == PERSP_OK) st = check_obj_mtllib(ctx, display, buf, size);
+    if (st == PERSP_OK) st = check_glb(ctx, display, (const unsigned char *)buf, size);
+    if (st != PERSP_OK) return st;
+    if (persp__model_has_ext(display, "ply") || (size >= 3 && !memcmp(buf, "ply", 3)))
+        return check_ply(ctx, display, buf, size);
+    return check_off(ctx, display, buf, size);
+}

@@ -152,6 +152,31 @@ void persp__model_set_colours(persp_material *m, const float *kd, const float *k
     }
 }
 
+int persp__model_set_emission(persp_material *m, const float *ke)
+{
+    for (int k = 0; k < 3; k++)
+        m->emission[k] = ke && isfinite(ke[k]) ? fminf(fmaxf(ke[k], 0.0f), 1.0f) : 0.0f;
+    return m->emission[0] > 0.0f || m->emission[1] > 0.0f || m->emission[2] > 0.0f;
+}
+
+void persp__model_set_glow_map(persp_context *ctx, const char *display, const char *material, persp_material *m,
+                               int glow, persp_wrap wrap_s, persp_wrap wrap_t)
+{
+    if (glow < 0 || glow == m->texture) return;
+    if (m->texture < 0) {
+        m->texture = glow;
+        m->env = PERSP_TEXENV_MODULATE;
+        m->sampler.wrap_s = wrap_s;
+        m->sampler.wrap_t = wrap_t;
+        return;
+    }
+    char q[PERSP_QUOTE_BYTES];
+    persp__warn(ctx,
+                "%s: material '%s': its emissive map is not its base colour texture; the glow is drawn "
+                "through the base colour texture instead",
+                display, persp__quote(material, strlen(material), q, sizeof q));
+}
+
 /* Prefixes the context's detail of a texture refused for want of memory
  * (what was refused, the budget) with the model, texture and material. */
 void persp__model_texture_oom(persp_context *ctx, const char *display, const char *texture,

@@ -388,7 +388,7 @@ static persp_status new_material(obj_reader *r, const char *name, size_t n, size
     memset(m, 0, sizeof *m);
     for (int k = 0; k < 3; k++)
         m->kd[k] = 0.6f;
-    m->tex = NO_NAME;
+    m->tex = m->glow = NO_NAME;
     m->lib = lib;
     m->scene = -1;
     persp_status st = pool_add(r, name, n, &m->name);
@@ -478,6 +478,8 @@ static persp_status read_mtl(obj_reader *r, const char *libname, const char *tex
             bad = mtl_colour(q, e, m->ks) < 0;
         else if (token_is_nocase(p, q, "ka"))
             bad = mtl_colour(q, e, m->ka) < 0;
+        else if (token_is_nocase(p, q, "ke")) /* emission: the PBR extension of MTL, Blender's exporter */
+            bad = mtl_colour(q, e, m->ke) < 0;
         else if (token_is_nocase(p, q, "ns")) {
             const char *a = skip_blanks(q, e), *b = token_end(a, e);
             bad = a < e && !parse_number(a, b, &m->ns);
@@ -487,6 +489,15 @@ static persp_status read_mtl(obj_reader *r, const char *libname, const char *tex
             if (a < b) {
                 if ((st = pool_add(r, a, (size_t)(b - a), &m->tex)) != PERSP_OK) break;
                 r->mats[cur].tex_line = at;
+                r->mats[cur].lib = lib;
+            }
+        } else if (token_is_nocase(p, q, "map_ke")) {
+            const char *a, *b;
+            int clamp = 0;
+            mtl_map(q, e, &clamp, &a, &b);
+            if (a < b) {
+                if ((st = pool_add(r, a, (size_t)(b - a), &m->glow)) != PERSP_OK) break;
+                r->mats[cur].glow_line = at;
                 r->mats[cur].lib = lib;
             }
         }
@@ -606,7 +617,7 @@ static void where_material(const void *user, const char *rel, char *out, size_t 
     const obj_reader *r = user;
     (void)rel;
     const obj_mat *m = r->where_mat;
-    snprintf(out, cap, "%s (via %s:%zu)", r->display, r->pool + m->lib, m->tex_line);
+    snprintf(out, cap, "%s (via %s:%zu)", r->display, r->pool + m->lib, r->where_glow ? m->glow_line : m->tex_line);
 }
 
 /* The scene material of a run: the record's (made once) or persp's default
@@ -637,6 +648,15 @@ static persp_status scene_material(obj_reader *r, int rec, int *out)
                 pm.sampler.wrap_s = pm.sampler.wrap_t =
                     m->clamp ? PERSP_WRAP_CLAMP_TO_EDGE : PERSP_WRAP_REPEAT;
             }
+        }
+        if (persp__model_set_emission(&pm, m->ke) && m->glow != NO_NAME) {
+            r->where_mat = m;
+            r->where_glow = 1;
+            const int glow = persp__model_texture_file(&r->refs, r->pool + m->name, r->pool + m->glow);
+            r->where_glow = 0;
+            if (r->refs.out_of_memory) return PERSP_ERR_OUT_OF_MEMORY;
+            persp__model_set_glow_map(r->ctx, r->display, r->pool + m->name, &pm, glow, PERSP_WRAP_REPEAT,
+                                      PERSP_WRAP_REPEAT);
         }
         int index;
         if ((st = persp__scene_add_material(r->scene, &pm, &index)) != PERSP_OK) return st;
@@ -1170,14 +1190,28 @@ static void free_reader(obj_reader *r)
         persp__free(r->ctx, blocks[i]);
 }
 
+/* No faces: when the file's first bytes are another model format's (a
+ * GLB named .obj), that is the cause to name. */
+static persp_status nothing_to_draw(obj_reader *r, obj_lines *l, const char *data, size_t size)
+{
+    char head[4096];
+    size_t n = size < sizeof head ? size : sizeof head;
+    if (l->f) n = fseek(l->f, 0, SEEK_SET) == 0 ? fread(head, 1, sizeof head, l->f) : 0;
+    else if (n) memcpy(head, data, n);
+    const char *ext = NULL, *other = persp__model_content_format(head, n, &ext);
+    if (other)
+        return persp__fail(r->ctx, PERSP_ERR_FORMAT,
+                           "%s: the content is not that of an OBJ file (it looks like %s: rename it .%s)",
+                           r->display, other, ext);
+    return persp__fail(r->ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw", r->display);
+}
+
 static persp_status load(obj_reader *r, obj_lines *l, const char *data, size_t size)
 {
     r->pass = 1;
     persp_status st = run_pass(r, l, data, size);
     if (st != PERSP_OK) return st;
-    if (r->nruns == 0)
-        return persp__fail(r->ctx, PERSP_ERR_FORMAT, "%s: the model has no triangles to draw",
-                           r->display);
+    if (r->nruns == 0) return nothing_to_draw(r, l, data, size);
     for (size_t i = 0; i < r->nruns; i++)
         if (r->runs[i].normals == 2 || (r->bad_vn && r->runs[i].normals)) r->force_normals = 1;
     size_t mp = r->max_poly;

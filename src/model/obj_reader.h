@@ -29,7 +29,8 @@ typedef struct obj_run {
 typedef struct obj_mat {
     size_t name, tex, lib; /* offsets in the name pool; tex NO_NAME: none */
     size_t tex_line;
-    float kd[3], ks[3], ka[3], ns;
+    size_t glow, glow_line; /* map_Ke: as tex */
+    float kd[3], ks[3], ka[3], ke[3], ns;
     int clamp;
     int scene; /* scene material, -1 not made yet */
 } obj_mat;
@@ -73,6 +74,7 @@ typedef struct obj_reader {
     } libs[OBJ_LIBS_MAX]; /* mtllib statements read */
     int nlibs;
     const obj_mat *where_mat;
+    int where_glow; /* where_mat's map_Ke is being read, not its map_Kd */
     /* faces of fewer than three corners (pass 1): how many, the first's line */
     size_t short_faces, short_line;
     int libs_failed; /* a material library could not be read (warned) */

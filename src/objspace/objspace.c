@@ -430,7 +430,7 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
  * pipeline. */
 static int objspace_applies(const persp_draw_state *ds)
 {
-    return ds->tex && ds->shading == PERSP_SHADING_NONE;
+    return ds->tex && ds->shading == PERSP_SHADING_NONE && ds->shade_is_texel;
 }
 
 /* Pieces of every triangle, in triangle order then slab order. */

@@ -130,6 +130,9 @@ static persp_status draw_object(persp_context *ctx, frame_setup *fs, size_t i, p
     ds->method = fs->method;
     ds->material = *mat;
     ds->shading = dd->shading != PERSP_SHADING_DEFAULT ? dd->shading : scene->shading;
+    /* An unlit material is unlit under every shading mode: its colour is
+     * the file's, whatever lights the rest of the scene. */
+    if (mat->unlit) ds->shading = PERSP_SHADING_NONE;
     ds->depth_test = ds->depth_write = 1;
     const int tex = persp__object_texture(scene, o);
     ds->tex = tex >= 0 ? scene->textures[tex] : NULL;

@@ -69,7 +69,7 @@ static void light_point(const persp_draw_state *ds, const float n_in[3], const f
         v[0] = e[0] * inv, v[1] = e[1] * inv, v[2] = e[2] * inv;
     }
     for (int c = 0; c < 3; c++) {
-        diff[c] = L->ambient[c] * m->ambient[c];
+        diff[c] = L->ambient[c] * m->ambient[c] + m->emission[c];
         spec[c] = 0.0f;
     }
     for (int i = 0; i < L->count; i++) {
@@ -175,8 +175,11 @@ static PERSP_ALWAYS_INLINE void light_soa_body(const persp_draw_state *ds, const
     const persp_lighting *L = &ds->lighting;
     float vx[PERSP_LANE_MAX], vy[PERSP_LANE_MAX], vz[PERSP_LANE_MAX];
     float nx[PERSP_LANE_MAX], ny[PERSP_LANE_MAX], nz[PERSP_LANE_MAX];
-    const float a0 = L->ambient[0] * m->ambient[0], a1 = L->ambient[1] * m->ambient[1],
-                a2 = L->ambient[2] * m->ambient[2];
+    /* The material's emission joins the ambient term, a constant of the
+     * draw (GL 1.5 §2.14.1: c = e_cm + a_cm·a_cs + ...). */
+    const float a0 = L->ambient[0] * m->ambient[0] + m->emission[0],
+                a1 = L->ambient[1] * m->ambient[1] + m->emission[1],
+                a2 = L->ambient[2] * m->ambient[2] + m->emission[2];
     n = span_lanes(n);
     for (int k = 0; k < n; k++) {
         nx[k] = side[k] * g->nx[k], ny[k] = side[k] * g->ny[k], nz[k] = side[k] * g->nz[k];
@@ -374,6 +377,28 @@ static void shade_vertex_color(const persp_draw_state *ds, const persp_tri *t,
         for (int i = 0; i < 3; i++) a[i] = c[i] * ds->material.diffuse[i];
         float o[4] = {a[0], a[1], a[2], c[3]};
         out[k] = pack(o);
+    }
+}
+
+/* Textured, unlit material (persp_material.unlit): the vertex colour
+ * times the material's diffuse colour times the texel, without lighting
+ * (glTF KHR_materials_unlit: base colour factor × texture × COLOR_0). */
+static void shade_unlit_modulate(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,
+                                 const float *q, const uint32_t *texel, uint32_t *out)
+{
+    (void)q;
+    float b1[PERSP_SPAN_MAX], b2[PERSP_SPAN_MAX];
+    bary_perspective(ds, t, b, b1, b2);
+    const float inv = 1.0f / 255.0f;
+    for (int k = 0; k < b->n; k++) {
+        float c[3];
+        interp3(t, PERSP_A_R, b1[k], b2[k], c);
+        const uint32_t p = texel[k];
+        const float tx[3] = {(float)(p & 255u) * inv, (float)((p >> 8) & 255u) * inv,
+                             (float)((p >> 16) & 255u) * inv};
+        out[k] = pack_channel(c[0] * ds->material.diffuse[0] * tx[0], 0) |
+                 pack_channel(c[1] * ds->material.diffuse[1] * tx[1], 8) |
+                 pack_channel(c[2] * ds->material.diffuse[2] * tx[2], 16) | (p & 0xff000000u);
     }
 }
 
@@ -791,10 +816,18 @@ persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
                                       "shading '%s': method '%s' needs per-triangle preparation",
                                       persp_shading_name(ds->shading), spec);
     }
+    /* An unlit material tinted by its colour or its vertices' multiplies
+     * the texel; untinted, the texel is the colour. */
+    const float *kd = ds->material.diffuse;
+    const int tinted = ds->material.unlit && ds->material.env == PERSP_TEXENV_MODULATE &&
+                       (ds->color_material || kd[0] != 1.0f || kd[1] != 1.0f || kd[2] != 1.0f);
     ds->shade_is_texel =
-        ds->tex != NULL && (ds->shading == PERSP_SHADING_NONE || ds->material.env == PERSP_TEXENV_REPLACE);
+        ds->tex != NULL && !tinted &&
+        (ds->shading == PERSP_SHADING_NONE || ds->material.env == PERSP_TEXENV_REPLACE);
     switch (ds->shading) {
-    case PERSP_SHADING_NONE: ds->shade = ds->tex ? shade_replace : shade_vertex_color; break;
+    case PERSP_SHADING_NONE:
+        ds->shade = !ds->tex ? shade_vertex_color : tinted ? shade_unlit_modulate : shade_replace;
+        break;
     case PERSP_SHADING_FLAT: ds->shade = shade_flat; break;
     case PERSP_SHADING_GOURAUD:
     case PERSP_SHADING_GOURAUD_PC: ds->shade = shade_gouraud; break;

@@ -26,6 +26,11 @@ expect 0 "shading flat" -- "$persp" render "$m/box.obj" --size 64x48 --shading f
 [ "$(cksum <"$tmp/box.png")" != "$(cksum <"$tmp/flat.png")" ] && ok || bad "--shading flat changed nothing"
 expect 0 "rendered .*embedded.gltf: 64x48, .*filter bilinear" -- \
     "$persp" render "$src/tests/data/models/embedded.gltf" --size 64x48 -o "$tmp/g.png"
+# persp found on PATH (argv[0] without a folder), run from another folder,
+# still finds its importer
+bindir=$(cd "$(dirname "$persp")" && pwd)
+expect 0 "rendered .*embedded.gltf" -- env -C "$tmp" PATH="$bindir:$PATH" "$(basename "$persp")" render \
+    "$src/tests/data/models/embedded.gltf" --size 32x24 -o "$tmp/path.png"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$m/t.ply"
 expect 0 "1 triangles in" -- "$persp" render "$m/t.ply" --size 32x24 -o "$tmp/p.png"
 printf 'solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n' >"$m/t.stl"

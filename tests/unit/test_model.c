@@ -331,41 +331,6 @@ static void test_gltf_missing_buffer(void **state)
     remove_tmp();
 }
 
-/* The largest u of the first mesh of the model in text. */
-static float max_u(const char *text, const char *name, int warnings, const char *warning)
-{
-    loaded l;
-    load_text(&l, text, name);
-    assert_int_equal(l.st, PERSP_OK);
-    assert_int_equal(l.warn.count, warnings);
-    if (warning) assert_non_null(strstr(l.warn.last, warning));
-    float u = -INFINITY;
-    for (size_t i = 0; i < mesh_of(&l, 0)->vertex_count; i++) u = fmaxf(u, mesh_of(&l, 0)->vertices[i].uv[0]);
-    unload(&l);
-    return u;
-}
-
-/* glTF's KHR_texture_transform is not applied (Assimp 5.2 scales about the
- * texture's centre, not its origin): the coordinates stay as stored and a
- * warning says so. */
-static void test_gltf_texture_transform_warned(void **state)
-{
-    (void)state;
-    static char plain[8192], scaled[8400];
-    embedded_gltf(plain, sizeof plain);
-    const char *key = "\"baseColorTexture\": {";
-    const char *at = strstr(plain, key);
-    assert_non_null(at);
-    size_t head = (size_t)(at - plain) + strlen(key);
-    snprintf(scaled, sizeof scaled,
-             "{\"extensionsUsed\": [\"KHR_texture_transform\"],%.*s"
-             "\"extensions\": {\"KHR_texture_transform\": {\"scale\": [2, 1]}},%s",
-             (int)(head - 1), plain + 1, plain + head);
-    const float plain_u = max_u(plain, "plain.gltf", 0, NULL);
-    const float scaled_u = max_u(scaled, "scaled.gltf", 1, "scaled.gltf: KHR_texture_transform is not applied");
-    assert_true(plain_u == 1.0f && scaled_u == 1.0f);
-}
-
 /* Binary glTF with the image in the binary chunk, COLLADA and ASCII FBX
  * with a node transform (FBX also with a material), binary STL. */
 static void test_more_formats(void **state)
@@ -1062,7 +1027,6 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_obj_quad_from_memory),
-        cmocka_unit_test(test_gltf_texture_transform_warned),
         cmocka_unit_test(test_gltf_missing_buffer),
         cmocka_unit_test(test_gltf_uri_names),
         cmocka_unit_test(test_fbx_axes_and_unit),

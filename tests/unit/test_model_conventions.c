@@ -118,6 +118,8 @@ static void test_causes_named(void **state)
     wide[0] = '\xff', wide[1] = '\xfe';
     for (size_t i = 0; i < sizeof dae - 1; i++) wide[2 + 2 * i] = dae[i], wide[3 + 2 * i] = 0;
     write_file("wide.dae", wide, 2 + 2 * (sizeof dae - 1));
+    write_text("tech.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_technique_webgl\"],"
+                            "\"extensionsRequired\":[\"KHR_technique_webgl\"],\"scenes\":[{\"nodes\":[]}]}");
     write_text("quant.gltf", "{\"asset\":{\"version\":\"2.0\"},\"extensionsUsed\":[\"KHR_mesh_quantization\"],"
                              "\"extensionsRequired\":[\"KHR_mesh_quantization\"],\"scenes\":[{\"nodes\":[]}]}");
     static const struct {
@@ -127,19 +129,38 @@ static void test_causes_named(void **state)
         {"wide.dae", "wide.dae: a model file in UTF-16 or UTF-32", PERSP_ERR_FORMAT},
         {"quant.gltf", "quant.gltf: the file requires the glTF extension KHR_mesh_quantization",
          PERSP_ERR_UNSUPPORTED},
+        {"tech.gltf", "tech.gltf: the file requires the glTF extension KHR_technique_webgl",
+         PERSP_ERR_UNSUPPORTED},
+        /* A file named for one format holding another: the content named,
+         * also for OBJ, whose reader would find no faces in it. */
+        {"glb.obj", "glb.obj: the content is not that of an OBJ file (it looks like binary glTF: rename it .glb)",
+         PERSP_ERR_FORMAT},
+        {"ply.stl", "ply.stl: the content is not that of an STL file (it looks like PLY: rename it .ply)",
+         PERSP_ERR_FORMAT},
     };
+    char glb[1024];
+    test_source_path(glb, sizeof glb, "tests/data/models/embedded.glb");
+    FILE *gf = fopen(glb, "rb");
+    assert_non_null(gf);
+    static char bytes[1 << 16];
+    const size_t nb = fread(bytes, 1, sizeof bytes, gf);
+    fclose(gf);
+    write_file("glb.obj", bytes, nb);
+    write_text("ply.stl", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                          "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     /* A texture that is there but no image persp reads: said so, not
      * reported missing "beside the model" as well. */
     char path[1024], warning[1024] = "";
     snprintf(path, sizeof path, "%s/img", tmpdir);
     assert_int_equal(mkdir(path, 0700), 0);
-    write_text("img/t.gif", "GIF89a");
-    write_text("g.mtl", "newmtl m\nmap_Kd img/t.gif\n");
+    write_file("img/t.webp", "RIFF\x1a\0\0\0WEBPVP8 ", 16);
+    write_text("g.mtl", "newmtl m\nmap_Kd img/t.webp\n");
     write_text("g.obj", "mtllib g.mtl\nusemtl m\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
     persp_context *wctx = test_context();
     persp_context_set_warning_handler(wctx, keep_warning, warning);
     persp_scene *g = load(wctx, "g.obj");
-    if (!strstr(warning, "not a PNG, JPEG, TGA or BMP image") || strstr(warning, "beside the model"))
+    if (!strstr(warning, "not an image persp reads") || strstr(warning, "beside the model"))
         fail_msg("warning '%s'", warning);
     persp_scene_destroy(g);
     persp_context_destroy(wctx);
