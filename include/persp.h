@@ -117,8 +117,8 @@ typedef struct persp_context persp_context;
 /* Instruction-set variant of the texture span samplers and the lane packing,
  * and the vector width (baseline, AVX2 or AVX-512) of the vertex stage and
  * the lighting loops (docs/PERFORMANCE.md, "On an Intel Xeon: samplers
- * with gathers, 16 threads"; item 58). Every variant computes the same
- * bits; they differ only in speed, which depends on the CPU (the texel
+ * with gathers, 16 threads"; docs/PERFORMANCE_HISTORY.md, item 58). Every
+ * variant computes the same bits; they differ only in speed, which depends on the CPU (the texel
  * fetch by gather instructions is fast on some cores and slow on others;
  * 512-bit arithmetic may lower the clock of some). The other span loops take AVX2 wherever the CPU has
  * it, chosen by the dynamic loader. */

@@ -25,7 +25,7 @@
  * lanes of one small-triangle batch (src/raster/tiles.c), rows of several
  * triangles packed together. Larger batches share their fixed costs among
  * more pixels: 128 rather than 64 took 14–20 % less CPU on the 2k torus,
- * 256 another 4–6 % lit (docs/PERFORMANCE.md, item 44). */
+ * 256 another 4–6 % lit (docs/PERFORMANCE_HISTORY.md, item 44). */
 #define PERSP_LANE_MAX 256
 /* Bytes of per-triangle state a method may keep (fits, forward differences). */
 #define PERSP_METHOD_PREP_BYTES 512
@@ -44,7 +44,7 @@ typedef struct persp_rational {
  * Only fitting reads them (a method's prepare, the per-polygon level of
  * detail), at set-up, so the set-up record keeps the planes alone: 240
  * bytes less for each triangle a batch holds and its tiles read back
- * (docs/PERFORMANCE.md, item 55). */
+ * (docs/PERFORMANCE_HISTORY.md, item 55). */
 typedef struct persp_rational_vertices {
     double x[3], y[3]; /* window positions */
     double s1[3], s2[3];

@@ -61,7 +61,7 @@ static void render_cache_free(persp_context *ctx)
  * CPU time on the 2M-triangle torus and 17 % on the 200k one, and memory
  * stays bounded whatever the mesh; it is the bytes that count: with the
  * smaller records 12 288 rather than 8192 took 5 % less CPU on the 2M
- * torus at two threads (docs/PERFORMANCE.md, items 18 and 57). A capture
+ * torus at two threads (docs/PERFORMANCE_HISTORY.md, items 18 and 57). A capture
  * refers to triangles by their index in the frame, so it takes one batch.
  *
  * Each batch also copies every tile it touches in and out (64 KiB a
@@ -159,7 +159,7 @@ static size_t frame_batch_limit(const persp_frame *f)
  * slots that in-place set-up leaves as gaps (mesh_triangles_parallel; most
  * of a batch on a culled mesh) are never written, so their pages stay out
  * of the resident set, and no doubling holds two copies of a batch
- * (docs/PERFORMANCE.md, item 56). Nothing reads a slot before set-up
+ * (docs/PERFORMANCE_HISTORY.md, item 56). Nothing reads a slot before set-up
  * writes it: binning skips gaps by their tile range. */
 static persp_status grow_records(persp_frame *f, size_t need, int whole)
 {
@@ -811,7 +811,7 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
  * torus. A mesh too small for two chunks a worker takes smaller ones,
  * down to SETUP_CHUNK_MIN, so that every worker sets up a share: its one
  * round is one start and wait (the 2k torus, 2000 triangles, was set up
- * by the calling thread alone: docs/PERFORMANCE.md, item 59). A slab holds
+ * by the calling thread alone: docs/PERFORMANCE_HISTORY.md, item 59). A slab holds
  * half as many records again as its chunk has triangles (clipping makes
  * more). */
 #define SETUP_CHUNK 2048u

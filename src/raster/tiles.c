@@ -202,7 +202,7 @@ static void sink(void *user, const persp_frag_batch *b) { shade_batch(user, b); 
  * perspective-correct Phong (whose lighting runs across lanes anyway). */
 /* Measured on the tori: 64 against 16 and 32 (20k: 4–6 %, 2k: 7–9 % less
  * CPU than 32); once lane batches took several triangles (items 37–42 of
- * docs/PERFORMANCE.md), 128 against 64 (2k: unlit −6 %, gouraud-pc −6 %,
+ * docs/PERFORMANCE_HISTORY.md), 128 against 64 (2k: unlit −6 %, gouraud-pc −6 %,
  * phong-pc −12 %; 256 or no limit gained no more). A triangle wider than
  * that has long rows, which spans draw in place: every triangle on lanes
  * cost the corridor 19 % (bilinear), and so did lanes for every triangle
