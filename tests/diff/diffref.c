@@ -53,6 +53,7 @@ typedef struct ref_tri {
     double uv[3][2];
     double rgb[3][3]; /* untextured colour (vertex colour × diffuse), 0..255 */
     int object;
+    size_t first_index; /* in the object's index list */
     double xmin, xmax, ymin, ymax; /* window box when every w > 0; else unbounded */
 } ref_tri;
 
@@ -163,6 +164,7 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
         for (size_t i = 0; i + 2 < so.index_count; i += 3) {
             ref_tri *t = &r->tris[r->ntris++];
             t->object = (int)o;
+            t->first_index = i;
             int bounded = 1;
             t->xmin = t->ymin = INFINITY, t->xmax = t->ymax = -INFINITY;
             for (int k = 0; k < 3; k++) {
@@ -654,4 +656,44 @@ diff_ref_pixel diff_ref_eval(const diff_ref *r, int x, int y)
     out.background_ok = isinf(front);
     for (int c = 0; c < 3; c++) out.lo[c] = iv.lo[c], out.hi[c] = iv.hi[c];
     return out;
+}
+
+int diff_ref_front(const diff_ref *r, int x, int y, diff_ref_hit *out)
+{
+    double cx = x + 0.5, cy = y + 0.5;
+    double front = INFINITY, front_gz = 0.0;
+    const ref_tri *best = NULL;
+    for (size_t i = 0; i < r->ntris; i++) {
+        double z, gz;
+        if (hit(r, &r->tris[i], cx, cy, &z, &gz) == SOLID && z < front) front = z, front_gz = gz, best = &r->tris[i];
+    }
+    if (!best) return 0;
+    /* Any other triangle that diff_ref_eval would also let own the pixel
+     * makes it ambiguous. */
+    for (size_t i = 0; i < r->ntris; i++) {
+        double z, gz;
+        if (&r->tris[i] == best || hit(r, &r->tris[i], cx, cy, &z, &gz) == MISS) continue;
+        if (z > front + DEPTH_TIE + DIFF_REF_EDGE_MARGIN * (gz + front_gz)) continue;
+        return 0;
+    }
+    memset(out, 0, sizeof *out);
+    out->object = best->object;
+    out->first_index = best->first_index;
+    if (!solve(r, best, cx, cy, out->b)) return 0;
+    double wx[3], wy[3];
+    out->screen_ok = 1;
+    for (int k = 0; k < 3; k++) {
+        if (!(best->c[k][3] > 0.0)) out->screen_ok = 0;
+        wx[k] = (best->c[k][0] / best->c[k][3] + 1.0) * 0.5 * r->width;
+        wy[k] = (best->c[k][1] / best->c[k][3] + 1.0) * 0.5 * r->height;
+    }
+    double area = (wx[1] - wx[0]) * (wy[2] - wy[0]) - (wx[2] - wx[0]) * (wy[1] - wy[0]);
+    if (out->screen_ok && area != 0.0) {
+        out->screen_b[1] = ((cx - wx[0]) * (wy[2] - wy[0]) - (wx[2] - wx[0]) * (cy - wy[0])) / area;
+        out->screen_b[2] = ((wx[1] - wx[0]) * (cy - wy[0]) - (cx - wx[0]) * (wy[1] - wy[0])) / area;
+        out->screen_b[0] = 1.0 - out->screen_b[1] - out->screen_b[2];
+    } else {
+        out->screen_ok = 0;
+    }
+    return 1;
 }

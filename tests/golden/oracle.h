@@ -1,0 +1,44 @@
+/*
+ * Oracles of the golden images: what each image should be, computed without
+ * persp's renderer, so that a golden is more than a snapshot of persp's own
+ * output (docs/DESIGN.md, "Testing", layer 3). Both build on the
+ * double-precision arbiter of the differential test (tests/diff/diffref.c),
+ * which reaches the scene through the public API only (camera, meshes,
+ * texture coordinates with texgen applied, mip levels) and computes what
+ * OpenGL 4.6 defines a pixel to be; it needs no OpenGL library.
+ */
+#ifndef PERSP_TESTS_GOLDEN_ORACLE_H
+#define PERSP_TESTS_GOLDEN_ORACLE_H
+
+#include "persp.h"
+
+#include <stddef.h>
+
+/* Pixels of img checked against the GL interval of filter (a GL filter);
+ * only pixels accepted by mask (NULL: all) count. off: pixels outside the
+ * interval widened by tol levels (and not background where nothing may be
+ * seen); covered / background: pixels the reference says must show a
+ * surface / may show only the clear colour. */
+typedef struct oracle_interval_result {
+    size_t checked, off, covered, background;
+    int first_x, first_y;
+} oracle_interval_result;
+oracle_interval_result oracle_check_interval(const persp_scene *scene, const persp_image *img, persp_filter filter,
+                                             double tol, const uint8_t *clear);
+
+/* The area-sampled image: each pixel the mean of k × k sub-pixel samples,
+ * each the midpoint of GL's trilinear interval at k times the resolution
+ * (a box filter over the pixel of a prefiltered texture: the integral that
+ * anisotropic and EWA filters approximate). rgb: w·h·3 doubles; inside:
+ * w·h flags, 1 where every sub-sample sees a surface. 0 on success. */
+int oracle_area_image(const persp_scene *scene, int w, int h, int k, double *rgb, unsigned char *inside);
+
+/* Error of img against an area image over the pixels marked inside. */
+typedef struct oracle_error {
+    size_t pixels;
+    double mean_abs; /* levels, mean over pixels and channels */
+    double psnr;     /* dB */
+} oracle_error;
+oracle_error oracle_area_error(const persp_image *img, const double *rgb, const unsigned char *inside);
+
+#endif
