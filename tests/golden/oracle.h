@@ -41,4 +41,20 @@ typedef struct oracle_error {
 } oracle_error;
 oracle_error oracle_area_error(const persp_image *img, const double *rgb, const unsigned char *inside);
 
+/* A lit scene's image against the lighting of docs/SCENES.md ("Lighting
+ * and shading": Blinn–Phong in eye space, two-sided, the texture
+ * environments) evaluated in double at each pixel centre whose surface is
+ * certain (diff_ref_front), with the texel taken as GL's interval for the
+ * scene's filter. gouraud 0: per pixel with perspective-correct normals
+ * and eye positions (phong-pc); 1: per vertex, colours screen-linear
+ * (gouraud). Pixels where nothing may be seen must show the clear colour.
+ * off: pixels outside the expected interval widened by tol levels. */
+typedef struct oracle_lit_result {
+    size_t checked, lit, background, off;
+    int first_x, first_y;
+    double first_lo[3], first_hi[3];
+    uint8_t first_got[3];
+} oracle_lit_result;
+oracle_lit_result oracle_check_lit(const persp_scene *scene, const persp_image *img, int gouraud, double tol);
+
 #endif
