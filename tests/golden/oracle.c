@@ -37,12 +37,17 @@ oracle_interval_result oracle_check_interval(const persp_scene *scene, const per
     return r;
 }
 
-int oracle_area_image(const persp_scene *scene, int w, int h, int k, double *rgb, unsigned char *inside)
+int oracle_area_image(const persp_scene *scene, int w, int h, int k, int step, double *rgb, unsigned char *inside)
 {
     diff_ref *ref = diff_ref_create(scene, w * k, h * k, PERSP_FILTER_TRILINEAR);
     if (!ref) return -1;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
+            size_t at = (size_t)y * (size_t)w + (size_t)x;
+            if (x % step || y % step) {
+                inside[at] = 0;
+                continue;
+            }
             double sum[3] = {0.0, 0.0, 0.0};
             int all = 1;
             for (int j = 0; j < k; j++)
@@ -51,7 +56,6 @@ int oracle_area_image(const persp_scene *scene, int w, int h, int k, double *rgb
                     if (!q.covered || q.background_ok) all = 0;
                     for (int c = 0; c < 3; c++) sum[c] += 0.5 * (q.lo[c] + q.hi[c]);
                 }
-            size_t at = (size_t)y * (size_t)w + (size_t)x;
             for (int c = 0; c < 3; c++) rgb[at * 3 + (size_t)c] = sum[c] / (double)(k * k);
             inside[at] = (unsigned char)all;
         }
@@ -243,7 +247,10 @@ oracle_lit_result oracle_check_lit(const persp_scene *scene, const persp_image *
                 double facing = 0.0;
                 for (int c = 0; c < 3; c++) {
                     double ns = 0.0, es = 0.0;
-                    for (int k = 0; k < 3; k++) ns += ob->eye_nrm[vi[k] * 3 + (size_t)c], es += ob->eye_pos[vi[k] * 3 + (size_t)c];
+                    for (int k = 0; k < 3; k++) {
+                        ns += ob->eye_nrm[vi[k] * 3 + (size_t)c];
+                        es += ob->eye_pos[vi[k] * 3 + (size_t)c];
+                    }
                     facing += ns * es;
                 }
                 const double side = facing > 0.0 ? -1.0 : 1.0;

@@ -29,9 +29,11 @@ oracle_interval_result oracle_check_interval(const persp_scene *scene, const per
 /* The area-sampled image: each pixel the mean of k × k sub-pixel samples,
  * each the midpoint of GL's trilinear interval at k times the resolution
  * (a box filter over the pixel of a prefiltered texture: the integral that
- * anisotropic and EWA filters approximate). rgb: w·h·3 doubles; inside:
- * w·h flags, 1 where every sub-sample sees a surface. 0 on success. */
-int oracle_area_image(const persp_scene *scene, int w, int h, int k, double *rgb, unsigned char *inside);
+ * anisotropic and EWA filters approximate), at the pixels whose x and y
+ * are multiples of step. rgb: w·h·3 doubles; inside: w·h flags, 1 where
+ * the pixel was evaluated and every sub-sample sees a surface. 0 on
+ * success. */
+int oracle_area_image(const persp_scene *scene, int w, int h, int k, int step, double *rgb, unsigned char *inside);
 
 /* Error of img against an area image over the pixels marked inside. */
 typedef struct oracle_error {
