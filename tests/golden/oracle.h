@@ -1,7 +1,7 @@
 /*
  * Oracles of the golden images: what each image should be, computed without
  * persp's renderer, so that a golden is more than a snapshot of persp's own
- * output (docs/DESIGN.md, "Testing", layer 3). Both build on the
+ * output (docs/DESIGN.md, "Testing", layer 3). Each builds on the
  * double-precision arbiter of the differential test (tests/diff/diffref.c),
  * which reaches the scene through the public API only (camera, meshes,
  * texture coordinates with texgen applied, mip levels) and computes what
@@ -14,11 +14,11 @@
 
 #include <stddef.h>
 
-/* Pixels of img checked against the GL interval of filter (a GL filter);
- * only pixels accepted by mask (NULL: all) count. off: pixels outside the
- * interval widened by tol levels (and not background where nothing may be
- * seen); covered / background: pixels the reference says must show a
- * surface / may show only the clear colour. */
+/* Every pixel of img checked against the interval GL allows for filter (a
+ * GL filter), clear being the scene's opaque clear colour. off: pixels
+ * outside the interval widened by tol levels, unless nothing may be seen
+ * there and they show the clear colour; covered / background: pixels the
+ * reference says must show a surface / may show only the clear colour. */
 typedef struct oracle_interval_result {
     size_t checked, off, covered, background;
     int first_x, first_y;
