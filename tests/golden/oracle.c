@@ -285,7 +285,11 @@ oracle_lit_result oracle_check_lit(const persp_scene *scene, const persp_image *
                 const int replace = textured && so.material.env == PERSP_SCENE_TEXENV_REPLACE;
                 const int spec_tex = textured && so.material.specular_texture;
                 for (int c = 0; c < 3; c++) {
-                    double tlo = textured ? q.lo[c] / 255.0 : 1.0, thi = textured ? q.hi[c] / 255.0 : 1.0;
+                    /* The filtered texel is an 8-bit value before it is
+                     * combined (persp's samplers return RGBA8): half a
+                     * level either side of GL's real-valued interval. */
+                    double tlo = textured ? fmax(q.lo[c] - 0.5, 0.0) / 255.0 : 1.0;
+                    double thi = textured ? fmin(q.hi[c] + 0.5, 255.0) / 255.0 : 1.0;
                     if (replace) {
                         lo[c] = 255.0 * tlo, hi[c] = 255.0 * thi;
                     } else {
