@@ -92,12 +92,12 @@ static void test_object_space(void **state)
  * GL's trilinear interval, computed in double from the scene's camera,
  * meshes and mip levels by tests/diff/diffref.c). Anisotropic, EWA and
  * object-space filtering all approximate that box integral of the
- * footprint, none exactly (other kernels, a
- * bounded number of taps), so the checks bound the error over the covered
- * pixels (every sub-sample on a surface; every other pixel in x and y, a
- * quarter of the image, keeps the test fast) rather than per pixel. Each
- * bound lies between the golden's measured error and the nearest wrong
- * image the check must reject, both rendered again in the test itself:
+ * footprint, none exactly (other kernels, a bounded number of taps), so
+ * the checks bound the error over the covered pixels (every sub-sample
+ * on a surface; every other pixel in x and y, a quarter of the image,
+ * keeps the test fast) rather than per pixel. Each bound lies between the
+ * golden's measured error and the nearest wrong image the check must
+ * reject, rendered again in the test itself:
  * the isotropic trilinear filter (anisotropy lost: blur) and, where the
  * pipeline has it, the affine method (texture coordinates not
  * perspective-correct). Measured at introduction (mean |d| levels, PSNR):
