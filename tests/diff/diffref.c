@@ -53,6 +53,7 @@ typedef struct ref_tri {
     double uv[3][2];
     double rgb[3][3]; /* untextured colour (vertex colour × diffuse), 0..255 */
     int object;
+    size_t first_index; /* in the object's index list */
     double xmin, xmax, ymin, ymax; /* window box when every w > 0; else unbounded */
 } ref_tri;
 
@@ -78,7 +79,15 @@ struct diff_ref {
     size_t ntris;
     ref_object *objects;
     size_t nobjects;
+    /* Triangles whose window box (widened by a pixel) meets each tile of
+     * TILE × TILE pixels, in drawing order: tile_start[k] .. tile_start[k+1]
+     * of tile_tris. */
+    int tiles_x, tiles_y;
+    size_t *tile_start;
+    uint32_t *tile_tris;
 };
+
+#define TILE 16
 
 static void mat_mul(const double a[16], const double b[16], double out[16])
 {
@@ -93,6 +102,47 @@ static void mat_mul(const double a[16], const double b[16], double out[16])
 static void to_double(persp_mat4 m, double out[16])
 {
     for (int i = 0; i < 16; i++) out[i] = (double)m.m[i];
+}
+
+/* Tile range of t's box widened by a pixel (beyond DIFF_REF_EDGE_MARGIN). */
+static void tile_range(const diff_ref *r, const ref_tri *t, int *x0, int *x1, int *y0, int *y1)
+{
+    double a = floor((t->xmin - 1.0) / TILE), b = floor((t->xmax + 1.0) / TILE);
+    double c = floor((t->ymin - 1.0) / TILE), d = floor((t->ymax + 1.0) / TILE);
+    *x0 = a < 0.0 ? 0 : (int)a, *y0 = c < 0.0 ? 0 : (int)c;
+    *x1 = b >= r->tiles_x - 1 ? r->tiles_x - 1 : (int)b, *y1 = d >= r->tiles_y - 1 ? r->tiles_y - 1 : (int)d;
+}
+
+static int bin_triangles(diff_ref *r)
+{
+    r->tiles_x = (r->width + TILE - 1) / TILE, r->tiles_y = (r->height + TILE - 1) / TILE;
+    size_t ntiles = (size_t)r->tiles_x * (size_t)r->tiles_y;
+    r->tile_start = calloc(ntiles + 1, sizeof *r->tile_start);
+    if (!r->tile_start) return -1;
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t i = 0; i < r->ntris; i++) {
+            int x0, x1, y0, y1;
+            tile_range(r, &r->tris[i], &x0, &x1, &y0, &y1);
+            for (int ty = y0; ty <= y1; ty++)
+                for (int tx = x0; tx <= x1; tx++) {
+                    size_t k = (size_t)ty * (size_t)r->tiles_x + (size_t)tx;
+                    if (pass == 0)
+                        r->tile_start[k + 1]++;
+                    else
+                        r->tile_tris[r->tile_start[k]++] = (uint32_t)i;
+                }
+        }
+        if (pass == 0) {
+            for (size_t k = 0; k < ntiles; k++) r->tile_start[k + 1] += r->tile_start[k];
+            r->tile_tris = malloc((r->tile_start[ntiles] ? r->tile_start[ntiles] : 1) * sizeof *r->tile_tris);
+            if (!r->tile_tris) return -1;
+        } else {
+            /* The fill advanced each start to the next tile's: shift back. */
+            for (size_t k = ntiles; k > 0; k--) r->tile_start[k] = r->tile_start[k - 1];
+            r->tile_start[0] = 0;
+        }
+    }
+    return 0;
 }
 
 diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp_filter filter)
@@ -163,6 +213,7 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
         for (size_t i = 0; i + 2 < so.index_count; i += 3) {
             ref_tri *t = &r->tris[r->ntris++];
             t->object = (int)o;
+            t->first_index = i;
             int bounded = 1;
             t->xmin = t->ymin = INFINITY, t->xmax = t->ymax = -INFINITY;
             for (int k = 0; k < 3; k++) {
@@ -189,6 +240,10 @@ diff_ref *diff_ref_create(const persp_scene *scene, int width, int height, persp
         }
         free(uv);
     }
+    if (bin_triangles(r)) {
+        diff_ref_destroy(r);
+        return NULL;
+    }
     return r;
 }
 
@@ -198,6 +253,8 @@ void diff_ref_destroy(diff_ref *r)
     for (size_t o = 0; o < r->nobjects; o++) free(r->objects[o].level);
     free(r->objects);
     free(r->tris);
+    free(r->tile_start);
+    free(r->tile_tris);
     free(r);
 }
 
@@ -635,13 +692,17 @@ diff_ref_pixel diff_ref_eval(const diff_ref *r, int x, int y)
      * tied with it, whose edge or clip line passes within the margin may
      * own the pixel; with no such triangle, the background may. */
     double front = INFINITY, front_gz = 0.0;
-    for (size_t i = 0; i < r->ntris; i++) {
+    const size_t tile = (size_t)(y / TILE) * (size_t)r->tiles_x + (size_t)(x / TILE);
+    const uint32_t *list = r->tile_tris + r->tile_start[tile];
+    const size_t count = r->tile_start[tile + 1] - r->tile_start[tile];
+    for (size_t j = 0; j < count; j++) {
         double z, gz;
-        if (hit(r, &r->tris[i], cx, cy, &z, &gz) == SOLID && z < front) front = z, front_gz = gz;
+        if (hit(r, &r->tris[list[j]], cx, cy, &z, &gz) == SOLID && z < front) front = z, front_gz = gz;
     }
     interval iv;
     iv_empty(&iv);
-    for (size_t i = 0; i < r->ntris; i++) {
+    for (size_t j = 0; j < count; j++) {
+        const size_t i = list[j];
         double z, gz;
         if (hit(r, &r->tris[i], cx, cy, &z, &gz) == MISS) continue;
         /* Where two surfaces cross, the line where they swap moves with
@@ -654,4 +715,49 @@ diff_ref_pixel diff_ref_eval(const diff_ref *r, int x, int y)
     out.background_ok = isinf(front);
     for (int c = 0; c < 3; c++) out.lo[c] = iv.lo[c], out.hi[c] = iv.hi[c];
     return out;
+}
+
+int diff_ref_front(const diff_ref *r, int x, int y, diff_ref_hit *out)
+{
+    double cx = x + 0.5, cy = y + 0.5;
+    double front = INFINITY, front_gz = 0.0;
+    const ref_tri *best = NULL;
+    const size_t tile = (size_t)(y / TILE) * (size_t)r->tiles_x + (size_t)(x / TILE);
+    const uint32_t *list = r->tile_tris + r->tile_start[tile];
+    const size_t count = r->tile_start[tile + 1] - r->tile_start[tile];
+    for (size_t j = 0; j < count; j++) {
+        const ref_tri *t = &r->tris[list[j]];
+        double z, gz;
+        if (hit(r, t, cx, cy, &z, &gz) == SOLID && z < front) front = z, front_gz = gz, best = t;
+    }
+    if (!best) return 0;
+    /* Any other triangle that diff_ref_eval would also let own the pixel
+     * makes it ambiguous. */
+    for (size_t j = 0; j < count; j++) {
+        const ref_tri *t = &r->tris[list[j]];
+        double z, gz;
+        if (t == best || hit(r, t, cx, cy, &z, &gz) == MISS) continue;
+        if (z > front + DEPTH_TIE + DIFF_REF_EDGE_MARGIN * (gz + front_gz)) continue;
+        return 0;
+    }
+    memset(out, 0, sizeof *out);
+    out->object = best->object;
+    out->first_index = best->first_index;
+    if (!solve(r, best, cx, cy, out->b)) return 0;
+    double wx[3], wy[3];
+    out->screen_ok = 1;
+    for (int k = 0; k < 3; k++) {
+        if (!(best->c[k][3] > 0.0)) out->screen_ok = 0;
+        wx[k] = (best->c[k][0] / best->c[k][3] + 1.0) * 0.5 * r->width;
+        wy[k] = (best->c[k][1] / best->c[k][3] + 1.0) * 0.5 * r->height;
+    }
+    double area = (wx[1] - wx[0]) * (wy[2] - wy[0]) - (wx[2] - wx[0]) * (wy[1] - wy[0]);
+    if (out->screen_ok && area != 0.0) {
+        out->screen_b[1] = ((cx - wx[0]) * (wy[2] - wy[0]) - (wx[2] - wx[0]) * (cy - wy[0])) / area;
+        out->screen_b[2] = ((wx[1] - wx[0]) * (cy - wy[0]) - (cx - wx[0]) * (wy[1] - wy[0])) / area;
+        out->screen_b[0] = 1.0 - out->screen_b[1] - out->screen_b[2];
+    } else {
+        out->screen_ok = 0;
+    }
+    return 1;
 }

@@ -42,4 +42,20 @@ typedef struct diff_ref_pixel {
 /* Pixel (x, y), y = 0 the bottom row. */
 diff_ref_pixel diff_ref_eval(const diff_ref *ref, int x, int y);
 
+/* The surface seen through pixel (x, y) when only one triangle may be:
+ * object index, the triangle's first index in the object's index list,
+ * its perspective-correct barycentrics at the centre (the weights of the
+ * vertex attributes, GL 4.6 §14.6.1 eq. 14.9) and, when every vertex lies
+ * in front of the eye, the screen-linear ones (screen_ok). Returns 0 where
+ * the background, an edge within the margin or a depth tie leaves the
+ * surface in doubt. */
+typedef struct diff_ref_hit {
+    int object;
+    size_t first_index;
+    double b[3];
+    int screen_ok;
+    double screen_b[3];
+} diff_ref_hit;
+int diff_ref_front(const diff_ref *ref, int x, int y, diff_ref_hit *out);
+
 #endif

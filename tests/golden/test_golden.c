@@ -4,6 +4,7 @@
  * written into the build folder. PERSP_UPDATE_GOLDEN=1 rewrites the
  * references instead of comparing (review the new images before committing).
  */
+#include "oracle.h"
 #include "support.h"
 
 #include <math.h>
@@ -88,6 +89,82 @@ static void test_affine_differs_visibly(void **state)
     persp_context_destroy(ctx);
 }
 
+/* ------------------------------------------------------------- oracles */
+
+/* The references above were rendered by persp itself. These filters are
+ * OpenGL's, so each reference is also held, at every pixel, to the
+ * interval GL 4.6 allows for it (tests/diff/diffref.c: the visible
+ * triangle, exact perspective-correct coordinates, level of detail and
+ * texel weights computed in double from the scene's camera, meshes and
+ * mip levels, with margins for where GL leaves latitude: edges, texel and
+ * level ties). It needs no OpenGL library, unlike diff_golden, which
+ * compares the same references with Mesa llvmpipe when the build has
+ * OSMesa. Tolerance as the differential test's: half a level for nearest
+ * (persp returns the texel, the interval holds it; the half level is the
+ * arbiter's own rounding), one level for the blends (weights in float
+ * against double, one rounding). A render with the affine method through
+ * the same check shows what it catches. */
+static oracle_interval_result interval_report(persp_context *ctx, const char *what, const char *scene_name,
+                                              const persp_image *img, const char *filter)
+{
+    persp_scene *scene = NULL;
+    assert_int_equal(persp_scene_builtin(ctx, scene_name, &scene), PERSP_OK);
+    persp_filter f;
+    int aniso = 0;
+    assert_int_equal(persp_filter_parse(filter, &f, &aniso), PERSP_OK);
+    persp_scene_info info;
+    persp_scene_get_info(scene, &info);
+    double tol = f == PERSP_FILTER_NEAREST ? 0.5 : 1.0;
+    oracle_interval_result r = oracle_check_interval(scene, img, f, tol, info.clear);
+    print_message("%s against GL's interval: %zu pixels (%zu must show a surface, %zu the background), %zu "
+                  "outside (first at %d,%d)\n",
+                  what, r.checked, r.covered, r.background, r.off, r.first_x, r.first_y);
+    persp_scene_destroy(scene);
+    return r;
+}
+
+static void golden_in_interval(const char *scene_name, const char *filter, int w, int h)
+{
+    persp_context *ctx = test_context();
+    char rel[256], path[1024];
+    snprintf(rel, sizeof rel, "tests/golden/data/%s_exact_%s_%dx%d.png", scene_name, filter, w, h);
+    test_source_path(path, sizeof path, rel);
+    persp_image img;
+    if (persp_image_load(ctx, path, &img) != PERSP_OK) fail_msg("%s: %s", path, persp_context_error(ctx));
+    assert_int_equal(img.width, w);
+    assert_int_equal(img.height, h);
+    oracle_interval_result r = interval_report(ctx, rel, scene_name, &img, filter);
+    assert_true(r.checked == (size_t)w * (size_t)h);
+    assert_true(r.off == 0);
+    persp_image_free(ctx, &img);
+    persp_context_destroy(ctx);
+}
+
+static void test_goldens_in_gl_interval(void **state)
+{
+    (void)state;
+    golden_in_interval("corridor", "nearest", 512, 384);
+    golden_in_interval("corridor", "bilinear", 512, 384);
+    golden_in_interval("corridor", "trilinear", 512, 384);
+    golden_in_interval("floor", "bilinear", 320, 240);
+    golden_in_interval("cube", "bilinear", 320, 240);
+}
+
+/* The check can fail: the affine corridor lies outside GL's interval at
+ * most of its pixels. */
+static void test_interval_rejects_affine(void **state)
+{
+    (void)state;
+    persp_context *ctx = test_context();
+    persp_image img;
+    render(ctx, "corridor", "affine", "bilinear", 512, 384, &img);
+    oracle_interval_result r = interval_report(ctx, "corridor affine bilinear (must be rejected)", "corridor", &img,
+                                               "bilinear");
+    assert_true(r.off > r.checked / 10);
+    persp_image_free(ctx, &img);
+    persp_context_destroy(ctx);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -95,6 +172,8 @@ int main(void)
         cmocka_unit_test(test_corridor_exact_nearest),
         cmocka_unit_test(test_cube_and_floor),
         cmocka_unit_test(test_affine_differs_visibly),
+        cmocka_unit_test(test_goldens_in_gl_interval),
+        cmocka_unit_test(test_interval_rejects_affine),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
