@@ -246,7 +246,7 @@ for m in modules:
                                                    for f in n8]
                 r["n8_float_max_error_texels_by_set"] = [pair(f, r"same pixels: ") for f in n8]
     else:
-        # Variable: one lattice step or one pixel per clock; measured.
+        # Variable: up to STEPS lattice steps and one pixel per clock; measured.
         r["latency_cycles"] = 1
         plain = os.path.join(work, m + ".tb_plain.log")
         r["pixels_per_clock"] = grab(plain, r"([\d.]+) pixels per clock")

@@ -34,7 +34,7 @@ module midpoint_int #(
     parameter NLIM  = 16,  // the format's texel range: |n| < 2^NLIM
     parameter CAP   = 32,  // lattice steps before a re-seed
     parameter LW    = 7,   // span length counter (spans are at most 64 pixels)
-    parameter STEPS = 2    // lattice steps searched per clock, 1 <= STEPS <= CAP, < 31
+    parameter STEPS = 4    // lattice steps searched per clock, 1 <= STEPS <= CAP, < 31
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -168,6 +168,9 @@ module midpoint_int #(
     // compare (a carry-save layer and one adder) so that the recurrence
     // W -> W passes one carry chain, not two.
     wire [(P+1)*XW-1:0] y_f, v_f, r_f, w_f;
+    wire [(P+1)*NW-1:0] n_f;  // n +- j
+    wire [P:0]          oor;  // |n +- j| >= 2^NLIM: the format's texel range is left (docs/METHODS.md)
+    wire signed [NW-1:0] nlim = 1 <<< NLIM;
     /* verilator lint_on UNUSEDSIGNAL */
     wire [P:0]          a;
     generate
@@ -182,6 +185,12 @@ module midpoint_int #(
             wire [XW-1:0] cs_c = (Wx & Rx) | (Wx & dop) | (Rx & dop);  // the sum is taken modulo 2^XW
             /* verilator lint_on UNUSEDSIGNAL */
             assign w_f[j*XW +: XW] = cs_s + {cs_c[XW-2:0], !up};
+            // The index and its range test per candidate, beside the
+            // compare rather than after the selection.
+            localparam [NW-1:0] JN = j;
+            wire signed [NW-1:0] nj = up ? n + JN : n - JN;
+            assign n_f[j*NW +: NW] = nj;
+            assign oor[j] = (nj >= nlim) || (nj <= -nlim);
             if (j == 0) begin : v0
                 assign v_f[XW-1:0] = up ? y : Wx;
                 assign r_f[XW-1:0] = Rx;
@@ -197,26 +206,21 @@ module midpoint_int #(
     wire [P:0] sel = a & ~{a[P-1:0], 1'b0};
     wire       acc = a[P];
     reg  [XW-1:0] v_sel, r_sel, w_next;
-    reg  [NW-1:0] j_sel;
+    reg  [NW-1:0] n_sel;
     integer i;
     always @(*) begin
         v_sel = {XW{1'b0}};
         r_sel = {XW{1'b0}};
         w_next = {XW{1'b0}};
-        j_sel = {NW{1'b0}};
+        n_sel = {NW{1'b0}};
         for (i = 0; i <= P; i = i + 1) begin
             v_sel = v_sel | ({XW{sel[i]}} & v_f[i*XW +: XW]);
             r_sel = r_sel | ({XW{sel[i]}} & r_f[i*XW +: XW]);
             w_next = w_next | ({XW{sel[i]}} & w_f[i*XW +: XW]);
-            j_sel = j_sel | ({NW{sel[i]}} & i[NW-1:0]);
+            n_sel = n_sel | ({NW{sel[i]}} & n_f[i*NW +: NW]);
         end
     end
-    wire signed [NW-1:0] n_sel  = up ? n + j_sel : n - j_sel;
-    localparam [NW-1:0] PN = P[NW-1:0];
-    wire signed [NW-1:0] n_stall = up ? n + PN : n - PN;
-    // |n| >= 2^NLIM: the format's texel range is left (docs/METHODS.md).
-    wire signed [NW-1:0] nlim  = 1 <<< NLIM;
-    wire                 n_oor = (n_sel >= nlim) || (n_sel <= -nlim);
+    wire                 n_oor = |(sel & oor);
 
     // More than CAP steps (W + 2·CAP·E <= 0, or W - 2(CAP+1)E > 0): the model
     // re-seeds.
@@ -287,7 +291,7 @@ module midpoint_int #(
                     // STEPS lattice steps, no acceptance yet.
                     Wb <= v_f[P*XW +: WW];
                     R <= r_f[P*XW +: WW];
-                    n <= n_stall;
+                    n <= n_f[P*NW +: NW];
                 end
             end else if (state == S_DIV) begin
                 if (d_ge) begin
