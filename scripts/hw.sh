@@ -100,11 +100,16 @@ synth() {
     python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
     yosys -p "read_verilog $(rtl_files $m) $d/${m}_ooc.v; $cp synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
         >"$d/ice40.log" 2>&1
-    # A module that needs more than the UP5K has (8 SB_MAC16) is a result, not a
-    # failure of the flow: summary.json then says so (ice40_fits false).
+    # A module that needs more than the UP5K has (8 SB_MAC16, 5280 LCs) is a
+    # result, not a failure of the flow: summary.json then says so (ice40_fits
+    # false). One that fills the device may route for a very long time: after
+    # HW_PNR_TIMEOUT seconds it counts as not routed.
     rm -f "$d/pnr.json"
-    nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 --report "$d/pnr.json" \
-        >"$d/pnr.log" 2>&1 || echo "hw: $m: does not fit the iCE40 UP5K ($d/pnr.log)"
+    local rc=0 lim="${HW_PNR_TIMEOUT:-600}"
+    timeout "$lim" nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 \
+        --report "$d/pnr.json" >"$d/pnr.log" 2>&1 || rc=$?
+    [ "$rc" != 124 ] || echo "ERROR: not routed within $lim s (HW_PNR_TIMEOUT)" >>"$d/pnr.log"
+    [ -e "$d/pnr.json" ] || echo "hw: $m: not placed and routed on the iCE40 UP5K ($d/pnr.log)"
     yosys -p "read_verilog $(rtl_files $m); $cp synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
         >"$d/generic.log" 2>&1
 }
@@ -180,6 +185,8 @@ def synth_numbers(d):
         r["ice40_fits"] = False
         r["ice40_pnr_error"] = grab(os.path.join(d, "pnr.log"), r"ERROR: (.*)", str)
         r["ice40_dsp_needed"] = grab(os.path.join(d, "ice40.log"), r"SB_MAC16\s+(\d+)", int)
+        # The logic cells after packing, of the 5280, where nextpnr got that far.
+        r["ice40_lc_needed"] = grab(os.path.join(d, "pnr.log"), r"ICESTORM_LC:\s+(\d+)/", int)
         r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
     else:
         pnr = json.load(open(os.path.join(d, "pnr.json")))
@@ -272,8 +279,8 @@ for m in modules:
         # values measured (docs/HARDWARE.md).
         r["steps_per_clock"] = mp_default
         keys = ("pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
-                "vectors_checked", "mismatches", "ice40_fits", "ice40_lc", "ice40_dsp", "ice40_wrapper_ffs",
-                "fmax_mhz", "cmos_transistors", "logic_depth")
+                "vectors_checked", "mismatches", "ice40_fits", "ice40_lc", "ice40_lc_needed", "ice40_pnr_error",
+                "ice40_dsp", "ice40_wrapper_ffs", "fmax_mhz", "cmos_transistors", "logic_depth")
         sweep = [dict({"steps_per_clock": mp_default}, **{k: r.get(k) for k in keys})]
         for k in mp_sweep:
             v = "%s_s%d" % (m, k)
@@ -305,8 +312,8 @@ for r in rows:
     md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
 for r in rows:
     if r.get("steps_sweep"):
-        sc = ["steps_per_clock", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_dsp",
-              "fmax_mhz", "cmos_transistors", "logic_depth", "mismatches"]
+        sc = ["steps_per_clock", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_lc_needed",
+              "ice40_dsp", "fmax_mhz", "cmos_transistors", "logic_depth", "mismatches"]
         md += ["", "%s by lattice steps per clock (default %s):" % (r["module"], r["steps_per_clock"]), "",
                "| " + " | ".join(sc) + " |", "|" + "---|" * len(sc)]
         md += ["| " + " | ".join("-" if e.get(c) is None else str(e.get(c)) for c in sc) + " |"
