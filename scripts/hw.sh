@@ -12,7 +12,8 @@
 #   HW_SMALL=1                 fewer vectors (still >= 100 000 pixels a module)
 #   HW_NO_SYNTH=1              testbenches only
 #   HW_MODULES="exact"         a subset
-#   HW_MIDPOINT_STEPS="1 2 4 8"  midpoint_int's STEPS values measured besides the default
+#   HW_MIDPOINT_STEPS="1 2 8"  midpoint_int's STEPS values measured besides the default (1)
+#   HW_PNR_TIMEOUT=300         seconds before nextpnr is stopped (a design that fills the device)
 set -eu
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -105,7 +106,7 @@ synth() {
     # false). One that fills the device may route for a very long time: after
     # HW_PNR_TIMEOUT seconds it counts as not routed.
     rm -f "$d/pnr.json"
-    local rc=0 lim="${HW_PNR_TIMEOUT:-600}"
+    local rc=0 lim="${HW_PNR_TIMEOUT:-300}"
     timeout "$lim" nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 \
         --report "$d/pnr.json" >"$d/pnr.log" 2>&1 || rc=$?
     [ "$rc" != 124 ] || echo "ERROR: not routed within $lim s (HW_PNR_TIMEOUT)" >>"$d/pnr.log"
@@ -118,7 +119,7 @@ synth() {
 # the other values measured: testbench on all sets and on the first, synthesis.
 mp_default=$(sed -n 's/^ *parameter STEPS *= *\([0-9]*\).*/\1/p' "$root/hw/rtl/midpoint_int.v")
 mp_sweep=""
-for k in ${HW_MIDPOINT_STEPS-1 2 4 8}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
+for k in ${HW_MIDPOINT_STEPS-1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
 
 status=0
 for m in $modules; do
@@ -160,9 +161,10 @@ printf 'module mul16(input clk, input [15:0] a, b, output reg [31:0] p);\n alway
 # midpoint_int's error is persp's own measurement of midpoint:int.
 "$persp" accuracy --case random-triangles --method midpoint:int --json >"$work/midpoint_int.accuracy.json"
 
-python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" <<'PY'
+python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" "$mp_default" "$mp_sweep" <<'PY'
 import json, os, re, subprocess, sys
 root, work, out, modules, nosynth = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(), sys.argv[5] == "1"
+mp_default, mp_sweep = int(sys.argv[6]), [int(k) for k in sys.argv[7].split()]
 method = {"midpoint_int": "midpoint:int", "exact": "exact (hw fixed point)"}
 # The span datapaths (hw_models_span.c) and the float method each implements.
 span = {"subdiv": "subdiv:16", "incremental": "incremental:bidir", "quadratic": "quadratic", "cubic": "cubic",
