@@ -14,7 +14,10 @@
 // first of STEPS + 1 parallel compares: up, W + 2jE > 0; down,
 // W - 2(j+1)E <= 0 (docs/HARDWARE.md). The accepted pixel's step to the
 // next pixel (E + 2G, W + T - K) is taken in the same clock, so a pixel of
-// s steps costs max(1, ceil(s / STEPS)) clocks. A pixel needing more than
+// s steps costs max(1, ceil(s / STEPS)) clocks. The register holds W - 1,
+// which makes the direction and every test a sign bit, and each candidate
+// forms its next-pixel W beside its test, so that the W -> W loop passes
+// one carry chain and a select. A pixel needing more than
 // CAP steps (W + 2·CAP·E <= 0, or W - 2(CAP+1)E > 0) goes to the re-seed at
 // once: its outcome does not depend on the steps the model takes first.
 //
