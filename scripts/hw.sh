@@ -12,6 +12,8 @@
 #   HW_SMALL=1                 fewer vectors (still >= 100 000 pixels a module)
 #   HW_NO_SYNTH=1              testbenches only
 #   HW_MODULES="exact"         a subset
+#   HW_MIDPOINT_STEPS="1 2 8"  midpoint_int's STEPS values measured besides the default (1)
+#   HW_PNR_TIMEOUT=300         seconds before nextpnr is stopped (a design that fills the device)
 set -eu
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -79,28 +81,45 @@ rtl_files() {
     if [ "$1" = incremental ]; then echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v"; else echo "$root/hw/rtl/$1.v"; fi
 }
 
+# tb MODULE [VARIANT PARAM=VALUE]: the testbench in obj_MODULE (obj_MODULE_VARIANT
+# built with -GPARAM=VALUE).
 tb() {
-    local m="$1"
-    verilator --cc --exe --build -j 2 -O2 -Wall --Mdir "$work/obj_$m" "$root/hw/rtl/$m.v" "$root/hw/tb/tb_$m.cpp" \
-        -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m.verilator.log" 2>&1 ||
-        { cat "$work/$m.verilator.log" >&2; return 1; }
+    local m="$1" v="${2:+_$2}" g="${3:+-G$3}"
+    verilator --cc --exe --build -j 2 -O2 -Wall $g --Mdir "$work/obj_$m$v" "$root/hw/rtl/$m.v" "$root/hw/tb/tb_$m.cpp" \
+        -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m$v.verilator.log" 2>&1 ||
+        { cat "$work/$m$v.verilator.log" >&2; return 1; }
 }
 
+# synth MODULE [VARIANT PARAM=VALUE]: into syn_MODULE (syn_MODULE_VARIANT with
+# the parameter set by chparam).
 synth() {
-    local m="$1" d="$work/syn_$m"
+    local m="$1" v="${2:+_$2}" cp=""
+    local d="$work/syn_$m$v"
+    [ -n "${3:-}" ] && cp="chparam -set ${3%%=*} ${3#*=} $m;"
     mkdir -p "$d"
-    yosys -q -p "read_verilog $(rtl_files $m); hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
+    yosys -q -p "read_verilog $(rtl_files $m); $cp hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
     python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
-    yosys -p "read_verilog $(rtl_files $m) $d/${m}_ooc.v; synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
+    yosys -p "read_verilog $(rtl_files $m) $d/${m}_ooc.v; $cp synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
         >"$d/ice40.log" 2>&1
-    # A module that needs more than the UP5K has (8 SB_MAC16) is a result, not a
-    # failure of the flow: summary.json then says so (ice40_fits false).
+    # A module that needs more than the UP5K has (8 SB_MAC16, 5280 LCs) is a
+    # result, not a failure of the flow: summary.json then says so (ice40_fits
+    # false). One that fills the device may route for a very long time: after
+    # HW_PNR_TIMEOUT seconds it counts as not routed.
     rm -f "$d/pnr.json"
-    nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 --report "$d/pnr.json" \
-        >"$d/pnr.log" 2>&1 || echo "hw: $m: does not fit the iCE40 UP5K ($d/pnr.log)"
-    yosys -p "read_verilog $(rtl_files $m); synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
+    local rc=0 lim="${HW_PNR_TIMEOUT:-300}"
+    timeout "$lim" nextpnr-ice40 --up5k --package sg48 --json "$d/ice40.json" --freq 12 --seed 1 \
+        --report "$d/pnr.json" >"$d/pnr.log" 2>&1 || rc=$?
+    [ "$rc" != 124 ] || echo "ERROR: not routed within $lim s (HW_PNR_TIMEOUT)" >>"$d/pnr.log"
+    [ -e "$d/pnr.json" ] || echo "hw: $m: not placed and routed on the iCE40 UP5K ($d/pnr.log)"
+    yosys -p "read_verilog $(rtl_files $m); $cp synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
         >"$d/generic.log" 2>&1
 }
+
+# midpoint_int's default lattice steps per clock (its STEPS parameter), and
+# the other values measured: testbench on all sets and on the first, synthesis.
+mp_default=$(sed -n 's/^ *parameter STEPS *= *\([0-9]*\).*/\1/p' "$root/hw/rtl/midpoint_int.v")
+mp_sweep=""
+for k in ${HW_MIDPOINT_STEPS-1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
 
 status=0
 for m in $modules; do
@@ -110,7 +129,16 @@ for m in $modules; do
     if "$work/obj_$m/tb_$m" "$work/$m.vectors" 100000 >"$work/$m.tb.log"; then :; else status=1; fi
     tail -1 "$work/$m.tb.log"
     # Throughput on ordinary triangles (256 texels) apart from the edge cases.
-    if [ "$m" = midpoint_int ]; then "$work/obj_$m/tb_$m" "$work/$m.vectors.1" >"$work/$m.tb_plain.log" || status=1; fi
+    if [ "$m" = midpoint_int ]; then
+        "$work/obj_$m/tb_$m" "$work/$m.vectors.1" >"$work/$m.tb_plain.log" || status=1
+        for k in $mp_sweep; do
+            echo "hw: $m: STEPS=$k"
+            tb "$m" "s$k" "STEPS=$k"
+            "$work/obj_${m}_s$k/tb_$m" "$work/$m.vectors" 100000 >"$work/${m}_s$k.tb.log" || status=1
+            "$work/obj_${m}_s$k/tb_$m" "$work/$m.vectors.1" >"$work/${m}_s$k.tb_plain.log" || status=1
+            [ "${HW_NO_SYNTH:-0}" = 1 ] || synth "$m" "s$k" "STEPS=$k"
+        done
+    fi
     # subdiv at N = 8 as well: the same RTL built with -GN=8 against `--module subdiv:8`.
     if [ "$m" = subdiv ]; then
         verilator --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir "$work/obj_subdiv8" "$root/hw/rtl/subdiv.v" \
@@ -133,9 +161,10 @@ printf 'module mul16(input clk, input [15:0] a, b, output reg [31:0] p);\n alway
 # midpoint_int's error is persp's own measurement of midpoint:int.
 "$persp" accuracy --case random-triangles --method midpoint:int --json >"$work/midpoint_int.accuracy.json"
 
-python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" <<'PY'
+python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" "$mp_default" "$mp_sweep" <<'PY'
 import json, os, re, subprocess, sys
 root, work, out, modules, nosynth = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(), sys.argv[5] == "1"
+mp_default, mp_sweep = int(sys.argv[6]), [int(k) for k in sys.argv[7].split()]
 method = {"midpoint_int": "midpoint:int", "exact": "exact (hw fixed point)"}
 # The span datapaths (hw_models_span.c) and the float method each implements.
 span = {"subdiv": "subdiv:16", "incremental": "incremental:bidir", "quadratic": "quadratic", "cubic": "cubic",
@@ -148,6 +177,33 @@ def grab(path, pattern, conv=float, default=None):
     except OSError:
         return default
     return conv(m[-1]) if m else default
+
+def synth_numbers(d):
+    """The iCE40 and technology-independent figures of one synthesis folder."""
+    r = {}
+    if not os.path.exists(os.path.join(d, "pnr.json")):
+        # Placement failed: the device's limit it met, from nextpnr's log; the
+        # cells synth_ice40 asked for, from Yosys's.
+        r["ice40_fits"] = False
+        r["ice40_pnr_error"] = grab(os.path.join(d, "pnr.log"), r"ERROR: (.*)", str)
+        r["ice40_dsp_needed"] = grab(os.path.join(d, "ice40.log"), r"SB_MAC16\s+(\d+)", int)
+        # The logic cells after packing, of the 5280, where nextpnr got that far.
+        r["ice40_lc_needed"] = grab(os.path.join(d, "pnr.log"), r"ICESTORM_LC:\s+(\d+)/", int)
+        r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
+    else:
+        pnr = json.load(open(os.path.join(d, "pnr.json")))
+        u = pnr["utilization"]
+        r["ice40_fits"] = True
+        r["ice40_lc"] = u["ICESTORM_LC"]["used"]
+        r["ice40_dsp"] = u.get("ICESTORM_DSP", {}).get("used", 0)
+        r["ice40_bram"] = u.get("ICESTORM_RAM", {}).get("used", 0)
+        r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
+        r["fmax_mhz"] = round(min(v["achieved"] for v in pnr["fmax"].values()), 2)
+    g = os.path.join(d, "generic.log")
+    r["cmos_transistors"] = grab(g, r"Estimated number of transistors:\s+(\d+)", int)
+    r["logic_depth"] = grab(g, r"Longest topological path in \S+ \(length=(\d+)\)", int)
+    r["ice40_lut4_wrapped"] = grab(os.path.join(d, "ice40.log"), r"SB_LUT4\s+(\d+)", int)
+    return r
 
 rows = []
 for m in modules:
@@ -199,7 +255,7 @@ for m in modules:
                                                    for f in n8]
                 r["n8_float_max_error_texels_by_set"] = [pair(f, r"same pixels: ") for f in n8]
     else:
-        # Variable: one lattice step or one pixel per clock; measured.
+        # Variable: up to STEPS lattice steps and one pixel per clock; measured.
         r["latency_cycles"] = 1
         plain = os.path.join(work, m + ".tb_plain.log")
         r["pixels_per_clock"] = grab(plain, r"([\d.]+) pixels per clock")
@@ -218,28 +274,29 @@ for m in modules:
                     walk(v)
         walk(acc)
         r["max_error_texels"] = max(vals) if vals else None
-    d = os.path.join(work, "syn_" + m)
-    if not nosynth and not os.path.exists(os.path.join(d, "pnr.json")):
-        # Placement failed: the device's limit it met, from nextpnr's log; the
-        # cells synth_ice40 asked for, from Yosys's.
-        r["ice40_fits"] = False
-        r["ice40_pnr_error"] = grab(os.path.join(d, "pnr.log"), r"ERROR: (.*)", str)
-        r["ice40_dsp_needed"] = grab(os.path.join(d, "ice40.log"), r"SB_MAC16\s+(\d+)", int)
-        r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
-    elif not nosynth:
-        pnr = json.load(open(os.path.join(d, "pnr.json")))
-        u = pnr["utilization"]
-        r["ice40_fits"] = True
-        r["ice40_lc"] = u["ICESTORM_LC"]["used"]
-        r["ice40_dsp"] = u.get("ICESTORM_DSP", {}).get("used", 0)
-        r["ice40_bram"] = u.get("ICESTORM_RAM", {}).get("used", 0)
-        r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
-        r["fmax_mhz"] = round(min(v["achieved"] for v in pnr["fmax"].values()), 2)
     if not nosynth:
-        g = os.path.join(d, "generic.log")
-        r["cmos_transistors"] = grab(g, r"Estimated number of transistors:\s+(\d+)", int)
-        r["logic_depth"] = grab(g, r"Longest topological path in \S+ \(length=(\d+)\)", int)
-        r["ice40_lut4_wrapped"] = grab(os.path.join(d, "ice40.log"), r"SB_LUT4\s+(\d+)", int)
+        r.update(synth_numbers(os.path.join(work, "syn_" + m)))
+    if m == "midpoint_int":
+        # The lattice steps searched per clock: the default and the other
+        # values measured (docs/HARDWARE.md).
+        r["steps_per_clock"] = mp_default
+        keys = ("pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
+                "vectors_checked", "mismatches", "ice40_fits", "ice40_lc", "ice40_lc_needed", "ice40_pnr_error",
+                "ice40_dsp", "ice40_wrapper_ffs", "fmax_mhz", "cmos_transistors", "logic_depth")
+        sweep = [dict({"steps_per_clock": mp_default}, **{k: r.get(k) for k in keys})]
+        for k in mp_sweep:
+            v = "%s_s%d" % (m, k)
+            log_all, log_plain = os.path.join(work, v + ".tb.log"), os.path.join(work, v + ".tb_plain.log")
+            e = {"steps_per_clock": k,
+                 "pixels_per_clock": grab(log_plain, r"([\d.]+) pixels per clock"),
+                 "pixels_per_clock_all_vectors": grab(log_all, r"([\d.]+) pixels per clock"),
+                 "cycles_per_pixel_per_coordinate": grab(log_plain, r"([\d.]+) cycles per pixel per coordinate"),
+                 "vectors_checked": grab(log_all, r"pixels (\d+) mismatches", int),
+                 "mismatches": grab(log_all, r"mismatches (\d+)", int)}
+            if not nosynth:
+                e.update(synth_numbers(os.path.join(work, "syn_" + v)))
+            sweep.append({key: e.get(key) for key in ("steps_per_clock",) + keys})
+        r["steps_sweep"] = sorted(sweep, key=lambda e: e["steps_per_clock"])
     rows.append(r)
 
 ver = {}
@@ -255,6 +312,14 @@ cols = ["module", "ice40_lc", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_trans
 md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
 for r in rows:
     md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
+for r in rows:
+    if r.get("steps_sweep"):
+        sc = ["steps_per_clock", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_lc_needed",
+              "ice40_dsp", "fmax_mhz", "cmos_transistors", "logic_depth", "mismatches"]
+        md += ["", "%s by lattice steps per clock (default %s):" % (r["module"], r["steps_per_clock"]), "",
+               "| " + " | ".join(sc) + " |", "|" + "---|" * len(sc)]
+        md += ["| " + " | ".join("-" if e.get(c) is None else str(e.get(c)) for c in sc) + " |"
+               for e in r["steps_sweep"]]
 md += ["", "Tools: " + "; ".join(ver.values()) + ". CPU: " + cpu + ".",
        "ice40_lc includes the out-of-context wrapper's flip-flops (ice40_wrapper_ffs in summary.json)."]
 open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")

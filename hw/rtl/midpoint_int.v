@@ -8,9 +8,18 @@
 // restoring divider here), and an index reaching |n| >= 2^NLIM ends the
 // span's integer path (out_oor: persp finishes it in double precision).
 //
-// One lattice step or one accepted pixel per clock: a pixel whose search
-// takes s steps costs 1 + s cycles; a re-seed costs CAP + 1 + NLIM + 2 more
-// (docs/HARDWARE.md gives the measured cycles per pixel).
+// STEPS lattice steps per clock. j steps have the closed forms
+// W +- 2jE, T +- 4jG, n +- j, and the search is monotone (all steps up when
+// W <= 0, all down when W > 2E), so the first accepted j of 0..STEPS is the
+// first of STEPS + 1 parallel compares: up, W + 2jE > 0; down,
+// W - 2(j+1)E <= 0 (docs/HARDWARE.md). The accepted pixel's step to the
+// next pixel (E + 2G, W + T - K) is taken in the same clock, so a pixel of
+// s steps costs max(1, ceil(s / STEPS)) clocks. The register holds W - 1,
+// which makes the direction and every test a sign bit, and each candidate
+// forms its next-pixel W beside its test, so that the W -> W loop passes
+// one carry chain and a select. A pixel needing more than
+// CAP steps (W + 2·CAP·E <= 0, or W - 2(CAP+1)E > 0) goes to the re-seed at
+// once: its outcome does not depend on the steps the model takes first.
 //
 // Interface: `load` (accepted whenever asserted; it aborts a span in
 // progress) latches the span's start values and len, the number of pixels
@@ -19,15 +28,16 @@
 // delivered pixel, registered; out_oor marks the pixel at which the integer
 // path ends (out_n, out_W are then not meaningful) and the span stops there.
 module midpoint_int #(
-    parameter EW   = 43,  // E = G*X2 + H*Y2 + 2I > 0
-    parameter N2W  = 59,  // N2 = A*X2 + B*Y2 + 2C, and A
-    parameter WW   = 62,  // W
-    parameter TW   = 60,  // T = 2G*M
-    parameter KW   = 61,  // K = 4A - 2G
-    parameter NW   = 18,  // lattice index n (|n| < 2^NLIM plus CAP steps)
-    parameter NLIM = 16,  // the format's texel range: |n| < 2^NLIM
-    parameter CAP  = 32,  // lattice steps before a re-seed
-    parameter LW   = 7    // span length counter (spans are at most 64 pixels)
+    parameter EW    = 43,  // E = G*X2 + H*Y2 + 2I > 0
+    parameter N2W   = 59,  // N2 = A*X2 + B*Y2 + 2C, and A
+    parameter WW    = 62,  // W, and T - K
+    parameter TW    = 60,  // T = 2G*M
+    parameter KW    = 61,  // K = 4A - 2G
+    parameter NW    = 18,  // lattice index n (|n| < 2^NLIM plus the last clock's steps)
+    parameter NLIM  = 16,  // the format's texel range: |n| < 2^NLIM
+    parameter CAP   = 32,  // lattice steps before a re-seed
+    parameter LW    = 7,   // span length counter (spans are at most 64 pixels)
+    parameter STEPS = 4    // lattice steps searched per clock, 1 <= STEPS <= CAP, < 31
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -51,7 +61,12 @@ module midpoint_int #(
 );
     // Width of the re-seed's dividend |2*N2 + (1 - 2o)*E| (and of 2E << NLIM).
     localparam DW = N2W + 1;
-    localparam CW = 6;  // step counter, 0..CAP
+    // The candidates W +- 2jE: one bit over W, so that a candidate beyond
+    // the accepted one cannot wrap.
+    localparam XW = WW + 1;
+    localparam P  = STEPS;
+    // Multiples 2jE and 4jG that are not shifts are registers (j <= 31).
+    localparam MW = EW + 6, GW = EW + 7, DRW = EW + 9;
 
     localparam S_IDLE = 2'd0, S_RUN = 2'd1, S_DIV = 2'd2, S_FIN = 2'd3;
     reg [1:0] state;
@@ -61,36 +76,160 @@ module midpoint_int #(
     /* verilator lint_off UNUSEDSIGNAL */
     reg signed [N2W-1:0] Ar;  // 2A is used: |A| < 2^(N2W-2)
     /* verilator lint_on UNUSEDSIGNAL */
-    reg signed [WW-1:0]  W;
-    reg signed [TW-1:0]  T;
+    reg signed [WW-1:0]  Wb;  // W - 1: W <= 0 and every acceptance is then a sign bit
+    reg signed [WW-1:0]  R;   // T - K: the pixel step is W += R
+    reg signed [EW+2:0]  D;   // 2E + 4G: W + R moves by D per lattice step
     reg signed [KW-1:0]  Kr;
     reg signed [NW-1:0]  n;
     reg        [LW-1:0]  left;
-    reg        [CW-1:0]  it;
     reg                  o2r, rs;
 
-    // Re-seed divider state: rem / dsh restoring division, S accumulates
-    // 4G*q so that T = 2G*(2q + 2o) needs no multiplier.
+    // Re-seed divider state: rem / dsh restoring division; S starts at
+    // 2G*2o - K and accumulates +-4G*q, so that it ends at T - K with
+    // T = 2G*(2n + 2o) and no multiplier.
     reg        [DW-1:0]  rem, dsh;
-    reg signed [TW-1:0]  gsh, S;
+    reg signed [WW-1:0]  gsh, S;
     reg        [NLIM-1:0] q;
     reg        [4:0]     cnt;
     reg                  neg;
 
-    // ---------------------------------------------------------- search step
-    wire signed [WW-1:0] twoE  = {{(WW-EW-1){E[EW-1]}}, E, 1'b0};
-    wire                 w_pos = W > 0;
-    wire                 w_le  = W <= twoE;
-    wire                 acc   = w_pos && w_le;
-    wire                 capped = it == CAP[CW-1:0];
-    // |n| >= 2^NLIM: the format's texel range is left (docs/METHODS.md).
-    wire signed [NW-1:0] nlim  = 1 <<< NLIM;
-    wire                 n_oor = (n >= nlim) || (n <= -nlim);
-    wire signed [TW-1:0] fourG = {{(TW-EW-2){Gr[EW-1]}}, Gr, 2'b00};
-    wire signed [EW-1:0] twoG  = {Gr[EW-2:0], 1'b0};
-    wire signed [WW-1:0] Tw    = {{(WW-TW){T[TW-1]}}, T};
-    wire signed [WW-1:0] Kw    = {{(WW-KW){Kr[KW-1]}}, Kr};
+    // Used only where a multiple of E is a register (STEPS >= 2).
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire ld = load && !rst;
+    wire signed [XW-1:0] E0x = {{(XW-EW){E0[EW-1]}}, E0};
+    wire signed [XW-1:0] G0x = {{(XW-EW){G[EW-1]}}, G};
+    wire signed [XW-1:0] D0x = (E0x <<< 1) + (G0x <<< 2);
+    /* verilator lint_on UNUSEDSIGNAL */
+
+    // x * k for a constant k: shifts and adds (a '*' would be mapped to a
+    // DSP block by synth_ice40 -dsp).
+    function signed [XW-1:0] mulk(input signed [XW-1:0] x, input integer k);
+        integer b;
+        begin
+            mulk = {XW{1'b0}};
+            for (b = 0; b < 30; b = b + 1)
+                if (((k >> b) & 1) == 1) mulk = mulk + (x <<< b);
+        end
+    endfunction
+
+    wire signed [XW-1:0] Ex  = {{(XW-EW){E[EW-1]}}, E};
+    wire signed [XW-1:0] Gx  = {{(XW-EW){Gr[EW-1]}}, Gr};
+    wire signed [XW-1:0] Wx  = {Wb[WW-1], Wb};
+    wire signed [XW-1:0] Rx  = {R[WW-1], R};
+    wire signed [XW-1:0] Dx  = {{(XW-EW-3){D[EW+2]}}, D};
+    wire signed [EW-1:0] twoG = {Gr[EW-2:0], 1'b0};
     wire signed [N2W-1:0] twoA = {Ar[N2W-2:0], 1'b0};
+
+    // ------------------------------------------------- the search, one clock
+    wire up = Wb[WW-1];  // W <= 0: steps up, (4.14); else down, (4.15)
+
+    // Pixel step taken this clock (set below): every running multiple of E
+    // steps with E. g[P+1] only steps m[P+1]; y[P] is read as v[P] only;
+    // m0, g0 are wider than their registers.
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire step;
+
+    // m[j] = 2jE, g[j] = 4jG, j = 0..P+1; d[j] = jD = m[j] + g[j], j = 0..P.
+    wire [(P+2)*XW-1:0] m_f, g_f, d_f;
+    genvar j;
+    generate
+        for (j = 0; j <= P + 1; j = j + 1) begin : mult
+            if (j == 0) begin : zero
+                assign m_f[XW-1:0] = {XW{1'b0}};
+                assign g_f[XW-1:0] = {XW{1'b0}};
+                assign d_f[XW-1:0] = {XW{1'b0}};
+            end else if ((j & (j - 1)) == 0) begin : shift
+                assign m_f[j*XW +: XW] = Ex <<< ($clog2(j) + 1);
+                assign g_f[j*XW +: XW] = Gx <<< ($clog2(j) + 2);
+                assign d_f[j*XW +: XW] = Dx <<< $clog2(j);
+            end else begin : reg_mult
+                wire signed [XW-1:0] m0 = mulk(E0x, 2 * j), g0 = mulk(G0x, 4 * j), d0 = mulk(D0x, j);
+                reg signed [MW-1:0] mr;
+                reg signed [GW-1:0] gr;
+                reg signed [DRW-1:0] dr;
+                always @(posedge clk) begin
+                    if (ld) begin
+                        mr <= m0[MW-1:0];
+                        gr <= g0[GW-1:0];
+                        dr <= d0[DRW-1:0];
+                    end else if (step) begin
+                        mr <= mr + gr[MW-1:0];
+                        dr <= dr + {{(DRW-GW){gr[GW-1]}}, gr};
+                    end
+                end
+                assign m_f[j*XW +: XW] = {{(XW-MW){mr[MW-1]}}, mr};
+                assign g_f[j*XW +: XW] = {{(XW-GW){gr[GW-1]}}, gr};
+                assign d_f[j*XW +: XW] = {{(XW-DRW){dr[DRW-1]}}, dr};
+            end
+        end
+    endgenerate
+
+    // Candidate j: y[j] = W - 1 + 2jE (up) or W - 1 - 2(j+1)E (down); a[j]:
+    // the search ends within j steps (up: W + 2jE > 0, i.e. y[j] >= 0; down:
+    // W - 2(j+1)E <= 0, i.e. y[j] < 0); v[j] its W - 1, r[j] its T - K, and
+    // w[j] the next pixel's W - 1, (W - 1) + R +- jD: computed beside the
+    // compare (a carry-save layer and one adder) so that the recurrence
+    // W -> W passes one carry chain, not two.
+    wire [(P+1)*XW-1:0] y_f, v_f, r_f, w_f;
+    wire [(P+1)*NW-1:0] n_f;  // n +- j
+    wire [P:0]          oor;  // |n +- j| >= 2^NLIM: the format's texel range is left (docs/METHODS.md)
+    wire signed [NW-1:0] nlim = 1 <<< NLIM;
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire [P:0]          a;
+    generate
+        for (j = 0; j <= P; j = j + 1) begin : cand
+            wire [XW-1:0]        op = up ? m_f[j*XW +: XW] : ~m_f[(j+1)*XW +: XW];
+            wire signed [XW-1:0] y  = Wx + op + {{(XW-1){1'b0}}, !up};
+            assign a[j] = up ^ y[XW-1];
+            assign y_f[j*XW +: XW] = y;
+            wire [XW-1:0] dop  = up ? d_f[j*XW +: XW] : ~d_f[j*XW +: XW];
+            wire [XW-1:0] cs_s = Wx ^ Rx ^ dop;
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire [XW-1:0] cs_c = (Wx & Rx) | (Wx & dop) | (Rx & dop);  // the sum is taken modulo 2^XW
+            /* verilator lint_on UNUSEDSIGNAL */
+            assign w_f[j*XW +: XW] = cs_s + {cs_c[XW-2:0], !up};
+            // The index and its range test per candidate, beside the
+            // compare rather than after the selection.
+            localparam [NW-1:0] JN = j;
+            wire signed [NW-1:0] nj = up ? n + JN : n - JN;
+            assign n_f[j*NW +: NW] = nj;
+            assign oor[j] = (nj >= nlim) || (nj <= -nlim);
+            if (j == 0) begin : v0
+                assign v_f[XW-1:0] = up ? y : Wx;
+                assign r_f[XW-1:0] = Rx;
+            end else begin : vj
+                wire [XW-1:0] gop = up ? g_f[j*XW +: XW] : ~g_f[j*XW +: XW];
+                assign v_f[j*XW +: XW] = up ? y : y_f[(j-1)*XW +: XW];
+                assign r_f[j*XW +: XW] = Rx + gop + {{(XW-1){1'b0}}, !up};
+            end
+        end
+    endgenerate
+
+    // The first accepted j (a is monotone in j), one-hot.
+    wire [P:0] sel = a & ~{a[P-1:0], 1'b0};
+    wire       acc = a[P];
+    reg  [XW-1:0] v_sel, r_sel, w_next;
+    reg  [NW-1:0] n_sel;
+    integer i;
+    always @(*) begin
+        v_sel = {XW{1'b0}};
+        r_sel = {XW{1'b0}};
+        w_next = {XW{1'b0}};
+        n_sel = {NW{1'b0}};
+        for (i = 0; i <= P; i = i + 1) begin
+            v_sel = v_sel | ({XW{sel[i]}} & v_f[i*XW +: XW]);
+            r_sel = r_sel | ({XW{sel[i]}} & r_f[i*XW +: XW]);
+            w_next = w_next | ({XW{sel[i]}} & w_f[i*XW +: XW]);
+            n_sel = n_sel | ({NW{sel[i]}} & n_f[i*NW +: NW]);
+        end
+    end
+    wire                 n_oor = |(sel & oor);
+
+    // More than CAP steps (W + 2·CAP·E <= 0, or W - 2(CAP+1)E > 0): the model
+    // re-seeds.
+    wire [XW-1:0]        fop = up ? mulk(Ex, 2 * CAP) : ~mulk(Ex, 2 * CAP + 2);
+    wire signed [XW-1:0] yf  = Wx + fop + {{(XW-1){1'b0}}, !up};
+    wire                 far = !(up ^ yf[XW-1]);
 
     // ------------------------------------------- re-seed: exact floor division
     // n = floor_div(a, b), a = 2*N2 + (1 - 2o)*E, b = 2E > 0. For a < 0,
@@ -101,61 +240,61 @@ module midpoint_int #(
     // floor(a'/b) >= 2^NLIM: the re-seeded index leaves the format.
     wire                 d_ovf = a_p >= (b_u << NLIM);
     wire                 d_ge  = rem >= dsh;
+    wire signed [WW-1:0] g4top = {Gx[WW-NLIM-2:0], 2'b00, {(NLIM-1){1'b0}}};  // 4G << (NLIM-1)
+    wire signed [WW-1:0] Kw    = {{(WW-KW){Kr[KW-1]}}, Kr};
+    wire signed [WW-1:0] s0    = (o2r ? {{(WW-EW){twoG[EW-1]}}, twoG} : {WW{1'b0}}) - Kw;
 
-    assign ready = (state == S_IDLE) ||
-                   (state == S_RUN && ((acc && (n_oor || left == 1)) || (!acc && capped && d_ovf)));
+    wire run  = state == S_RUN;
+    wire last = acc && (n_oor || left == 1);
+    assign step  = !rst && run && !far && acc && !last;
+    assign ready = (state == S_IDLE) || (run && (far ? d_ovf : last));
 
     always @(posedge clk) begin
         out_valid <= 1'b0;
         if (rst) begin
             state <= S_IDLE;
         end else begin
-            if (state == S_RUN) begin
-                if (acc) begin
-                    out_valid  <= 1'b1;
-                    out_oor    <= n_oor;
-                    out_reseed <= rs;
-                    out_n      <= n;
-                    out_W      <= W;
-                    if (n_oor || left == 1) begin
-                        state <= S_IDLE;
-                    end else begin
-                        // Pixel step x -> x + 1 (docs/METHODS.md, "Formula").
-                        E    <= E + twoG;
-                        W    <= W + Tw - Kw;
-                        N2   <= N2 + twoA;
-                        left <= left - 1'b1;
-                        it   <= 0;
-                        rs   <= 1'b0;
-                    end
-                end else if (capped) begin
+            if (run) begin
+                if (far) begin
                     if (d_ovf) begin
-                        out_valid <= 1'b1;
-                        out_oor   <= 1'b1;
+                        out_valid  <= 1'b1;
+                        out_oor    <= 1'b1;
                         out_reseed <= 1'b1;
-                        state     <= S_IDLE;
+                        state      <= S_IDLE;
                     end else begin
                         rem   <= a_p[DW-1:0];
                         dsh   <= b_u[DW-1:0] << (NLIM - 1);
-                        gsh   <= fourG <<< (NLIM - 1);
-                        S     <= 0;
+                        gsh   <= a_s[DW] ? -g4top : g4top;
+                        S     <= s0;
                         q     <= 0;
                         neg   <= a_s[DW];
                         cnt   <= NLIM - 1;
                         state <= S_DIV;
                     end
-                end else if (!w_pos) begin
-                    // Lattice step up, (4.14).
-                    n  <= n + 1'b1;
-                    W  <= W + twoE;
-                    T  <= T + fourG;
-                    it <= it + 1'b1;
+                end else if (acc) begin
+                    out_valid  <= 1'b1;
+                    out_oor    <= n_oor;
+                    out_reseed <= rs;
+                    out_n      <= n_sel;
+                    out_W      <= v_sel[WW-1:0] + 1'b1;
+                    if (last) begin
+                        state <= S_IDLE;
+                    end else begin
+                        // Pixel step x -> x + 1 (docs/METHODS.md, "Formula").
+                        E    <= E + twoG;
+                        Wb   <= w_next[WW-1:0];
+                        D    <= D + {Gr[EW-1], Gr, 2'b00};
+                        R    <= r_sel[WW-1:0];
+                        n    <= n_sel;
+                        N2   <= N2 + twoA;
+                        left <= left - 1'b1;
+                        rs   <= 1'b0;
+                    end
                 end else begin
-                    // Lattice step down, (4.15).
-                    n  <= n - 1'b1;
-                    W  <= W - twoE;
-                    T  <= T - fourG;
-                    it <= it + 1'b1;
+                    // STEPS lattice steps, no acceptance yet.
+                    Wb <= v_f[P*XW +: WW];
+                    R <= r_f[P*XW +: WW];
+                    n <= n_f[P*NW +: NW];
                 end
             end else if (state == S_DIV) begin
                 if (d_ge) begin
@@ -169,18 +308,20 @@ module midpoint_int #(
                 if (cnt == 0) state <= S_FIN;
             end else if (state == S_FIN) begin
                 // n = +-q; W = 2E - r with r the floor remainder
-                // (docs/HARDWARE.md); T = 2G*(2n + 2o) = 4G*n + 2G*2o.
+                // (docs/HARDWARE.md), so W - 1 = r' or 2E + ~r; T - K
+                // accumulated in S.
                 n  <= neg ? -$signed({{(NW-NLIM){1'b0}}, q}) : $signed({{(NW-NLIM){1'b0}}, q});
-                W  <= neg ? $signed({{(WW-DW){1'b0}}, rem}) + 1'b1
-                          : twoE - $signed({{(WW-DW){1'b0}}, rem});
-                T  <= (neg ? -S : S) + (o2r ? {{(TW-EW){twoG[EW-1]}}, twoG} : {TW{1'b0}});
-                it <= 0;
+                Wb <= neg ? $signed({{(WW-DW){1'b0}}, rem})
+                          : {Ex[WW-2:0], 1'b0} + ~$signed({{(WW-DW){1'b0}}, rem});
+                R  <= S;
                 rs <= 1'b1;
                 state <= S_RUN;
             end
             if (load) begin
-                E <= E0; Gr <= G; N2 <= N2_0; Ar <= A; W <= W0; T <= T0; Kr <= K; n <= n0;
-                o2r <= o2; left <= len; it <= 0; rs <= 1'b0;
+                E <= E0; Gr <= G; N2 <= N2_0; Ar <= A; Wb <= W0 - 1'b1; Kr <= K; n <= n0;
+                D <= D0x[EW+2:0];
+                R <= {{(WW-TW){T0[TW-1]}}, T0} - {{(WW-KW){K[KW-1]}}, K};
+                o2r <= o2; left <= len; rs <= 1'b0;
                 state <= (len == 0) ? S_IDLE : S_RUN;
             end
         end
