@@ -418,10 +418,18 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     if (ds->force_opaque)
         for (int k = 0; k < n; k++) out[k] |= 0xff000000u;
     const float *dvals = invw ? q : z;
-    for (int k = 0; k < n; k++) {
-        if (!live[k]) continue;
-        color[lb->idx[k]] = out[k];
-        if (ds->depth_write) depth[lb->idx[k]] = dvals[k];
+    const int32_t *idx = lb->idx;
+    if (n == any) {
+        /* Every lane passed (or was packed so): no test per lane. */
+        for (int k = 0; k < n; k++) color[idx[k]] = out[k];
+        if (ds->depth_write)
+            for (int k = 0; k < n; k++) depth[idx[k]] = dvals[k];
+    } else {
+        for (int k = 0; k < n; k++) {
+            if (!live[k]) continue;
+            color[idx[k]] = out[k];
+            if (ds->depth_write) depth[idx[k]] = dvals[k];
+        }
     }
     sc->stats->pixels_written += (uint64_t)any;
 }
