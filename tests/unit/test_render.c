@@ -1,6 +1,7 @@
 /* End-to-end rendering invariants: thread-count independence, depth modes,
  * immediate drawing, bad framebuffers. */
 /* ctest-labels: threads (renders with several worker threads) */
+/* ctest-split: each (minutes in all under ThreadSanitizer and qemu-user) */
 #include "support.h"
 
 #include "core/internal.h"
@@ -778,7 +779,7 @@ static void test_border_is_opaque(void **state)
     free(px);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_small_triangles_as_spans),
@@ -797,5 +798,5 @@ int main(void)
         cmocka_unit_test(test_mirrored_objects_cull_back_faces),
         cmocka_unit_test(test_border_is_opaque),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return TEST_RUN(argc, argv, tests);
 }
