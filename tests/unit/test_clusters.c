@@ -273,7 +273,7 @@ static void test_point_triangle_cluster_unusable(void **state)
     test_rng rng = {7};
     const double eye[3] = {0, 0, 5};
     random_mesh(&rng, eye, v, idx, TRIS);
-    for (int k = 0; k < 3; k++) memcpy(v[3 * 5 + k].pos, v[3 * 5].pos, sizeof v[0].pos);
+    for (int k = 1; k < 3; k++) memcpy(v[3 * 5 + k].pos, v[3 * 5].pos, sizeof v[0].pos);
     persp_mesh mesh;
     memset(&mesh, 0, sizeof mesh);
     mesh.vertices = v, mesh.indices = idx;
