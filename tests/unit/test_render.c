@@ -51,14 +51,15 @@ static uint64_t render_hash_batched(const char *scene_name, const persp_render_d
  * same image bit for bit, for the filters and shading it takes, both depth
  * modes, one and two threads. The 2k-triangle torus at 256×192 has
  * triangles a few pixels wide, which all take the packed path. */
+static const char *const small_filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear"};
+static const char *const small_shadings[] = {"none", "gouraud-pc", "phong-pc"};
+
 static void test_small_triangles_as_spans(void **state)
 {
     (void)state;
-    static const char *const filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear"};
-    static const char *const shadings[] = {"none", "gouraud-pc", "phong-pc"};
     int compared = 0;
-    for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
-        for (size_t si = 0; si < sizeof shadings / sizeof *shadings; si++)
+    for (size_t fi = 0; fi < sizeof small_filters / sizeof *small_filters; fi++)
+        for (size_t si = 0; si < sizeof small_shadings / sizeof *small_shadings; si++)
             for (int dm = 0; dm < 2; dm++) {
                 uint64_t h[2];
                 for (int span_only = 0; span_only < 2; span_only++) {
@@ -70,8 +71,8 @@ static void test_small_triangles_as_spans(void **state)
                     assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
                     persp_render_desc d;
                     memset(&d, 0, sizeof d);
-                    assert_int_equal(persp_filter_parse(filters[fi], &d.filter, NULL), PERSP_OK);
-                    assert_int_equal(persp_shading_parse(shadings[si], &d.shading), PERSP_OK);
+                    assert_int_equal(persp_filter_parse(small_filters[fi], &d.filter, NULL), PERSP_OK);
+                    assert_int_equal(persp_shading_parse(small_shadings[si], &d.shading), PERSP_OK);
                     d.depth_mode = dm ? PERSP_DEPTH_INVW : PERSP_DEPTH_Z;
                     enum { W = 256, H = 192 };
                     persp_framebuffer fb = test_framebuffer(W, H);
@@ -85,19 +86,24 @@ static void test_small_triangles_as_spans(void **state)
                     persp_context_destroy(ctx);
                 }
                 if (h[0] != h[1])
-                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", filters[fi], shadings[si],
+                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", small_filters[fi], small_shadings[si],
                              dm ? "invw" : "z", (unsigned long long)h[0], (unsigned long long)h[1]);
                 compared++;
             }
     assert_int_equal(compared, 24);
-    /* The soup: triangles of one tile overlap, so consecutive small
-     * triangles that share a lane batch often cover the same pixel, which
-     * the batch must not hold twice (the depth tests would not see each
-     * other); lit, the lanes that fail the depth test are packed out
-     * before sampling (by AVX-512 compress where the CPU has it, and by
-     * the portable loop), and a filter with a level of detail samples each
-     * packed segment with its own triangle's derivatives. */
-    for (size_t si = 0; si < 2 * sizeof shadings / sizeof *shadings; si++) {
+}
+
+/* The soup: triangles of one tile overlap, so consecutive small triangles
+ * that share a lane batch often cover the same pixel, which the batch must
+ * not hold twice (the depth tests would not see each other); lit, the lanes
+ * that fail the depth test are packed out before sampling (by AVX-512
+ * compress where the CPU has it, and by the portable loop), and a filter
+ * with a level of detail samples each packed segment with its own
+ * triangle's derivatives. One shading per test, bilinear and trilinear:
+ * each takes a minute or more under ThreadSanitizer. */
+static void small_triangles_as_spans_soup(size_t shading)
+{
+    for (size_t si = 2 * shading; si < 2 * shading + 2; si++) {
         const char *filter = si % 2 ? "trilinear" : "bilinear";
         uint64_t h[3]; /* lanes, spans, lanes packed portably */
         for (int path_kind = 0; path_kind < 3; path_kind++) {
@@ -110,7 +116,7 @@ static void test_small_triangles_as_spans(void **state)
             assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
             persp_render_desc d;
             memset(&d, 0, sizeof d);
-            assert_int_equal(persp_shading_parse(shadings[si / 2], &d.shading), PERSP_OK);
+            assert_int_equal(persp_shading_parse(small_shadings[si / 2], &d.shading), PERSP_OK);
             assert_int_equal(persp_filter_parse(filter, &d.filter, NULL), PERSP_OK);
             enum { W = 256, H = 192 };
             persp_framebuffer fb = test_framebuffer(W, H);
@@ -124,9 +130,27 @@ static void test_small_triangles_as_spans(void **state)
             persp_context_destroy(ctx);
         }
         if (h[0] != h[1] || h[2] != h[1])
-            fail_msg("soup, %s, %s: packed %016llx, portably %016llx, spans %016llx", shadings[si / 2], filter,
+            fail_msg("soup, %s, %s: packed %016llx, portably %016llx, spans %016llx", small_shadings[si / 2], filter,
                      (unsigned long long)h[0], (unsigned long long)h[2], (unsigned long long)h[1]);
     }
+}
+
+static void test_small_triangles_as_spans_soup_none(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(0);
+}
+
+static void test_small_triangles_as_spans_soup_gouraud(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(1);
+}
+
+static void test_small_triangles_as_spans_soup_phong(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(2);
 }
 
 static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
@@ -586,15 +610,9 @@ static void test_batches_bit_identical(void **state)
  * others'), the corridor serially, and the tiles are drawn in parallel in
  * every case. A triangle set up twice would leave the image as it is
  * (its copy fails the depth test) but not the counts. */
-static void test_bench_scenes_thread_independent(void **state)
+static void bench_scene_thread_independent(const char *scene)
 {
-    (void)state;
-    const char *scenes[] = {"corridor",
-                            "scenes/bench/torus-2k.json",
-                            "scenes/bench/torus-20k.json",
-                            "scenes/bench/torus-200k.json",
-                            "scenes/bench/torus-2m.json",
-                            "scenes/bench/soup-200k.json"};
+    const char *scenes[] = {scene};
     const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_PHONG_PC};
     enum { W = 320, H = 240 };
     for (size_t si = 0; si < sizeof scenes / sizeof *scenes; si++)
@@ -623,6 +641,43 @@ static void test_bench_scenes_thread_independent(void **state)
                              (unsigned long long)ref_st.fragments);
             }
         }
+}
+
+/* One test per scene: the 2M torus alone takes minutes under qemu-user. */
+static void test_bench_scenes_thread_independent_corridor(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("corridor");
+}
+
+static void test_bench_scenes_thread_independent_torus_2k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-2k.json");
+}
+
+static void test_bench_scenes_thread_independent_torus_20k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-20k.json");
+}
+
+static void test_bench_scenes_thread_independent_torus_200k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-200k.json");
+}
+
+static void test_bench_scenes_thread_independent_torus_2m(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-2m.json");
+}
+
+static void test_bench_scenes_thread_independent_soup_200k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/soup-200k.json");
 }
 
 /* The default batches adapt to how spread the last batch was (frame.c,
@@ -696,11 +751,23 @@ static void submission_order_kept(int cross_near, int nt)
     free(idx);
 }
 
-static void test_submission_order_kept(void **state)
+/* One test per case, so that each stays far from the time limit under the
+ * sanitizers and qemu-user. */
+static void test_submission_order_kept_40000(void **state)
 {
     (void)state;
     submission_order_kept(0, 40000);
+}
+
+static void test_submission_order_kept_40000_near(void **state)
+{
+    (void)state;
     submission_order_kept(1, 40000);
+}
+
+static void test_submission_order_kept_3000(void **state)
+{
+    (void)state;
     submission_order_kept(0, 3000);
     submission_order_kept(1, 3000);
 }
@@ -782,16 +849,27 @@ static void test_border_is_opaque(void **state)
 int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_small_triangles_as_spans),
+        cmocka_unit_test(test_threads_bit_identical),
+        cmocka_unit_test(test_small_triangles_as_spans),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_none),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_gouraud),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_phong),
         cmocka_unit_test(test_threads_bit_identical_filters),
         cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_batches_bit_identical),
         cmocka_unit_test(test_back_lighting_places_agree),
-        cmocka_unit_test(test_bench_scenes_thread_independent),
+        cmocka_unit_test(test_bench_scenes_thread_independent_corridor),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_2k),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_20k),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_200k),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_2m),
+        cmocka_unit_test(test_bench_scenes_thread_independent_soup_200k),
         cmocka_unit_test(test_adaptive_batches_bit_identical),
-        cmocka_unit_test(test_submission_order_kept),
+        cmocka_unit_test(test_submission_order_kept_40000),
+        cmocka_unit_test(test_submission_order_kept_40000_near),
+        cmocka_unit_test(test_submission_order_kept_3000),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
