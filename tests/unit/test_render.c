@@ -99,58 +99,74 @@ static void test_small_triangles_as_spans(void **state)
  * that fail the depth test are packed out before sampling (by AVX-512
  * compress where the CPU has it, and by the portable loop), and a filter
  * with a level of detail samples each packed segment with its own
- * triangle's derivatives. One shading per test, bilinear and trilinear:
- * each takes a minute or more under ThreadSanitizer. */
-static void small_triangles_as_spans_soup(size_t shading)
+ * triangle's derivatives. One shading and filter per test (si / 2 and
+ * si % 2): each takes about a minute under ThreadSanitizer. */
+static void small_triangles_as_spans_soup(size_t si)
 {
-    for (size_t si = 2 * shading; si < 2 * shading + 2; si++) {
-        const char *filter = si % 2 ? "trilinear" : "bilinear";
-        uint64_t h[3]; /* lanes, spans, lanes packed portably */
-        for (int path_kind = 0; path_kind < 3; path_kind++) {
-            persp_context *ctx = test_context_threads(2);
-            ctx->span_only = path_kind == 1;
-            ctx->pack_portable = path_kind == 2;
-            char path[1024];
-            test_source_path(path, sizeof path, "scenes/bench/soup-200k.json");
-            persp_scene *scene = NULL;
-            assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
-            persp_render_desc d;
-            memset(&d, 0, sizeof d);
-            assert_int_equal(persp_shading_parse(small_shadings[si / 2], &d.shading), PERSP_OK);
-            assert_int_equal(persp_filter_parse(filter, &d.filter, NULL), PERSP_OK);
-            enum { W = 256, H = 192 };
-            persp_framebuffer fb = test_framebuffer(W, H);
-            persp_render_stats st;
-            if (persp_render(ctx, scene, &d, &fb, &st) != PERSP_OK)
-                fail_msg("render: %s", persp_context_error(ctx));
-            assert_true(st.fragments > 4 * st.pixels_written / 3); /* overdraw */
-            h[path_kind] = test_hash(fb.color, W * H * 4);
-            test_framebuffer_free(&fb);
-            persp_scene_destroy(scene);
-            persp_context_destroy(ctx);
-        }
-        if (h[0] != h[1] || h[2] != h[1])
-            fail_msg("soup, %s, %s: packed %016llx, portably %016llx, spans %016llx", small_shadings[si / 2], filter,
-                     (unsigned long long)h[0], (unsigned long long)h[2], (unsigned long long)h[1]);
+    const char *filter = si % 2 ? "trilinear" : "bilinear";
+    uint64_t h[3]; /* lanes, spans, lanes packed portably */
+    for (int path_kind = 0; path_kind < 3; path_kind++) {
+        persp_context *ctx = test_context_threads(2);
+        ctx->span_only = path_kind == 1;
+        ctx->pack_portable = path_kind == 2;
+        char path[1024];
+        test_source_path(path, sizeof path, "scenes/bench/soup-200k.json");
+        persp_scene *scene = NULL;
+        assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+        persp_render_desc d;
+        memset(&d, 0, sizeof d);
+        assert_int_equal(persp_shading_parse(small_shadings[si / 2], &d.shading), PERSP_OK);
+        assert_int_equal(persp_filter_parse(filter, &d.filter, NULL), PERSP_OK);
+        enum { W = 256, H = 192 };
+        persp_framebuffer fb = test_framebuffer(W, H);
+        persp_render_stats st;
+        if (persp_render(ctx, scene, &d, &fb, &st) != PERSP_OK)
+            fail_msg("render: %s", persp_context_error(ctx));
+        assert_true(st.fragments > 4 * st.pixels_written / 3); /* overdraw */
+        h[path_kind] = test_hash(fb.color, W * H * 4);
+        test_framebuffer_free(&fb);
+        persp_scene_destroy(scene);
+        persp_context_destroy(ctx);
     }
+    if (h[0] != h[1] || h[2] != h[1])
+        fail_msg("soup, %s, %s: packed %016llx, portably %016llx, spans %016llx", small_shadings[si / 2],
+                 filter, (unsigned long long)h[0], (unsigned long long)h[2], (unsigned long long)h[1]);
 }
 
-static void test_small_triangles_as_spans_soup_none(void **state)
+static void test_small_triangles_as_spans_soup_none_bilinear(void **state)
 {
     (void)state;
     small_triangles_as_spans_soup(0);
 }
 
-static void test_small_triangles_as_spans_soup_gouraud(void **state)
+static void test_small_triangles_as_spans_soup_none_trilinear(void **state)
 {
     (void)state;
     small_triangles_as_spans_soup(1);
 }
 
-static void test_small_triangles_as_spans_soup_phong(void **state)
+static void test_small_triangles_as_spans_soup_gouraud_bilinear(void **state)
 {
     (void)state;
     small_triangles_as_spans_soup(2);
+}
+
+static void test_small_triangles_as_spans_soup_gouraud_trilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(3);
+}
+
+static void test_small_triangles_as_spans_soup_phong_bilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(4);
+}
+
+static void test_small_triangles_as_spans_soup_phong_trilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(5);
 }
 
 static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
@@ -851,9 +867,12 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_bit_identical),
         cmocka_unit_test(test_small_triangles_as_spans),
-        cmocka_unit_test(test_small_triangles_as_spans_soup_none),
-        cmocka_unit_test(test_small_triangles_as_spans_soup_gouraud),
-        cmocka_unit_test(test_small_triangles_as_spans_soup_phong),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_none_bilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_none_trilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_gouraud_bilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_gouraud_trilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_phong_bilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_phong_trilinear),
         cmocka_unit_test(test_threads_bit_identical_filters),
         cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_row_range_brute_force),
