@@ -86,8 +86,9 @@ static void test_small_triangles_as_spans(void **state)
                     persp_context_destroy(ctx);
                 }
                 if (h[0] != h[1])
-                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", small_filters[fi], small_shadings[si],
-                             dm ? "invw" : "z", (unsigned long long)h[0], (unsigned long long)h[1]);
+                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", small_filters[fi],
+                             small_shadings[si], dm ? "invw" : "z", (unsigned long long)h[0],
+                             (unsigned long long)h[1]);
                 compared++;
             }
     assert_int_equal(compared, 24);
@@ -746,7 +747,9 @@ static void test_adaptive_batches_bit_identical(void **state)
  * last one wins at every pixel. nt: 40 000 takes several set-up rounds of
  * full chunks on 4 threads, 3000 one round of smaller chunks (frame.c,
  * SETUP_CHUNK_MIN). */
-static void submission_order_kept(int cross_near, int nt)
+/* only_threads, only_batch: the one drawing compared with the serial one
+ * (0 and SIZE_MAX for every one), so that a case can be split over tests. */
+static void submission_order_kept_part(int cross_near, int nt, int only_threads, size_t only_batch)
 {
     enum { S = 96 };
     const int NT = nt;
@@ -769,8 +772,12 @@ static void submission_order_kept(int cross_near, int nt)
     }
     const size_t batches[] = {0, 5, 999};
     uint64_t ref = 0;
+    int compared = 0;
     for (int threads = 1; threads <= 4; threads += 3)
         for (size_t bi = 0; bi < sizeof batches / sizeof *batches; bi++) {
+            const int reference = threads == 1 && bi == 0;
+            if (!reference && only_threads && (threads != only_threads || batches[bi] != only_batch))
+                continue;
             persp_context *ctx = test_context_threads(threads);
             ctx->frame_batch = batches[bi] ? batches[bi] : (size_t)-1;
             uint8_t color[S * S * 4];
@@ -784,34 +791,95 @@ static void submission_order_kept(int cross_near, int nt)
             d.depth_test = PERSP_TOGGLE_OFF;
             assert_int_equal(persp_draw(ctx, &fb, &d, v, 3 * (size_t)NT, idx, 3 * (size_t)NT), PERSP_OK);
             uint64_t h = test_hash(color, sizeof color);
-            if (threads == 1 && bi == 0) ref = h;
+            if (reference) ref = h;
             else if (h != ref)
                 fail_msg("batch %zu, %d threads: hash %016llx, serial %016llx", batches[bi], threads,
                          (unsigned long long)h, (unsigned long long)ref);
+            compared += !reference;
             persp_context_destroy(ctx);
         }
+    assert_int_equal(compared, only_threads ? 1 : 5);
     free(v);
     free(idx);
 }
 
-/* One test per case, so that each stays far from the time limit under the
- * sanitizers and qemu-user. */
-static void test_submission_order_kept_40000(void **state)
+static void submission_order_kept(int cross_near, int nt)
 {
-    (void)state;
-    submission_order_kept(0, 40000);
+    submission_order_kept_part(cross_near, nt, 0, SIZE_MAX);
 }
 
-static void test_submission_order_kept_40000_near(void **state)
+/* One test per case, and for 40 000 triangles one per drawing compared with
+ * the serial one (each case took over 300 s under ThreadSanitizer on a
+ * loaded 2-core machine). */
+static void test_submission_order_kept_40000_t1_b5(void **state)
 {
     (void)state;
-    submission_order_kept(1, 40000);
+    submission_order_kept_part(0, 40000, 1, 5);
+}
+
+static void test_submission_order_kept_40000_t1_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 1, 999);
+}
+
+static void test_submission_order_kept_40000_t4_b0(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 4, 0);
+}
+
+static void test_submission_order_kept_40000_t4_b5(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 4, 5);
+}
+
+static void test_submission_order_kept_40000_t4_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 4, 999);
+}
+
+static void test_submission_order_kept_40000_near_t1_b5(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 1, 5);
+}
+
+static void test_submission_order_kept_40000_near_t1_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 1, 999);
+}
+
+static void test_submission_order_kept_40000_near_t4_b0(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 4, 0);
+}
+
+static void test_submission_order_kept_40000_near_t4_b5(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 4, 5);
+}
+
+static void test_submission_order_kept_40000_near_t4_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 4, 999);
 }
 
 static void test_submission_order_kept_3000(void **state)
 {
     (void)state;
     submission_order_kept(0, 3000);
+}
+
+static void test_submission_order_kept_3000_near(void **state)
+{
+    (void)state;
     submission_order_kept(1, 3000);
 }
 
@@ -917,9 +985,18 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_bench_scenes_thread_independent_soup_200k_gouraud),
         cmocka_unit_test(test_bench_scenes_thread_independent_soup_200k_phong),
         cmocka_unit_test(test_adaptive_batches_bit_identical),
-        cmocka_unit_test(test_submission_order_kept_40000),
-        cmocka_unit_test(test_submission_order_kept_40000_near),
+        cmocka_unit_test(test_submission_order_kept_40000_t1_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_t1_b999),
+        cmocka_unit_test(test_submission_order_kept_40000_t4_b0),
+        cmocka_unit_test(test_submission_order_kept_40000_t4_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_t4_b999),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t1_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t1_b999),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t4_b0),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t4_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t4_b999),
         cmocka_unit_test(test_submission_order_kept_3000),
+        cmocka_unit_test(test_submission_order_kept_3000_near),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
