@@ -24,6 +24,33 @@ void test_binary_path(char *buf, size_t size, const char *rel)
     join(buf, size, "PERSP_BINARY_DIR", ".", rel);
 }
 
+int test_run(int argc, char **argv, const struct CMUnitTest *tests, size_t count)
+{
+    const char *only = NULL;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
+            only = argv[++i];
+        } else {
+            fprintf(stderr, "%s: unknown argument '%s' (usage: %s [--only TEST])\n", argv[0], argv[i],
+                    argv[0]);
+            return 2;
+        }
+    }
+    if (only) {
+        size_t i = 0;
+        while (i < count && strcmp(tests[i].name, only) != 0)
+            ++i;
+        if (i == count) {
+            fprintf(stderr, "%s: no test named '%s'\n", argv[0], only);
+            return 2;
+        }
+        /* One test of the array: cmocka's filter takes a glob, so name the
+         * test by its own pointer instead of passing the pattern on. */
+        return _cmocka_run_group_tests(only, &tests[i], 1, NULL, NULL);
+    }
+    return _cmocka_run_group_tests("tests", tests, count, NULL, NULL);
+}
+
 uint64_t test_rng_next(test_rng *r)
 {
     uint64_t x = r->s ? r->s : 0x9E3779B97F4A7C15ull;

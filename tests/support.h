@@ -34,6 +34,15 @@ persp_context *test_context_threads(int threads);
 persp_framebuffer test_framebuffer(int w, int h);
 void test_framebuffer_free(persp_framebuffer *fb);
 
+/* Runs a program's cmocka tests. "--only NAME" runs the test NAME alone and
+ * fails when the program has no such test, so that a misspelt name cannot
+ * pass by running nothing: CMakeLists.txt registers each test of a source
+ * holding "ctest-split: each" as its own ctest entry (PROGRAM.NAME), which
+ * keeps every entry far from the time limit under the sanitizers and qemu
+ * (docs/RELIABILITY.md, "Continuous integration"). */
+int test_run(int argc, char **argv, const struct CMUnitTest *tests, size_t count);
+#define TEST_RUN(argc, argv, tests) test_run(argc, argv, tests, sizeof(tests) / sizeof((tests)[0]))
+
 /* Golden images (docs/DESIGN.md, "Testing", layer 3). */
 typedef struct test_tolerance {
     int max_abs;            /* largest per-channel difference */

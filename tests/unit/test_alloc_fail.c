@@ -13,6 +13,7 @@
  * decoders (libpng, libjpeg, jansson, Assimp) allocate with malloc does not
  * go through persp_allocator and is not injected here. */
 /* ctest-labels: threads (renders with several worker threads) */
+/* ctest-split: each (a minute in all under ThreadSanitizer) */
 #include "support.h"
 
 #include <pthread.h>
@@ -204,7 +205,7 @@ static void test_model_file(void **state)
     check_threads(&w);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_builtin_scenes),
@@ -212,5 +213,5 @@ int main(void)
         cmocka_unit_test(test_model_file),
         cmocka_unit_test(test_json_scene_with_model),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return TEST_RUN(argc, argv, tests);
 }

@@ -1,6 +1,7 @@
 /* Object-space texturing with screen-space filtering ([Romaniuk-ObjSpace],
  * src/objspace/objspace.c): thread independence, no holes, no bleeding. */
 /* ctest-labels: threads (renders with several worker threads) */
+/* ctest-split: each (minutes in all under ThreadSanitizer and qemu-user) */
 #include "support.h"
 
 #include "core/internal.h"
@@ -290,7 +291,7 @@ static void test_work_limit_refused(void **state)
     persp_context_destroy(ctx);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_threads_bit_identical),
@@ -301,5 +302,5 @@ int main(void)
         cmocka_unit_test(test_small_image_work_bounded),
         cmocka_unit_test(test_work_limit_refused),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return TEST_RUN(argc, argv, tests);
 }

@@ -1,6 +1,7 @@
 /* End-to-end rendering invariants: thread-count independence, depth modes,
  * immediate drawing, bad framebuffers. */
 /* ctest-labels: threads (renders with several worker threads) */
+/* ctest-split: each (minutes in all under ThreadSanitizer and qemu-user) */
 #include "support.h"
 
 #include "core/internal.h"
@@ -50,14 +51,15 @@ static uint64_t render_hash_batched(const char *scene_name, const persp_render_d
  * same image bit for bit, for the filters and shading it takes, both depth
  * modes, one and two threads. The 2k-triangle torus at 256×192 has
  * triangles a few pixels wide, which all take the packed path. */
+static const char *const small_filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear"};
+static const char *const small_shadings[] = {"none", "gouraud-pc", "phong-pc"};
+
 static void test_small_triangles_as_spans(void **state)
 {
     (void)state;
-    static const char *const filters[] = {"nearest", "bilinear", "trilinear", "nearest-mip-linear"};
-    static const char *const shadings[] = {"none", "gouraud-pc", "phong-pc"};
     int compared = 0;
-    for (size_t fi = 0; fi < sizeof filters / sizeof *filters; fi++)
-        for (size_t si = 0; si < sizeof shadings / sizeof *shadings; si++)
+    for (size_t fi = 0; fi < sizeof small_filters / sizeof *small_filters; fi++)
+        for (size_t si = 0; si < sizeof small_shadings / sizeof *small_shadings; si++)
             for (int dm = 0; dm < 2; dm++) {
                 uint64_t h[2];
                 for (int span_only = 0; span_only < 2; span_only++) {
@@ -69,8 +71,8 @@ static void test_small_triangles_as_spans(void **state)
                     assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
                     persp_render_desc d;
                     memset(&d, 0, sizeof d);
-                    assert_int_equal(persp_filter_parse(filters[fi], &d.filter, NULL), PERSP_OK);
-                    assert_int_equal(persp_shading_parse(shadings[si], &d.shading), PERSP_OK);
+                    assert_int_equal(persp_filter_parse(small_filters[fi], &d.filter, NULL), PERSP_OK);
+                    assert_int_equal(persp_shading_parse(small_shadings[si], &d.shading), PERSP_OK);
                     d.depth_mode = dm ? PERSP_DEPTH_INVW : PERSP_DEPTH_Z;
                     enum { W = 256, H = 192 };
                     persp_framebuffer fb = test_framebuffer(W, H);
@@ -84,48 +86,88 @@ static void test_small_triangles_as_spans(void **state)
                     persp_context_destroy(ctx);
                 }
                 if (h[0] != h[1])
-                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", filters[fi], shadings[si],
-                             dm ? "invw" : "z", (unsigned long long)h[0], (unsigned long long)h[1]);
+                    fail_msg("%s, %s, depth %s: packed %016llx, spans %016llx", small_filters[fi],
+                             small_shadings[si], dm ? "invw" : "z", (unsigned long long)h[0],
+                             (unsigned long long)h[1]);
                 compared++;
             }
     assert_int_equal(compared, 24);
-    /* The soup: triangles of one tile overlap, so consecutive small
-     * triangles that share a lane batch often cover the same pixel, which
-     * the batch must not hold twice (the depth tests would not see each
-     * other); lit, the lanes that fail the depth test are packed out
-     * before sampling (by AVX-512 compress where the CPU has it, and by
-     * the portable loop), and a filter with a level of detail samples each
-     * packed segment with its own triangle's derivatives. */
-    for (size_t si = 0; si < 2 * sizeof shadings / sizeof *shadings; si++) {
-        const char *filter = si % 2 ? "trilinear" : "bilinear";
-        uint64_t h[3]; /* lanes, spans, lanes packed portably */
-        for (int path_kind = 0; path_kind < 3; path_kind++) {
-            persp_context *ctx = test_context_threads(2);
-            ctx->span_only = path_kind == 1;
-            ctx->pack_portable = path_kind == 2;
-            char path[1024];
-            test_source_path(path, sizeof path, "scenes/bench/soup-200k.json");
-            persp_scene *scene = NULL;
-            assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
-            persp_render_desc d;
-            memset(&d, 0, sizeof d);
-            assert_int_equal(persp_shading_parse(shadings[si / 2], &d.shading), PERSP_OK);
-            assert_int_equal(persp_filter_parse(filter, &d.filter, NULL), PERSP_OK);
-            enum { W = 256, H = 192 };
-            persp_framebuffer fb = test_framebuffer(W, H);
-            persp_render_stats st;
-            if (persp_render(ctx, scene, &d, &fb, &st) != PERSP_OK)
-                fail_msg("render: %s", persp_context_error(ctx));
-            assert_true(st.fragments > 4 * st.pixels_written / 3); /* overdraw */
-            h[path_kind] = test_hash(fb.color, W * H * 4);
-            test_framebuffer_free(&fb);
-            persp_scene_destroy(scene);
-            persp_context_destroy(ctx);
-        }
-        if (h[0] != h[1] || h[2] != h[1])
-            fail_msg("soup, %s, %s: packed %016llx, portably %016llx, spans %016llx", shadings[si / 2], filter,
-                     (unsigned long long)h[0], (unsigned long long)h[2], (unsigned long long)h[1]);
+}
+
+/* The soup: triangles of one tile overlap, so consecutive small triangles
+ * that share a lane batch often cover the same pixel, which the batch must
+ * not hold twice (the depth tests would not see each other); lit, the lanes
+ * that fail the depth test are packed out before sampling (by AVX-512
+ * compress where the CPU has it, and by the portable loop), and a filter
+ * with a level of detail samples each packed segment with its own
+ * triangle's derivatives. One shading and filter per test (si / 2 and
+ * si % 2): each takes about a minute under ThreadSanitizer. */
+static void small_triangles_as_spans_soup(size_t si)
+{
+    const char *filter = si % 2 ? "trilinear" : "bilinear";
+    uint64_t h[3]; /* lanes, spans, lanes packed portably */
+    for (int path_kind = 0; path_kind < 3; path_kind++) {
+        persp_context *ctx = test_context_threads(2);
+        ctx->span_only = path_kind == 1;
+        ctx->pack_portable = path_kind == 2;
+        char path[1024];
+        test_source_path(path, sizeof path, "scenes/bench/soup-200k.json");
+        persp_scene *scene = NULL;
+        assert_int_equal(persp_scene_load(ctx, path, &scene), PERSP_OK);
+        persp_render_desc d;
+        memset(&d, 0, sizeof d);
+        assert_int_equal(persp_shading_parse(small_shadings[si / 2], &d.shading), PERSP_OK);
+        assert_int_equal(persp_filter_parse(filter, &d.filter, NULL), PERSP_OK);
+        enum { W = 256, H = 192 };
+        persp_framebuffer fb = test_framebuffer(W, H);
+        persp_render_stats st;
+        if (persp_render(ctx, scene, &d, &fb, &st) != PERSP_OK)
+            fail_msg("render: %s", persp_context_error(ctx));
+        assert_true(st.fragments > 4 * st.pixels_written / 3); /* overdraw */
+        h[path_kind] = test_hash(fb.color, W * H * 4);
+        test_framebuffer_free(&fb);
+        persp_scene_destroy(scene);
+        persp_context_destroy(ctx);
     }
+    if (h[0] != h[1] || h[2] != h[1])
+        fail_msg("soup, %s, %s: packed %016llx, portably %016llx, spans %016llx", small_shadings[si / 2],
+                 filter, (unsigned long long)h[0], (unsigned long long)h[2], (unsigned long long)h[1]);
+}
+
+static void test_small_triangles_as_spans_soup_none_bilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(0);
+}
+
+static void test_small_triangles_as_spans_soup_none_trilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(1);
+}
+
+static void test_small_triangles_as_spans_soup_gouraud_bilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(2);
+}
+
+static void test_small_triangles_as_spans_soup_gouraud_trilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(3);
+}
+
+static void test_small_triangles_as_spans_soup_phong_bilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(4);
+}
+
+static void test_small_triangles_as_spans_soup_phong_trilinear(void **state)
+{
+    (void)state;
+    small_triangles_as_spans_soup(5);
 }
 
 static uint64_t render_hash_desc(const char *scene_name, const persp_render_desc *d, int threads, int w,
@@ -585,19 +627,15 @@ static void test_batches_bit_identical(void **state)
  * others'), the corridor serially, and the tiles are drawn in parallel in
  * every case. A triangle set up twice would leave the image as it is
  * (its copy fails the depth test) but not the counts. */
-static void test_bench_scenes_thread_independent(void **state)
+/* shading: the index of the one shading to check, or -1 for all three. */
+static void bench_scene_thread_independent(const char *scene, int shading)
 {
-    (void)state;
-    const char *scenes[] = {"corridor",
-                            "scenes/bench/torus-2k.json",
-                            "scenes/bench/torus-20k.json",
-                            "scenes/bench/torus-200k.json",
-                            "scenes/bench/torus-2m.json",
-                            "scenes/bench/soup-200k.json"};
+    const char *scenes[] = {scene};
     const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_PHONG_PC};
     enum { W = 320, H = 240 };
     for (size_t si = 0; si < sizeof scenes / sizeof *scenes; si++)
         for (size_t sh = 0; sh < sizeof shadings / sizeof *shadings; sh++) {
+            if (shading >= 0 && sh != (size_t)shading) continue;
             persp_render_desc d;
             memset(&d, 0, sizeof d);
             d.shading = shadings[sh];
@@ -624,6 +662,68 @@ static void test_bench_scenes_thread_independent(void **state)
         }
 }
 
+/* One test per scene, and per shading for the two largest: the 2M torus
+ * alone took minutes under ThreadSanitizer and qemu-user. */
+static void test_bench_scenes_thread_independent_corridor(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("corridor", -1);
+}
+
+static void test_bench_scenes_thread_independent_torus_2k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-2k.json", -1);
+}
+
+static void test_bench_scenes_thread_independent_torus_20k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-20k.json", -1);
+}
+
+static void test_bench_scenes_thread_independent_torus_200k(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-200k.json", -1);
+}
+
+static void test_bench_scenes_thread_independent_torus_2m_none(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-2m.json", 0);
+}
+
+static void test_bench_scenes_thread_independent_torus_2m_gouraud(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-2m.json", 1);
+}
+
+static void test_bench_scenes_thread_independent_torus_2m_phong(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/torus-2m.json", 2);
+}
+
+static void test_bench_scenes_thread_independent_soup_200k_none(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/soup-200k.json", 0);
+}
+
+static void test_bench_scenes_thread_independent_soup_200k_gouraud(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/soup-200k.json", 1);
+}
+
+static void test_bench_scenes_thread_independent_soup_200k_phong(void **state)
+{
+    (void)state;
+    bench_scene_thread_independent("scenes/bench/soup-200k.json", 2);
+}
+
 /* The default batches adapt to how spread the last batch was (frame.c,
  * PERSP_FRAME_BATCH_PER_WORKER): the 200k-triangle soup at 1024×768
  * touches every tile in each batch, so its batches after the first are
@@ -647,7 +747,9 @@ static void test_adaptive_batches_bit_identical(void **state)
  * last one wins at every pixel. nt: 40 000 takes several set-up rounds of
  * full chunks on 4 threads, 3000 one round of smaller chunks (frame.c,
  * SETUP_CHUNK_MIN). */
-static void submission_order_kept(int cross_near, int nt)
+/* only_threads, only_batch: the one drawing compared with the serial one
+ * (0 and SIZE_MAX for every one), so that a case can be split over tests. */
+static void submission_order_kept_part(int cross_near, int nt, int only_threads, size_t only_batch)
 {
     enum { S = 96 };
     const int NT = nt;
@@ -670,8 +772,12 @@ static void submission_order_kept(int cross_near, int nt)
     }
     const size_t batches[] = {0, 5, 999};
     uint64_t ref = 0;
+    int compared = 0;
     for (int threads = 1; threads <= 4; threads += 3)
         for (size_t bi = 0; bi < sizeof batches / sizeof *batches; bi++) {
+            const int reference = threads == 1 && bi == 0;
+            if (!reference && only_threads && (threads != only_threads || batches[bi] != only_batch))
+                continue;
             persp_context *ctx = test_context_threads(threads);
             ctx->frame_batch = batches[bi] ? batches[bi] : (size_t)-1;
             uint8_t color[S * S * 4];
@@ -685,22 +791,95 @@ static void submission_order_kept(int cross_near, int nt)
             d.depth_test = PERSP_TOGGLE_OFF;
             assert_int_equal(persp_draw(ctx, &fb, &d, v, 3 * (size_t)NT, idx, 3 * (size_t)NT), PERSP_OK);
             uint64_t h = test_hash(color, sizeof color);
-            if (threads == 1 && bi == 0) ref = h;
+            if (reference) ref = h;
             else if (h != ref)
                 fail_msg("batch %zu, %d threads: hash %016llx, serial %016llx", batches[bi], threads,
                          (unsigned long long)h, (unsigned long long)ref);
+            compared += !reference;
             persp_context_destroy(ctx);
         }
+    assert_int_equal(compared, only_threads ? 1 : 5);
     free(v);
     free(idx);
 }
 
-static void test_submission_order_kept(void **state)
+static void submission_order_kept(int cross_near, int nt)
+{
+    submission_order_kept_part(cross_near, nt, 0, SIZE_MAX);
+}
+
+/* One test per case, and for 40 000 triangles one per drawing compared with
+ * the serial one (each case took over 300 s under ThreadSanitizer on a
+ * loaded 2-core machine). */
+static void test_submission_order_kept_40000_t1_b5(void **state)
 {
     (void)state;
-    submission_order_kept(0, 40000);
-    submission_order_kept(1, 40000);
+    submission_order_kept_part(0, 40000, 1, 5);
+}
+
+static void test_submission_order_kept_40000_t1_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 1, 999);
+}
+
+static void test_submission_order_kept_40000_t4_b0(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 4, 0);
+}
+
+static void test_submission_order_kept_40000_t4_b5(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 4, 5);
+}
+
+static void test_submission_order_kept_40000_t4_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(0, 40000, 4, 999);
+}
+
+static void test_submission_order_kept_40000_near_t1_b5(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 1, 5);
+}
+
+static void test_submission_order_kept_40000_near_t1_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 1, 999);
+}
+
+static void test_submission_order_kept_40000_near_t4_b0(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 4, 0);
+}
+
+static void test_submission_order_kept_40000_near_t4_b5(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 4, 5);
+}
+
+static void test_submission_order_kept_40000_near_t4_b999(void **state)
+{
+    (void)state;
+    submission_order_kept_part(1, 40000, 4, 999);
+}
+
+static void test_submission_order_kept_3000(void **state)
+{
+    (void)state;
     submission_order_kept(0, 3000);
+}
+
+static void test_submission_order_kept_3000_near(void **state)
+{
+    (void)state;
     submission_order_kept(1, 3000);
 }
 
@@ -778,24 +957,51 @@ static void test_border_is_opaque(void **state)
     free(px);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_threads_bit_identical), cmocka_unit_test(test_small_triangles_as_spans),
+        cmocka_unit_test(test_threads_bit_identical),
+        cmocka_unit_test(test_small_triangles_as_spans),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_none_bilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_none_trilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_gouraud_bilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_gouraud_trilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_phong_bilinear),
+        cmocka_unit_test(test_small_triangles_as_spans_soup_phong_trilinear),
         cmocka_unit_test(test_threads_bit_identical_filters),
         cmocka_unit_test(test_no_allocation_after_first_frame),
         cmocka_unit_test(test_row_range_brute_force),
         cmocka_unit_test(test_count_ops),
         cmocka_unit_test(test_batches_bit_identical),
         cmocka_unit_test(test_back_lighting_places_agree),
-        cmocka_unit_test(test_bench_scenes_thread_independent),
+        cmocka_unit_test(test_bench_scenes_thread_independent_corridor),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_2k),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_20k),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_200k),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_2m_none),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_2m_gouraud),
+        cmocka_unit_test(test_bench_scenes_thread_independent_torus_2m_phong),
+        cmocka_unit_test(test_bench_scenes_thread_independent_soup_200k_none),
+        cmocka_unit_test(test_bench_scenes_thread_independent_soup_200k_gouraud),
+        cmocka_unit_test(test_bench_scenes_thread_independent_soup_200k_phong),
         cmocka_unit_test(test_adaptive_batches_bit_identical),
-        cmocka_unit_test(test_submission_order_kept),
+        cmocka_unit_test(test_submission_order_kept_40000_t1_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_t1_b999),
+        cmocka_unit_test(test_submission_order_kept_40000_t4_b0),
+        cmocka_unit_test(test_submission_order_kept_40000_t4_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_t4_b999),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t1_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t1_b999),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t4_b0),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t4_b5),
+        cmocka_unit_test(test_submission_order_kept_40000_near_t4_b999),
+        cmocka_unit_test(test_submission_order_kept_3000),
+        cmocka_unit_test(test_submission_order_kept_3000_near),
         cmocka_unit_test(test_every_pixel_covered_corridor),
         cmocka_unit_test(test_draw_depth_order),
         cmocka_unit_test(test_bad_inputs),
         cmocka_unit_test(test_mirrored_objects_cull_back_faces),
         cmocka_unit_test(test_border_is_opaque),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    return TEST_RUN(argc, argv, tests);
 }
