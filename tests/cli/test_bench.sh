@@ -60,17 +60,22 @@ if "$persp" bench --method all "${tiny[@]}" --json >"$tmp/all.json" 2>"$tmp/err"
 else bad "bench --method all exited non-zero: $(cat "$tmp/err")"; fi
 
 # The table grows as it is measured: exact's row (first) is out while the
-# other methods are still running (about 25 ms each here), not printed with
-# all the rest once the last one is done.
-exec {rows}< <("$persp" bench --method all --size 128x96 --reps 3 --frames 400 2>/dev/null; echo "end $?")
-line=""
-for _ in 1 2 3 4; do IFS= read -r -t 120 line <&"$rows"; done
-case "$line" in exact\ *) ok ;; *) bad "bench --method all: the fourth line is not exact's row: '$line'" ;; esac
+# other methods are still running, not printed with all the rest once the
+# last one is done. Held to proportions, not to times, so that a sanitizer
+# build or a loaded machine passes as well: exact is one method of about
+# thirty, so most of the run lies after its row.
 t0=$(date +%s%N)
-while IFS= read -r -t 120 line <&"$rows" && [ "${line%% *}" != end ]; do :; done
-waited=$((($(date +%s%N) - t0) / 1000000))
+exec {rows}< <("$persp" bench --method all --size 128x96 --reps 1 --frames 30 2>/dev/null; echo "end $?")
+line=""
+for _ in 1 2 3 4; do IFS= read -r -t 600 line <&"$rows"; done
+t_row=$(date +%s%N)
+case "$line" in exact\ *) ok ;; *) bad "bench --method all: the fourth line is not exact's row: '$line'" ;; esac
+while IFS= read -r -t 600 line <&"$rows" && [ "${line%% *}" != end ]; do :; done
+t_end=$(date +%s%N)
 [ "$line" = "end 0" ] && ok || bad "bench --method all (streamed) ended with '$line'"
-[ "$waited" -ge 200 ] && ok || bad "bench --method all: every row came within ${waited} ms of exact's (printed at the end?)"
+after=$(((t_end - t_row) / 1000000)) total=$(((t_end - t0) / 1000000))
+[ $((2 * after)) -ge "$total" ] && ok ||
+    bad "bench --method all: only ${after} of ${total} ms came after exact's row (the rows printed at the end?)"
 exec {rows}<&-
 
 # --simd: each sampler variant this CPU runs is used as asked and draws the
