@@ -125,7 +125,7 @@ void persp__clear_error(persp_context *ctx)
  * decimal. */
 static void format_bytes(char *buf, size_t n, size_t bytes)
 {
-    static const char *unit[] = {"KiB", "MiB", "GiB", "TiB"};
+    static const char *const unit[] = {"KiB", "MiB", "GiB", "TiB"};
     if (bytes < 10240) {
         snprintf(buf, n, "%zu bytes", bytes);
         return;
