@@ -23,6 +23,7 @@
 #include "../../bench/peer.h"
 #endif
 
+#include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -476,43 +477,19 @@ static image_diff compare_images(const uint8_t *a, const uint8_t *b, const float
 
 /* ------------------------------------------------------------------ output */
 
-static void json_string(FILE *out, const char *s)
-{
-    fputc('"', out);
-    for (; s && *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(out, "\\%c", c);
-        else if (c < 0x20)
-            fprintf(out, "\\u%04x", c);
-        else
-            fputc(c, out);
-    }
-    fputc('"', out);
-}
+/* A number, or null where it is not finite (a rate over no time). */
+static json_t *json_num(double x) { return isfinite(x) ? json_real(x) : json_null(); }
 
-static void json_number(FILE *out, double x)
+static void json_stats(json_t *o, const run_stats *s)
 {
-    if (isfinite(x))
-        fprintf(out, "%.6g", x);
-    else
-        fprintf(out, "null");
-}
-
-static void json_stats(FILE *out, const run_stats *s)
-{
-    fprintf(out, "\"frames\": %d, \"reps\": %d, \"mpix_median\": ", s->frames, s->reps);
-    json_number(out, s->median);
-    fprintf(out, ", \"mpix_min\": ");
-    json_number(out, s->min);
-    fprintf(out, ", \"mpix_max\": ");
-    json_number(out, s->max);
-    fprintf(out, ", \"mpix_runs\": [");
-    for (int i = 0; i < s->reps; i++) {
-        if (i) fprintf(out, ", ");
-        json_number(out, s->mpix[i]);
-    }
-    fprintf(out, "]");
+    json_object_set_new(o, "frames", json_integer(s->frames));
+    json_object_set_new(o, "reps", json_integer(s->reps));
+    json_object_set_new(o, "mpix_median", json_num(s->median));
+    json_object_set_new(o, "mpix_min", json_num(s->min));
+    json_object_set_new(o, "mpix_max", json_num(s->max));
+    json_t *runs = json_array();
+    for (int i = 0; i < s->reps; i++) json_array_append_new(runs, json_num(s->mpix[i]));
+    json_object_set_new(o, "mpix_runs", runs);
 }
 
 typedef struct bench_report {
@@ -525,86 +502,79 @@ typedef struct bench_report {
     double rss_mib, rss_start_mib;
 } bench_report;
 
-static void print_json(FILE *out, const bench_report *r)
+static json_t *json_results(const bench_report *r)
 {
-    const bench_opts *o = r->o;
-    fprintf(out, "{\"scene\": ");
-    json_string(out, o->scene);
-    fprintf(out, ", \"width\": %d, \"height\": %d, \"filter\": ", o->width, o->height);
-    json_string(out, o->filter_name);
-    fprintf(out, ", \"shading\": ");
-    json_string(out, o->shading_name);
-    fprintf(out, ", \"threads\": %d, \"simd\": ", o->threads);
-    json_string(out, persp_simd_name(o->simd));
-    fprintf(out, ", \"simd_asked\": ");
-    json_string(out, persp_simd_name(o->simd_asked));
-    fprintf(out, ", \"peak_rss_mib\": ");
-    json_number(out, r->rss_mib);
-    fprintf(out, ", \"rss_at_start_mib\": ");
-    json_number(out, r->rss_start_mib);
-    fprintf(out, ",\n \"results\": [");
+    json_t *results = json_array();
     for (size_t i = 0; i < r->count; i++) {
         const method_result *m = &r->results[i];
-        fprintf(out, "%s\n  {\"method\": ", i ? "," : "");
-        json_string(out, m->spec);
+        json_t *o = json_object();
+        json_object_set_new(o, "method", json_string(m->spec));
         if (!m->ok) {
-            fprintf(out, ", \"error\": ");
-            json_string(out, m->error);
-            fprintf(out, "}");
-            continue;
+            json_object_set_new(o, "error", json_string(m->error));
+        } else {
+            json_stats(o, &m->stats);
+            if (r->exact) json_object_set_new(o, "vs_exact", json_num(m->stats.median / r->exact->stats.median));
+            if (r->peer && r->peer->ok)
+                json_object_set_new(o, "vs_peer", json_num(m->stats.median / r->peer->stats.median));
         }
-        fprintf(out, ", ");
-        json_stats(out, &m->stats);
-        if (r->exact) {
-            fprintf(out, ", \"vs_exact\": ");
-            json_number(out, m->stats.median / r->exact->stats.median);
-        }
-        if (r->peer && r->peer->ok) {
-            fprintf(out, ", \"vs_peer\": ");
-            json_number(out, m->stats.median / r->peer->stats.median);
-        }
-        fprintf(out, "}");
+        json_array_append_new(results, o);
     }
-    fprintf(out, "\n ]");
-    if (r->peer && r->peer->ok) {
-        const peer_result *p = r->peer;
-        fprintf(out, ",\n \"peer\": {\"driver\": ");
-        json_string(out, o->peer);
-        fprintf(out, ", \"renderer\": ");
-        json_string(out, p->renderer);
-        fprintf(out, ", \"version\": ");
-        json_string(out, p->version);
-        fprintf(out, ", \"pipeline\": ");
-        json_string(out, p->pipeline);
-        fprintf(out, ", \"lp_num_threads\": %d, \"aniso\": ", o->peer_threads);
-        json_number(out, p->aniso);
-        fprintf(out, ", \"peak_rss_mib\": ");
-        json_number(out, p->maxrss_mib);
-        fprintf(out, ", ");
-        json_stats(out, &p->stats);
-        fprintf(out, "}");
-    }
-    if (r->diff) {
-        const image_diff *d = r->diff;
-        fprintf(out, ",\n \"peer_image\": {\"file\": ");
-        if (o->peer_image)
-            json_string(out, o->peer_image);
-        else
-            fprintf(out, "null");
-        fprintf(out, ", \"compared_with\": \"exact\", \"covered_pct\": ");
-        json_number(out, d->covered_pct);
-        fprintf(out, ", \"max_abs\": [%d, %d, %d, %d], \"pct_gt1\": ",
-                d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]);
-        json_number(out, d->pct_gt1);
-        fprintf(out, ", \"pct_gt2\": ");
-        json_number(out, d->pct_gt2);
-        fprintf(out, ", \"pct_gt8\": ");
-        json_number(out, d->pct_gt8);
-        fprintf(out, ", \"psnr_db\": ");
-        json_number(out, d->psnr);
-        fprintf(out, "}");
-    }
-    fprintf(out, "\n}\n");
+    return results;
+}
+
+static json_t *json_peer(const bench_opts *o, const peer_result *p)
+{
+    json_t *j = json_object();
+    json_object_set_new(j, "driver", json_string(o->peer));
+    json_object_set_new(j, "renderer", json_string(p->renderer));
+    json_object_set_new(j, "version", json_string(p->version));
+    json_object_set_new(j, "pipeline", json_string(p->pipeline));
+    json_object_set_new(j, "lp_num_threads", json_integer(o->peer_threads));
+    json_object_set_new(j, "aniso", json_num(p->aniso));
+    json_object_set_new(j, "peak_rss_mib", json_num(p->maxrss_mib));
+    json_stats(j, &p->stats);
+    return j;
+}
+
+static json_t *json_diff(const bench_opts *o, const image_diff *d)
+{
+    json_t *j = json_object();
+    json_object_set_new(j, "file", o->peer_image ? json_string(o->peer_image) : json_null());
+    json_object_set_new(j, "compared_with", json_string("exact"));
+    json_object_set_new(j, "covered_pct", json_num(d->covered_pct));
+    json_object_set_new(j, "max_abs",
+                        json_pack("[iiii]", d->max_abs[0], d->max_abs[1], d->max_abs[2], d->max_abs[3]));
+    json_object_set_new(j, "pct_gt1", json_num(d->pct_gt1));
+    json_object_set_new(j, "pct_gt2", json_num(d->pct_gt2));
+    json_object_set_new(j, "pct_gt8", json_num(d->pct_gt8));
+    json_object_set_new(j, "psnr_db", json_num(d->psnr));
+    return j;
+}
+
+/* The results as one JSON object (jansson: strings escaped, numbers to six
+ * significant digits, non-finite ones null). CLI_FAIL when out of memory. */
+static int print_json(FILE *out, const bench_report *r)
+{
+    const bench_opts *o = r->o;
+    json_t *j = json_object();
+    json_object_set_new(j, "scene", json_string(o->scene));
+    json_object_set_new(j, "width", json_integer(o->width));
+    json_object_set_new(j, "height", json_integer(o->height));
+    json_object_set_new(j, "filter", json_string(o->filter_name));
+    json_object_set_new(j, "shading", json_string(o->shading_name));
+    json_object_set_new(j, "threads", json_integer(o->threads));
+    json_object_set_new(j, "simd", json_string(persp_simd_name(o->simd)));
+    json_object_set_new(j, "simd_asked", json_string(persp_simd_name(o->simd_asked)));
+    json_object_set_new(j, "peak_rss_mib", json_num(r->rss_mib));
+    json_object_set_new(j, "rss_at_start_mib", json_num(r->rss_start_mib));
+    json_object_set_new(j, "results", json_results(r));
+    if (r->peer && r->peer->ok) json_object_set_new(j, "peer", json_peer(o, r->peer));
+    if (r->diff) json_object_set_new(j, "peer_image", json_diff(o, r->diff));
+    int rc = json_dumpf(j, out, JSON_INDENT(1) | JSON_REAL_PRECISION(6)) == 0 && fputc('\n', out) != EOF
+                 ? CLI_OK
+                 : cli_error(CLI_FAIL, "bench: cannot write the JSON results");
+    json_decref(j);
+    return rc;
 }
 
 /* The text table is printed as it is measured: the head once the scene is
@@ -1030,7 +1000,7 @@ static int bench_report_out(bench_session *s)
     bench_report report = {&s->o, s->results, s->count, s->exact, s->o.peer && s->peer.ok ? &s->peer : NULL,
                            s->have_diff ? &s->diff : NULL, s->rss_mib, s->rss_start_mib};
     if (s->o.json)
-        print_json(out->f, &report);
+        rc = print_json(out->f, &report) != CLI_OK && rc == CLI_OK ? CLI_FAIL : rc;
     else
         print_text_tail(out->f, &report);
     if (s->failures && rc == CLI_OK) rc = CLI_FAIL;
