@@ -58,27 +58,11 @@ static uint64_t hash_bits(const void *p, size_t n, uint64_t h)
 
 #define EMPTY UINT32_MAX
 
-persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float crease_deg,
-                                        size_t max_vertices)
+/* Each triangle's unit normal (fn, 4 floats a triangle) and each corner's
+ * angle, its weight in the vertex normal. */
+static void face_normals(const persp_mesh *m, float *fn, float *weight)
 {
-    const size_t nc = m->index_count, nv = m->vertex_count, nt = nc / 3;
-    if (nc == 0 || nv == 0) return PERSP_OK;
-    const float limit = crease_deg > 0.0f ? cosf(fminf(crease_deg, 180.0f) * 0.01745329252f) : 1.0f - 1e-6f;
-    size_t cap = 16;
-    while (cap < 2 * (nv > nc ? nv : nc)) cap *= 2;
-    float *fn = persp__alloc(ctx, (nt ? nt : 1) * 4 * sizeof *fn); /* the unit normal of each triangle */
-    float *weight = persp__alloc(ctx, nc * sizeof *weight);
-    uint32_t *group = persp__alloc(ctx, nv * sizeof *group);
-    uint32_t *table = persp__alloc(ctx, cap * sizeof *table);
-    uint32_t *off = persp__calloc(ctx, nv + 2, sizeof *off);
-    uint32_t *list = persp__alloc(ctx, nc * sizeof *list);
-    float *cn = persp__alloc(ctx, nc * 3 * sizeof *cn);
-    persp_vertex *out = NULL;
-    uint32_t *outix = NULL, *src = NULL;
-    persp_status st = PERSP_OK;
-    if (!fn || !weight || !group || !table || !off || !list || !cn) goto nomem;
-
-    for (size_t t = 0; t < nt; t++) {
+    for (size_t t = 0; t < m->index_count / 3; t++) {
         const float *p[3];
         for (int k = 0; k < 3; k++) p[k] = m->vertices[m->indices[3 * t + (size_t)k]].pos;
         const float u[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
@@ -91,11 +75,17 @@ persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float
         for (int k = 0; k < 3; k++)
             weight[3 * t + (size_t)k] = corner_angle(p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
     }
-    /* Vertices grouped by position, bit for bit: vertices that differ only
-     * in texture coordinates or colour (a seam) are smoothed together. */
+}
+
+/* Vertices grouped by position, bit for bit: vertices that differ only in
+ * texture coordinates or colour (a seam) are smoothed together. group[i]
+ * is vertex i's; returns the number of groups. table: cap slots (a power
+ * of two, at least twice the vertices). */
+static size_t position_groups(const persp_mesh *m, uint32_t *table, size_t cap, uint32_t *group)
+{
     memset(table, 0xff, cap * sizeof *table);
     size_t groups = 0;
-    for (size_t i = 0; i < nv; i++) {
+    for (size_t i = 0; i < m->vertex_count; i++) {
         const float *p = m->vertices[i].pos;
         for (size_t s = (size_t)hash_bits(p, 3 * sizeof *p, 1469598103934665603ull) & (cap - 1);;
              s = (s + 1) & (cap - 1)) {
@@ -110,10 +100,16 @@ persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float
             }
         }
     }
-    for (size_t c = 0; c < nc; c++) off[group[m->indices[c]] + 2]++;
-    for (size_t g = 0; g < groups; g++) off[g + 2] += off[g + 1];
-    for (size_t c = 0; c < nc; c++) list[off[group[m->indices[c]] + 1]++] = (uint32_t)c;
-    /* off[g] .. off[g + 1]: the corners at position g. */
+    return groups;
+}
+
+/* Each corner's normal (cn, 3 floats a corner): the angle-weighted sum of
+ * the normals of the faces at its position within the crease limit of its
+ * own, unit length. off[g] .. off[g + 1] index list[], the corners at
+ * position g. */
+static void corner_normals(const uint32_t *off, const uint32_t *list, size_t groups, const float *fn,
+                           const float *weight, float limit, float *cn)
+{
     for (size_t g = 0; g < groups; g++) {
         const uint32_t a = off[g], b = off[g + 1];
         float all[3] = {0, 0, 0};
@@ -139,65 +135,105 @@ persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float
             unit(sum);
         }
     }
-    persp__free(ctx, fn), fn = NULL;
-    persp__free(ctx, weight), weight = NULL;
-    persp__free(ctx, off), off = NULL;
-    persp__free(ctx, list), list = NULL;
-    persp__free(ctx, group), group = NULL;
-    /* One vertex per distinct (vertex, normal): corners that agree share. */
-    persp__free(ctx, table);
-    cap = 16;
-    while (cap < 2 * nc) cap *= 2;
-    table = persp__alloc(ctx, cap * sizeof *table);
-    out = persp__alloc(ctx, nc * sizeof *out);
-    outix = persp__alloc(ctx, nc * sizeof *outix);
-    src = persp__alloc(ctx, nc * sizeof *src);
-    if (!table || !out || !outix || !src) goto nomem;
-    memset(table, 0xff, cap * sizeof *table);
-    size_t count = 0;
-    for (size_t c = 0; c < nc; c++) {
-        const uint32_t v = m->indices[c];
-        const float *n = cn + 3 * c;
-        size_t s = (size_t)hash_bits(n, 3 * sizeof *n, (uint64_t)v * 2654435761u + 1469598103934665603ull) & (cap - 1);
-        for (;; s = (s + 1) & (cap - 1)) {
-            const uint32_t w = table[s];
-            if (w == EMPTY) {
-                out[count] = m->vertices[v];
-                memcpy(out[count].normal, n, sizeof out[count].normal);
-                src[count] = v;
-                table[s] = (uint32_t)count;
-                outix[c] = (uint32_t)count++;
-                break;
-            }
-            if (src[w] == v && !memcmp(out[w].normal, n, sizeof out[w].normal)) {
-                outix[c] = w;
-                break;
-            }
-        }
+}
+
+/* The corners' normals, each with the mesh's own normal per corner (cn). */
+static persp_status crease_corner_normals(persp_context *ctx, const persp_mesh *m, float limit, float *cn)
+{
+    const size_t nc = m->index_count, nv = m->vertex_count, nt = nc / 3;
+    size_t cap = 16;
+    while (cap < 2 * (nv > nc ? nv : nc)) cap *= 2;
+    float *fn = persp__alloc(ctx, (nt ? nt : 1) * 4 * sizeof *fn); /* the unit normal of each triangle */
+    float *weight = persp__alloc(ctx, nc * sizeof *weight);
+    uint32_t *group = persp__alloc(ctx, nv * sizeof *group);
+    uint32_t *table = persp__alloc(ctx, cap * sizeof *table);
+    uint32_t *off = persp__calloc(ctx, nv + 2, sizeof *off);
+    uint32_t *list = persp__alloc(ctx, nc * sizeof *list);
+    persp_status st = PERSP_ERR_OUT_OF_MEMORY;
+    if (fn && weight && group && table && off && list) {
+        face_normals(m, fn, weight);
+        const size_t groups = position_groups(m, table, cap, group);
+        for (size_t c = 0; c < nc; c++) off[group[m->indices[c]] + 2]++;
+        for (size_t g = 0; g < groups; g++) off[g + 2] += off[g + 1];
+        for (size_t c = 0; c < nc; c++) list[off[group[m->indices[c]] + 1]++] = (uint32_t)c;
+        corner_normals(off, list, groups, fn, weight, limit, cn);
+        st = PERSP_OK;
     }
-    if (count > PERSP_SCENE_MAX_VERTICES || count > max_vertices) {
-        st = PERSP_ERR_TOO_LARGE;
-        goto done;
-    }
-    persp__free(ctx, m->vertices);
-    m->vertices = out;
-    m->vertex_count = count;
-    out = NULL;
-    memcpy(m->indices, outix, nc * sizeof *outix);
-    m->has_normals = 0;
-    goto done;
-nomem:
-    st = PERSP_ERR_OUT_OF_MEMORY;
-done:
     persp__free(ctx, fn);
     persp__free(ctx, weight);
     persp__free(ctx, group);
     persp__free(ctx, table);
     persp__free(ctx, off);
     persp__free(ctx, list);
-    persp__free(ctx, cn);
+    return st;
+}
+
+/* One vertex per distinct (vertex, normal): corners that agree share. The
+ * mesh takes the new vertices and indices; PERSP_ERR_TOO_LARGE beyond
+ * max_vertices (the mesh is then unchanged). */
+static persp_status split_vertices(persp_context *ctx, persp_mesh *m, const float *cn, size_t max_vertices)
+{
+    const size_t nc = m->index_count;
+    size_t cap = 16;
+    while (cap < 2 * nc) cap *= 2;
+    uint32_t *table = persp__alloc(ctx, cap * sizeof *table);
+    persp_vertex *out = persp__alloc(ctx, nc * sizeof *out);
+    uint32_t *outix = persp__alloc(ctx, nc * sizeof *outix);
+    uint32_t *src = persp__alloc(ctx, nc * sizeof *src);
+    persp_status st = PERSP_ERR_OUT_OF_MEMORY;
+    if (table && out && outix && src) {
+        memset(table, 0xff, cap * sizeof *table);
+        size_t count = 0;
+        for (size_t c = 0; c < nc; c++) {
+            const uint32_t v = m->indices[c];
+            const float *n = cn + 3 * c;
+            size_t s = (size_t)hash_bits(n, 3 * sizeof *n, (uint64_t)v * 2654435761u + 1469598103934665603ull) &
+                       (cap - 1);
+            for (;; s = (s + 1) & (cap - 1)) {
+                const uint32_t w = table[s];
+                if (w == EMPTY) {
+                    out[count] = m->vertices[v];
+                    memcpy(out[count].normal, n, sizeof out[count].normal);
+                    src[count] = v;
+                    table[s] = (uint32_t)count;
+                    outix[c] = (uint32_t)count++;
+                    break;
+                }
+                if (src[w] == v && !memcmp(out[w].normal, n, sizeof out[w].normal)) {
+                    outix[c] = w;
+                    break;
+                }
+            }
+        }
+        if (count > PERSP_SCENE_MAX_VERTICES || count > max_vertices) {
+            st = PERSP_ERR_TOO_LARGE;
+        } else {
+            persp__free(ctx, m->vertices);
+            m->vertices = out;
+            m->vertex_count = count;
+            out = NULL;
+            memcpy(m->indices, outix, nc * sizeof *outix);
+            m->has_normals = 0;
+            st = PERSP_OK;
+        }
+    }
+    persp__free(ctx, table);
     persp__free(ctx, out);
     persp__free(ctx, outix);
     persp__free(ctx, src);
+    return st;
+}
+
+persp_status persp__mesh_crease_normals(persp_context *ctx, persp_mesh *m, float crease_deg,
+                                        size_t max_vertices)
+{
+    const size_t nc = m->index_count;
+    if (nc == 0 || m->vertex_count == 0) return PERSP_OK;
+    const float limit = crease_deg > 0.0f ? cosf(fminf(crease_deg, 180.0f) * 0.01745329252f) : 1.0f - 1e-6f;
+    float *cn = persp__alloc(ctx, nc * 3 * sizeof *cn);
+    if (!cn) return PERSP_ERR_OUT_OF_MEMORY;
+    persp_status st = crease_corner_normals(ctx, m, limit, cn);
+    if (st == PERSP_OK) st = split_vertices(ctx, m, cn, max_vertices);
+    persp__free(ctx, cn);
     return st;
 }
