@@ -83,6 +83,110 @@ static persp_status bad(persp_context *ctx, persp_status st, const char *name, c
     return persp__fail(ctx, st, "%s: %s", name, what);
 }
 
+/* A BITMAPINFOHEADER or larger (hs bytes at h, in the buffer): size,
+ * compression, bits, the colour masks where it or the bytes after a 40-byte
+ * header hold them (*masks_after: how many bytes those take), the palette's
+ * declared size; each checked against the others. */
+static persp_status info_header(persp_context *ctx, const unsigned char *h, uint32_t hs, size_t size,
+                                const char *name, bmp_info *t, uint32_t masks[4], size_t *masks_after)
+{
+    t->width = (int32_t)le32(h + 4);
+    long long height = (int32_t)le32(h + 8);
+    t->bits = le16(h + 14);
+    t->compression = le32(h + 16);
+    t->entry_bytes = 4;
+    t->top_down = height < 0;
+    t->height = height < 0 ? -height : height;
+    switch (t->compression) {
+    case BI_RGB:
+    case BI_RLE8:
+    case BI_RLE4:
+    case BI_BITFIELDS:
+    case BI_ALPHABITFIELDS:
+        break;
+    case BI_JPEG:
+        return bad(ctx, PERSP_ERR_UNSUPPORTED, name, "unsupported BMP: JPEG compression");
+    case BI_PNG:
+        return bad(ctx, PERSP_ERR_UNSUPPORTED, name, "unsupported BMP: PNG compression");
+    default:
+        return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                           "%s: unsupported BMP: compression %u", name,
+                           (unsigned)t->compression);
+    }
+    const int fields = t->compression == BI_BITFIELDS || t->compression == BI_ALPHABITFIELDS;
+    if (fields) {
+        /* The masks follow a 40-byte header (three, or four with
+         * BI_ALPHABITFIELDS); the larger headers hold them. */
+        const unsigned count = t->compression == BI_ALPHABITFIELDS ? 4 : 3;
+        const unsigned char *m = h + 40;
+        if (hs == 40) {
+            *masks_after = 4u * count;
+            if (size - FILE_HEADER_BYTES - hs < *masks_after)
+                return bad(ctx, PERSP_ERR_FORMAT, name,
+                           "truncated BMP: the file ends inside its colour masks");
+        }
+        for (unsigned i = 0; i < count && (hs == 40 || 40 + 4 * i + 4 <= hs); i++)
+            masks[i] = le32(m + 4 * i);
+        if (hs >= 56) masks[3] = le32(h + 52);
+    } else if (t->bits == 32 && hs >= 56) {
+        /* With BI_RGB the colour masks are not used, but the alpha mask
+         * of the larger headers still says where alpha is ("color mask
+         * that specifies the alpha component of each pixel"). */
+        masks[3] = le32(h + 52);
+    }
+    if (t->width <= 0)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: invalid BMP: width %lld", name,
+                           t->width);
+    if (t->top_down && (t->compression == BI_RLE8 || t->compression == BI_RLE4))
+        /* biHeight: "top-down DIBs cannot be compressed" */
+        return bad(ctx, PERSP_ERR_FORMAT, name,
+                   "invalid BMP: a top-down bitmap (negative height) is RLE-compressed");
+    int ok;
+    switch (t->compression) {
+    case BI_RGB:
+        ok = t->bits == 1 || t->bits == 2 || t->bits == 4 || t->bits == 8 || t->bits == 16 ||
+             t->bits == 24 || t->bits == 32;
+        if (t->bits == 0 || t->bits == 64)
+            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
+                               "%s: unsupported BMP: %u bits a pixel", name, t->bits);
+        break;
+    case BI_RLE8: ok = t->bits == 8; break;
+    case BI_RLE4: ok = t->bits == 4; break;
+    default: ok = t->bits == 16 || t->bits == 32; break;
+    }
+    if (!ok)
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: invalid BMP: %u bits a pixel with compression %u", name,
+                           t->bits, t->compression);
+    if (t->bits <= 8) {
+        uint32_t used = le32(h + 32); /* biClrUsed; 0: all 2^bits */
+        t->palette_count = used && used < (1u << t->bits) ? used : 1u << t->bits;
+    }
+    return PERSP_OK;
+}
+
+/* The channels of 16- and 32-bit pixels: BI_RGB's fixed layouts, or the
+ * masks, each one run of bits within the pixel. */
+static persp_status pixel_masks(persp_context *ctx, const char *name, bmp_info *t, uint32_t masks[4])
+{
+    if (t->compression == BI_RGB) {
+        /* BI_RGB: 16 bits are X1 R5 G5 B5; 32 bits are B, G, R and an
+         * unused byte (biCompression), unless an alpha mask says. */
+        if (t->bits == 16) masks[0] = 0x7c00u, masks[1] = 0x03e0u, masks[2] = 0x001fu;
+        else masks[0] = 0xff0000u, masks[1] = 0xff00u, masks[2] = 0xffu;
+        if (masks[3] & 0xffffffu) masks[3] = 0;
+    }
+    const uint32_t fits = t->bits == 16 ? 0xffffu : UINT32_MAX;
+    for (int i = 0; i < 4; i++)
+        if ((masks[i] & ~fits) || !channel_init(masks[i], &t->ch[i]))
+            return persp__fail(ctx, PERSP_ERR_FORMAT,
+                               "%s: invalid BMP: the %s mask 0x%08x is not one run of bits "
+                               "within a %u-bit pixel",
+                               name, (const char *[]){"red", "green", "blue", "alpha"}[i],
+                               (unsigned)masks[i], t->bits);
+    return PERSP_OK;
+}
+
 /* The headers, the masks and the palette's place; checks every field
  * against the buffer and each other. */
 static persp_status bmp_parse(persp_context *ctx, const unsigned char *b, size_t size,
@@ -118,78 +222,8 @@ static persp_status bmp_parse(persp_context *ctx, const unsigned char *b, size_t
             return persp__fail(ctx, PERSP_ERR_FORMAT,
                                "%s: invalid BMP: %u bits a pixel in a core header", name, t->bits);
     } else {
-        t->width = (int32_t)le32(h + 4);
-        long long height = (int32_t)le32(h + 8);
-        t->bits = le16(h + 14);
-        t->compression = le32(h + 16);
-        t->entry_bytes = 4;
-        t->top_down = height < 0;
-        t->height = height < 0 ? -height : height;
-        switch (t->compression) {
-        case BI_RGB:
-        case BI_RLE8:
-        case BI_RLE4:
-        case BI_BITFIELDS:
-        case BI_ALPHABITFIELDS:
-            break;
-        case BI_JPEG:
-            return bad(ctx, PERSP_ERR_UNSUPPORTED, name, "unsupported BMP: JPEG compression");
-        case BI_PNG:
-            return bad(ctx, PERSP_ERR_UNSUPPORTED, name, "unsupported BMP: PNG compression");
-        default:
-            return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
-                               "%s: unsupported BMP: compression %u", name,
-                               (unsigned)t->compression);
-        }
-        const int fields = t->compression == BI_BITFIELDS || t->compression == BI_ALPHABITFIELDS;
-        if (fields) {
-            /* The masks follow a 40-byte header (three, or four with
-             * BI_ALPHABITFIELDS); the larger headers hold them. */
-            const unsigned count = t->compression == BI_ALPHABITFIELDS ? 4 : 3;
-            const unsigned char *m = h + 40;
-            if (hs == 40) {
-                masks_after = 4u * count;
-                if (size - FILE_HEADER_BYTES - hs < masks_after)
-                    return bad(ctx, PERSP_ERR_FORMAT, name,
-                               "truncated BMP: the file ends inside its colour masks");
-            }
-            for (unsigned i = 0; i < count && (hs == 40 || 40 + 4 * i + 4 <= hs); i++)
-                masks[i] = le32(m + 4 * i);
-            if (hs >= 56) masks[3] = le32(h + 52);
-        } else if (t->bits == 32 && hs >= 56) {
-            /* With BI_RGB the colour masks are not used, but the alpha mask
-             * of the larger headers still says where alpha is ("color mask
-             * that specifies the alpha component of each pixel"). */
-            masks[3] = le32(h + 52);
-        }
-        if (t->width <= 0)
-            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: invalid BMP: width %lld", name,
-                               t->width);
-        if (t->top_down && (t->compression == BI_RLE8 || t->compression == BI_RLE4))
-            /* biHeight: "top-down DIBs cannot be compressed" */
-            return bad(ctx, PERSP_ERR_FORMAT, name,
-                       "invalid BMP: a top-down bitmap (negative height) is RLE-compressed");
-        int ok;
-        switch (t->compression) {
-        case BI_RGB:
-            ok = t->bits == 1 || t->bits == 2 || t->bits == 4 || t->bits == 8 || t->bits == 16 ||
-                 t->bits == 24 || t->bits == 32;
-            if (t->bits == 0 || t->bits == 64)
-                return persp__fail(ctx, PERSP_ERR_UNSUPPORTED,
-                                   "%s: unsupported BMP: %u bits a pixel", name, t->bits);
-            break;
-        case BI_RLE8: ok = t->bits == 8; break;
-        case BI_RLE4: ok = t->bits == 4; break;
-        default: ok = t->bits == 16 || t->bits == 32; break;
-        }
-        if (!ok)
-            return persp__fail(ctx, PERSP_ERR_FORMAT,
-                               "%s: invalid BMP: %u bits a pixel with compression %u", name,
-                               t->bits, t->compression);
-        if (t->bits <= 8) {
-            uint32_t used = le32(h + 32); /* biClrUsed; 0: all 2^bits */
-            t->palette_count = used && used < (1u << t->bits) ? used : 1u << t->bits;
-        }
+        persp_status st = info_header(ctx, h, hs, size, name, t, masks, &masks_after);
+        if (st != PERSP_OK) return st;
     }
     if (hs == 12) t->palette_count = 1u << t->bits;
     if (t->bits > 8) t->palette_count = 0;
@@ -211,23 +245,7 @@ static persp_status bmp_parse(persp_context *ctx, const unsigned char *b, size_t
         size_t room = (t->offset - t->palette_at) / t->entry_bytes;
         if (room < t->palette_count) t->palette_count = (unsigned)room;
     }
-    if (t->bits == 16 || t->bits == 32) {
-        if (t->compression == BI_RGB) {
-            /* BI_RGB: 16 bits are X1 R5 G5 B5; 32 bits are B, G, R and an
-             * unused byte (biCompression), unless an alpha mask says. */
-            if (t->bits == 16) masks[0] = 0x7c00u, masks[1] = 0x03e0u, masks[2] = 0x001fu;
-            else masks[0] = 0xff0000u, masks[1] = 0xff00u, masks[2] = 0xffu;
-            if (masks[3] & 0xffffffu) masks[3] = 0;
-        }
-        const uint32_t fits = t->bits == 16 ? 0xffffu : UINT32_MAX;
-        for (int i = 0; i < 4; i++)
-            if ((masks[i] & ~fits) || !channel_init(masks[i], &t->ch[i]))
-                return persp__fail(ctx, PERSP_ERR_FORMAT,
-                                   "%s: invalid BMP: the %s mask 0x%08x is not one run of bits "
-                                   "within a %u-bit pixel",
-                                   name, (const char *[]){"red", "green", "blue", "alpha"}[i],
-                                   (unsigned)masks[i], t->bits);
-    }
+    if (t->bits == 16 || t->bits == 32) return pixel_masks(ctx, name, t, masks);
     return PERSP_OK;
 }
 
