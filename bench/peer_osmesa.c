@@ -422,29 +422,11 @@ static int build_buffers(bench_peer *p, const persp_scene_object *so, const floa
     return 1;
 }
 
-bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err_size)
-{
-    if (!desc || desc->width < 1 || desc->height < 1 || !desc->scene) {
-        snprintf(err, err_size, "peer: bad image size or no scene");
-        return NULL;
-    }
-    if (!bench_peer_supports(desc->filter)) {
-        snprintf(err, err_size, "peer: filter '%s' has no OpenGL counterpart",
-                 persp_filter_name(desc->filter));
-        return NULL;
-    }
-    const persp_scene *scene = desc->scene;
-    persp_scene_info info;
-    persp_scene_get_info(scene, &info);
-    persp_shading shading = desc->shading != PERSP_SHADING_DEFAULT ? desc->shading : info.shading;
+/* ----------------------------------------------------------------- setup */
 
-    bench_peer *p = calloc(1, sizeof *p);
-    if (!p) {
-        snprintf(err, err_size, "peer: out of memory");
-        return NULL;
-    }
-    p->width = desc->width;
-    p->height = desc->height;
+/* The GL pipeline standing in for a persp shading mode. */
+static void choose_pipeline(bench_peer *p, persp_shading shading)
+{
     switch (shading) {
     case PERSP_SHADING_NONE: p->path = PATH_UNLIT; break;
     case PERSP_SHADING_FLAT:
@@ -471,7 +453,11 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
                                        : "GLSL Blinn-Phong per fragment";
         break;
     }
+}
 
+/* An OSMesa context drawing into p->color, made current. */
+static int open_context(bench_peer *p, char *err, size_t err_size)
+{
     /* 24-bit depth: what a default GL visual gives; persp keeps float depth. */
     const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
                            OSMESA_PROFILE, OSMESA_COMPAT_PROFILE, 0};
@@ -479,32 +465,28 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     if (!p->gl) {
         snprintf(err, err_size, "peer: OSMesa could not create a context (GALLIUM_DRIVER=%s)",
                  getenv("GALLIUM_DRIVER") ? getenv("GALLIUM_DRIVER") : "");
-        free(p);
-        return NULL;
+        return 0;
     }
     p->color = malloc((size_t)p->width * (size_t)p->height * 4);
     if (!p->color) {
         snprintf(err, err_size, "peer: out of memory for a %dx%d image", p->width, p->height);
-        bench_peer_destroy(p);
-        return NULL;
+        return 0;
     }
     if (!OSMesaMakeCurrent(p->gl, p->color, GL_UNSIGNED_BYTE, p->width, p->height)) {
         snprintf(err, err_size, "peer: OSMesaMakeCurrent failed for %dx%d", p->width, p->height);
-        bench_peer_destroy(p);
-        return NULL;
+        return 0;
     }
     const char *s = (const char *)glGetString(GL_RENDERER);
     snprintf(p->renderer, sizeof p->renderer, "%s", s ? s : "?");
     s = (const char *)glGetString(GL_VERSION);
     snprintf(p->version, sizeof p->version, "%s", s ? s : "?");
+    return 1;
+}
 
-    persp_mat4 proj, view;
-    persp_scene_get_camera(scene, p->width, p->height, &view, &proj);
-    for (int c = 0; c < 4; c++) p->clear[c] = (float)info.clear[c] / 255.0f;
-    memcpy(p->ambient, info.ambient, sizeof p->ambient);
-
-    /* Lights in eye space, as persp_render places them (directions
-     * normalised; GL 2.1 §2.14.1 uses unit vectors too). */
+/* Lights in eye space, as persp_render places them (directions
+ * normalised; GL 2.1 §2.14.1 uses unit vectors too). */
+static void eye_space_lights(bench_peer *p, const persp_scene *scene, persp_mat4 view)
+{
     size_t nl = persp_scene_light_count(scene);
     if (nl > 8) nl = 8;
     p->light_count = (int)nl;
@@ -527,13 +509,17 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
             memcpy(p->light_atten[i], l.attenuation, sizeof l.attenuation);
         }
     }
+}
 
+/* State shared by every path: viewport, depth test, clear colour, culling. */
+static void set_common_state(const bench_peer *p, const persp_scene_info *info)
+{
     glViewport(0, 0, p->width, p->height);
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glClearDepth(1.0);
     glClearColor(p->clear[0], p->clear[1], p->clear[2], p->clear[3]);
-    if (info.cull_backfaces) {
+    if (info->cull_backfaces) {
         glEnable(GL_CULL_FACE);
         glCullFace(GL_BACK);
         glFrontFace(GL_CCW);
@@ -542,42 +528,45 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     }
     glDisable(GL_DITHER);
     glDisable(GL_BLEND);
+}
 
-    if (p->path == PATH_FIXED) {
-        /* Lights are stored in eye space by the modelview matrix current
-         * when glLightfv sets their position (GL 2.1 §2.14.2). */
-        glMatrixMode(GL_MODELVIEW);
-        glLoadMatrixf(view.m);
-        glEnable(GL_LIGHTING);
-        glEnable(GL_NORMALIZE);
-        glShadeModel(p->flat ? GL_FLAT : GL_SMOOTH);
-        const float amb[4] = {p->ambient[0], p->ambient[1], p->ambient[2], 1.0f};
-        glLightModelfv(GL_LIGHT_MODEL_AMBIENT, amb);
-        /* persp lights with the view vector of each point (a local viewer)
-         * and both faces of a polygon (GL 2.1 §2.14.1, Table 2.10). */
-        glLightModeli(GL_LIGHT_MODEL_LOCAL_VIEWER, GL_TRUE);
-        glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
-        for (int i = 0; i < p->light_count; i++) {
-            const float zero[4] = {0, 0, 0, 1};
-            persp_scene_light l;
-            persp_scene_get_light(scene, (size_t)i, &l);
-            float pos[4] = {l.position[0], l.position[1], l.position[2], l.directional ? 0.0f : 1.0f};
-            float col[4] = {l.color[0], l.color[1], l.color[2], 1.0f};
-            GLenum L = GL_LIGHT0 + (GLenum)i;
-            glEnable(L);
-            glLightfv(L, GL_POSITION, pos);
-            glLightfv(L, GL_AMBIENT, zero);
-            glLightfv(L, GL_DIFFUSE, col);
-            glLightfv(L, GL_SPECULAR, col);
-            glLightf(L, GL_CONSTANT_ATTENUATION, p->light_atten[i][0]);
-            glLightf(L, GL_LINEAR_ATTENUATION, p->light_atten[i][1]);
-            glLightf(L, GL_QUADRATIC_ATTENUATION, p->light_atten[i][2]);
-        }
-    }
-    glMatrixMode(GL_PROJECTION);
-    glLoadMatrixf(proj.m);
+/* The fixed-function lighting model and lights (PATH_FIXED). */
+static void set_fixed_lighting(const bench_peer *p, const persp_scene *scene, persp_mat4 view)
+{
+    /* Lights are stored in eye space by the modelview matrix current
+     * when glLightfv sets their position (GL 2.1 §2.14.2). */
     glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(view.m);
+    glEnable(GL_LIGHTING);
+    glEnable(GL_NORMALIZE);
+    glShadeModel(p->flat ? GL_FLAT : GL_SMOOTH);
+    const float amb[4] = {p->ambient[0], p->ambient[1], p->ambient[2], 1.0f};
+    glLightModelfv(GL_LIGHT_MODEL_AMBIENT, amb);
+    /* persp lights with the view vector of each point (a local viewer)
+     * and both faces of a polygon (GL 2.1 §2.14.1, Table 2.10). */
+    glLightModeli(GL_LIGHT_MODEL_LOCAL_VIEWER, GL_TRUE);
+    glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
+    for (int i = 0; i < p->light_count; i++) {
+        const float zero[4] = {0, 0, 0, 1};
+        persp_scene_light l;
+        persp_scene_get_light(scene, (size_t)i, &l);
+        float pos[4] = {l.position[0], l.position[1], l.position[2], l.directional ? 0.0f : 1.0f};
+        float col[4] = {l.color[0], l.color[1], l.color[2], 1.0f};
+        GLenum L = GL_LIGHT0 + (GLenum)i;
+        glEnable(L);
+        glLightfv(L, GL_POSITION, pos);
+        glLightfv(L, GL_AMBIENT, zero);
+        glLightfv(L, GL_DIFFUSE, col);
+        glLightfv(L, GL_SPECULAR, col);
+        glLightf(L, GL_CONSTANT_ATTENUATION, p->light_atten[i][0]);
+        glLightf(L, GL_LINEAR_ATTENUATION, p->light_atten[i][1]);
+        glLightf(L, GL_QUADRATIC_ATTENUATION, p->light_atten[i][2]);
+    }
+}
 
+/* The object table and one texture slot per scene texture used. */
+static int alloc_tables(bench_peer *p, const persp_scene *scene, char *err, size_t err_size)
+{
     size_t nobj = persp_scene_object_count(scene);
     p->objects = calloc(nobj ? nobj : 1, sizeof *p->objects);
     p->texture_count = 0;
@@ -590,57 +579,106 @@ bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err
     p->textures = calloc(p->texture_count ? p->texture_count : 1, sizeof *p->textures);
     if (!p->objects || !p->textures) {
         snprintf(err, err_size, "peer: out of memory");
-        bench_peer_destroy(p);
-        return NULL;
+        return 0;
     }
-    for (size_t i = 0; i < nobj; i++) {
-        persp_scene_object so;
-        persp_scene_get_object(scene, i, &so);
-        peer_object *o = &p->objects[p->object_count++];
-        o->mat = so.material;
-        o->mirrored = persp_mat4_det3(so.model) < 0.0;
-        persp_mat4 mv = persp_mat4_mul(view, so.model), mvp = persp_mat4_mul(proj, mv);
-        memcpy(o->mv, mv.m, sizeof o->mv);
-        memcpy(o->mvp, mvp.m, sizeof o->mvp);
-        if (!persp_mat4_normal_matrix(mv, o->nm)) memset(o->nm, 0, sizeof o->nm);
-        int textured = so.material.texture >= 0;
-        if (textured) {
-            GLuint *t = &p->textures[so.material.texture];
-            if (!*t && !upload_texture(persp_scene_get_texture(scene, so.material.texture), t, err, err_size)) {
-                bench_peer_destroy(p);
-                return NULL;
-            }
-            o->texture = *t;
-            if (!make_sampler(p, desc, &so.material.sampler, &o->sampler, err, err_size)) {
-                bench_peer_destroy(p);
-                return NULL;
-            }
-        }
-        /* The coordinates persp draws with: its texgen applied (the
-         * reflection map for this camera). */
-        float *uv = malloc((so.vertex_count ? so.vertex_count : 1) * 2 * sizeof(float));
-        if (!uv) {
-            snprintf(err, err_size, "peer: out of memory for %zu vertices", so.vertex_count);
-            bench_peer_destroy(p);
-            return NULL;
-        }
-        persp_scene_object_texcoords(scene, i, &view, uv);
-        const int built = build_buffers(p, &so, uv, o, p->path == PATH_UNLIT && !textured, err, err_size);
-        free(uv);
-        if (!built) {
-            bench_peer_destroy(p);
-            return NULL;
-        }
-        if (p->path == PATH_GLSL && (o->program = get_program(p, &so.material, err, err_size)) < 0) {
-            bench_peer_destroy(p);
-            return NULL;
-        }
+    return 1;
+}
+
+/* Scene object i as drawn: matrices, texture and sampler, buffers and
+ * (PATH_GLSL) program. Counted in p->object_count before anything is made,
+ * so bench_peer_destroy frees what a failure leaves behind. */
+static int add_object(bench_peer *p, const bench_peer_desc *desc, size_t i, persp_mat4 view,
+                      persp_mat4 proj, char *err, size_t err_size)
+{
+    const persp_scene *scene = desc->scene;
+    persp_scene_object so;
+    persp_scene_get_object(scene, i, &so);
+    peer_object *o = &p->objects[p->object_count++];
+    o->mat = so.material;
+    o->mirrored = persp_mat4_det3(so.model) < 0.0;
+    persp_mat4 mv = persp_mat4_mul(view, so.model), mvp = persp_mat4_mul(proj, mv);
+    memcpy(o->mv, mv.m, sizeof o->mv);
+    memcpy(o->mvp, mvp.m, sizeof o->mvp);
+    if (!persp_mat4_normal_matrix(mv, o->nm)) memset(o->nm, 0, sizeof o->nm);
+    int textured = so.material.texture >= 0;
+    if (textured) {
+        GLuint *t = &p->textures[so.material.texture];
+        if (!*t && !upload_texture(persp_scene_get_texture(scene, so.material.texture), t, err, err_size))
+            return 0;
+        o->texture = *t;
+        if (!make_sampler(p, desc, &so.material.sampler, &o->sampler, err, err_size)) return 0;
     }
+    /* The coordinates persp draws with: its texgen applied (the
+     * reflection map for this camera). */
+    float *uv = malloc((so.vertex_count ? so.vertex_count : 1) * 2 * sizeof(float));
+    if (!uv) {
+        snprintf(err, err_size, "peer: out of memory for %zu vertices", so.vertex_count);
+        return 0;
+    }
+    persp_scene_object_texcoords(scene, i, &view, uv);
+    const int built = build_buffers(p, &so, uv, o, p->path == PATH_UNLIT && !textured, err, err_size);
+    free(uv);
+    if (!built) return 0;
+    if (p->path == PATH_GLSL && (o->program = get_program(p, &so.material, err, err_size)) < 0) return 0;
+    return 1;
+}
+
+/* GL state, lights and every object; 0 with err set on failure. */
+static int build_scene(bench_peer *p, const bench_peer_desc *desc, const persp_scene_info *info,
+                       char *err, size_t err_size)
+{
+    const persp_scene *scene = desc->scene;
+    persp_mat4 proj, view;
+    persp_scene_get_camera(scene, p->width, p->height, &view, &proj);
+    for (int c = 0; c < 4; c++) p->clear[c] = (float)info->clear[c] / 255.0f;
+    memcpy(p->ambient, info->ambient, sizeof p->ambient);
+    eye_space_lights(p, scene, view);
+
+    set_common_state(p, info);
+    if (p->path == PATH_FIXED) set_fixed_lighting(p, scene, view);
+    glMatrixMode(GL_PROJECTION);
+    glLoadMatrixf(proj.m);
+    glMatrixMode(GL_MODELVIEW);
+
+    if (!alloc_tables(p, scene, err, err_size)) return 0;
+    size_t nobj = persp_scene_object_count(scene);
+    for (size_t i = 0; i < nobj; i++)
+        if (!add_object(p, desc, i, view, proj, err, err_size)) return 0;
     glUseProgram(0);
 
     GLenum e = glGetError();
     if (e != GL_NO_ERROR) {
         snprintf(err, err_size, "peer: OpenGL error 0x%04x while setting up", (unsigned)e);
+        return 0;
+    }
+    return 1;
+}
+
+bench_peer *bench_peer_create(const bench_peer_desc *desc, char *err, size_t err_size)
+{
+    if (!desc || desc->width < 1 || desc->height < 1 || !desc->scene) {
+        snprintf(err, err_size, "peer: bad image size or no scene");
+        return NULL;
+    }
+    if (!bench_peer_supports(desc->filter)) {
+        snprintf(err, err_size, "peer: filter '%s' has no OpenGL counterpart",
+                 persp_filter_name(desc->filter));
+        return NULL;
+    }
+    persp_scene_info info;
+    persp_scene_get_info(desc->scene, &info);
+    persp_shading shading = desc->shading != PERSP_SHADING_DEFAULT ? desc->shading : info.shading;
+
+    bench_peer *p = calloc(1, sizeof *p);
+    if (!p) {
+        snprintf(err, err_size, "peer: out of memory");
+        return NULL;
+    }
+    p->width = desc->width;
+    p->height = desc->height;
+    choose_pipeline(p, shading);
+    /* bench_peer_destroy frees whatever part was made, context or none. */
+    if (!open_context(p, err, err_size) || !build_scene(p, desc, &info, err, err_size)) {
         bench_peer_destroy(p);
         return NULL;
     }
