@@ -907,50 +907,52 @@ static int is_primitive(const char *s)
            !strcmp(s, "torus") || !strcmp(s, "soup");
 }
 
-static persp_status parse_object(jctx *j, json_t *o)
+/* An object's "name", "transform", "texgen" and "material" (*material: its
+ * index, or -1 where none is named). */
+static persp_status parse_object_settings(jctx *j, json_t *o, persp_object *obj, int *material)
 {
     char q[PERSP_QUOTE_BYTES];
-    static const char *const keys[] = {"name", "mesh", "transform", "material", "texgen", NULL};
-    persp_status st = check_keys(j, o, keys);
-    if (st != PERSP_OK) return st;
-    persp_object obj;
-    memset(&obj, 0, sizeof obj);
-    obj.model = persp_mat4_identity();
-    obj.texgen_axis = 1;
     json_t *v;
     const char *str = NULL;
+    persp_status st = PERSP_OK;
+    *material = -1;
     if ((v = field(j, o, "name"))) {
         st = read_string(j, v, &str);
         pop(j);
         if (st != PERSP_OK) return st;
     }
     if ((v = field(j, o, "transform"))) {
-        st = parse_transform(j, v, &obj.model);
+        st = parse_transform(j, v, &obj->model);
         pop(j);
         if (st != PERSP_OK) return st;
     }
     if ((v = field(j, o, "texgen"))) {
-        st = parse_texgen(j, v, &obj);
+        st = parse_texgen(j, v, obj);
         pop(j);
         if (st != PERSP_OK) return st;
     }
-    int material = -1;
     if ((v = field(j, o, "material"))) {
         st = read_string(j, v, &str);
-        if (st == PERSP_OK && (material = find_material(j, str)) < 0)
+        if (st == PERSP_OK && (*material = find_material(j, str)) < 0)
             st = jfail(j, 0, PERSP_ERR_NOT_FOUND, "no material named '%s' in \"materials\"",
                        qs(str, q));
         pop(j);
-        if (st != PERSP_OK) return st;
     }
-    if (!(v = field(j, o, "mesh"))) return jfail(j, 0, PERSP_ERR_FORMAT, "missing key 'mesh'");
-    const char *file = NULL, *prim = NULL;
-    json_t *params = NULL;
+    return st;
+}
+
+/* The "mesh" value (its key on the path): a primitive name, a model file
+ * name, or an object with "file" or "primitive" (*params: that object, for
+ * the primitive's parameters). */
+static persp_status read_mesh_ref(jctx *j, json_t *v, const char **file, const char **prim, json_t **params)
+{
+    const char *str = NULL;
+    persp_status st = PERSP_OK;
     if (json_is_string(v)) {
         st = read_string(j, v, &str);
         if (st == PERSP_OK) {
-            if (is_primitive(str)) prim = str;
-            else file = str;
+            if (is_primitive(str)) *prim = str;
+            else *file = str;
         }
     } else if (json_is_object(v)) {
         json_t *f = json_object_get(v, "file"), *p = json_object_get(v, "primitive");
@@ -958,13 +960,13 @@ static persp_status parse_object(jctx *j, json_t *o)
             static const char *const fkeys[] = {"file", NULL};
             st = check_keys(j, v, fkeys);
             push_key(j, "file");
-            if (st == PERSP_OK) st = read_string(j, f, &file);
+            if (st == PERSP_OK) st = read_string(j, f, file);
             pop(j);
         } else if (p && !f) {
             push_key(j, "primitive");
-            st = read_string(j, p, &prim);
+            st = read_string(j, p, prim);
             pop(j);
-            params = v;
+            *params = v;
         } else {
             st = jfail(j, 0, PERSP_ERR_FORMAT, "expected exactly one of 'file' and 'primitive'");
         }
@@ -972,27 +974,33 @@ static persp_status parse_object(jctx *j, json_t *o)
         st = jfail(j, 0, PERSP_ERR_FORMAT,
                    "expected a primitive name, a model file name or an object");
     }
-    if (st != PERSP_OK) {
-        pop(j);
-        return st;
+    return st;
+}
+
+/* A primitive's mesh and its object; takes the "mesh" key off the path. */
+static persp_status add_primitive_object(jctx *j, persp_object *obj, const char *prim, json_t *params,
+                                         int material)
+{
+    persp_mesh mesh;
+    persp_status st = make_primitive(j, prim, params, &mesh);
+    pop(j);
+    if (st != PERSP_OK) return st;
+    if (material < 0) {
+        persp_material m = persp__material_default();
+        if ((st = persp__scene_add_material(j->scene, &m, &material)) != PERSP_OK) return st;
     }
-    if (prim) {
-        persp_mesh mesh;
-        st = make_primitive(j, prim, params, &mesh);
-        pop(j);
-        if (st != PERSP_OK) return st;
-        if (material < 0) {
-            persp_material m = persp__material_default();
-            if ((st = persp__scene_add_material(j->scene, &m, &material)) != PERSP_OK) return st;
-        }
-        if ((st = persp__scene_add_mesh(j->scene, &mesh, &obj.mesh)) != PERSP_OK) return st;
-        obj.material = material;
-        return persp__scene_add_object(j->scene, &obj);
-    }
+    if ((st = persp__scene_add_mesh(j->scene, &mesh, &obj->mesh)) != PERSP_OK) return st;
+    obj->material = material;
+    return persp__scene_add_object(j->scene, obj);
+}
+
+/* A model file's meshes, one object a part, placed by the object's
+ * transform; takes the "mesh" key (and "file" where sub) off the path. */
+static persp_status add_model_objects(jctx *j, persp_object *obj, const char *file, int sub, int material)
+{
     char path[PERSP_PATH_MAX];
-    int sub = json_is_object(v);
     if (sub) push_key(j, "file");
-    st = resolve_file(j, file, path, sizeof path);
+    persp_status st = resolve_file(j, file, path, sizeof path);
     persp_model res;
     size_t before = j->scene->mesh_count;
     if (st == PERSP_OK)
@@ -1009,16 +1017,39 @@ static persp_status parse_object(jctx *j, json_t *o)
         st = count_vertices(j, j->scene->meshes[i].vertex_count);
         pop(j);
     }
-    if (st == PERSP_OK) persp__model_warn_no_uv(j->scene, &res, path, material, (int)obj.texgen);
-    persp_mat4 placed = obj.model;
+    if (st == PERSP_OK) persp__model_warn_no_uv(j->scene, &res, path, material, (int)obj->texgen);
+    persp_mat4 placed = obj->model;
     for (size_t i = 0; i < res.part_count && st == PERSP_OK; i++) {
-        obj.mesh = res.parts[i].mesh;
-        obj.material = material >= 0 ? material : res.parts[i].material;
-        obj.model = persp_mat4_mul(placed, res.parts[i].transform);
-        st = persp__scene_add_object(j->scene, &obj);
+        obj->mesh = res.parts[i].mesh;
+        obj->material = material >= 0 ? material : res.parts[i].material;
+        obj->model = persp_mat4_mul(placed, res.parts[i].transform);
+        st = persp__scene_add_object(j->scene, obj);
     }
     persp__model_free(j->ctx, &res);
     return st;
+}
+
+static persp_status parse_object(jctx *j, json_t *o)
+{
+    static const char *const keys[] = {"name", "mesh", "transform", "material", "texgen", NULL};
+    persp_status st = check_keys(j, o, keys);
+    if (st != PERSP_OK) return st;
+    persp_object obj;
+    memset(&obj, 0, sizeof obj);
+    obj.model = persp_mat4_identity();
+    obj.texgen_axis = 1;
+    int material = -1;
+    if ((st = parse_object_settings(j, o, &obj, &material)) != PERSP_OK) return st;
+    json_t *v = field(j, o, "mesh");
+    if (!v) return jfail(j, 0, PERSP_ERR_FORMAT, "missing key 'mesh'");
+    const char *file = NULL, *prim = NULL;
+    json_t *params = NULL;
+    if ((st = read_mesh_ref(j, v, &file, &prim, &params)) != PERSP_OK) {
+        pop(j);
+        return st;
+    }
+    if (prim) return add_primitive_object(j, &obj, prim, params, material);
+    return add_model_objects(j, &obj, file, json_is_object(v), material);
 }
 
 static persp_status parse_objects(jctx *j, json_t *a)
