@@ -496,9 +496,9 @@ static void test_zero_area_model_refused(void **state)
     unload(&l);
 }
 
-static void test_errors_name_the_file(void **state)
+/* Points and lines only, and a file no reader takes. */
+static void errors_points_and_formats(void)
 {
-    (void)state;
     loaded l;
     /* points and lines only */
     load_text(&l, "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\np 3\n", "lines.obj");
@@ -516,6 +516,12 @@ static void test_errors_name_the_file(void **state)
     assert_int_not_equal(l.st, PERSP_OK);
     assert_non_null(strstr(persp_context_error(l.ctx), "range.obj"));
     unload(&l);
+}
+
+/* OFF header counts beyond the file or persp's limits. */
+static void errors_header_counts(void)
+{
+    loaded l;
     /* header counts beyond the file or persp's limits: refused before
      * the reader sizes its arrays by them */
     load_text(
@@ -557,6 +563,12 @@ static void test_errors_name_the_file(void **state)
     load_text(&l, "3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "plain.off");
     assert_int_equal(mesh_of(&l, 0)->index_count, 3);
     unload(&l);
+}
+
+/* PLY headers and ASCII bodies that Assimp's reader would size its arrays by or misread. */
+static void errors_ply_ascii(void)
+{
+    loaded l;
     /* an ASCII list count beyond its line (Assimp sized the list by it:
      * 15 GB for a count of fifteen 6s) */
     load_text(&l,
@@ -614,6 +626,12 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
     assert_non_null(strstr(persp_context_error(l.ctx), "hff.ply: the PLY header holds a carriage return, form feed or NUL"));
     unload(&l);
+}
+
+/* The same in binary PLY, little- and big-endian. */
+static void errors_ply_binary(void)
+{
+    loaded l;
     /* the same in a binary PLY, little- and big-endian (16.8 and 8.4 GB
      * in Assimp); a valid one still loads */
     {
@@ -653,6 +671,12 @@ static void test_errors_name_the_file(void **state)
                                "be.ply: a PLY list of element 2 declares 1073741824 values"));
         unload(&l);
     }
+}
+
+/* PLY faces and elements that Assimp validates wrongly. */
+static void errors_ply_elements(void)
+{
+    loaded l;
     /* faces without corners, which pass Assimp's validation and crashed
      * its post-processing (SIGBUS), are left out */
     load_text(&l,
@@ -680,6 +704,12 @@ static void test_errors_name_the_file(void **state)
     assert_non_null(
         strstr(persp_context_error(l.ctx), "novert.ply: the PLY header declares no vertices"));
     unload(&l);
+}
+
+/* OBJ material libraries that Assimp's reader mishandles. */
+static void errors_material_urls(void)
+{
+    loaded l;
     /* a material library named like a URL, which Assimp's OBJ reader
      * mishandles */
     load_text(&l, "mtllib abcde://\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "url.obj");
@@ -695,6 +725,12 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
     assert_non_null(strstr(persp_context_error(l.ctx), "nul.obj:1: the material library is named"));
     unload(&l);
+}
+
+/* glTF and binary glTF files whose container lies. */
+static void errors_gltf_containers(void)
+{
+    loaded l;
     /* a .gltf that is neither JSON nor binary glTF */
     load_text(&l, "l-geometrynodev ", "junk.gltf");
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
@@ -742,6 +778,12 @@ static void test_errors_name_the_file(void **state)
     assert_int_equal(l.st, PERSP_ERR_FORMAT);
     assert_non_null(strstr(persp_context_error(l.ctx), "v1.glb: truncated GLB: the content"));
     unload(&l);
+}
+
+/* The vertex budget. */
+static void errors_vertex_budget(void)
+{
+    loaded l;
     /* vertex budget: checked before persp allocates the mesh */
     begin(&l);
     const char *quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
@@ -749,6 +791,20 @@ static void test_errors_name_the_file(void **state)
         persp__model_load_memory(l.scene, quad, strlen(quad), "big.obj", NULL, NULL, 3, &l.model);
     assert_int_equal(l.st, PERSP_ERR_TOO_LARGE);
     unload(&l);
+}
+
+/* Every refusal names the file (and its line where it has one). */
+static void test_errors_name_the_file(void **state)
+{
+    (void)state;
+    errors_points_and_formats();
+    errors_header_counts();
+    errors_ply_ascii();
+    errors_ply_binary();
+    errors_ply_elements();
+    errors_material_urls();
+    errors_gltf_containers();
+    errors_vertex_budget();
 }
 
 static void test_scene_from_bare_model_and_json_override(void **state)
