@@ -421,9 +421,13 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     const int32_t *idx = lb->idx;
     if (n == any) {
         /* Every lane passed (or was packed so): no test per lane. */
-        for (int k = 0; k < n; k++) color[idx[k]] = out[k];
         if (ds->depth_write)
-            for (int k = 0; k < n; k++) depth[idx[k]] = dvals[k];
+            for (int k = 0; k < n; k++) {
+                color[idx[k]] = out[k];
+                depth[idx[k]] = dvals[k];
+            }
+        else
+            for (int k = 0; k < n; k++) color[idx[k]] = out[k];
     } else {
         for (int k = 0; k < n; k++) {
             if (!live[k]) continue;

@@ -32,10 +32,10 @@
 /* The baseline variants (SSE2 on x86-64: 4 lanes) and, where the compiler
  * can target them, AVX2 (8 lanes) and AVX-512 (16 lanes) ones, picked at
  * sampler set-up from the CPU. */
-FAST_VARIANT(static, variant_base, base, )
+FAST_VARIANT(static, variant_base, base, , 0)
 #if PERSP_HAVE_ISA_VARIANTS
-FAST_VARIANT(static, variant_avx2, avx2, PERSP_TARGET_AVX2)
-FAST_VARIANT(static, variant_avx512, avx512, PERSP_TARGET_AVX512)
+FAST_VARIANT(static, variant_avx2, avx2, PERSP_TARGET_AVX2, 1)
+FAST_VARIANT(static, variant_avx512, avx512, PERSP_TARGET_AVX512, 0)
 #endif
 
 static int is_pot(int n) { return n > 0 && (n & (n - 1)) == 0; }

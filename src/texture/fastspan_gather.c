@@ -12,8 +12,8 @@
 #include "texture/fastspan_body.h"
 
 #if PERSP_HAVE_ISA_VARIANTS
-FAST_VARIANT(, persp__fast_avx2g, avx2g, PERSP_TARGET_AVX2)
-FAST_VARIANT(, persp__fast_avx512g, avx512g, PERSP_TARGET_AVX512)
+FAST_VARIANT(, persp__fast_avx2g, avx2g, PERSP_TARGET_AVX2, 0)
+FAST_VARIANT(, persp__fast_avx512g, avx512g, PERSP_TARGET_AVX512, 0)
 #else
 /* ISO C forbids an empty translation unit. */
 typedef int persp__fastspan_gather_unused;
