@@ -397,7 +397,8 @@ static const char *sweep_setting(const char *sweep, const char *key, size_t *len
 /* The root's form and the texts persp writes beside the rows: an object
  * with an array "rows", a "rel_floor" in (0, 1) (*rel_floor), no other key
  * than persp writes, and this version's reference and definitions. */
-static persp_status read_root_texts(persp_context *ctx, const char *path, json_t *root, double *rel_floor)
+static persp_status read_root_texts(persp_context *ctx, const char *path, json_t *root,
+                                    double *rel_floor)
 {
     static const char *const top[] = {"reference", "definitions", "rel_floor", "rows", "shard"};
     double fl = NAN;
@@ -433,8 +434,8 @@ static persp_status read_root_texts(persp_context *ctx, const char *path, json_t
 /* The shard description sh of a file of n rows into res: its slice, the
  * sweep's row count and text, and each row's place in the sweep (every one
  * this shard's); the sweep's rel_floor must be the file's. */
-static persp_status read_shard(persp_context *ctx, const char *path, json_t *sh, double rel_floor, size_t n,
-                               persp_accuracy_result *res)
+static persp_status read_shard(persp_context *ctx, const char *path, json_t *sh, double rel_floor,
+                               size_t n, persp_accuracy_result *res)
 {
     static const char *const shard_keys[] = {"index", "count", "rows", "sweep", "row_index"};
     uint64_t k, c, total;
@@ -457,8 +458,9 @@ static persp_status read_shard(persp_context *ctx, const char *path, json_t *sh,
     const char *f = sweep_setting(sweep, "rel_floor", &fl);
     char num[64];
     if (!f || fl >= sizeof num || (memcpy(num, f, fl), num[fl] = '\0', strtod(num, NULL) != rel_floor))
-        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: setting 'rel_floor' %.17g differs from the sweep's (%.*s)",
-                           path, rel_floor, (int)(f ? fl : 1), f ? f : "-");
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: setting 'rel_floor' %.17g differs from the sweep's (%.*s)", path,
+                           rel_floor, (int)(f ? fl : 1), f ? f : "-");
     res->shard_index = (int)k;
     res->shard_count = (int)c;
     res->total = (size_t)total;
@@ -646,8 +648,8 @@ static persp_status merge_name_missing(persp_context *ctx, const persp_accuracy_
 
 /* The sweep's total rows, each from the one part that holds it, in the
  * sweep's order; a row given twice, out of range or missing is refused. */
-static persp_status merge_rows(persp_context *ctx, const persp_accuracy_result *const *parts, size_t count,
-                               size_t total, persp_accuracy_result **out)
+static persp_status merge_rows(persp_context *ctx, const persp_accuracy_result *const *parts,
+                               size_t count, size_t total, persp_accuracy_result **out)
 {
     /* Each row of the sweep comes from one shard, so the shards hold as many
      * rows as the sweep has at least: checked before the sweep's rows are
