@@ -439,13 +439,9 @@ const char *persp__analysis_size_problem(int triangles, int width, int height)
     return NULL;
 }
 
-persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *desc,
-                                persp_accuracy_result **out)
+/* The desc's sizes, floor and slice in range. */
+static persp_status accuracy_desc_check(persp_context *ctx, const persp_accuracy_desc *desc)
 {
-    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
-    persp__clear_error(ctx);
-    if (!desc || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: no desc");
-    *out = NULL;
     const char *bad = persp__analysis_size_problem(desc->triangles, desc->width, desc->height);
     if (!bad && (!(desc->rel_floor >= 0.0) || !isfinite(desc->rel_floor))) bad = "rel_floor (finite, >= 0)";
     if (bad)
@@ -455,18 +451,68 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
         (desc->shard_count > 0 && (desc->shard_index < 0 || desc->shard_index >= desc->shard_count)))
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: shard %d of %d", desc->shard_index,
                            desc->shard_count);
+    return PERSP_OK;
+}
+
+/* Every case known; *groups: the rows a method has over them (one a case,
+ * one a depth-ratio group for random-triangles). */
+static persp_status case_groups(persp_context *ctx, const char *const *cases, size_t ncases,
+                               size_t *groups)
+{
+    size_t g = 0;
+    for (size_t i = 0; i < ncases; i++) {
+        if (!cases[i] || persp_accuracy_case_check(cases[i]) != PERSP_OK)
+            return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "unknown case '%s'",
+                               cases[i] ? cases[i] : "(null)");
+        g += strcmp(cases[i], "random-triangles") ? 1 : PERSP_HBAR_COUNT;
+    }
+    *groups = g;
+    return PERSP_OK;
+}
+
+/* The methods to measure into specs and sels (nmeth entries each), *used
+ * of them: the desc's, every one resolved (a bad spec fails), or else
+ * every registered method that runs without parameters. */
+static persp_status resolve_methods(persp_context *ctx, const persp_accuracy_desc *desc,
+                                    size_t nmeth, const char **specs, persp_method_sel *sels,
+                                    size_t *used)
+{
+    const int given = desc->methods && desc->method_count;
+    size_t n = 0;
+    for (size_t i = 0; i < nmeth; i++) {
+        if (given) {
+            specs[n] = desc->methods[i];
+            if (!specs[n])
+                return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: NULL method");
+            persp_status st = persp__method_resolve(ctx, specs[n], &sels[n]);
+            if (st != PERSP_OK) return st;
+            n++;
+        } else {
+            /* Entries that cannot run without parameters are left out. */
+            specs[n] = persp__method_at(i)->name;
+            if (persp__method_resolve(NULL, specs[n], &sels[n]) == PERSP_OK) n++;
+        }
+    }
+    *used = n;
+    return PERSP_OK;
+}
+
+persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *desc,
+                                persp_accuracy_result **out)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!desc || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: no desc");
+    *out = NULL;
+    persp_status st = accuracy_desc_check(ctx, desc);
+    if (st != PERSP_OK) return st;
     static const char *const default_cases[] = {"paper-quad", "random-triangles"};
     /* "NULL or none": a NULL list is none, whatever its count says. */
     const int given_cases = desc->cases && desc->case_count;
     const char *const *cases = given_cases ? desc->cases : default_cases;
     size_t ncases = given_cases ? desc->case_count : 2;
     size_t groups = 0;
-    for (size_t i = 0; i < ncases; i++) {
-        if (!cases[i] || persp_accuracy_case_check(cases[i]) != PERSP_OK)
-            return persp__fail(ctx, PERSP_ERR_NOT_FOUND, "unknown case '%s'",
-                                      cases[i] ? cases[i] : "(null)");
-        groups += strcmp(cases[i], "random-triangles") ? 1 : PERSP_HBAR_COUNT;
-    }
+    if ((st = case_groups(ctx, cases, ncases, &groups)) != PERSP_OK) return st;
     /* Methods: validate every spec before any work. */
     const int given_methods = desc->methods && desc->method_count;
     size_t nmeth = given_methods ? desc->method_count : persp__method_count();
@@ -480,28 +526,12 @@ persp_status persp_accuracy_run(persp_context *ctx, const persp_accuracy_desc *d
     a.ctx = ctx;
     a.desc = desc;
     persp__acc_metrics_init(&a.m, ctx, desc->rel_floor > 0.0 ? desc->rel_floor : 0.01);
-    persp_status st = PERSP_OK;
     if (!specs || !sels || !res) {
         st = persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "accuracy: out of memory");
         goto done;
     }
     size_t used = 0;
-    for (size_t i = 0; i < nmeth; i++) {
-        if (given_methods) {
-            specs[used] = desc->methods[i];
-            if (!specs[used]) {
-                st = persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "accuracy: NULL method");
-                goto done;
-            }
-            st = persp__method_resolve(ctx, specs[used], &sels[used]);
-            if (st != PERSP_OK) goto done;
-            used++;
-        } else {
-            /* Entries that cannot run without parameters are left out. */
-            specs[used] = persp__method_at(i)->name;
-            if (persp__method_resolve(NULL, specs[used], &sels[used]) == PERSP_OK) used++;
-        }
-    }
+    if ((st = resolve_methods(ctx, desc, nmeth, specs, sels, &used)) != PERSP_OK) goto done;
     if (!persp__size_mul(used, groups, &res->cap) || res->cap > 1000000) {
         st = persp__fail(ctx, PERSP_ERR_TOO_LARGE, "accuracy: too many rows");
         goto done;

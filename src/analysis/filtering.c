@@ -343,6 +343,101 @@ static double count_fetches(const fa_case *c, const persp_sampler_state *ss, uin
     return n ? total / (double)n : 0.0;
 }
 
+/* Times d->repeats renders of the case's image with rd, the fastest kept
+ * (ms and ns a pixel in row); *stats: the last render's. */
+static persp_status time_renders(persp_context *ctx, const persp_filter_accuracy_desc *d,
+                                 const persp_scene *scene, const persp_render_desc *rd, fa_case *c,
+                                 persp_render_stats *stats, persp_filter_accuracy_row *row)
+{
+    persp_framebuffer fb = {c->w, c->h, c->color, c->depth};
+    double best = INFINITY;
+    for (int k = 0; k < d->repeats; k++) {
+        double t0 = now_seconds();
+        persp_status st = persp_render(ctx, scene, rd, &fb, stats);
+        double t1 = now_seconds();
+        if (st != PERSP_OK) return st;
+        if (t1 - t0 < best) best = t1 - t0;
+    }
+    row->ms = best * 1e3;
+    row->ns_px = best * 1e9 / ((double)c->w * (double)c->h);
+    return PERSP_OK;
+}
+
+/* The rendered image against the reference over covered pixels: PSNR,
+ * mean and largest channel error, SSIM of luma (the case's luma and
+ * per-pixel error buffers are filled on the way); the covered pixels'
+ * count in row->pixels. */
+static void score_image(fa_case *c, persp_filter_accuracy_row *row)
+{
+    double se = 0.0, sa = 0.0, mx = 0.0;
+    uint64_t n = 0;
+    for (size_t i = 0; i < (size_t)c->w * (size_t)c->h; i++) {
+        const uint8_t *p = c->color + 4 * i;
+        const float *q = c->ref + 4 * i;
+        c->luma[i] = luma(p[0], p[1], p[2]);
+        if (!c->mask[i]) {
+            c->err[i] = NAN;
+            continue;
+        }
+        double e = 0.0;
+        for (int k = 0; k < 3; k++) {
+            double dd = (double)p[k] - (double)q[k];
+            se += dd * dd;
+            sa += fabs(dd);
+            if (fabs(dd) > e) e = fabs(dd);
+        }
+        if (e > mx) mx = e;
+        c->err[i] = (float)e;
+        n++;
+    }
+    row->pixels = n;
+    if (n) {
+        double mse = se / (3.0 * (double)n);
+        row->psnr = mse > 0.0 ? 10.0 * log10(255.0 * 255.0 / mse) : INFINITY;
+        row->mean_err = sa / (3.0 * (double)n);
+        row->max_err = mx;
+    }
+    row->ssim = persp__ssim(c->luma, c->ref_luma, c->mask, c->w, c->h);
+}
+
+/* Texels read per covered pixel by a screen filter: the sampler of the
+ * first material with texture 0, with rd's filter and level-of-detail
+ * settings; 0 when that sampler does not build. */
+static double screen_fetches(const fa_case *c, const persp_scene *scene, const persp_texture *tex,
+                             const persp_render_desc *rd)
+{
+    persp_sampler_desc sd = scene->materials[0].sampler;
+    for (size_t k = 0; k < scene->material_count; k++)
+        if (scene->materials[k].texture == 0) {
+            sd = scene->materials[k].sampler;
+            break;
+        }
+    sd.filter = rd->filter;
+    sd.max_aniso = rd->max_aniso;
+    sd.lod_mode = rd->lod_mode;
+    sd.lod_bias += rd->lod_bias;
+    persp_sampler_state ss;
+    if (persp__sampler_init(&ss, tex, &sd) != PERSP_OK) return 0.0;
+    uint64_t px;
+    return count_fetches(c, &ss, &px);
+}
+
+/* The per-pixel error of filter fname on case cname as a heat map,
+ * DIR/filter_CASE_FILTER.png (':' of "aniso:16" as '-'). */
+static persp_status write_filter_heatmap(persp_context *ctx, const char *dir, const char *cname,
+                                         const char *fname, const fa_case *c)
+{
+    char path[1024], safe[32];
+    snprintf(safe, sizeof safe, "%s", fname);
+    for (char *s = safe; *s; s++)
+        if (*s == ':') *s = '-';
+    int len = snprintf(path, sizeof path, "%s/filter_%s_%s.png", dir, cname, safe);
+    if (len < 0 || (size_t)len >= sizeof path)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: heat-map path too long");
+    return persp__heatmap_write(ctx, path, c->err, c->w, c->h, PERSP_HEATMAP_LEVELS,
+                                PERSP_HEATMAP_LEVELS_TOP);
+}
+
 /* Renders one filter of one case, measures it and appends its row. */
 static persp_status measure(persp_context *ctx, const persp_filter_accuracy_desc *d, const char *cname,
                             const persp_scene *scene, fa_case *c, const char *fname,
@@ -372,79 +467,17 @@ static persp_status measure(persp_context *ctx, const persp_filter_accuracy_desc
         if (ps != PERSP_OK)
             return persp__fail(ctx, ps, "filter accuracy: unknown filter '%s'", fname);
     }
-    persp_framebuffer fb = {c->w, c->h, c->color, c->depth};
     persp_render_stats stats;
-    double best = INFINITY;
-    for (int k = 0; k < d->repeats; k++) {
-        double t0 = now_seconds();
-        persp_status st = persp_render(ctx, scene, &rd, &fb, &stats);
-        double t1 = now_seconds();
-        if (st != PERSP_OK) return st;
-        if (t1 - t0 < best) best = t1 - t0;
-    }
-    row.ms = best * 1e3;
-    row.ns_px = best * 1e9 / ((double)c->w * (double)c->h);
-    /* Errors over covered pixels. */
-    double se = 0.0, sa = 0.0, mx = 0.0;
-    uint64_t n = 0;
-    for (size_t i = 0; i < (size_t)c->w * (size_t)c->h; i++) {
-        const uint8_t *p = c->color + 4 * i;
-        const float *q = c->ref + 4 * i;
-        c->luma[i] = luma(p[0], p[1], p[2]);
-        if (!c->mask[i]) {
-            c->err[i] = NAN;
-            continue;
-        }
-        double e = 0.0;
-        for (int k = 0; k < 3; k++) {
-            double dd = (double)p[k] - (double)q[k];
-            se += dd * dd;
-            sa += fabs(dd);
-            if (fabs(dd) > e) e = fabs(dd);
-        }
-        if (e > mx) mx = e;
-        c->err[i] = (float)e;
-        n++;
-    }
-    row.pixels = n;
-    if (n) {
-        double mse = se / (3.0 * (double)n);
-        row.psnr = mse > 0.0 ? 10.0 * log10(255.0 * 255.0 / mse) : INFINITY;
-        row.mean_err = sa / (3.0 * (double)n);
-        row.max_err = mx;
-    }
-    row.ssim = persp__ssim(c->luma, c->ref_luma, c->mask, c->w, c->h);
-    if (object) {
-        row.fetches_px = n ? (double)stats.objspace_samples / (double)n : 0.0;
-    } else if (tex) {
-        persp_sampler_desc sd = scene->materials[0].sampler;
-        for (size_t k = 0; k < scene->material_count; k++)
-            if (scene->materials[k].texture == 0) {
-                sd = scene->materials[k].sampler;
-                break;
-            }
-        sd.filter = rd.filter;
-        sd.max_aniso = rd.max_aniso;
-        sd.lod_mode = rd.lod_mode;
-        sd.lod_bias += rd.lod_bias;
-        persp_sampler_state ss;
-        if (persp__sampler_init(&ss, tex, &sd) == PERSP_OK) {
-            uint64_t px;
-            row.fetches_px = count_fetches(c, &ss, &px);
-        }
-    }
-    if (d->heatmap_dir) {
-        char path[1024], safe[32];
-        snprintf(safe, sizeof safe, "%s", fname);
-        for (char *s = safe; *s; s++)
-            if (*s == ':') *s = '-';
-        int len = snprintf(path, sizeof path, "%s/filter_%s_%s.png", d->heatmap_dir, cname, safe);
-        if (len < 0 || (size_t)len >= sizeof path)
-            return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "filter accuracy: heat-map path too long");
-        persp_status st = persp__heatmap_write(ctx, path, c->err, c->w, c->h, PERSP_HEATMAP_LEVELS,
-                                                PERSP_HEATMAP_LEVELS_TOP);
-        if (st != PERSP_OK) return st;
-    }
+    persp_status st = time_renders(ctx, d, scene, &rd, c, &stats, &row);
+    if (st != PERSP_OK) return st;
+    score_image(c, &row);
+    /* Object space: samples walked per covered pixel. */
+    if (object)
+        row.fetches_px = row.pixels ? (double)stats.objspace_samples / (double)row.pixels : 0.0;
+    else if (tex)
+        row.fetches_px = screen_fetches(c, scene, tex, &rd);
+    if (d->heatmap_dir && (st = write_filter_heatmap(ctx, d->heatmap_dir, cname, fname, c)) != PERSP_OK)
+        return st;
     return add_row(res, &row);
 }
 

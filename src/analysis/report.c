@@ -394,16 +394,16 @@ static const char *sweep_setting(const char *sweep, const char *key, size_t *len
     return NULL;
 }
 
-/* The checks of persp_accuracy_read on the parsed root. */
-static persp_status read_root(persp_context *ctx, const char *path, json_t *root,
-                              persp_accuracy_result **out)
+/* The root's form and the texts persp writes beside the rows: an object
+ * with an array "rows", a "rel_floor" in (0, 1) (*rel_floor), no other key
+ * than persp writes, and this version's reference and definitions. */
+static persp_status read_root_texts(persp_context *ctx, const char *path, json_t *root,
+                                    double *rel_floor)
 {
     static const char *const top[] = {"reference", "definitions", "rel_floor", "rows", "shard"};
-    static const char *const shard_keys[] = {"index", "count", "rows", "sweep", "row_index"};
-    json_t *rows = json_object_get(root, "rows"), *sh = json_object_get(root, "shard");
-    double rel_floor = NAN;
-    if (!json_is_object(root) || !json_is_array(rows) || !read_num(root, "rel_floor", &rel_floor) ||
-        !(rel_floor > 0.0 && rel_floor < 1.0))
+    double fl = NAN;
+    if (!json_is_object(root) || !json_is_array(json_object_get(root, "rows")) ||
+        !read_num(root, "rel_floor", &fl) || !(fl > 0.0 && fl < 1.0))
         return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: not a persp accuracy JSON report", path);
     const char *extra = unknown_key(root, top, sizeof top / sizeof top[0]);
     char q[PERSP_QUOTE_BYTES];
@@ -427,65 +427,75 @@ static persp_status read_root(persp_context *ctx, const char *path, json_t *root
     if (!defs_ok)
         return persp__fail(ctx, PERSP_ERR_FORMAT,
                            "%s: setting 'definitions' is missing or not this version's", path);
+    *rel_floor = fl;
+    return PERSP_OK;
+}
+
+/* The shard description sh of a file of n rows into res: its slice, the
+ * sweep's row count and text, and each row's place in the sweep (every one
+ * this shard's); the sweep's rel_floor must be the file's. */
+static persp_status read_shard(persp_context *ctx, const char *path, json_t *sh, double rel_floor,
+                               size_t n, persp_accuracy_result *res)
+{
+    static const char *const shard_keys[] = {"index", "count", "rows", "sweep", "row_index"};
+    uint64_t k, c, total;
+    json_t *idx = json_object_get(sh, "row_index"), *sw = json_object_get(sh, "sweep");
+    const char *sweep = json_string_value(sw);
+    if (!json_is_object(sh) || !rint_u64(sh, "index", &k) || !rint_u64(sh, "count", &c) ||
+        !rint_u64(sh, "rows", &total) || c == 0 || c > 1000000 || k >= c || !sweep ||
+        json_string_length(sw) >= sizeof res->sweep || has_control(sweep, json_string_length(sw)) ||
+        !json_is_array(idx) || json_array_size(idx) != n)
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: malformed shard description", path);
+    const char *extra = unknown_key(sh, shard_keys, sizeof shard_keys / sizeof shard_keys[0]);
+    if (extra) {
+        char q[PERSP_QUOTE_BYTES];
+        return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: shard description has an unknown key '%s'", path,
+                           persp__quote(extra, strlen(extra), q, sizeof q));
+    }
+    /* The floor the rows were measured with is a setting of the sweep;
+     * the top-level one is what the merged file will say. */
+    size_t fl = 0;
+    const char *f = sweep_setting(sweep, "rel_floor", &fl);
+    char num[64];
+    if (!f || fl >= sizeof num || (memcpy(num, f, fl), num[fl] = '\0', strtod(num, NULL) != rel_floor))
+        return persp__fail(ctx, PERSP_ERR_FORMAT,
+                           "%s: setting 'rel_floor' %.17g differs from the sweep's (%.*s)", path,
+                           rel_floor, (int)(f ? fl : 1), f ? f : "-");
+    res->shard_index = (int)k;
+    res->shard_count = (int)c;
+    res->total = (size_t)total;
+    snprintf(res->sweep, sizeof res->sweep, "%s", sweep);
+    for (size_t i = 0; i < n; i++) {
+        json_t *v = json_array_get(idx, i);
+        if (!json_is_integer(v) || json_integer_value(v) < 0 || (uint64_t)json_integer_value(v) >= total ||
+            (uint64_t)json_integer_value(v) % c != k)
+            return persp__fail(ctx, PERSP_ERR_FORMAT, "%s: row index %zu is not this shard's", path, i + 1);
+        res->index[i] = (size_t)json_integer_value(v);
+    }
+    return PERSP_OK;
+}
+
+/* The checks of persp_accuracy_read on the parsed root. */
+static persp_status read_root(persp_context *ctx, const char *path, json_t *root,
+                              persp_accuracy_result **out)
+{
+    double rel_floor = NAN;
+    persp_status st = read_root_texts(ctx, path, root, &rel_floor);
+    if (st != PERSP_OK) return st;
+    json_t *rows = json_object_get(root, "rows"), *sh = json_object_get(root, "shard");
     size_t n = json_array_size(rows);
     persp_accuracy_result *res = result_alloc(ctx, n);
     if (!res) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: out of memory", path);
     snprintf(res->source, sizeof res->source, "%s", path);
     res->total = n;
-    persp_status st = PERSP_OK;
     char why[160];
-    for (size_t i = 0; i < n; i++) {
-        if (!read_row(json_array_get(rows, i), rel_floor, &res->rows[i], why, sizeof why)) {
+    for (size_t i = 0; i < n && st == PERSP_OK; i++) {
+        if (!read_row(json_array_get(rows, i), rel_floor, &res->rows[i], why, sizeof why))
             st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: row %zu is malformed: it %s", path, i + 1, why);
-            goto done;
-        }
         res->index[i] = i;
     }
     res->count = n;
-    if (sh) {
-        uint64_t k, c, total;
-        json_t *idx = json_object_get(sh, "row_index"), *sw = json_object_get(sh, "sweep");
-        const char *sweep = json_string_value(sw);
-        if (!json_is_object(sh) || !rint_u64(sh, "index", &k) || !rint_u64(sh, "count", &c) ||
-            !rint_u64(sh, "rows", &total) || c == 0 || c > 1000000 || k >= c || !sweep ||
-            json_string_length(sw) >= sizeof res->sweep || has_control(sweep, json_string_length(sw)) ||
-            !json_is_array(idx) || json_array_size(idx) != n) {
-            st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: malformed shard description", path);
-            goto done;
-        }
-        if ((extra = unknown_key(sh, shard_keys, sizeof shard_keys / sizeof shard_keys[0]))) {
-            st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: shard description has an unknown key '%s'",
-                             path, persp__quote(extra, strlen(extra), q, sizeof q));
-            goto done;
-        }
-        /* The floor the rows were measured with is a setting of the sweep;
-         * the top-level one is what the merged file will say. */
-        size_t fl = 0;
-        const char *f = sweep_setting(sweep, "rel_floor", &fl);
-        char num[64];
-        if (!f || fl >= sizeof num || (memcpy(num, f, fl), num[fl] = '\0', strtod(num, NULL) != rel_floor)) {
-            st = persp__fail(ctx, PERSP_ERR_FORMAT,
-                             "%s: setting 'rel_floor' %.17g differs from the sweep's (%.*s)", path,
-                             rel_floor, (int)(f ? fl : 1), f ? f : "-");
-            goto done;
-        }
-        res->shard_index = (int)k;
-        res->shard_count = (int)c;
-        res->total = (size_t)total;
-        snprintf(res->sweep, sizeof res->sweep, "%s", sweep);
-        for (size_t i = 0; i < n; i++) {
-            json_t *v = json_array_get(idx, i);
-            if (!json_is_integer(v) || json_integer_value(v) < 0 ||
-                (uint64_t)json_integer_value(v) >= total ||
-                (uint64_t)json_integer_value(v) % c != k) {
-                st = persp__fail(ctx, PERSP_ERR_FORMAT, "%s: row index %zu is not this shard's", path,
-                                 i + 1);
-                goto done;
-            }
-            res->index[i] = (size_t)json_integer_value(v);
-        }
-    }
-done:
+    if (st == PERSP_OK && sh) st = read_shard(ctx, path, sh, rel_floor, n, res);
     if (st != PERSP_OK) {
         persp_accuracy_destroy(res);
         return st;
@@ -565,13 +575,11 @@ static void sweep_difference(const char *a, const char *b, char *buf, size_t siz
     snprintf(buf, size, "the sweep is another");
 }
 
-persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_result *const *parts,
-                                  size_t count, persp_accuracy_result **out)
+/* The parts are shards of one sweep, each at most once: the same shard
+ * count, sweep text and row count as the first, no shard index twice. */
+static persp_status merge_check_parts(persp_context *ctx, const persp_accuracy_result *const *parts,
+                                      size_t count)
 {
-    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
-    persp__clear_error(ctx);
-    if (!parts || !count || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: no shards");
-    *out = NULL;
     char n0[96], ni[96], diff[200];
     for (size_t i = 0; i < count; i++)
         if (!parts[i])
@@ -606,31 +614,43 @@ persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_resul
                 return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: shard %d of %zu given twice (%s, %s)",
                                    parts[i]->shard_index + 1, shards, part_name(parts[j], j, n0, sizeof n0),
                                    part_name(parts[i], i, ni, sizeof ni));
-    if (count < shards) {
-        /* Every shard is in at most once (above), so count < shards means
-         * some are missing: named, as a re-run takes them by number. */
-        unsigned char *have = persp__calloc(ctx, shards, 1);
-        if (!have) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "merge: out of memory");
-        for (size_t i = 0; i < count; i++) have[parts[i]->shard_index] = 1;
-        char list[PERSP_ERRMSG_BYTES / 2];
-        size_t len = 0, missing = shards - count, listed = 0;
-        list[0] = '\0';
-        /* Runs as "a-b", the form of sbatch --array and of a re-run's list. */
-        for (size_t k = 0; k < shards && len + 48 < sizeof list; k++) {
-            if (have[k]) continue;
-            size_t end = k;
-            while (end + 1 < shards && !have[end + 1]) end++;
-            int w = end > k ? snprintf(list + len, sizeof list - len, "%s%zu-%zu", listed ? "," : "", k + 1, end + 1)
-                            : snprintf(list + len, sizeof list - len, "%s%zu", listed ? "," : "", k + 1);
-            if (w > 0) len += (size_t)w;
-            listed += end - k + 1;
-            k = end;
-        }
-        persp__free(ctx, have);
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: missing shard%s %s%s of %zu (%zu file%s given)",
-                           missing == 1 ? "" : "s", list, listed < missing ? ",..." : "", shards, count,
-                           count == 1 ? "" : "s");
+    return PERSP_OK;
+}
+
+/* The failure naming the shards missing from count distinct parts of a
+ * sweep of shards (count < shards): named, as a re-run takes them by
+ * number. */
+static persp_status merge_name_missing(persp_context *ctx, const persp_accuracy_result *const *parts,
+                                       size_t count, size_t shards)
+{
+    unsigned char *have = persp__calloc(ctx, shards, 1);
+    if (!have) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "merge: out of memory");
+    for (size_t i = 0; i < count; i++) have[parts[i]->shard_index] = 1;
+    char list[PERSP_ERRMSG_BYTES / 2];
+    size_t len = 0, missing = shards - count, listed = 0;
+    list[0] = '\0';
+    /* Runs as "a-b", the form of sbatch --array and of a re-run's list. */
+    for (size_t k = 0; k < shards && len + 48 < sizeof list; k++) {
+        if (have[k]) continue;
+        size_t end = k;
+        while (end + 1 < shards && !have[end + 1]) end++;
+        int w = end > k ? snprintf(list + len, sizeof list - len, "%s%zu-%zu", listed ? "," : "", k + 1, end + 1)
+                        : snprintf(list + len, sizeof list - len, "%s%zu", listed ? "," : "", k + 1);
+        if (w > 0) len += (size_t)w;
+        listed += end - k + 1;
+        k = end;
     }
+    persp__free(ctx, have);
+    return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: missing shard%s %s%s of %zu (%zu file%s given)",
+                       missing == 1 ? "" : "s", list, listed < missing ? ",..." : "", shards, count,
+                       count == 1 ? "" : "s");
+}
+
+/* The sweep's total rows, each from the one part that holds it, in the
+ * sweep's order; a row given twice, out of range or missing is refused. */
+static persp_status merge_rows(persp_context *ctx, const persp_accuracy_result *const *parts,
+                               size_t count, size_t total, persp_accuracy_result **out)
+{
     /* Each row of the sweep comes from one shard, so the shards hold as many
      * rows as the sweep has at least: checked before the sweep's rows are
      * allocated, as a shard's "rows" is whatever number its file says. */
@@ -672,4 +692,20 @@ persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_resul
     res->count = res->total = total;
     *out = res;
     return PERSP_OK;
+}
+
+persp_status persp_accuracy_merge(persp_context *ctx, const persp_accuracy_result *const *parts,
+                                  size_t count, persp_accuracy_result **out)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!parts || !count || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "merge: no shards");
+    *out = NULL;
+    persp_status st = merge_check_parts(ctx, parts, count);
+    if (st != PERSP_OK) return st;
+    /* Every shard is in at most once (checked above), so count < shards
+     * means some are missing. */
+    size_t shards = (size_t)parts[0]->shard_count;
+    if (count < shards) return merge_name_missing(ctx, parts, count, shards);
+    return merge_rows(ctx, parts, count, parts[0]->total, out);
 }

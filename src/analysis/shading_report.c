@@ -123,46 +123,43 @@ static persp_status write_svg(persp_context *ctx, const char *path)
         ctx, &o, bad ? persp__fail(ctx, PERSP_ERR_IO, "%s: write failed", path) : PERSP_OK);
 }
 
-persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
-                                           void *stream)
+/* The desc's sizes and toggles in range; NULL, or the field that is not. */
+static const char *shading_desc_problem(const persp_shading_accuracy_desc *desc)
 {
-    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
-    persp__clear_error(ctx);
-    if (!desc || !stream) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "shading report: no desc or stream");
-    /* Checked before anything runs (a billion triangles would run for hours). */
     const char *bad = persp__analysis_size_problem(desc->triangles, desc->width, desc->height);
     if (!bad && (unsigned)desc->any_folder > PERSP_TOGGLE_OFF) bad = "any_folder";
-    if (bad)
-        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
-                           "shading report: persp_shading_accuracy_desc.%s is out of range", bad);
-    FILE *f = stream;
-    const uint64_t seed = desc->seed ? desc->seed : 1;
-    const int tris = desc->triangles > 0 ? desc->triangles : 20;
-    persp_shade_err e[PERSP_SHADE_MODES];
-    /* The scene is loaded first so that a bad file fails before any output. */
-    persp_scene *scene = NULL;
+    return bad;
+}
+
+/* The lit scene of section 2 (desc->scene, else the built-in one) and its
+ * size (*w, *h: the desc's, else the scene's, else 640x480). */
+static persp_status load_lit_scene(persp_context *ctx, const persp_shading_accuracy_desc *desc,
+                                   persp_scene **scene, int *w, int *h)
+{
     persp_scene_load_desc load;
     memset(&load, 0, sizeof load);
     if (desc->load) load = *desc->load;
     if (desc->any_folder != PERSP_TOGGLE_DEFAULT) load.any_folder = desc->any_folder;
-    persp_status st = desc->scene ? persp_scene_load_ex(ctx, desc->scene, &load, &scene)
-                                  : persp__shading_test_scene(ctx, &scene);
+    persp_status st = desc->scene ? persp_scene_load_ex(ctx, desc->scene, &load, scene)
+                                  : persp__shading_test_scene(ctx, scene);
     if (st != PERSP_OK) return st;
-    int w = desc->width, h = desc->height;
-    if (w <= 0 || h <= 0) persp_scene_default_size(scene, &w, &h);
-    if (w <= 0 || h <= 0) w = 640, h = 480;
+    *w = desc->width, *h = desc->height;
+    if (*w <= 0 || *h <= 0) persp_scene_default_size(*scene, w, h);
+    if (*w <= 0 || *h <= 0) *w = 640, *h = 480;
+    return PERSP_OK;
+}
 
-    fprintf(f, "Shading modes against the exact per-pixel reference ([Romanyuk-PCF] §4.2-4.3)\n\n");
+/* Section 1: every mode on seeded random lit triangles, per depth ratio. */
+static persp_status write_random_section(persp_context *ctx, FILE *f, uint64_t seed, int tris)
+{
+    persp_shade_err e[PERSP_SHADE_MODES];
     fprintf(f, "1. Random lit triangles (seed %llu, %d per depth ratio hbar = z_far/z_near;\n"
                "   corridor projection 1024x768, spans cut at 64-pixel tiles as the renderer does)\n\n",
             (unsigned long long)seed, tris);
     fprintf(f, "  hbar  mode                   pixels  col max col mean  >1 lvl  own max   ang max  ang mean  ||N|-1| max\n");
     for (int g = 0; g < PERSP_HBAR_COUNT; g++) {
-        st = persp__shading_random(ctx, seed, persp__hbar_groups[g], tris, e);
-        if (st != PERSP_OK) {
-            persp_scene_destroy(scene);
-            return st;
-        }
+        persp_status st = persp__shading_random(ctx, seed, persp__hbar_groups[g], tris, e);
+        if (st != PERSP_OK) return st;
         write_modes(f, e, persp__hbar_groups[g], 1);
     }
     fprintf(f,
@@ -175,16 +172,29 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
             "  ang max/mean: angle in degrees between the normal a mode lights with and the\n"
             "  exact one. ||N|-1|: length error of that normal (after the mode's own\n"
             "  normalisation; none for phong-slerp).\n\n");
+    return PERSP_OK;
+}
 
-    st = persp__shading_scene_compare(ctx, scene, w, h, e);
-    persp_scene_destroy(scene);
+/* Section 2: every mode's render of the lit scene against its phong-pc
+ * render (name: how the scene is named in the heading). */
+static persp_status write_scene_section(persp_context *ctx, FILE *f, const persp_scene *scene,
+                                        const char *name, int w, int h)
+{
+    persp_shade_err e[PERSP_SHADE_MODES];
+    persp_status st = persp__shading_scene_compare(ctx, scene, w, h, e);
     if (st != PERSP_OK) return st;
     fprintf(f, "2. Lit scene %s at %dx%d: each mode's render against the phong-pc render\n"
                "   (exact t_w per pixel), covered pixels\n\n",
-            desc->scene ? desc->scene : "(built-in: floor, coarse sphere, torus, long cylinder)", w, h);
+            name, w, h);
     fprintf(f, "mode                   pixels  col max col mean  >1 lvl  own max\n");
     write_modes(f, e, 0.0, 0);
+    return PERSP_OK;
+}
 
+/* Section 3: t_w against its polynomial approximations ([Romanyuk-PCF]
+ * §4.3), with the paper's stated bounds. */
+static void write_tw_section(FILE *f)
+{
     fprintf(f, "\n3. t_w = t_v/(hbar - t_v(hbar - 1)) (4.7 corrected), hbar = Z_B/Z_A, against its\n"
                "   polynomial approximations (4.3), evaluated by the renderer's span code\n\n");
     fprintf(f, "  hbar  poly     abs max  8-bit lvl  rel max (0,1]  rel max [1/3,1]      claimed\n");
@@ -205,7 +215,13 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
                "  |hbar p'(0) - 1| (the interpolants miss the slope 1/hbar of t_w at 0), which\n"
                "  dominates the cubic. claimed: the bound stated in [Romanyuk-PCF] §4.3; it\n"
                "  matches rel max over t_v in [1/3, 1] to within 0.4 points.\n\n");
+}
 
+/* Section 4: the error factor Delta(u) of screen-linear Gouraud and its
+ * extremum ([Romanyuk-PCF] §4.2, Fig. 4.3-4.4), derived, sampled and as
+ * printed. */
+static void write_delta_section(FILE *f)
+{
     fprintf(f, "4. Delta I of screen-linear Gouraud (4.1): Delta(u) = u(1 - 1/(r + u(1 - r))), r = z2/z1\n\n");
     fprintf(f, "  z2/z1   u=0.1   u=0.3   u=0.5   u=0.7   u=0.9  extremum   at u  sampled max   8-bit lvl    as printed\n");
     for (size_t k = 0; k < DELTA_RATIOS; k++) {
@@ -221,6 +237,36 @@ persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shadi
                "  of u; 8-bit lvl: 255 |extremum|, the worst Gouraud error for I_B - I_A = 255.\n"
                "  as printed: the closed form printed in [Romanyuk-PCF] §4.2 read literally\n"
                "  (r - sqrt r).\n");
+}
+
+persp_status persp_shading_accuracy_report(persp_context *ctx, const persp_shading_accuracy_desc *desc,
+                                           void *stream)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    persp__clear_error(ctx);
+    if (!desc || !stream) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "shading report: no desc or stream");
+    /* Checked before anything runs (a billion triangles would run for hours). */
+    const char *bad = shading_desc_problem(desc);
+    if (bad)
+        return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
+                           "shading report: persp_shading_accuracy_desc.%s is out of range", bad);
+    FILE *f = stream;
+    /* The scene is loaded first so that a bad file fails before any output. */
+    persp_scene *scene = NULL;
+    int w, h;
+    persp_status st = load_lit_scene(ctx, desc, &scene, &w, &h);
+    if (st != PERSP_OK) return st;
+    fprintf(f, "Shading modes against the exact per-pixel reference ([Romanyuk-PCF] §4.2-4.3)\n\n");
+    const uint64_t seed = desc->seed ? desc->seed : 1;
+    const int tris = desc->triangles > 0 ? desc->triangles : 20;
+    const char *name =
+        desc->scene ? desc->scene : "(built-in: floor, coarse sphere, torus, long cylinder)";
+    st = write_random_section(ctx, f, seed, tris);
+    if (st == PERSP_OK) st = write_scene_section(ctx, f, scene, name, w, h);
+    persp_scene_destroy(scene);
+    if (st != PERSP_OK) return st;
+    write_tw_section(f);
+    write_delta_section(f);
     if (desc->svg_path) {
         st = write_svg(ctx, desc->svg_path);
         if (st != PERSP_OK) return st;

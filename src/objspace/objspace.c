@@ -326,27 +326,40 @@ static int triangle_setup(const persp_frame *f, int W, int H, const persp_tri *t
     return 1;
 }
 
-/* Builds the piece of slab [wlo, whi) of a triangle; returns 0 if empty. */
-static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp_sampler_state *ss,
-                      int tri, double wlo, double whi, os_piece *pc)
+/* The piece's walk planes in uv: the triangle's edges (with the margin),
+ * the viewport with the splat reach and the slab wlo <= w <= whi; returns
+ * their number. */
+static int piece_planes(const tri_setup *ts, double wlo, double whi, hplane uvp[MAX_PLANES])
 {
-    hplane uvp[MAX_PLANES];
     int np = 0;
     for (int k = 0; k < 3; k++) uvp[np++] = ts->edge[k];
     for (int k = 0; k < 4; k++) uvp[np++] = ts->view[k];
     uvp[np++] = pull_back(&ts->Huv, 0.0, 0.0, 1.0, -wlo); /* w >= wlo */
     uvp[np++] = pull_back(&ts->Huv, 0.0, 0.0, -1.0, whi); /* w <= whi */
-    /* The piece's polygon in uv: the triangle itself (no margin) cut by the
-     * slab and the viewport, for the level choice. */
-    double poly[2 * MAX_POLY], tmp[2 * MAX_POLY];
+    return np;
+}
+
+/* The piece's polygon in uv, for the level choice: the triangle itself (no
+ * margin) cut by the slab and the viewport (uvp[3..np), the planes after
+ * the edges); returns its vertex count. */
+static int piece_polygon(const tri_setup *ts, const hplane *uvp, int np, double poly[2 * MAX_POLY])
+{
+    double tmp[2 * MAX_POLY];
     int n = 3;
     for (int k = 0; k < 3; k++) poly[2 * k] = ts->uv[k][0], poly[2 * k + 1] = ts->uv[k][1];
     for (int k = 3; k < np && n > 0; k++) {
         n = clip_poly(poly, n, &uvp[k], tmp);
         memcpy(poly, tmp, sizeof(double) * 2 * (size_t)n);
     }
-    if (n < 3) return 0;
-    /* Largest projected level-0 texel step over the piece. */
+    return n;
+}
+
+/* The largest projected level-0 texel step *smax over the polygon's
+ * vertices and centroid, and their window bounding box (box: x0, y0, x1,
+ * y1); 0 when a vertex does not map or the step is not a positive number. */
+static int piece_footprint(const tri_setup *ts, const persp_texture *tex, const double *poly, int n,
+                           double *smax_out, double box[4])
+{
     double tw = tex->width, th = tex->height;
     double smax = 0.0, bx0 = INFINITY, by0 = INFINITY, bx1 = -INFINITY, by1 = -INFINITY;
     double cu = 0.0, cv = 0.0;
@@ -369,7 +382,18 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         if (win[1] > by1) by1 = win[1];
     }
     if (!(smax > 0.0) || !isfinite(smax)) return 0;
-    /* One level for the piece ([Romaniuk-ObjSpace]: "LOD once per polygon"). */
+    *smax_out = smax;
+    box[0] = bx0, box[1] = by0, box[2] = bx1, box[3] = by1;
+    return 1;
+}
+
+/* One level for the piece ([Romaniuk-ObjSpace]: "LOD once per polygon"):
+ * the coarsest whose projected texel step stays within SPACING_TARGET (at
+ * most the top), with sub samples a texel where even level 0's step
+ * exceeds it; *spacing: the chosen level's step. */
+static void piece_level(const persp_texture *tex, double smax, int *level_out, int *sub_out,
+                        double *spacing_out)
+{
     int top = tex->levels - 1, level = 0;
     if (smax < SPACING_TARGET) level = (int)floor(log2(SPACING_TARGET / smax));
     if (level > top) level = top;
@@ -379,6 +403,23 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
         double s = ceil(spacing / SPACING_TARGET);
         sub = s > MAX_SUB ? MAX_SUB : (int)s;
     }
+    *level_out = level, *sub_out = sub, *spacing_out = spacing;
+}
+
+/* Builds the piece of slab [wlo, whi) of a triangle; returns 0 if empty. */
+static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp_sampler_state *ss,
+                      int tri, double wlo, double whi, os_piece *pc)
+{
+    hplane uvp[MAX_PLANES];
+    const int np = piece_planes(ts, wlo, whi, uvp);
+    double poly[2 * MAX_POLY];
+    int n = piece_polygon(ts, uvp, np, poly);
+    if (n < 3) return 0;
+    double smax, box[4], spacing;
+    if (!piece_footprint(ts, tex, poly, n, &smax, box)) return 0;
+    int level, sub;
+    piece_level(tex, smax, &level, &sub, &spacing);
+    const int top = tex->levels - 1;
     const double lw = tex->level[level].w, lh = tex->level[level].h;
     const double step_u = 1.0 / (lw * sub), step_v = 1.0 / (lh * sub);
     /* Sample (i, j) sits at u = (i + 1/2)·step_u, v = (j + 1/2)·step_v: the
@@ -408,7 +449,7 @@ static int make_piece(const tri_setup *ts, const persp_texture *tex, const persp
     if (!region_rows(pc->pl, np, NULL, 0, &jlo, &jhi, &region)) return 0;
     pc->j0 = (int)jlo, pc->j1 = (int)jhi;
     const double reach = MARGIN_PX + 2.0;
-    pc->bx0 = bx0 - reach, pc->bx1 = bx1 + reach, pc->by0 = by0 - reach, pc->by1 = by1 + reach;
+    pc->bx0 = box[0] - reach, pc->bx1 = box[2] + reach, pc->by0 = box[1] - reach, pc->by1 = box[3] + reach;
     /* At the top of the pyramid the level cannot coarsen with the
      * minification, so its samples may lie far closer than SPACING_TARGET;
      * every sample there has the one texel's colour, so walking every
@@ -526,17 +567,116 @@ static void row_interval(const hplane *pl, int np, double j, double *lo, double 
     *lo = l, *hi = h;
 }
 
+/* What the walk of one piece over one tile reads at every sample. */
+typedef struct walk_tile {
+    const os_piece *pc;
+    const persp_sampler_state *ss;
+    const persp_tex_level *lv;
+    const int32_t *owner; /* the triangle that owns each pixel */
+    float *acc;           /* the tile's accumulators, 5 a pixel */
+    int ws, wt, W;
+    int tx0, ty0, tx1, ty1;
+    double inv_u, inv_v;
+} walk_tile;
+
+/* Sample rows [*jstart, *jend] whose samples can reach the tile (planes tp,
+ * the tile's reach); 0 when none. Rows stay on the piece's stride grid
+ * (j0 + k·stride) so that every tile walks the same samples. */
+static int tile_rows(const os_piece *pc, const hplane tp[4], int *jstart, int *jend)
+{
+    double tj0, tj1;
+    if (!region_rows(pc->pl, pc->planes, tp, 4, &tj0, &tj1, NULL)) return 0;
+    int js = pc->j0, je = pc->j1;
+    if (tj0 > (double)js) {
+        long long k = ((long long)tj0 - pc->j0) / pc->stride;
+        js = (int)(pc->j0 + k * pc->stride);
+    }
+    if (tj1 < (double)je) je = (int)tj1;
+    *jstart = js, *jend = je;
+    return 1;
+}
+
+/* Samples [*i0, *i1] of row jj inside the piece and the tile's reach, i0 on
+ * the stride grid; 0 when none. */
+static int row_samples(const os_piece *pc, const hplane tp[4], int jj, int *i0, int *i1)
+{
+    double lo, hi, tlo, thi;
+    row_interval(pc->pl, pc->planes, (double)jj, &lo, &hi);
+    if (!(lo <= hi)) return 0;
+    row_interval(tp, 4, (double)jj, &tlo, &thi);
+    if (tlo > lo) lo = tlo;
+    if (thi < hi) hi = thi;
+    if (!(lo <= hi) || lo > 2e9 || hi < -2e9) return 0;
+    int a = (int)ceil(lo < -2e9 ? -2e9 : lo), b = (int)floor(hi > 2e9 ? 2e9 : hi);
+    if (pc->stride > 1) a -= ((a % pc->stride) + pc->stride) % pc->stride;
+    *i0 = a, *i1 = b;
+    return 1;
+}
+
+/* The texel of sample ii on a row: at sub == 1 the level's texel, read from
+ * the row (row NULL with rowb: the row is the border; xr: the column
+ * already wrapped when step_wrap), else the filtered colour at the
+ * sub-texel position (u, v). */
+static inline uint32_t sample_texel(const walk_tile *w, const uint32_t *row, int rowb, int step_wrap,
+                                    int xr, int ii, double v)
+{
+    const os_piece *pc = w->pc;
+    if (pc->sub == 1) {
+        if (rowb) return w->ss->border;
+        int xi = step_wrap ? xr : persp__wrap_index(w->ws, ii, w->lv->w);
+        return xi < 0 ? w->ss->border : row[xi];
+    }
+    float c[4];
+    float u = (float)(((double)ii + 0.5) * w->inv_u);
+    if (pc->nearest) persp__nearest(w->ss, 0, w->ws, w->wt, u, (float)v, c);
+    else persp__bilinear(w->ss, 0, w->ws, w->wt, u, (float)v, c);
+    return persp__pack(c);
+}
+
+/* Adds a sample at window position (X, Y) with colour texel to the tile's
+ * pixels among the four around it that the piece's triangle owns;
+ * returns how many it reached. [Romaniuk-ObjSpace]'s S1..S4: the sample's
+ * share of the four pixels around it (pixel centres at +0.5). */
+static inline uint64_t splat(const walk_tile *w, double X, double Y, uint32_t texel)
+{
+    /* floor() without a library call: X, Y are in a small range. */
+    int px0 = (int)X, py0 = (int)Y;
+    px0 -= (double)px0 > X;
+    py0 -= (double)py0 > Y;
+    const double fx = (double)px0, fy = (double)py0;
+    const float cr = (float)(texel & 0xffu), cg = (float)(texel >> 8 & 0xffu);
+    const float cb = (float)(texel >> 16 & 0xffu), ca = (float)(texel >> 24);
+    const float ax = (float)(X - fx), ay = (float)(Y - fy);
+    const int tw = w->tx1 - w->tx0;
+    uint64_t n = 0;
+    for (int k = 0; k < 4; k++) {
+        int px = px0 + (k & 1), py = py0 + (k >> 1);
+        if (px < w->tx0 || px >= w->tx1 || py < w->ty0 || py >= w->ty1) continue;
+        if (w->owner[(size_t)py * (size_t)w->W + (size_t)px] != w->pc->tri) continue;
+        float s = ((k & 1) ? ax : 1.0f - ax) * ((k >> 1) ? ay : 1.0f - ay);
+        float *a = w->acc + 5 * ((size_t)(py - w->ty0) * (size_t)tw + (size_t)(px - w->tx0));
+        a[0] += s;
+        a[1] += s * cr;
+        a[2] += s * cg;
+        a[3] += s * cb;
+        a[4] += s * ca;
+        n++;
+    }
+    return n;
+}
+
 static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, int tx1, int ty1,
                        float *acc, uint64_t *walked, uint64_t *splats, uint64_t *visited)
 {
     const persp_tri *t = &persp__frame_tris(j->f)[pc->tri];
     const persp_draw_state *ds = persp__frame_state(j->f, t->state);
-    const persp_sampler_state *ss = &ds->sampler;
-    const persp_texture *tex = ds->tex;
-    const persp_tex_level *lv = &tex->level[pc->level];
-    const int ws = (int)ss->desc.wrap_s, wt = (int)ss->desc.wrap_t;
-    const int W = j->cap->width, tw = tx1 - tx0;
-    const int32_t *owner = j->cap->tri;
+    const persp_tex_level *lv = &ds->tex->level[pc->level];
+    const walk_tile w = {
+        .pc = pc, .ss = &ds->sampler, .lv = lv, .owner = j->cap->tri, .acc = acc,
+        .ws = (int)ds->sampler.desc.wrap_s, .wt = (int)ds->sampler.desc.wrap_t, .W = j->cap->width,
+        .tx0 = tx0, .ty0 = ty0, .tx1 = tx1, .ty1 = ty1,
+        .inv_u = 1.0 / ((double)lv->w * pc->sub), .inv_v = 1.0 / ((double)lv->h * pc->sub),
+    };
     /* The tile's reach: samples within one pixel of its pixel centres. */
     hplane tp[4] = {
         pull_back(&pc->H, 1.0, 0.0, -(double)tx0 + 1.0, 0.0),
@@ -544,39 +684,22 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
         pull_back(&pc->H, 0.0, 1.0, -(double)ty0 + 1.0, 0.0),
         pull_back(&pc->H, 0.0, -1.0, (double)ty1 + 1.0, 0.0),
     };
-    const double inv_u = 1.0 / ((double)lv->w * pc->sub), inv_v = 1.0 / ((double)lv->h * pc->sub);
     uint64_t nw = 0, ns = 0, nv = 0;
-    /* Only the rows whose samples can reach this tile; rows stay on the
-     * piece's stride grid (j0 + k·stride) so that every tile walks the same
-     * samples. */
-    double tj0, tj1;
-    if (!region_rows(pc->pl, pc->planes, tp, 4, &tj0, &tj1, NULL)) return;
-    int jstart = pc->j0, jend = pc->j1;
-    if (tj0 > (double)jstart) {
-        long long k = ((long long)tj0 - pc->j0) / pc->stride;
-        jstart = (int)(pc->j0 + k * pc->stride);
-    }
-    if (tj1 < (double)jend) jend = (int)tj1;
+    int jstart, jend;
+    if (!tile_rows(pc, tp, &jstart, &jend)) return;
     for (int jj = jstart; jj <= jend; jj += pc->stride) {
         nv++;
-        double lo, hi, tlo, thi;
-        row_interval(pc->pl, pc->planes, (double)jj, &lo, &hi);
-        if (!(lo <= hi)) continue;
-        row_interval(tp, 4, (double)jj, &tlo, &thi);
-        if (tlo > lo) lo = tlo;
-        if (thi < hi) hi = thi;
-        if (!(lo <= hi) || lo > 2e9 || hi < -2e9) continue;
-        int i0 = (int)ceil(lo < -2e9 ? -2e9 : lo), i1 = (int)floor(hi > 2e9 ? 2e9 : hi);
-        if (pc->stride > 1) i0 -= ((i0 % pc->stride) + pc->stride) % pc->stride;
+        int i0, i1;
+        if (!row_samples(pc, tp, jj, &i0, &i1)) continue;
         /* Texel row of this sample row (sub == 1: the level's row j). */
         const uint32_t *row = NULL;
         int rowb = 0;
         if (pc->sub == 1) {
-            int y = persp__wrap_index(wt, jj, lv->h);
+            int y = persp__wrap_index(w.wt, jj, lv->h);
             if (y < 0) rowb = 1;
             else row = lv->texels + (size_t)y * (size_t)lv->w;
         }
-        const double v = ((double)jj + 0.5) * inv_v;
+        const double v = ((double)jj + 0.5) * w.inv_v;
         /* The projective map's rows are affine in ii: stepped along the row. */
         const double y = (double)jj, sx = (double)pc->stride;
         double nx = pc->H.m[0][0] * (double)i0 + pc->H.m[0][1] * y + pc->H.m[0][2];
@@ -584,60 +707,23 @@ static void walk_piece(const os_job *j, const os_piece *pc, int tx0, int ty0, in
         double nz = pc->H.m[2][0] * (double)i0 + pc->H.m[2][1] * y + pc->H.m[2][2];
         const double dx = pc->H.m[0][0] * sx, dy = pc->H.m[1][0] * sx, dz = pc->H.m[2][0] * sx;
         /* Repeat-wrapped texel column, stepped too (no division per texel). */
-        const int step_wrap = row && ws == PERSP_WRAP_REPEAT && pc->stride == 1;
-        int xr = step_wrap ? persp__wrap_index(ws, i0, lv->w) : 0;
+        const int step_wrap = row && w.ws == PERSP_WRAP_REPEAT && pc->stride == 1;
+        int xr = step_wrap ? persp__wrap_index(w.ws, i0, lv->w) : 0;
         for (int ii = i0; ii <= i1; ii += pc->stride, nx += dx, ny += dy, nz += dz,
                  xr = xr + 1 == lv->w ? 0 : xr + 1) {
             nv++;
-            double w = nz;
-            if (!(w > 0.0)) continue;
-            double iw = 1.0 / w;
+            double wh = nz;
+            if (!(wh > 0.0)) continue;
+            double iw = 1.0 / wh;
             double X = nx * iw - 0.5;
             double Y = ny * iw - 0.5;
             /* Only samples whose 2×2 pixel neighbourhood meets the tile; the
-             * range test also keeps the int conversions below defined. */
+             * range test also keeps splat's int conversions defined. */
             if (!(X >= (double)tx0 - 1.0 && X < (double)tx1 && Y >= (double)ty0 - 1.0 &&
                   Y < (double)ty1))
                 continue;
-            /* floor() without a library call: X, Y are in a small range. */
-            int px0 = (int)X, py0 = (int)Y;
-            px0 -= (double)px0 > X;
-            py0 -= (double)py0 > Y;
-            const double fx = (double)px0, fy = (double)py0;
             nw++;
-            uint32_t texel;
-            if (pc->sub == 1) {
-                if (rowb) {
-                    texel = ss->border;
-                } else {
-                    int xi = step_wrap ? xr : persp__wrap_index(ws, ii, lv->w);
-                    texel = xi < 0 ? ss->border : row[xi];
-                }
-            } else {
-                float c[4];
-                float u = (float)(((double)ii + 0.5) * inv_u);
-                if (pc->nearest) persp__nearest(ss, 0, ws, wt, u, (float)v, c);
-                else persp__bilinear(ss, 0, ws, wt, u, (float)v, c);
-                texel = persp__pack(c);
-            }
-            const float cr = (float)(texel & 0xffu), cg = (float)(texel >> 8 & 0xffu);
-            const float cb = (float)(texel >> 16 & 0xffu), ca = (float)(texel >> 24);
-            /* [Romaniuk-ObjSpace]'s S1..S4: the sample's share of the four pixels
-             * around it (pixel centres at +0.5). */
-            const float ax = (float)(X - fx), ay = (float)(Y - fy);
-            for (int k = 0; k < 4; k++) {
-                int px = px0 + (k & 1), py = py0 + (k >> 1);
-                if (px < tx0 || px >= tx1 || py < ty0 || py >= ty1) continue;
-                if (owner[(size_t)py * (size_t)W + (size_t)px] != pc->tri) continue;
-                float s = ((k & 1) ? ax : 1.0f - ax) * ((k >> 1) ? ay : 1.0f - ay);
-                float *a = acc + 5 * ((size_t)(py - ty0) * (size_t)tw + (size_t)(px - tx0));
-                a[0] += s;
-                a[1] += s * cr;
-                a[2] += s * cg;
-                a[3] += s * cb;
-                a[4] += s * ca;
-                ns++;
-            }
+            ns += splat(&w, X, Y, sample_texel(&w, row, rowb, step_wrap, xr, ii, v));
         }
     }
     *walked += nw;

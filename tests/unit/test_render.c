@@ -2,6 +2,12 @@
  * immediate drawing, bad framebuffers. */
 /* ctest-labels: threads (renders with several worker threads) */
 /* ctest-split: each (minutes in all under ThreadSanitizer and qemu-user) */
+/* Tests that render with one thread only (batches against one batch, the
+ * serial drawings against each other), left out of the ThreadSanitizer pass:
+ * ctest-one-thread: test_adaptive_batches_bit_identical
+ * ctest-one-thread: test_submission_order_kept_40000_t1_b5, test_submission_order_kept_40000_t1_b999
+ * ctest-one-thread: test_submission_order_kept_40000_near_t1_b5
+ * ctest-one-thread: test_submission_order_kept_40000_near_t1_b999 */
 #include "support.h"
 
 #include "core/internal.h"
