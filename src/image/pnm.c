@@ -85,7 +85,7 @@ static persp_status read_raster(persp_context *ctx, const char *name, int kind, 
                                        "pixel (%d, %d)", name, x, y);
                 c[0] = *r->p++ == '1' ? 0u : 1u;
             } else if (kind == 4) {
-                c[0] = (r->p[x / 8] >> (7 - x % 8) & 1u) ? 0u : 1u;
+                c[0] = ((unsigned)r->p[x / 8] >> (7 - x % 8) & 1u) ? 0u : 1u;
             } else {
                 for (int k = 0; k < channels; k++) {
                     if (kind <= 3 && !read_number(r, 65535u, &c[k]))
