@@ -1,5 +1,5 @@
 # Thin wrapper around CMake for the README's two commands.
-#   make demo            install missing packages, build, render corridor to out/corridor.png
+#   make demo            install missing packages, build the CLI, render corridor to out/corridor.png
 #   make test            install missing packages, build, run the whole suite (CTest)
 #   make test SANITIZE=1 the same under ASan + UBSan (separate build folder)
 #   make test TSAN=1     the tests labelled `threads` under ThreadSanitizer
@@ -33,18 +33,23 @@ else
 BUILD ?= build
 endif
 
-.PHONY: all deps build demo test test-aarch64 bench fuzz fuzz-long difftest clean format hw
+.PHONY: all deps configure build demo test test-aarch64 bench fuzz fuzz-long difftest clean format hw
 
 all: build
 
 deps:
 	@bash scripts/deps.sh
 
-build: deps
+configure: deps
 	@cmake -S . -B $(BUILD) $(CMAKE_FLAGS) >/dev/null
+
+build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
-demo: build
+# The demo needs the CLI (and the model import helper it depends on), not
+# the test programs: `make test` builds those.
+demo: configure
+	@cmake --build $(BUILD) -j $(JOBS) --target persp_cli
 	@mkdir -p out
 	@echo "+ $(BUILD)/persp render corridor -o out/corridor.png"
 	@$(BUILD)/persp render corridor -o out/corridor.png

@@ -50,11 +50,15 @@ fi
 # arrive are enough.
 echo "deps: apt-get update"
 $sudo apt-get update -qq || echo "deps: apt-get update reported errors; installing from the lists there are"
-# What apt will install with their dependencies (on a minimal Debian about
-# 350 packages, several minutes), then one line per package as it is set up.
+# What apt will install with their dependencies (on a minimal Debian 12
+# 344 packages, two to four minutes); then a line every few seconds while
+# apt works. apt-get downloads everything first, then dpkg unpacks and sets
+# up the packages in batches: on a minimal Debian the longest stretch
+# without a package set up is the unpacking of about 180 of them (over a
+# minute), so progress counts the downloads and unpacks as well.
 # shellcheck disable=SC2086
 total=$(apt-get install -s --no-install-recommends $missing 2>/dev/null | grep -c '^Inst ' || true)
-echo "deps: installing $total packages (the ones above and what they need)"
+echo "deps: installing $total packages (the ones above and what they need); progress every few seconds"
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 # shellcheck disable=SC2086
@@ -64,14 +68,35 @@ if ! $sudo apt-get install -y --no-install-recommends $missing >"$log" 2>&1; the
     exit 1
 fi &
 pid=$!
-done_count=0
+# "Get:N URL SUITE/COMPONENT ARCH PACKAGE ..." from apt, "Unpacking PACKAGE
+# (VERSION) ..." and "Setting up PACKAGE (VERSION) ..." from dpkg.
+progress() {
+    awk -v total="$total" '
+        /^Get:[0-9]/     { got++;  what = "downloading " $5 }
+        /^Unpacking /    { unp++;  what = "unpacking " $2 }
+        /^Setting up /   { set++;  what = "setting up " $3 }
+        END {
+            if (what == "") { print "waiting for apt"; exit }
+            if (unp == 0 && set == 0) printf "[%d/%d downloaded] %s\n", got, total, what
+            else printf "[%d/%d unpacked, %d/%d set up] %s\n", unp, total, set, total, what
+        }' "$log"
+}
+# A line at most every 5 s when something moved, and one every 30 s when
+# nothing did: one package can take a while (chromium's unpacking, a
+# trigger), and a quiet terminal looks like a hang.
+last=""
+said=$SECONDS
 while kill -0 "$pid" 2>/dev/null; do
-    n=$(grep -c '^Setting up ' "$log" || true)
-    if [ "$n" != "$done_count" ]; then
-        done_count=$n
-        echo "deps: [$n/$total] $(grep '^Setting up ' "$log" | tail -1 | cut -d' ' -f3)"
+    sleep 1
+    now=$(progress)
+    if [ "$now" != "$last" ] && [ $((SECONDS - said)) -ge 5 ]; then
+        echo "deps: $now"
+        last=$now
+        said=$SECONDS
+    elif [ "$now" = "$last" ] && [ $((SECONDS - said)) -ge 30 ]; then
+        echo "deps: still working: $now"
+        said=$SECONDS
     fi
-    sleep 2
 done
 wait "$pid"
 echo "deps: done"
