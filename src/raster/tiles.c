@@ -306,36 +306,46 @@ static PERSP_ALWAYS_INLINE int live_before(const uint64_t *bits, int p)
 
 static PERSP_ALWAYS_INLINE int pack_live(lane_batch *lb, int n, int32_t *live, int avx512, int weights)
 {
-    uint64_t bits[PERSP_LANE_MAX / 64 + 1] = {0};
+    int nseg = 0, m = 0;
 #if PERSP_HAVE_ISA_VARIANTS
     if (avx512) {
+        uint64_t bits[PERSP_LANE_MAX / 64 + 1] = {0};
         pack_lanes_avx512(lb, n, live, bits, weights ? 6 : 4);
+        for (int s = 0; s < lb->nseg; s++) {
+            const int end = live_before(bits, lb->seg_start[s + 1]);
+            if (end > m) {
+                lb->seg_start[nseg] = m;
+                lb->seg_tri[nseg++] = lb->seg_tri[s];
+            }
+            m = end;
+        }
     } else
 #endif
     {
+        /* Segment by segment, so that the live lanes before each segment's
+         * end are the count so far (a bitmap of live lanes cost 5 of the
+         * soup's 1 300 instructions a pixel, gouraud-pc, with AVX2). */
         (void)avx512;
         (void)weights;
-        int j = 0;
-        for (int k = 0; k < n; k++) {
-            lb->q[j] = lb->q[k];
-            lb->z[j] = lb->z[k];
-            lb->un[j] = lb->un[k];
-            lb->vn[j] = lb->vn[k];
-            lb->an[j] = lb->an[k];
-            lb->bn[j] = lb->bn[k];
-            lb->idx[j] = lb->idx[k];
-            j += live[k];
-            bits[k >> 6] |= (uint64_t)(live[k] != 0) << (k & 63);
+        int j = 0, k = 0;
+        for (int s = 0; s < lb->nseg; s++) {
+            const int end = lb->seg_start[s + 1];
+            for (; k < end; k++) {
+                lb->q[j] = lb->q[k];
+                lb->z[j] = lb->z[k];
+                lb->un[j] = lb->un[k];
+                lb->vn[j] = lb->vn[k];
+                lb->an[j] = lb->an[k];
+                lb->bn[j] = lb->bn[k];
+                lb->idx[j] = lb->idx[k];
+                j += live[k];
+            }
+            if (j > m) {
+                lb->seg_start[nseg] = m;
+                lb->seg_tri[nseg++] = lb->seg_tri[s];
+            }
+            m = j;
         }
-    }
-    int nseg = 0, m = 0;
-    for (int s = 0; s < lb->nseg; s++) {
-        const int end = live_before(bits, lb->seg_start[s + 1]);
-        if (end > m) {
-            lb->seg_start[nseg] = m;
-            lb->seg_tri[nseg++] = lb->seg_tri[s];
-        }
-        m = end;
     }
     lb->nseg = nseg;
     lb->seg_start[nseg] = m;
