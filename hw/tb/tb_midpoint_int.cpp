@@ -38,6 +38,7 @@ struct job {
     std::vector<expect_px> px; // the int_pixels pixels persp computed
     long line;
     int got = 0;               // outputs received
+    long loaded_at = 0;        // the clock edge that took the load
     bool oor_at_end = false;   // the fallback pixel was flagged out_oor
 };
 
@@ -50,6 +51,8 @@ struct lane {
 };
 
 long mismatches = 0;
+long cycles = 0;       // clock edges so far
+long latency = -1;     // the fewest edges from a load to its span's first pixel
 
 void mismatch(const char *coord, long line, const char *what, int64_t got, int64_t want)
 {
@@ -75,6 +78,7 @@ void drive(lane &l)
         d.T0 = tb::port(j.T0, TW);
         d.K = tb::port(j.K, KW);
         d.len = (uint8_t)j.len;
+        l.jobs[l.next].loaded_at = cycles + 1;
         l.live.push_back(l.next++);
     }
 }
@@ -90,6 +94,7 @@ void collect(lane &l, const char *coord)
     }
     job &j = l.jobs[l.live.front()];
     const int k = j.got++;
+    if (k == 0 && (latency < 0 || cycles - j.loaded_at < latency)) latency = cycles - j.loaded_at;
     const bool oor = d.out_oor;
     if (k < (int)j.px.size()) {
         const expect_px &e = j.px[(size_t)k];
@@ -180,7 +185,7 @@ int main(int argc, char **argv)
         l.dut->clk = 1, l.dut->eval();
         l.dut->clk = 0, l.dut->rst = 0, l.dut->eval();
     }
-    long cycles = 0, idle = 0;
+    long idle = 0;
     for (;;) {
         bool pending = false;
         for (lane &l : lanes) pending |= l.next < l.jobs.size() || !l.live.empty();
@@ -194,7 +199,8 @@ int main(int argc, char **argv)
             collect(lanes[c], names[c]);
             lanes[c].dut->clk = 0, lanes[c].dut->eval();
         }
-        // A re-seed is the longest silence: CAP + NLIM + a few cycles.
+        // The longest silence: a re-seed (CAP + NLIM + a few cycles), or
+        // the divider's pipeline (NLIM + 3).
         idle = any ? 0 : idle + 1;
         if (idle > 1000) {
             mismatch("uv", 0, "no output for 1000 cycles", 0, 1);
@@ -216,5 +222,6 @@ int main(int argc, char **argv)
                 "%.4f cycles per pixel per coordinate\n",
                 cycles, lanes[0].busy, lanes[1].busy, int_pixels, cycles ? (double)int_pixels / (double)cycles : 0.0,
                 int_pixels ? 0.5 * (double)(lanes[0].busy + lanes[1].busy) / (double)int_pixels : 0.0);
+    std::printf("midpoint_int: latency %ld cycles (load to the span's first pixel)\n", latency);
     return tb::verdict("midpoint_int", int_pixels, mismatches, min_pixels);
 }
