@@ -12,7 +12,8 @@
 #   HW_SMALL=1                 fewer vectors (still >= 100 000 pixels a module)
 #   HW_NO_SYNTH=1              testbenches only
 #   HW_MODULES="exact"         a subset
-#   HW_MIDPOINT_STEPS="1 2 8"  midpoint_int's STEPS values measured besides the default (1)
+#   HW_MIDPOINT_VARIANTS="0:2 1:8"  midpoint_int's FALLBACK:STEPS settings measured besides
+#                              the default (default "1:4 0:4 0:1")
 #   HW_PNR_TIMEOUT=300         seconds before nextpnr is stopped (a design that fills the device)
 set -eu
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -81,21 +82,22 @@ rtl_files() {
     if [ "$1" = incremental ]; then echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v"; else echo "$root/hw/rtl/$1.v"; fi
 }
 
-# tb MODULE [VARIANT PARAM=VALUE]: the testbench in obj_MODULE (obj_MODULE_VARIANT
-# built with -GPARAM=VALUE).
+# tb MODULE [VARIANT "PARAM=VALUE ..."]: the testbench in obj_MODULE
+# (obj_MODULE_VARIANT built with -GPARAM=VALUE for each).
 tb() {
-    local m="$1" v="${2:+_$2}" g="${3:+-G$3}"
+    local m="$1" v="${2:+_$2}" g="" p
+    for p in ${3:-}; do g="$g -G$p"; done
     verilator --cc --exe --build -j 2 -O2 -Wall $g --Mdir "$work/obj_$m$v" "$root/hw/rtl/$m.v" "$root/hw/tb/tb_$m.cpp" \
         -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m$v.verilator.log" 2>&1 ||
         { cat "$work/$m$v.verilator.log" >&2; return 1; }
 }
 
-# synth MODULE [VARIANT PARAM=VALUE]: into syn_MODULE (syn_MODULE_VARIANT with
-# the parameter set by chparam).
+# synth MODULE [VARIANT "PARAM=VALUE ..."]: into syn_MODULE (syn_MODULE_VARIANT
+# with the parameters set by chparam).
 synth() {
-    local m="$1" v="${2:+_$2}" cp=""
+    local m="$1" v="${2:+_$2}" cp="" p
     local d="$work/syn_$m$v"
-    [ -n "${3:-}" ] && cp="chparam -set ${3%%=*} ${3#*=} $m;"
+    for p in ${3:-}; do cp="$cp chparam -set ${p%%=*} ${p#*=} $m;"; done
     mkdir -p "$d"
     yosys -q -p "read_verilog $(rtl_files $m); $cp hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
     python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
@@ -115,11 +117,12 @@ synth() {
         >"$d/generic.log" 2>&1
 }
 
-# midpoint_int's default lattice steps per clock (its STEPS parameter), and
-# the other values measured: testbench on all sets and on the first, synthesis.
-mp_default=$(sed -n 's/^ *parameter STEPS *= *\([0-9]*\).*/\1/p' "$root/hw/rtl/midpoint_int.v")
+# midpoint_int's default FALLBACK:STEPS (its parameters), and the other
+# settings measured: testbench on all sets and on the first, synthesis.
+mp_param() { sed -n "s/^ *parameter $1 *= *\([0-9]*\).*/\1/p" "$root/hw/rtl/midpoint_int.v"; }
+mp_default="$(mp_param FALLBACK):$(mp_param STEPS)"
 mp_sweep=""
-for k in ${HW_MIDPOINT_STEPS-1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
+for k in ${HW_MIDPOINT_VARIANTS-1:4 0:4 0:1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
 
 status=0
 for m in $modules; do
@@ -132,11 +135,12 @@ for m in $modules; do
     if [ "$m" = midpoint_int ]; then
         "$work/obj_$m/tb_$m" "$work/$m.vectors.1" >"$work/$m.tb_plain.log" || status=1
         for k in $mp_sweep; do
-            echo "hw: $m: STEPS=$k"
-            tb "$m" "s$k" "STEPS=$k"
-            "$work/obj_${m}_s$k/tb_$m" "$work/$m.vectors" 100000 >"$work/${m}_s$k.tb.log" || status=1
-            "$work/obj_${m}_s$k/tb_$m" "$work/$m.vectors.1" >"$work/${m}_s$k.tb_plain.log" || status=1
-            [ "${HW_NO_SYNTH:-0}" = 1 ] || synth "$m" "s$k" "STEPS=$k"
+            v="f${k%%:*}s${k#*:}" p="FALLBACK=${k%%:*} STEPS=${k#*:}"
+            echo "hw: $m: $p"
+            tb "$m" "$v" "$p"
+            "$work/obj_${m}_$v/tb_$m" "$work/$m.vectors" 100000 >"$work/${m}_$v.tb.log" || status=1
+            "$work/obj_${m}_$v/tb_$m" "$work/$m.vectors.1" >"$work/${m}_$v.tb_plain.log" || status=1
+            [ "${HW_NO_SYNTH:-0}" = 1 ] || synth "$m" "$v" "$p"
         done
     fi
     # subdiv at N = 8 as well: the same RTL built with -GN=8 against `--module subdiv:8`.
@@ -164,7 +168,9 @@ printf 'module mul16(input clk, input [15:0] a, b, output reg [31:0] p);\n alway
 python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" "$mp_default" "$mp_sweep" <<'PY'
 import json, os, re, subprocess, sys
 root, work, out, modules, nosynth = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(), sys.argv[5] == "1"
-mp_default, mp_sweep = int(sys.argv[6]), [int(k) for k in sys.argv[7].split()]
+# midpoint_int's settings as (FALLBACK, STEPS).
+mp_default = tuple(int(x) for x in sys.argv[6].split(":"))
+mp_sweep = [tuple(int(x) for x in k.split(":")) for k in sys.argv[7].split()]
 method = {"midpoint_int": "midpoint:int", "exact": "exact (hw fixed point)"}
 # The span datapaths (hw_models_span.c) and the float method each implements.
 span = {"subdiv": "subdiv:16", "incremental": "incremental:bidir", "quadratic": "quadratic", "cubic": "cubic",
@@ -255,8 +261,8 @@ for m in modules:
                                                    for f in n8]
                 r["n8_float_max_error_texels_by_set"] = [pair(f, r"same pixels: ") for f in n8]
     else:
-        # Variable: up to STEPS lattice steps and one pixel per clock; measured.
-        r["latency_cycles"] = 1
+        # midpoint_int: measured by the testbench (FALLBACK 0 stalls).
+        r["latency_cycles"] = grab(log, r"latency (\d+) cycles", int)
         plain = os.path.join(work, m + ".tb_plain.log")
         r["pixels_per_clock"] = grab(plain, r"([\d.]+) pixels per clock")
         r["cycles_per_pixel_per_coordinate"] = grab(plain, r"([\d.]+) cycles per pixel per coordinate")
@@ -277,17 +283,19 @@ for m in modules:
     if not nosynth:
         r.update(synth_numbers(os.path.join(work, "syn_" + m)))
     if m == "midpoint_int":
-        # The lattice steps searched per clock: the default and the other
-        # values measured (docs/HARDWARE.md).
-        r["steps_per_clock"] = mp_default
-        keys = ("pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
+        # The lattice steps searched per clock and the fallback: the default
+        # and the other settings measured (docs/HARDWARE.md).
+        r["fallback"], r["steps_per_clock"] = mp_default
+        keys = ("latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
                 "vectors_checked", "mismatches", "ice40_fits", "ice40_lc", "ice40_lc_needed", "ice40_pnr_error",
                 "ice40_dsp", "ice40_wrapper_ffs", "fmax_mhz", "cmos_transistors", "logic_depth")
-        sweep = [dict({"steps_per_clock": mp_default}, **{k: r.get(k) for k in keys})]
-        for k in mp_sweep:
-            v = "%s_s%d" % (m, k)
+        head = ("fallback", "steps_per_clock")
+        sweep = [dict(zip(head, mp_default), **{k: r.get(k) for k in keys})]
+        for f, k in mp_sweep:
+            v = "%s_f%ds%d" % (m, f, k)
             log_all, log_plain = os.path.join(work, v + ".tb.log"), os.path.join(work, v + ".tb_plain.log")
-            e = {"steps_per_clock": k,
+            e = {"fallback": f, "steps_per_clock": k,
+                 "latency_cycles": grab(log_all, r"latency (\d+) cycles", int),
                  "pixels_per_clock": grab(log_plain, r"([\d.]+) pixels per clock"),
                  "pixels_per_clock_all_vectors": grab(log_all, r"([\d.]+) pixels per clock"),
                  "cycles_per_pixel_per_coordinate": grab(log_plain, r"([\d.]+) cycles per pixel per coordinate"),
@@ -295,8 +303,8 @@ for m in modules:
                  "mismatches": grab(log_all, r"mismatches (\d+)", int)}
             if not nosynth:
                 e.update(synth_numbers(os.path.join(work, "syn_" + v)))
-            sweep.append({key: e.get(key) for key in ("steps_per_clock",) + keys})
-        r["steps_sweep"] = sorted(sweep, key=lambda e: e["steps_per_clock"])
+            sweep.append({key: e.get(key) for key in head + keys})
+        r["steps_sweep"] = sorted(sweep, key=lambda e: (e["fallback"], e["steps_per_clock"]))
     rows.append(r)
 
 ver = {}
@@ -314,9 +322,10 @@ for r in rows:
     md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
 for r in rows:
     if r.get("steps_sweep"):
-        sc = ["steps_per_clock", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_lc_needed",
+        sc = ["fallback", "steps_per_clock", "latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_lc_needed",
               "ice40_dsp", "fmax_mhz", "cmos_transistors", "logic_depth", "mismatches"]
-        md += ["", "%s by lattice steps per clock (default %s):" % (r["module"], r["steps_per_clock"]), "",
+        md += ["", "%s by fallback and lattice steps per clock (default %d, %d):"
+               % (r["module"], r["fallback"], r["steps_per_clock"]), "",
                "| " + " | ".join(sc) + " |", "|" + "---|" * len(sc)]
         md += ["| " + " | ".join("-" if e.get(c) is None else str(e.get(c)) for c in sc) + " |"
                for e in r["steps_sweep"]]

@@ -46,7 +46,7 @@ module midpoint_int #(
     parameter NLIM  = 16,  // the format's texel range: |n| < 2^NLIM
     parameter CAP   = 32,  // lattice steps before a re-seed
     parameter LW    = 7,   // span length counter (spans are at most 64 pixels)
-    parameter STEPS = 4,   // lattice steps searched per clock, 1 <= STEPS <= CAP, < 31
+    parameter STEPS = 1,   // lattice steps searched per clock, 1 <= STEPS <= CAP, < 31
     parameter FALLBACK = 1 // 0: stall for the extra steps and re-seeds; 1: run-ahead divider
 ) (
     input  wire                  clk,

@@ -53,6 +53,7 @@ struct lane {
 long mismatches = 0;
 long cycles = 0;       // clock edges so far
 long latency = -1;     // the fewest edges from a load to its span's first pixel
+long outputs = 0, first_out = -1, last_out = -1;  // delivered pixels (out_oor too), both lanes
 
 void mismatch(const char *coord, long line, const char *what, int64_t got, int64_t want)
 {
@@ -93,6 +94,9 @@ void collect(lane &l, const char *coord)
         return;
     }
     job &j = l.jobs[l.live.front()];
+    outputs++;
+    if (first_out < 0) first_out = cycles;
+    last_out = cycles;
     const int k = j.got++;
     if (k == 0 && (latency < 0 || cycles - j.loaded_at < latency)) latency = cycles - j.loaded_at;
     const bool oor = d.out_oor;
@@ -218,10 +222,15 @@ int main(int argc, char **argv)
     std::printf("midpoint_int: %ld spans (%ld on the integer path, %ld sent to double by set-up), %ld dpx pixels "
                 "outside the hardware, %ld re-seeds, %ld fallbacks checked\n",
                 spans, run_spans, rejected, dpx, reseeds, fb_checked);
-    std::printf("midpoint_int: cycles %ld (u busy %ld, v busy %ld) for %ld pixels: %.4f pixels per clock, "
+    std::printf("midpoint_int: cycles %ld (u busy %ld, v busy %ld) for %ld integer-path pixels: %.4f a clock, "
                 "%.4f cycles per pixel per coordinate\n",
                 cycles, lanes[0].busy, lanes[1].busy, int_pixels, cycles ? (double)int_pixels / (double)cycles : 0.0,
                 int_pixels ? 0.5 * (double)(lanes[0].busy + lanes[1].busy) / (double)int_pixels : 0.0);
     std::printf("midpoint_int: latency %ld cycles (load to the span's first pixel)\n", latency);
+    // Throughput after the latency: each lane's delivered pixels over the
+    // clocks from the first output to the last (1 where nothing stalls).
+    const long out_clocks = last_out < 0 ? 0 : last_out - first_out + 1;
+    std::printf("midpoint_int: %ld pixels delivered in %ld clocks after the latency: %.4f pixels per clock\n",
+                outputs / 2, out_clocks, out_clocks ? 0.5 * (double)outputs / (double)out_clocks : 0.0);
     return tb::verdict("midpoint_int", int_pixels, mismatches, min_pixels);
 }
