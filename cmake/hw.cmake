@@ -36,8 +36,10 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
       COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall --Mdir ${PERSP_HW_DIR}/obj_${m}
               ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
               -y ${PROJECT_SOURCE_DIR}/hw/rtl -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_${m} > ${PERSP_HW_DIR}/${m}.verilator.log
-      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
-              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_fd.h
+      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact.v
+              ${PROJECT_SOURCE_DIR}/hw/rtl/exact_stages.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
+              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_fd.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_uv.h
+              ${PROJECT_SOURCE_DIR}/hw/tb/tb_tw.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_window.h
       COMMENT "verilator: hw/rtl/${m}.v")
     add_custom_target(hw_tb_${m} ALL DEPENDS ${tb})
     set(gen "")
@@ -87,8 +89,9 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
     COMMAND ${CMAKE_COMMAND} -E make_directory ${PERSP_HW_DIR}
     COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir ${PERSP_HW_DIR}/obj_subdiv8
             ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp
-            -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_subdiv > ${PERSP_HW_DIR}/subdiv8.verilator.log
-    DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp
+            -y ${PROJECT_SOURCE_DIR}/hw/rtl -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_subdiv > ${PERSP_HW_DIR}/subdiv8.verilator.log
+    DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact_stages.v
+            ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp ${PROJECT_SOURCE_DIR}/hw/tb/tb_uv.h
             ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
     COMMENT "verilator: hw/rtl/subdiv.v, N = 8")
   add_custom_target(hw_tb_subdiv8 ALL DEPENDS ${tb8})

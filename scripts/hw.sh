@@ -76,10 +76,14 @@ vectors() {
     fi
 }
 
-# The Verilog a module is read from: its file, and exact.v for incremental,
-# whose two chains are instances of exact.
+# The Verilog a module is read from: its file, and the modules it
+# instantiates (exact's stages, in exact, subdiv and incremental's chains).
 rtl_files() {
-    if [ "$1" = incremental ]; then echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v"; else echo "$root/hw/rtl/$1.v"; fi
+    case "$1" in
+        exact | subdiv) echo "$root/hw/rtl/$1.v $root/hw/rtl/exact_stages.v" ;;
+        incremental) echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v $root/hw/rtl/exact_stages.v" ;;
+        *) echo "$root/hw/rtl/$1.v" ;;
+    esac
 }
 
 # tb MODULE [VARIANT "PARAM=VALUE ..."]: the testbench in obj_MODULE
@@ -113,7 +117,12 @@ synth() {
         --report "$d/pnr.json" >"$d/pnr.log" 2>&1 || rc=$?
     [ "$rc" != 124 ] || echo "ERROR: not routed within $lim s (HW_PNR_TIMEOUT)" >>"$d/pnr.log"
     [ -e "$d/pnr.json" ] || echo "hw: $m: not placed and routed on the iCE40 UP5K ($d/pnr.log)"
-    yosys -p "read_verilog $(rtl_files $m); $cp synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
+    # The module alone: synthesized without the wrapper and packed into
+    # logic cells (no placement: its ports are more than the pins), so that
+    # ice40_lc_module counts the module's cells only.
+    yosys -p "read_verilog $(rtl_files $m); $cp synth_ice40 -dsp -top $m -json $d/module.json" >"$d/module.log" 2>&1
+    nextpnr-ice40 --up5k --package sg48 --json "$d/module.json" --pack-only >"$d/pack.log" 2>&1 || true
+    yosys -p "read_verilog $(rtl_files $m); $cp synth -flatten -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
         >"$d/generic.log" 2>&1
 }
 
@@ -146,7 +155,7 @@ for m in $modules; do
     # subdiv at N = 8 as well: the same RTL built with -GN=8 against `--module subdiv:8`.
     if [ "$m" = subdiv ]; then
         verilator --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir "$work/obj_subdiv8" "$root/hw/rtl/subdiv.v" \
-            "$root/hw/tb/tb_subdiv.cpp" -CFLAGS "-I$root/hw/tb -O1" -o tb_subdiv >"$work/subdiv8.verilator.log" 2>&1 ||
+            "$root/hw/tb/tb_subdiv.cpp" -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o tb_subdiv >"$work/subdiv8.verilator.log" 2>&1 ||
             { cat "$work/subdiv8.verilator.log" >&2; status=1; }
         vectors subdiv:8 "$work/subdiv8.vectors"
         "$work/obj_subdiv8/tb_subdiv" "$work/subdiv8.vectors" 100000 >"$work/subdiv8.tb.log" || status=1
@@ -205,6 +214,9 @@ def synth_numbers(d):
         r["ice40_bram"] = u.get("ICESTORM_RAM", {}).get("used", 0)
         r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
         r["fmax_mhz"] = round(min(v["achieved"] for v in pnr["fmax"].values()), 2)
+    # The module without the wrapper, after packing (scripts/hw.sh, synth).
+    r["ice40_lc_module"] = grab(os.path.join(d, "pack.log"), r"ICESTORM_LC:\s+(\d+)/", int)
+    r["ice40_dsp_module"] = grab(os.path.join(d, "pack.log"), r"ICESTORM_DSP:\s+(\d+)/", int, 0)
     g = os.path.join(d, "generic.log")
     r["cmos_transistors"] = grab(g, r"Estimated number of transistors:\s+(\d+)", int)
     r["logic_depth"] = grab(g, r"Longest topological path in \S+ \(length=(\d+)\)", int)
@@ -288,7 +300,8 @@ for m in modules:
         r["fallback"], r["steps_per_clock"] = mp_default
         keys = ("latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
                 "vectors_checked", "mismatches", "ice40_fits", "ice40_lc", "ice40_lc_needed", "ice40_pnr_error",
-                "ice40_dsp", "ice40_wrapper_ffs", "fmax_mhz", "cmos_transistors", "logic_depth")
+                "ice40_dsp", "ice40_wrapper_ffs", "ice40_lc_module", "ice40_dsp_module", "fmax_mhz", "cmos_transistors",
+                "logic_depth")
         head = ("fallback", "steps_per_clock")
         sweep = [dict(zip(head, mp_default), **{k: r.get(k) for k in keys})]
         for f, k in mp_sweep:
@@ -315,22 +328,24 @@ cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.start
 dspeq = grab(os.path.join(work, "mul16.log"), r"SB_LUT4\s+(\d+)", int)
 json.dump({"tools": ver, "cpu": cpu, "ice40_dsp_lut4_equivalent": dspeq, "modules": rows}, open(os.path.join(out, "summary.json"), "w"), indent=2)
 
-cols = ["module", "ice40_lc", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_transistors", "logic_depth",
+cols = ["module", "ice40_lc", "ice40_lc_module", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_transistors", "logic_depth",
         "latency_cycles", "pixels_per_clock", "vectors_checked", "mismatches", "max_error_texels", "max_error", "error_unit"]
 md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
 for r in rows:
     md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
 for r in rows:
     if r.get("steps_sweep"):
-        sc = ["fallback", "steps_per_clock", "latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_lc_needed",
-              "ice40_dsp", "fmax_mhz", "cmos_transistors", "logic_depth", "mismatches"]
+        sc = ["fallback", "steps_per_clock", "latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors",
+              "ice40_lc", "ice40_lc_needed", "ice40_lc_module", "ice40_dsp", "fmax_mhz", "cmos_transistors",
+              "logic_depth", "mismatches"]
         md += ["", "%s by fallback and lattice steps per clock (default %d, %d):"
                % (r["module"], r["fallback"], r["steps_per_clock"]), "",
                "| " + " | ".join(sc) + " |", "|" + "---|" * len(sc)]
         md += ["| " + " | ".join("-" if e.get(c) is None else str(e.get(c)) for c in sc) + " |"
                for e in r["steps_sweep"]]
 md += ["", "Tools: " + "; ".join(ver.values()) + ". CPU: " + cpu + ".",
-       "ice40_lc includes the out-of-context wrapper's flip-flops (ice40_wrapper_ffs in summary.json)."]
+       "ice40_lc (placed and routed) includes the out-of-context wrapper's flip-flops (ice40_wrapper_ffs in "
+       "summary.json); ice40_lc_module is the module alone, synthesized and packed without the wrapper."]
 open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")
 print("\n".join(md))
 PY

@@ -122,12 +122,7 @@ void collect(lane &l, const char *coord)
 
 int main(int argc, char **argv)
 {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: tb_midpoint_int VECTORS [MIN_PIXELS]\n");
-        return 2;
-    }
-    const long min_pixels = argc > 2 ? std::atol(argv[2]) : 1;
+    const long min_pixels = tb::min_units("midpoint_int", "PIXELS", argc, argv);
     std::vector<std::string> comments;
     const std::vector<tb::record> recs = tb::read_records(argv[1], &comments);
 
@@ -184,10 +179,7 @@ int main(int argc, char **argv)
     const char *names[2] = {"u", "v"};
     for (lane &l : lanes) {
         l.dut = std::make_unique<Vmidpoint_int>();
-        l.dut->clk = 0, l.dut->rst = 1, l.dut->load = 0;
-        l.dut->eval();
-        l.dut->clk = 1, l.dut->eval();
-        l.dut->clk = 0, l.dut->rst = 0, l.dut->eval();
+        tb::reset(*l.dut);
     }
     long idle = 0;
     for (;;) {
