@@ -54,8 +54,8 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
     set_tests_properties(hw_${m} PROPERTIES LABELS hw TIMEOUT 300)
   endforeach()
   # midpoint_int's other settings, each on the default's vector sets: the
-  # run-ahead divider (FALLBACK 1) at STEPS 4, and the stalling design
-  # (FALLBACK 0) at STEPS 4 and 1.
+  # run-ahead divider (FALLBACK 1) at STEPS 4, the stalling design
+  # (FALLBACK 0) at STEPS 4 and 1, and the divider alone (FALLBACK 2).
   string(REPLACE "|" ";" parts "${PERSP_HW_SETS_midpoint_int}")
   set(gen "")
   set(k 0)
@@ -63,7 +63,7 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
     math(EXPR k "${k} + 1")
     string(APPEND gen "\"$1\" vectors ${opts} -o \"$2.${k}\" 2>/dev/null && ")
   endforeach()
-  foreach(variant "f1s4:-GSTEPS=4" "f0s4:-GFALLBACK=0:-GSTEPS=4" "f0s1:-GFALLBACK=0:-GSTEPS=1")
+  foreach(variant "f1s4:-GSTEPS=4" "f0s4:-GFALLBACK=0:-GSTEPS=4" "f0s1:-GFALLBACK=0:-GSTEPS=1" "f2:-GFALLBACK=2")
     string(REPLACE ":" ";" vparts "${variant}")
     list(POP_FRONT vparts v)
     set(tbv ${PERSP_HW_DIR}/obj_midpoint_int_${v}/tb_midpoint_int)

@@ -13,7 +13,7 @@
 #   HW_NO_SYNTH=1              testbenches only
 #   HW_MODULES="exact"         a subset
 #   HW_MIDPOINT_VARIANTS="0:2 1:8"  midpoint_int's FALLBACK:STEPS settings measured besides
-#                              the default (default "1:4 0:4 0:1")
+#                              the default (default "1:4 0:4 0:1 2:1")
 #   HW_PNR_TIMEOUT=300         seconds before nextpnr is stopped (a design that fills the device)
 set -eu
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -131,7 +131,7 @@ synth() {
 mp_param() { sed -n "s/^ *parameter $1 *= *\([0-9]*\).*/\1/p" "$root/hw/rtl/midpoint_int.v"; }
 mp_default="$(mp_param FALLBACK):$(mp_param STEPS)"
 mp_sweep=""
-for k in ${HW_MIDPOINT_VARIANTS-1:4 0:4 0:1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
+for k in ${HW_MIDPOINT_VARIANTS-1:4 0:4 0:1 2:1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
 
 status=0
 for m in $modules; do

@@ -47,7 +47,8 @@ module midpoint_int #(
     parameter CAP   = 32,  // lattice steps before a re-seed
     parameter LW    = 7,   // span length counter (spans are at most 64 pixels)
     parameter STEPS = 1,   // lattice steps searched per clock, 1 <= STEPS <= CAP, < 31
-    parameter FALLBACK = 1 // 0: stall for the extra steps and re-seeds; 1: run-ahead divider
+    parameter FALLBACK = 1 // 0: stall for the extra steps and re-seeds; 1: run-ahead divider;
+                           // 2: the divider alone (no search; STEPS unused)
 ) (
     input  wire                  clk,
     input  wire                  rst,
@@ -501,8 +502,18 @@ module midpoint_int #(
             // divider's answer, which is the same n and W (the unique
             // 0 < W <= 2E). A pixel flagged out_oor ends its span: the span's
             // later pixels, already in the pipeline, are dropped.
+            //
+            // FALLBACK 2 takes the divider's answer for every pixel: the
+            // search is then not needed, and the re-seed flag (more than CAP
+            // steps) is |n - n_prev| > CAP, the index's move from the
+            // previous pixel.
             reg  dead;
-            wire use_div = pfirst || far || !acc;
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire signed [NW:0] dn = {pn[NW-1], pn} - {n[NW-1], n};
+            localparam signed [NW:0] CAPN = CAP;
+            wire div_far = (dn > CAPN) || (dn < -CAPN);
+            /* verilator lint_on UNUSEDSIGNAL */
+            wire use_div = FALLBACK == 2 || pfirst || far || !acc;
             wire oor_now = use_div ? povf : n_oor;
             always @(posedge clk) begin
                 out_valid <= 1'b0;
@@ -511,7 +522,7 @@ module midpoint_int #(
                 end else if (pv && (pfirst || !dead)) begin
                     out_valid  <= 1'b1;
                     out_oor    <= oor_now;
-                    out_reseed <= !pfirst && far;
+                    out_reseed <= !pfirst && (FALLBACK == 2 ? div_far : far);
                     out_n      <= use_div ? pn : n_sel;
                     out_W      <= (use_div ? pWb : v_sel[WW-1:0]) + 1'b1;
                     Wb         <= use_div ? pwn : w_next[WW-1:0];
