@@ -66,6 +66,7 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
   foreach(variant "f1s4:-GSTEPS=4" "f0s4:-GFALLBACK=0:-GSTEPS=4" "f0s1:-GFALLBACK=0:-GSTEPS=1" "f2:-GFALLBACK=2")
     string(REPLACE ":" ";" vparts "${variant}")
     list(POP_FRONT vparts v)
+    string(REPLACE ";" " " vtext "${vparts}")
     set(tbv ${PERSP_HW_DIR}/obj_midpoint_int_${v}/tb_midpoint_int)
     add_custom_command(
       OUTPUT ${tbv}
@@ -75,7 +76,7 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
               -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_midpoint_int > ${PERSP_HW_DIR}/midpoint_int_${v}.verilator.log
       DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/midpoint_int.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_midpoint_int.cpp
               ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
-      COMMENT "verilator: hw/rtl/midpoint_int.v, ${vparts}")
+      COMMENT "verilator: hw/rtl/midpoint_int.v, ${vtext}")
     add_custom_target(hw_tb_midpoint_int_${v} ALL DEPENDS ${tbv})
     add_test(NAME hw_midpoint_int_${v}
              COMMAND sh -c "${gen}cat \"$2\".* > \"$2\" && \"$3\" \"$2\" 100000"

@@ -7,11 +7,11 @@ One column per kind of error (texture coordinates in texels; t_w as a
 fraction of the span; a window's texel positions in texels), since the
 modules of different kinds compute different things; two rows of area:
 the technology-independent transistor estimate (Yosys + ABC, `stat -tech
-cmos`) and the iCE40's logic cells of the module alone (`ice40_lc_module`:
-synthesized and packed without the out-of-context wrapper, so it exists
-also for a module that does not fit the UP5K) plus each SB_MAC16 counted as
-the SB_LUT4s of a 16 x 16 multiply built from logic
-(`ice40_dsp_lut4_equivalent`, measured by scripts/hw.sh). Each panel's Pareto front (no other module both smaller
+cmos`) and the iCE40's logic cells of the module itself (`ice40_lc_module`:
+the out-of-context wrapper's LCs subtracted, also for a module that does not
+fit the UP5K) plus each SB_MAC16 counted as the SB_LUT4s of a 16 x 16
+multiply built from logic (`ice40_dsp_lut4_equivalent`, measured by
+scripts/hw.sh). Each panel's Pareto front (no other module both smaller
 and more accurate) is the line. Both axes are logarithmic. Standard library
 only; modules missing a number are listed under the plot, not drawn.
 """
@@ -145,7 +145,7 @@ def main():
         for row in range(2):
             panel(out, ML + c * (PW + ML + MR), MT + 30 + row * (PH + MT + MB), title, ylabels[row],
                   data.get((unit, row), []), colour_of)
-    notes = "iCE40 area: the module's logic cells, packed without the out-of-context wrapper; block RAM not counted."
+    notes = "iCE40 area: the module's logic cells, the out-of-context wrapper's subtracted; block RAM not counted."
     out.append('<text x="10" y="%d" font-size="10">%s</text>' % (height - 24, html.escape(notes)))
     if skipped:
         out.append('<text x="10" y="%d" font-size="10">not drawn: %s</text>'
