@@ -28,12 +28,13 @@
 // pipelined divider fed from the span's start runs NLIM + 2 clocks ahead of
 // the search and supplies n, W and T - K for the span's first pixel and for
 // every pixel that the search does not finish within STEPS steps
-// (docs/HARDWARE.md, "midpoint_int").
+// (docs/HARDWARE.md, "midpoint_int"). FALLBACK = 2: that divider alone.
 //
 // Interface: `load` (accepted whenever asserted; it aborts a span in
-// progress) latches the span's start values and len, the number of pixels
+// progress, with FALLBACK 1, 2 the pixels not yet issued) latches the span's start values and len, the number of pixels
 // to deliver; `ready` says that a load in this cycle loses nothing (idle, or
-// this cycle accepts the span's last pixel). out_valid for one cycle per
+// this cycle accepts the span's last pixel; FALLBACK 1, 2: the span stage
+// issues it). out_valid for one cycle per
 // delivered pixel, registered; out_oor marks the pixel at which the integer
 // path ends (out_n, out_W are then not meaningful) and the span stops there.
 module midpoint_int #(

@@ -23,11 +23,7 @@ int main(int argc, char **argv)
         *dut, v.px.size(), "pixels", v.mismatches,
         [&](Vexact &d) {
             if (next == v.jobs.size()) return false;
-            const tb::uv_job &j = v.jobs[next++];
-            d.E0 = tb::port(j.E0, tb::UV_EW), d.G2 = tb::port(j.G2, tb::UV_EW);
-            d.Nu0 = tb::port(j.N0[0], tb::UV_NW), d.Nv0 = tb::port(j.N0[1], tb::UV_NW);
-            d.Au2 = tb::port(j.A2[0], tb::UV_NW), d.Av2 = tb::port(j.A2[1], tb::UV_NW);
-            d.len = (uint8_t)j.len;
+            tb::load_uv(d, v.jobs[next++]);
             return true;
         },
         [&](Vexact &d) -> size_t {

@@ -25,12 +25,7 @@ int main(int argc, char **argv)
         *dut, v.px.size(), "pixels", v.mismatches,
         [&](Vsubdiv &d) {
             if (next == v.jobs.size()) return false;
-            const tb::uv_job &j = v.jobs[next++];
-            d.E0 = tb::port(j.E0, tb::UV_EW), d.G2 = tb::port(j.G2, tb::UV_EW), d.E1 = tb::port(j.E1, tb::UV_EW);
-            d.Nu0 = tb::port(j.N0[0], tb::UV_NW), d.Nv0 = tb::port(j.N0[1], tb::UV_NW);
-            d.Au2 = tb::port(j.A2[0], tb::UV_NW), d.Av2 = tb::port(j.A2[1], tb::UV_NW);
-            d.Nu1 = tb::port(j.N1[0], tb::UV_NW), d.Nv1 = tb::port(j.N1[1], tb::UV_NW);
-            d.len = (uint8_t)j.len;
+            tb::load_uv_ends(d, v.jobs[next++]);
             return true;
         },
         [&](Vsubdiv &d) -> size_t {

@@ -68,6 +68,22 @@ inline uv_vectors read_uv(const std::vector<record> &recs, const char *span_kind
     return v;
 }
 
+// A span's start values and steps on exact's ports.
+template <class DUT> void load_uv(DUT &d, const uv_job &j)
+{
+    d.E0 = port(j.E0, UV_EW), d.G2 = port(j.G2, UV_EW);
+    d.Nu0 = port(j.N0[0], UV_NW), d.Nv0 = port(j.N0[1], UV_NW);
+    d.Au2 = port(j.A2[0], UV_NW), d.Av2 = port(j.A2[1], UV_NW);
+    d.len = (uint8_t)j.len;
+}
+
+// The same with the span's end values (subdiv, incremental).
+template <class DUT> void load_uv_ends(DUT &d, const uv_job &j)
+{
+    load_uv(d, j);
+    d.E1 = port(j.E1, UV_EW), d.Nu1 = port(j.N1[0], UV_NW), d.Nv1 = port(j.N1[1], UV_NW);
+}
+
 // One output against its expected pixel; WHO names the output in a
 // mismatch ("" or "chain l: "). Counts the in-range pixels compared.
 inline void check_uv(const uv_px &e, int ovf, uint64_t tu, uint64_t tv, const char *who, long &mismatches,
