@@ -8,8 +8,11 @@
 //   tb_midpoint_int VECTORS [MIN_PIXELS]
 //
 // Prints `midpoint_int: pixels N mismatches M` (pixels: integer-path pixels
-// compared, both coordinates) and the cycle counts; exits 1 on a mismatch
-// or on fewer than MIN_PIXELS pixels.
+// compared, both coordinates), the cycle counts, the latency (load to a
+// span's first pixel, the fewest over the spans) and the pixels per clock
+// after it (each lane's outputs over the clocks from its first output to
+// its last: 1 where no pixel stalls); exits 1 on a mismatch or on fewer
+// than MIN_PIXELS pixels.
 #include "Vmidpoint_int.h"
 #include "tb_common.h"
 #include "verilated.h"
