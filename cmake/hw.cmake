@@ -36,8 +36,10 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
       COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall --Mdir ${PERSP_HW_DIR}/obj_${m}
               ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
               -y ${PROJECT_SOURCE_DIR}/hw/rtl -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_${m} > ${PERSP_HW_DIR}/${m}.verilator.log
-      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
-              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_fd.h
+      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/${m}.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact.v
+              ${PROJECT_SOURCE_DIR}/hw/rtl/exact_stages.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_${m}.cpp
+              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_fd.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_uv.h
+              ${PROJECT_SOURCE_DIR}/hw/tb/tb_tw.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_window.h
       COMMENT "verilator: hw/rtl/${m}.v")
     add_custom_target(hw_tb_${m} ALL DEPENDS ${tb})
     set(gen "")
@@ -51,19 +53,9 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
                      hw_${m} $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/${m}.ctest.vectors ${tb})
     set_tests_properties(hw_${m} PROPERTIES LABELS hw TIMEOUT 300)
   endforeach()
-  # midpoint_int at one lattice step per clock (its smallest STEPS; the
-  # default is checked above), on the default's vector sets.
-  set(tbs1 ${PERSP_HW_DIR}/obj_midpoint_int_s1/tb_midpoint_int)
-  add_custom_command(
-    OUTPUT ${tbs1}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${PERSP_HW_DIR}
-    COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall -GSTEPS=1 --Mdir ${PERSP_HW_DIR}/obj_midpoint_int_s1
-            ${PROJECT_SOURCE_DIR}/hw/rtl/midpoint_int.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_midpoint_int.cpp
-            -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_midpoint_int > ${PERSP_HW_DIR}/midpoint_int_s1.verilator.log
-    DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/midpoint_int.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_midpoint_int.cpp
-            ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
-    COMMENT "verilator: hw/rtl/midpoint_int.v, STEPS = 1")
-  add_custom_target(hw_tb_midpoint_int_s1 ALL DEPENDS ${tbs1})
+  # midpoint_int's other settings, each on the default's vector sets: the
+  # run-ahead divider (FALLBACK 1) at STEPS 4, the stalling design
+  # (FALLBACK 0) at STEPS 4 and 1, and the divider alone (FALLBACK 2).
   string(REPLACE "|" ";" parts "${PERSP_HW_SETS_midpoint_int}")
   set(gen "")
   set(k 0)
@@ -71,10 +63,26 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
     math(EXPR k "${k} + 1")
     string(APPEND gen "\"$1\" vectors ${opts} -o \"$2.${k}\" 2>/dev/null && ")
   endforeach()
-  add_test(NAME hw_midpoint_int_s1
-           COMMAND sh -c "${gen}cat \"$2\".* > \"$2\" && \"$3\" \"$2\" 100000"
-                   hw_midpoint_int_s1 $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/midpoint_int_s1.ctest.vectors ${tbs1})
-  set_tests_properties(hw_midpoint_int_s1 PROPERTIES LABELS hw TIMEOUT 300)
+  foreach(variant "f1s4:-GSTEPS=4" "f0s4:-GFALLBACK=0:-GSTEPS=4" "f0s1:-GFALLBACK=0:-GSTEPS=1" "f2:-GFALLBACK=2")
+    string(REPLACE ":" ";" vparts "${variant}")
+    list(POP_FRONT vparts v)
+    string(REPLACE ";" " " vtext "${vparts}")
+    set(tbv ${PERSP_HW_DIR}/obj_midpoint_int_${v}/tb_midpoint_int)
+    add_custom_command(
+      OUTPUT ${tbv}
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${PERSP_HW_DIR}
+      COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall ${vparts} --Mdir ${PERSP_HW_DIR}/obj_midpoint_int_${v}
+              ${PROJECT_SOURCE_DIR}/hw/rtl/midpoint_int.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_midpoint_int.cpp
+              -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_midpoint_int > ${PERSP_HW_DIR}/midpoint_int_${v}.verilator.log
+      DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/midpoint_int.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_midpoint_int.cpp
+              ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
+      COMMENT "verilator: hw/rtl/midpoint_int.v, ${vtext}")
+    add_custom_target(hw_tb_midpoint_int_${v} ALL DEPENDS ${tbv})
+    add_test(NAME hw_midpoint_int_${v}
+             COMMAND sh -c "${gen}cat \"$2\".* > \"$2\" && \"$3\" \"$2\" 100000"
+                     hw_midpoint_int_${v} $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/midpoint_int_${v}.ctest.vectors ${tbv})
+    set_tests_properties(hw_midpoint_int_${v} PROPERTIES LABELS hw TIMEOUT 300)
+  endforeach()
   # subdiv at N = 8: the same RTL built with -GN=8, against `--module subdiv:8`.
   set(tb8 ${PERSP_HW_DIR}/obj_subdiv8/tb_subdiv)
   add_custom_command(
@@ -82,8 +90,9 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
     COMMAND ${CMAKE_COMMAND} -E make_directory ${PERSP_HW_DIR}
     COMMAND ${PERSP_VERILATOR} --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir ${PERSP_HW_DIR}/obj_subdiv8
             ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp
-            -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_subdiv > ${PERSP_HW_DIR}/subdiv8.verilator.log
-    DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp
+            -y ${PROJECT_SOURCE_DIR}/hw/rtl -CFLAGS "-I${PROJECT_SOURCE_DIR}/hw/tb -O1" -o tb_subdiv > ${PERSP_HW_DIR}/subdiv8.verilator.log
+    DEPENDS ${PROJECT_SOURCE_DIR}/hw/rtl/subdiv.v ${PROJECT_SOURCE_DIR}/hw/rtl/exact_stages.v
+            ${PROJECT_SOURCE_DIR}/hw/tb/tb_subdiv.cpp ${PROJECT_SOURCE_DIR}/hw/tb/tb_uv.h
             ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
     COMMENT "verilator: hw/rtl/subdiv.v, N = 8")
   add_custom_target(hw_tb_subdiv8 ALL DEPENDS ${tb8})

@@ -7,8 +7,9 @@ One column per kind of error (texture coordinates in texels; t_w as a
 fraction of the span; a window's texel positions in texels), since the
 modules of different kinds compute different things; two rows of area:
 the technology-independent transistor estimate (Yosys + ABC, `stat -tech
-cmos`) and the iCE40 UP5K's logic cells without the out-of-context
-wrapper's flip-flops plus each SB_MAC16 counted as the SB_LUT4s of a 16 x 16
+cmos`) and the iCE40's logic cells of the module itself (`ice40_lc_module`:
+the out-of-context wrapper's LCs subtracted, also for a module that does not
+fit the UP5K) plus each SB_MAC16 counted as the SB_LUT4s of a 16 x 16
 multiply built from logic (`ice40_dsp_lut4_equivalent`, measured by
 scripts/hw.sh). Each panel's Pareto front (no other module both smaller
 and more accurate) is the line. Both axes are logarithmic. Standard library
@@ -41,10 +42,10 @@ def error_of(r):
 def areas(r, dspeq):
     """The two areas, None where the summary lacks a number."""
     cmos = r.get("cmos_transistors")
-    lc = r.get("ice40_lc")
+    lc = r.get("ice40_lc_module")
     ice = None
     if lc is not None and dspeq is not None:
-        ice = lc - (r.get("ice40_wrapper_ffs") or 0) + (r.get("ice40_dsp") or 0) * dspeq
+        ice = lc + (r.get("ice40_dsp_module") or 0) * dspeq
     return cmos, ice
 
 
@@ -144,7 +145,7 @@ def main():
         for row in range(2):
             panel(out, ML + c * (PW + ML + MR), MT + 30 + row * (PH + MT + MB), title, ylabels[row],
                   data.get((unit, row), []), colour_of)
-    notes = "iCE40 area: logic cells minus the out-of-context wrapper's flip-flops (approximate); block RAM not counted."
+    notes = "iCE40 area: the module's logic cells, the out-of-context wrapper's subtracted; block RAM not counted."
     out.append('<text x="10" y="%d" font-size="10">%s</text>' % (height - 24, html.escape(notes)))
     if skipped:
         out.append('<text x="10" y="%d" font-size="10">not drawn: %s</text>'

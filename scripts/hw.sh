@@ -12,8 +12,11 @@
 #   HW_SMALL=1                 fewer vectors (still >= 100 000 pixels a module)
 #   HW_NO_SYNTH=1              testbenches only
 #   HW_MODULES="exact"         a subset
-#   HW_MIDPOINT_STEPS="1 2 8"  midpoint_int's STEPS values measured besides the default (1)
+#   HW_MIDPOINT_VARIANTS="0:2 1:8"  midpoint_int's FALLBACK:STEPS settings measured besides
+#                              the default (default "0:4 2:1"; docs/HARDWARE.md's
+#                              table adds "1:4 0:1")
 #   HW_PNR_TIMEOUT=300         seconds before nextpnr is stopped (a design that fills the device)
+#   HW_MODULE_ALONE=1          also pack each module synthesized alone (ice40_lc_module_alone)
 set -eu
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="${1:-$root/build}"
@@ -75,32 +78,45 @@ vectors() {
     fi
 }
 
-# The Verilog a module is read from: its file, and exact.v for incremental,
-# whose two chains are instances of exact.
+# The Verilog a module is read from: its file, and the modules it
+# instantiates (exact's stages, in exact, subdiv and incremental's chains).
 rtl_files() {
-    if [ "$1" = incremental ]; then echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v"; else echo "$root/hw/rtl/$1.v"; fi
+    case "$1" in
+        exact | subdiv) echo "$root/hw/rtl/$1.v $root/hw/rtl/exact_stages.v" ;;
+        incremental) echo "$root/hw/rtl/$1.v $root/hw/rtl/exact.v $root/hw/rtl/exact_stages.v" ;;
+        *) echo "$root/hw/rtl/$1.v" ;;
+    esac
 }
 
-# tb MODULE [VARIANT PARAM=VALUE]: the testbench in obj_MODULE (obj_MODULE_VARIANT
-# built with -GPARAM=VALUE).
+# tb MODULE [VARIANT "PARAM=VALUE ..."]: the testbench in obj_MODULE
+# (obj_MODULE_VARIANT built with -GPARAM=VALUE for each).
 tb() {
-    local m="$1" v="${2:+_$2}" g="${3:+-G$3}"
+    local m="$1" v="${2:+_$2}" g="" p
+    for p in ${3:-}; do g="$g -G$p"; done
     verilator --cc --exe --build -j 2 -O2 -Wall $g --Mdir "$work/obj_$m$v" "$root/hw/rtl/$m.v" "$root/hw/tb/tb_$m.cpp" \
         -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o "tb_$m" >"$work/$m$v.verilator.log" 2>&1 ||
         { cat "$work/$m$v.verilator.log" >&2; return 1; }
 }
 
-# synth MODULE [VARIANT PARAM=VALUE]: into syn_MODULE (syn_MODULE_VARIANT with
-# the parameter set by chparam).
+# synth MODULE [VARIANT "PARAM=VALUE ..."]: into syn_MODULE (syn_MODULE_VARIANT
+# with the parameters set by chparam).
 synth() {
-    local m="$1" v="${2:+_$2}" cp=""
+    local m="$1" v="${2:+_$2}" cp="" p
     local d="$work/syn_$m$v"
-    [ -n "${3:-}" ] && cp="chparam -set ${3%%=*} ${3#*=} $m;"
+    for p in ${3:-}; do cp="$cp chparam -set ${p%%=*} ${p#*=} $m;"; done
     mkdir -p "$d"
     yosys -q -p "read_verilog $(rtl_files $m); $cp hierarchy -top $m; proc; write_json $d/ports.json" >"$d/ports.log" 2>&1
     python3 "$root/hw/ooc_wrap.py" "$d/ports.json" "$m" "$d/${m}_ooc.v" >"$d/wrapper_ffs"
     yosys -p "read_verilog $(rtl_files $m) $d/${m}_ooc.v; $cp synth_ice40 -dsp -top ${m}_ooc -json $d/ice40.json" \
         >"$d/ice40.log" 2>&1
+    # HW_MODULE_ALONE=1: the module also synthesized by itself and packed
+    # into logic cells (no placement: its ports are more than the pins), a
+    # cross-check of ice40_lc_module (docs/HARDWARE.md).
+    rm -f "$d/pack.log"
+    if [ "${HW_MODULE_ALONE:-0}" = 1 ]; then
+        yosys -p "read_verilog $(rtl_files $m); $cp synth_ice40 -dsp -top $m -json $d/module.json" >"$d/module.log" 2>&1
+        nextpnr-ice40 --up5k --package sg48 --json "$d/module.json" --pack-only >"$d/pack.log" 2>&1 || true
+    fi
     # A module that needs more than the UP5K has (8 SB_MAC16, 5280 LCs) is a
     # result, not a failure of the flow: summary.json then says so (ice40_fits
     # false). One that fills the device may route for a very long time: after
@@ -111,15 +127,16 @@ synth() {
         --report "$d/pnr.json" >"$d/pnr.log" 2>&1 || rc=$?
     [ "$rc" != 124 ] || echo "ERROR: not routed within $lim s (HW_PNR_TIMEOUT)" >>"$d/pnr.log"
     [ -e "$d/pnr.json" ] || echo "hw: $m: not placed and routed on the iCE40 UP5K ($d/pnr.log)"
-    yosys -p "read_verilog $(rtl_files $m); $cp synth -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
+    yosys -p "read_verilog $(rtl_files $m); $cp synth -flatten -top $m; abc; opt_clean; stat -tech cmos; ltp -noff" \
         >"$d/generic.log" 2>&1
 }
 
-# midpoint_int's default lattice steps per clock (its STEPS parameter), and
-# the other values measured: testbench on all sets and on the first, synthesis.
-mp_default=$(sed -n 's/^ *parameter STEPS *= *\([0-9]*\).*/\1/p' "$root/hw/rtl/midpoint_int.v")
+# midpoint_int's default FALLBACK:STEPS (its parameters), and the other
+# settings measured: testbench on all sets and on the first, synthesis.
+mp_param() { sed -n "s/^ *parameter $1 *= *\([0-9]*\).*/\1/p" "$root/hw/rtl/midpoint_int.v"; }
+mp_default="$(mp_param FALLBACK):$(mp_param STEPS)"
 mp_sweep=""
-for k in ${HW_MIDPOINT_STEPS-1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
+for k in ${HW_MIDPOINT_VARIANTS-0:4 2:1}; do [ "$k" = "$mp_default" ] || mp_sweep="$mp_sweep $k"; done
 
 status=0
 for m in $modules; do
@@ -132,17 +149,18 @@ for m in $modules; do
     if [ "$m" = midpoint_int ]; then
         "$work/obj_$m/tb_$m" "$work/$m.vectors.1" >"$work/$m.tb_plain.log" || status=1
         for k in $mp_sweep; do
-            echo "hw: $m: STEPS=$k"
-            tb "$m" "s$k" "STEPS=$k"
-            "$work/obj_${m}_s$k/tb_$m" "$work/$m.vectors" 100000 >"$work/${m}_s$k.tb.log" || status=1
-            "$work/obj_${m}_s$k/tb_$m" "$work/$m.vectors.1" >"$work/${m}_s$k.tb_plain.log" || status=1
-            [ "${HW_NO_SYNTH:-0}" = 1 ] || synth "$m" "s$k" "STEPS=$k"
+            v="f${k%%:*}s${k#*:}" p="FALLBACK=${k%%:*} STEPS=${k#*:}"
+            echo "hw: $m: $p"
+            tb "$m" "$v" "$p"
+            "$work/obj_${m}_$v/tb_$m" "$work/$m.vectors" 100000 >"$work/${m}_$v.tb.log" || status=1
+            "$work/obj_${m}_$v/tb_$m" "$work/$m.vectors.1" >"$work/${m}_$v.tb_plain.log" || status=1
+            [ "${HW_NO_SYNTH:-0}" = 1 ] || synth "$m" "$v" "$p"
         done
     fi
     # subdiv at N = 8 as well: the same RTL built with -GN=8 against `--module subdiv:8`.
     if [ "$m" = subdiv ]; then
         verilator --cc --exe --build -j 2 -O2 -Wall -GN=8 --Mdir "$work/obj_subdiv8" "$root/hw/rtl/subdiv.v" \
-            "$root/hw/tb/tb_subdiv.cpp" -CFLAGS "-I$root/hw/tb -O1" -o tb_subdiv >"$work/subdiv8.verilator.log" 2>&1 ||
+            "$root/hw/tb/tb_subdiv.cpp" -y "$root/hw/rtl" -CFLAGS "-I$root/hw/tb -O1" -o tb_subdiv >"$work/subdiv8.verilator.log" 2>&1 ||
             { cat "$work/subdiv8.verilator.log" >&2; status=1; }
         vectors subdiv:8 "$work/subdiv8.vectors"
         "$work/obj_subdiv8/tb_subdiv" "$work/subdiv8.vectors" 100000 >"$work/subdiv8.tb.log" || status=1
@@ -164,7 +182,9 @@ printf 'module mul16(input clk, input [15:0] a, b, output reg [31:0] p);\n alway
 python3 - "$root" "$work" "$out" "$modules" "${HW_NO_SYNTH:-0}" "$mp_default" "$mp_sweep" <<'PY'
 import json, os, re, subprocess, sys
 root, work, out, modules, nosynth = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4].split(), sys.argv[5] == "1"
-mp_default, mp_sweep = int(sys.argv[6]), [int(k) for k in sys.argv[7].split()]
+# midpoint_int's settings as (FALLBACK, STEPS).
+mp_default = tuple(int(x) for x in sys.argv[6].split(":"))
+mp_sweep = [tuple(int(x) for x in k.split(":")) for k in sys.argv[7].split()]
 method = {"midpoint_int": "midpoint:int", "exact": "exact (hw fixed point)"}
 # The span datapaths (hw_models_span.c) and the float method each implements.
 span = {"subdiv": "subdiv:16", "incremental": "incremental:bidir", "quadratic": "quadratic", "cubic": "cubic",
@@ -199,6 +219,17 @@ def synth_numbers(d):
         r["ice40_bram"] = u.get("ICESTORM_RAM", {}).get("used", 0)
         r["ice40_wrapper_ffs"] = int(open(os.path.join(d, "wrapper_ffs")).read())
         r["fmax_mhz"] = round(min(v["achieved"] for v in pnr["fmax"].values()), 2)
+    # The module's own logic cells: each of the wrapper's flip-flops takes
+    # an LC of its own (the input chain's with no LUT, each output capture
+    # with its 2:1 LUT), which nextpnr never packs with the module's logic,
+    # so they are subtracted exactly; from the placed count, or after
+    # packing where the design was not placed (docs/HARDWARE.md).
+    lc = r.get("ice40_lc", r.get("ice40_lc_needed"))
+    r["ice40_lc_module"] = lc - r["ice40_wrapper_ffs"] if lc is not None else None
+    r["ice40_dsp_module"] = r.get("ice40_dsp", r.get("ice40_dsp_needed"))
+    # HW_MODULE_ALONE=1: the module synthesized and packed by itself.
+    r["ice40_lc_module_alone"] = grab(os.path.join(d, "pack.log"), r"ICESTORM_LC:\s+(\d+)/", int)
+    r["ice40_dsp_module_alone"] = grab(os.path.join(d, "pack.log"), r"ICESTORM_DSP:\s+(\d+)/", int)
     g = os.path.join(d, "generic.log")
     r["cmos_transistors"] = grab(g, r"Estimated number of transistors:\s+(\d+)", int)
     r["logic_depth"] = grab(g, r"Longest topological path in \S+ \(length=(\d+)\)", int)
@@ -255,8 +286,8 @@ for m in modules:
                                                    for f in n8]
                 r["n8_float_max_error_texels_by_set"] = [pair(f, r"same pixels: ") for f in n8]
     else:
-        # Variable: up to STEPS lattice steps and one pixel per clock; measured.
-        r["latency_cycles"] = 1
+        # midpoint_int: measured by the testbench (FALLBACK 0 stalls).
+        r["latency_cycles"] = grab(log, r"latency (\d+) cycles", int)
         plain = os.path.join(work, m + ".tb_plain.log")
         r["pixels_per_clock"] = grab(plain, r"([\d.]+) pixels per clock")
         r["cycles_per_pixel_per_coordinate"] = grab(plain, r"([\d.]+) cycles per pixel per coordinate")
@@ -277,17 +308,20 @@ for m in modules:
     if not nosynth:
         r.update(synth_numbers(os.path.join(work, "syn_" + m)))
     if m == "midpoint_int":
-        # The lattice steps searched per clock: the default and the other
-        # values measured (docs/HARDWARE.md).
-        r["steps_per_clock"] = mp_default
-        keys = ("pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
+        # The lattice steps searched per clock and the fallback: the default
+        # and the other settings measured (docs/HARDWARE.md).
+        r["fallback"], r["steps_per_clock"] = mp_default
+        keys = ("latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors", "cycles_per_pixel_per_coordinate",
                 "vectors_checked", "mismatches", "ice40_fits", "ice40_lc", "ice40_lc_needed", "ice40_pnr_error",
-                "ice40_dsp", "ice40_wrapper_ffs", "fmax_mhz", "cmos_transistors", "logic_depth")
-        sweep = [dict({"steps_per_clock": mp_default}, **{k: r.get(k) for k in keys})]
-        for k in mp_sweep:
-            v = "%s_s%d" % (m, k)
+                "ice40_dsp", "ice40_wrapper_ffs", "ice40_lc_module", "ice40_dsp_module", "fmax_mhz", "cmos_transistors",
+                "logic_depth")
+        head = ("fallback", "steps_per_clock")
+        sweep = [dict(zip(head, mp_default), **{k: r.get(k) for k in keys})]
+        for f, k in mp_sweep:
+            v = "%s_f%ds%d" % (m, f, k)
             log_all, log_plain = os.path.join(work, v + ".tb.log"), os.path.join(work, v + ".tb_plain.log")
-            e = {"steps_per_clock": k,
+            e = {"fallback": f, "steps_per_clock": k,
+                 "latency_cycles": grab(log_all, r"latency (\d+) cycles", int),
                  "pixels_per_clock": grab(log_plain, r"([\d.]+) pixels per clock"),
                  "pixels_per_clock_all_vectors": grab(log_all, r"([\d.]+) pixels per clock"),
                  "cycles_per_pixel_per_coordinate": grab(log_plain, r"([\d.]+) cycles per pixel per coordinate"),
@@ -295,8 +329,8 @@ for m in modules:
                  "mismatches": grab(log_all, r"mismatches (\d+)", int)}
             if not nosynth:
                 e.update(synth_numbers(os.path.join(work, "syn_" + v)))
-            sweep.append({key: e.get(key) for key in ("steps_per_clock",) + keys})
-        r["steps_sweep"] = sorted(sweep, key=lambda e: e["steps_per_clock"])
+            sweep.append({key: e.get(key) for key in head + keys})
+        r["steps_sweep"] = sorted(sweep, key=lambda e: (e["fallback"], e["steps_per_clock"]))
     rows.append(r)
 
 ver = {}
@@ -307,21 +341,24 @@ cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.start
 dspeq = grab(os.path.join(work, "mul16.log"), r"SB_LUT4\s+(\d+)", int)
 json.dump({"tools": ver, "cpu": cpu, "ice40_dsp_lut4_equivalent": dspeq, "modules": rows}, open(os.path.join(out, "summary.json"), "w"), indent=2)
 
-cols = ["module", "ice40_lc", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_transistors", "logic_depth",
+cols = ["module", "ice40_lc", "ice40_lc_module", "ice40_dsp", "ice40_bram", "fmax_mhz", "cmos_transistors", "logic_depth",
         "latency_cycles", "pixels_per_clock", "vectors_checked", "mismatches", "max_error_texels", "max_error", "error_unit"]
 md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
 for r in rows:
     md.append("| " + " | ".join("-" if r.get(c) is None else str(r.get(c)) for c in cols) + " |")
 for r in rows:
     if r.get("steps_sweep"):
-        sc = ["steps_per_clock", "pixels_per_clock", "pixels_per_clock_all_vectors", "ice40_lc", "ice40_lc_needed",
-              "ice40_dsp", "fmax_mhz", "cmos_transistors", "logic_depth", "mismatches"]
-        md += ["", "%s by lattice steps per clock (default %s):" % (r["module"], r["steps_per_clock"]), "",
+        sc = ["fallback", "steps_per_clock", "latency_cycles", "pixels_per_clock", "pixels_per_clock_all_vectors",
+              "ice40_lc", "ice40_lc_needed", "ice40_lc_module", "ice40_dsp", "fmax_mhz", "cmos_transistors",
+              "logic_depth", "mismatches"]
+        md += ["", "%s by fallback and lattice steps per clock (default %d, %d):"
+               % (r["module"], r["fallback"], r["steps_per_clock"]), "",
                "| " + " | ".join(sc) + " |", "|" + "---|" * len(sc)]
         md += ["| " + " | ".join("-" if e.get(c) is None else str(e.get(c)) for c in sc) + " |"
                for e in r["steps_sweep"]]
 md += ["", "Tools: " + "; ".join(ver.values()) + ". CPU: " + cpu + ".",
-       "ice40_lc includes the out-of-context wrapper's flip-flops (ice40_wrapper_ffs in summary.json)."]
+       "ice40_lc (placed and routed) includes the out-of-context wrapper's flip-flops (ice40_wrapper_ffs in "
+       "summary.json); ice40_lc_module is the module's own, those flip-flops' LCs subtracted."]
 open(os.path.join(out, "summary.md"), "w").write("\n".join(md) + "\n")
 print("\n".join(md))
 PY

@@ -57,6 +57,3 @@ module incremental #(
         .len(half_r), .ready(ready_r), .out_valid(out_valid_r), .out_ovf(out_ovf_r), .out_tu(out_tu_r),
         .out_tv(out_tv_r));
 endmodule
-
-// One chain: exact.v's datapath (its comments there), unchanged.
-/* verilator lint_off DECLFILENAME */

@@ -2,8 +2,8 @@
 // piecewise approximation): the exact value at the nodes k = 0, N, 2N, …,
 // n - 1 of a span and linear interpolation between them. One reciprocal
 // per node, i.e. per N pixels: the node values come from exact's datapath
-// (hw/rtl/exact.v's stages S1..S6, copied here because the flow reads one
-// file per module), one node per clock, so the nodes of the following
+// (an instance of hw/rtl/exact_stages.v, exact.v's stages S1..S6), one
+// node per clock, so the nodes of the following
 // segments and spans are computed while the pixels of the current one go
 // out. Bit-exact with persp__hw_subdiv_span (src/analysis/hw_models_span.c;
 // the format is in docs/HARDWARE.md, "subdiv").
@@ -52,24 +52,17 @@ module subdiv #(
     output reg  signed [TOW-1:0] out_tu,
     output reg  signed [TOW-1:0] out_tv
 );
-    localparam MB = EW - 1;
-    localparam SH = NW - SW;
     localparam LOGN = $clog2(N);
     localparam QW = $clog2(DEPTH);
     localparam PW = TOW + 1 + RB + 1;  // (t_b - t_a) * R[len]
     localparam AW = PW - RB + SF + 1;  // the interpolation accumulator
 
-    // ------------------------------------------------------ tables
-    reg [15:0] rom [0:255];
+    // ------------------------------------------------------ table
     reg [RB:0] rtab [0:N];
     /* verilator lint_off UNUSEDSIGNAL */
     integer i, seed;
     /* verilator lint_on UNUSEDSIGNAL */
     initial begin
-        for (i = 0; i < 256; i = i + 1) begin
-            seed = 33554432 / (513 + 2 * i);  // exact's seed: 2^24 / (256.5 + i)
-            rom[i] = seed[15:0];
-        end
         rtab[0] = 0;
         for (i = 1; i <= N; i = i + 1) begin
             seed = ((1 << RB) + i / 2) / i;
@@ -89,47 +82,12 @@ module subdiv #(
     wire take;                 // a segment starts: one node leaves the queue
     assign ready = !act || (launch && last_node);
 
-    // ------------------------------------------------ S1..S6 (exact.v)
-    reg [5:0] lz_c;
-    integer k;
-    always @* begin
-        lz_c = 6'd0;
-        for (k = 0; k < MB; k = k + 1)
-            if (E[k]) lz_c = MB[5:0] - 6'd1 - k[5:0];
-    end
-    /* verilator lint_off UNUSEDSIGNAL */
-    reg        [MB-1:0] m1;
-    /* verilator lint_on UNUSEDSIGNAL */
-    reg        [5:0]    lz1;
-    reg signed [NW-1:0] Nu1s, Nv1s;
-    reg                 v1;
-    wire signed [NW+MB-1:0] shu = $signed({{MB{Nu1s[NW-1]}}, Nu1s}) <<< lz1;
-    wire signed [NW+MB-1:0] shv = $signed({{MB{Nv1s[NW-1]}}, Nv1s}) <<< lz1;
-    wire ovf_u = shu[NW+MB-1:NW-1] != {(MB+1){shu[NW-1]}};
-    wire ovf_v = shv[NW+MB-1:NW-1] != {(MB+1){shv[NW-1]}};
-    reg        [15:0]   r0_2, m16_2;
-    reg signed [SW-1:0] Nsu2, Nsv2;
-    reg                 ovf2, v2;
-    reg        [31:0]   p3;
-    reg        [15:0]   r0_3, r0_4;
-    reg signed [SW-1:0] Nsu3, Nsv3, Nsu4, Nsv4, Nsu5, Nsv5, Nsu6, Nsv6;
-    reg                 ovf3, ovf4, ovf5, ovf6, v3, v4, v5, v6;
-    wire signed [32:0]  d  = $signed({1'b0, p3}) - 33'sd2147483648;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [32:0]  d8w = d >>> 8;
-    /* verilator lint_on UNUSEDSIGNAL */
-    reg signed [31:0]   c4;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [31:0]  cs = c4 >>> 22;
-    wire signed [17:0]  r1w = $signed({2'b00, r0_4}) - cs[17:0];
-    wire        [15:0]  r1 = r1w > 18'sd65535 ? 16'd65535 : (r1w < 18'sd32768 ? 16'd32768 : r1w[15:0]);
-    /* verilator lint_on UNUSEDSIGNAL */
-    reg         [14:0]  rr5;
-    reg signed [SW+16:0] pu6, pv6;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [SW+16:0] su = $signed({{2{Nsu6[SW-1]}}, Nsu6, 15'd0}) + pu6;
-    wire signed [SW+16:0] sv = $signed({{2{Nsv6[SW-1]}}, Nsv6, 15'd0}) + pv6;
-    /* verilator lint_on UNUSEDSIGNAL */
+    // ------------------------------------------- S1..S6 (exact_stages.v)
+    wire                  v6, ovf6;
+    wire signed [TOW-1:0] tu6, tv6;
+    exact_stages #(.EW(EW), .NW(NW), .SW(SW), .TOW(TOW)) stages (
+        .clk(clk), .rst(rst), .in_valid(launch), .E(E), .Nu(Nu), .Nv(Nv),
+        .out_valid(v6), .out_ovf(ovf6), .out_tu(tu6), .out_tv(tv6));
     // Each node's segment length and last flag travel with it.
     reg [LOGN:0] l1, l2, l3, l4, l5, l6;
     reg          z1, z2, z3, z4, z5, z6;
@@ -164,7 +122,7 @@ module subdiv #(
     always @(posedge clk) begin
         if (rst) begin
             act <= 0; cnt <= 0; wp <= 0; rp <= 0; qn <= 0; bl <= 0; j <= 0;
-            v1 <= 0; v2 <= 0; v3 <= 0; v4 <= 0; v5 <= 0; v6 <= 0; out_valid <= 0;
+            out_valid <= 0;
         end else begin
             // launch
             if (load) begin
@@ -182,21 +140,12 @@ module subdiv #(
                 end
             end
             cnt <= cnt + {{QW{1'b0}}, launch} - {{QW{1'b0}}, take};
-            // S1..S6
-            v1 <= launch; lz1 <= lz_c; m1 <= E[MB-1:0] << lz_c; Nu1s <= Nu; Nv1s <= Nv;
-            l1 <= lseg; z1 <= last_node;
-            v2 <= v1; r0_2 <= rom[m1[MB-2:MB-9]]; m16_2 <= m1[MB-1:MB-16];
-            Nsu2 <= shu[SW+SH-1:SH]; Nsv2 <= shv[SW+SH-1:SH]; ovf2 <= ovf_u || ovf_v; l2 <= l1; z2 <= z1;
-            v3 <= v2; p3 <= m16_2 * r0_2; r0_3 <= r0_2; Nsu3 <= Nsu2; Nsv3 <= Nsv2; ovf3 <= ovf2;
-            l3 <= l2; z3 <= z2;
-            v4 <= v3; c4 <= $signed({1'b0, r0_3[15:1]}) * $signed(d8w[15:0]); r0_4 <= r0_3;
-            Nsu4 <= Nsu3; Nsv4 <= Nsv3; ovf4 <= ovf3; l4 <= l3; z4 <= z3;
-            v5 <= v4; rr5 <= r1[14:0]; Nsu5 <= Nsu4; Nsv5 <= Nsv4; ovf5 <= ovf4; l5 <= l4; z5 <= z4;
-            v6 <= v5; pu6 <= Nsu5 * $signed({1'b0, rr5}); pv6 <= Nsv5 * $signed({1'b0, rr5});
-            Nsu6 <= Nsu5; Nsv6 <= Nsv5; ovf6 <= ovf5; l6 <= l5; z6 <= z5;
+            // beside S1..S6
+            l1 <= lseg; z1 <= last_node; l2 <= l1; z2 <= z1; l3 <= l2; z3 <= z2;
+            l4 <= l3; z4 <= z3; l5 <= l4; z5 <= z4; l6 <= l5; z6 <= z5;
             // queue
             if (v6) begin
-                qu[wp] <= su[TOW+22:23]; qv[wp] <= sv[TOW+22:23]; qo[wp] <= ovf6; ql[wp] <= l6; qz[wp] <= z6;
+                qu[wp] <= tu6; qv[wp] <= tv6; qo[wp] <= ovf6; ql[wp] <= l6; qz[wp] <= z6;
                 wp <= wp + 1'b1;
             end
             if (take) rp <= rp1;

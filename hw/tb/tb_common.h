@@ -1,7 +1,8 @@
 // Shared by the Verilator testbenches of hw/tb: reading `persp vectors`
-// files (docs/HARDWARE.md, "Vectors") and moving two's-complement values
+// files (docs/HARDWARE.md, "Vectors"), moving two's-complement values
 // between C++ and Verilator's port words, which hold a W-bit signal in the
-// low W bits of a 64-bit word with the rest zero.
+// low W bits of a 64-bit word with the rest zero, and the clock loop that
+// loads spans as the module is ready and measures latency and throughput.
 #ifndef PERSP_HW_TB_COMMON_H
 #define PERSP_HW_TB_COMMON_H
 
@@ -12,6 +13,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "verilated.h"
 
 namespace tb {
 
@@ -63,6 +66,72 @@ inline std::vector<record> read_records(const char *path, std::vector<std::strin
         out.push_back(std::move(r));
     }
     return out;
+}
+
+// The command line every testbench takes, `tb_NAME VECTORS [MIN_UNITS]`:
+// MIN_UNITS (default 1), or exit 2 with the usage.
+inline long min_units(const char *name, const char *units, int argc, char **argv)
+{
+    Verilated::commandArgs(argc, argv);
+    if (argc < 2) {
+        std::fprintf(stderr, "usage: tb_%s VECTORS [MIN_%s]\n", name, units);
+        std::exit(2);
+    }
+    return argc > 2 ? std::atol(argv[2]) : 1;
+}
+
+// A reset clock: every module resets synchronously and idles with load low.
+template <class DUT> void reset(DUT &dut)
+{
+    dut.clk = 0, dut.rst = 1, dut.load = 0;
+    dut.eval();
+    dut.clk = 1, dut.eval();
+    dut.clk = 0, dut.rst = 0, dut.eval();
+}
+
+// What a run measured: clocks, and load to first output (the latency).
+struct timing {
+    long cycles = 0, latency = -1;
+};
+
+// Clocks DUT until WANT outputs have come: before each rising edge, when the
+// module is ready, LOAD(dut) puts the next job on its ports and says whether
+// there was one (load is then raised); after the edge, OUTPUT(dut) checks
+// and counts this clock's outputs. 100 clocks without one are a mismatch
+// (the module hangs), and end the run.
+template <class DUT, class LOAD, class OUTPUT>
+timing clock_run(DUT &dut, size_t want, const char *units, long &mismatches, LOAD load, OUTPUT output)
+{
+    timing t;
+    size_t got = 0;
+    long first_load = -1, idle = 0;
+    while (got < want) {
+        dut.load = 0;
+        if (dut.ready && load(dut)) {
+            dut.load = 1;
+            if (first_load < 0) first_load = t.cycles;
+        }
+        dut.eval();
+        dut.clk = 1, dut.eval();
+        t.cycles++;
+        if (const size_t n = output(dut)) {
+            if (t.latency < 0) t.latency = t.cycles - 1 - first_load;
+            got += n, idle = 0;
+        } else if (++idle > 100) {
+            std::printf("mismatch: no output for 100 cycles with %zu %s pending\n", want - got, units);
+            mismatches++;
+            break;
+        }
+        dut.clk = 0, dut.eval();
+    }
+    return t;
+}
+
+// The line scripts/hw.sh reads the latency and the throughput from.
+inline void print_timing(const char *name, const timing &t, size_t got, const char *units)
+{
+    std::printf("%s: latency %ld cycles, cycles %ld for %zu %s: %.4f pixels per clock\n", name, t.latency, t.cycles,
+                got, units, t.cycles ? (double)got / (double)t.cycles : 0.0);
 }
 
 // The verdict every testbench ends with (scripts/hw.sh reads this line).

@@ -31,12 +31,7 @@ template <int DEG> struct job {
 
 template <class Model, int DEG> int run(const char *name, int argc, char **argv, void (*load)(Model &, const job<DEG> &))
 {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: tb_%s VECTORS [MIN_PIXELS]\n", name);
-        return 2;
-    }
-    const long min_pixels = argc > 2 ? std::atol(argv[2]) : 1;
+    const long min_pixels = tb::min_units(name, "PIXELS", argc, argv);
     const std::vector<tb::record> recs = tb::read_records(argv[1], nullptr);
     std::vector<job<DEG>> jobs;
     std::vector<expect_px> want;
@@ -70,45 +65,31 @@ template <class Model, int DEG> int run(const char *name, int argc, char **argv,
     }
 
     auto dut = std::make_unique<Model>();
-    dut->clk = 0, dut->rst = 1, dut->load = 0;
-    dut->eval();
-    dut->clk = 1, dut->eval();
-    dut->clk = 0, dut->rst = 0, dut->eval();
+    tb::reset(*dut);
     size_t next = 0, got = 0;
-    long cycles = 0, latency = -1, first_load = -1, idle = 0;
-    while (got < want.size()) {
-        dut->load = 0;
-        if (dut->ready && next < jobs.size()) {
+    const tb::timing t = tb::clock_run(
+        *dut, want.size(), "pixels", mismatches,
+        [&](Model &d) {
+            if (next == jobs.size()) return false;
             const job<DEG> &j = jobs[next++];
-            dut->load = 1;
-            load(*dut, j);
-            dut->len = (uint8_t)j.len;
-            if (first_load < 0) first_load = cycles;
-        }
-        dut->eval();
-        dut->clk = 1, dut->eval();
-        cycles++;
-        if (dut->out_valid) {
-            if (latency < 0) latency = cycles - 1 - first_load;
+            load(d, j);
+            d.len = (uint8_t)j.len;
+            return true;
+        },
+        [&](Model &d) -> size_t {
+            if (!d.out_valid) return 0;
             const expect_px &e = want[got++];
-            idle = 0;
-            const int64_t t[2] = {tb::sext(dut->out_tu, TOW), tb::sext(dut->out_tv, TOW)};
+            const int64_t tv[2] = {tb::sext(d.out_tu, TOW), tb::sext(d.out_tv, TOW)};
             for (int c = 0; c < 2; c++)
-                if (t[c] != e.t[c] && mismatches++ < 10)
-                    std::printf("mismatch: line %ld: t%c %lld, expected %lld\n", e.line, "uv"[c], (long long)t[c],
+                if (tv[c] != e.t[c] && mismatches++ < 10)
+                    std::printf("mismatch: line %ld: t%c %lld, expected %lld\n", e.line, "uv"[c], (long long)tv[c],
                                 (long long)e.t[c]);
-        } else if (++idle > 100) {
-            std::printf("mismatch: no output for 100 cycles with %zu pixels pending\n", want.size() - got);
-            mismatches++;
-            break;
-        }
-        dut->clk = 0, dut->eval();
-    }
+            return 1;
+        });
     std::printf("%s: %ld spans (%ld outside the format, %ld pixels; %ld of 1-2 pixels, %ld of 64), %zu pixels in "
                 "the hardware\n",
                 name, spans, outside, outside_pixels, short_spans, long_spans, want.size());
-    std::printf("%s: latency %ld cycles, cycles %ld for %zu pixels: %.4f pixels per clock\n", name, latency, cycles, got,
-                cycles ? (double)got / (double)cycles : 0.0);
+    tb::print_timing(name, t, got, "pixels");
     return tb::verdict(name, (long)got, mismatches, min_pixels);
 }
 

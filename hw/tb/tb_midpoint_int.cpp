@@ -8,8 +8,11 @@
 //   tb_midpoint_int VECTORS [MIN_PIXELS]
 //
 // Prints `midpoint_int: pixels N mismatches M` (pixels: integer-path pixels
-// compared, both coordinates) and the cycle counts; exits 1 on a mismatch
-// or on fewer than MIN_PIXELS pixels.
+// compared, both coordinates), the cycle counts, the latency (load to a
+// span's first pixel, the fewest over the spans) and the pixels per clock
+// after it (each lane's outputs over the clocks from its first output to
+// its last: 1 where no pixel stalls); exits 1 on a mismatch or on fewer
+// than MIN_PIXELS pixels.
 #include "Vmidpoint_int.h"
 #include "tb_common.h"
 #include "verilated.h"
@@ -38,6 +41,7 @@ struct job {
     std::vector<expect_px> px; // the int_pixels pixels persp computed
     long line;
     int got = 0;               // outputs received
+    long loaded_at = 0;        // the clock edge that took the load
     bool oor_at_end = false;   // the fallback pixel was flagged out_oor
 };
 
@@ -50,6 +54,9 @@ struct lane {
 };
 
 long mismatches = 0;
+long cycles = 0;       // clock edges so far
+long latency = -1;     // the fewest edges from a load to its span's first pixel
+long outputs = 0, first_out = -1, last_out = -1;  // delivered pixels (out_oor too), both lanes
 
 void mismatch(const char *coord, long line, const char *what, int64_t got, int64_t want)
 {
@@ -75,6 +82,7 @@ void drive(lane &l)
         d.T0 = tb::port(j.T0, TW);
         d.K = tb::port(j.K, KW);
         d.len = (uint8_t)j.len;
+        l.jobs[l.next].loaded_at = cycles + 1;
         l.live.push_back(l.next++);
     }
 }
@@ -89,7 +97,11 @@ void collect(lane &l, const char *coord)
         return;
     }
     job &j = l.jobs[l.live.front()];
+    outputs++;
+    if (first_out < 0) first_out = cycles;
+    last_out = cycles;
     const int k = j.got++;
+    if (k == 0 && (latency < 0 || cycles - j.loaded_at < latency)) latency = cycles - j.loaded_at;
     const bool oor = d.out_oor;
     if (k < (int)j.px.size()) {
         const expect_px &e = j.px[(size_t)k];
@@ -113,12 +125,7 @@ void collect(lane &l, const char *coord)
 
 int main(int argc, char **argv)
 {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: tb_midpoint_int VECTORS [MIN_PIXELS]\n");
-        return 2;
-    }
-    const long min_pixels = argc > 2 ? std::atol(argv[2]) : 1;
+    const long min_pixels = tb::min_units("midpoint_int", "PIXELS", argc, argv);
     std::vector<std::string> comments;
     const std::vector<tb::record> recs = tb::read_records(argv[1], &comments);
 
@@ -175,12 +182,9 @@ int main(int argc, char **argv)
     const char *names[2] = {"u", "v"};
     for (lane &l : lanes) {
         l.dut = std::make_unique<Vmidpoint_int>();
-        l.dut->clk = 0, l.dut->rst = 1, l.dut->load = 0;
-        l.dut->eval();
-        l.dut->clk = 1, l.dut->eval();
-        l.dut->clk = 0, l.dut->rst = 0, l.dut->eval();
+        tb::reset(*l.dut);
     }
-    long cycles = 0, idle = 0;
+    long idle = 0;
     for (;;) {
         bool pending = false;
         for (lane &l : lanes) pending |= l.next < l.jobs.size() || !l.live.empty();
@@ -194,7 +198,8 @@ int main(int argc, char **argv)
             collect(lanes[c], names[c]);
             lanes[c].dut->clk = 0, lanes[c].dut->eval();
         }
-        // A re-seed is the longest silence: CAP + NLIM + a few cycles.
+        // The longest silence: a re-seed (CAP + NLIM + a few cycles), or
+        // the divider's pipeline (NLIM + 3).
         idle = any ? 0 : idle + 1;
         if (idle > 1000) {
             mismatch("uv", 0, "no output for 1000 cycles", 0, 1);
@@ -212,9 +217,15 @@ int main(int argc, char **argv)
     std::printf("midpoint_int: %ld spans (%ld on the integer path, %ld sent to double by set-up), %ld dpx pixels "
                 "outside the hardware, %ld re-seeds, %ld fallbacks checked\n",
                 spans, run_spans, rejected, dpx, reseeds, fb_checked);
-    std::printf("midpoint_int: cycles %ld (u busy %ld, v busy %ld) for %ld pixels: %.4f pixels per clock, "
+    std::printf("midpoint_int: cycles %ld (u busy %ld, v busy %ld) for %ld integer-path pixels: %.4f a clock, "
                 "%.4f cycles per pixel per coordinate\n",
                 cycles, lanes[0].busy, lanes[1].busy, int_pixels, cycles ? (double)int_pixels / (double)cycles : 0.0,
                 int_pixels ? 0.5 * (double)(lanes[0].busy + lanes[1].busy) / (double)int_pixels : 0.0);
+    std::printf("midpoint_int: latency %ld cycles (load to the span's first pixel)\n", latency);
+    // Throughput after the latency: each lane's delivered pixels over the
+    // clocks from the first output to the last (1 where nothing stalls).
+    const long out_clocks = last_out < 0 ? 0 : last_out - first_out + 1;
+    std::printf("midpoint_int: %ld pixels delivered in %ld clocks after the latency: %.4f pixels per clock\n",
+                outputs / 2, out_clocks, out_clocks ? 0.5 * (double)outputs / (double)out_clocks : 0.0);
     return tb::verdict("midpoint_int", int_pixels, mismatches, min_pixels);
 }

@@ -9,116 +9,33 @@
 //
 //   tb_subdiv VECTORS [MIN_PIXELS]
 #include "Vsubdiv.h"
-#include "tb_common.h"
-#include "verilated.h"
+#include "tb_uv.h"
 
 #include <memory>
 
-namespace {
-
-constexpr int EW = 41, NW = 56, TOW = 25;
-
-struct expect_px {
-    int ovf;
-    int64_t t[2];
-    long line;
-};
-
-struct job {
-    int64_t E0, G2, N0[2], A2[2], E1, N1[2];
-    int len;
-    long line;
-};
-
-}  // namespace
-
 int main(int argc, char **argv)
 {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: tb_subdiv VECTORS [MIN_PIXELS]\n");
-        return 2;
-    }
-    const long min_pixels = argc > 2 ? std::atol(argv[2]) : 1;
-    const std::vector<tb::record> recs = tb::read_records(argv[1], nullptr);
-    std::vector<job> jobs;
-    std::vector<expect_px> want;
-    int64_t G = 0, A[2] = {0, 0};
-    long spans = 0, outside = 0, outside_pixels = 0, mismatches = 0, short_spans = 0, long_spans = 0;
-    for (const tb::record &r : recs) {
-        if (r.kind == "xfmt") {
-            G = r.i(2), A[0] = r.i(5), A[1] = r.i(8);
-        } else if (r.kind == "sspan") {
-            spans++;
-            if (!r.i(3)) {
-                outside++, outside_pixels += r.i(2);
-                continue;
-            }
-            job j{r.i(4), 2 * G, {r.i(5), r.i(6)}, {2 * A[0], 2 * A[1]}, r.i(7), {r.i(8), r.i(9)}, (int)r.i(2), r.line};
-            if (!tb::fits(j.E0, EW) || !tb::fits(j.G2, EW) || !tb::fits(j.E1, EW) || j.len < 1 || j.len > 127) {
-                std::printf("mismatch: line %ld: start value wider than its register\n", r.line);
-                mismatches++;
-            }
-            for (int c = 0; c < 2; c++)
-                if (!tb::fits(j.N0[c], NW) || !tb::fits(j.N1[c], NW) || !tb::fits(j.A2[c] * 32, NW)) {
-                    std::printf("mismatch: line %ld: start value wider than its register\n", r.line);
-                    mismatches++;
-                }
-            short_spans += j.len <= 2, long_spans += j.len == 64;
-            jobs.push_back(j);
-        } else if (r.kind == "spx") {
-            want.push_back({(int)r.i(0), {r.i(1), r.i(2)}, r.line});
-        }
-    }
-
+    const long min_pixels = tb::min_units("subdiv", "PIXELS", argc, argv);
+    tb::uv_vectors v = tb::read_uv(tb::read_records(argv[1], nullptr), "sspan", "spx");
     auto dut = std::make_unique<Vsubdiv>();
-    dut->clk = 0, dut->rst = 1, dut->load = 0;
-    dut->eval();
-    dut->clk = 1, dut->eval();
-    dut->clk = 0, dut->rst = 0, dut->eval();
+    tb::reset(*dut);
     size_t next = 0, got = 0;
-    long cycles = 0, latency = -1, first_load = -1, idle = 0, in_range = 0;
-    while (got < want.size()) {
-        dut->load = 0;
-        if (dut->ready && next < jobs.size()) {
-            const job &j = jobs[next++];
-            dut->load = 1;
-            dut->E0 = tb::port(j.E0, EW), dut->G2 = tb::port(j.G2, EW), dut->E1 = tb::port(j.E1, EW);
-            dut->Nu0 = tb::port(j.N0[0], NW), dut->Nv0 = tb::port(j.N0[1], NW);
-            dut->Au2 = tb::port(j.A2[0], NW), dut->Av2 = tb::port(j.A2[1], NW);
-            dut->Nu1 = tb::port(j.N1[0], NW), dut->Nv1 = tb::port(j.N1[1], NW);
-            dut->len = (uint8_t)j.len;
-            if (first_load < 0) first_load = cycles;
-        }
-        dut->eval();
-        dut->clk = 1, dut->eval();
-        cycles++;
-        if (dut->out_valid) {
-            if (latency < 0) latency = cycles - 1 - first_load;
-            const expect_px &e = want[got++];
-            idle = 0;
-            if ((int)dut->out_ovf != e.ovf) {
-                if (mismatches++ < 10)
-                    std::printf("mismatch: line %ld: ovf %d, expected %d\n", e.line, (int)dut->out_ovf, e.ovf);
-            } else if (!e.ovf) {
-                in_range++;
-                const int64_t t[2] = {tb::sext(dut->out_tu, TOW), tb::sext(dut->out_tv, TOW)};
-                for (int c = 0; c < 2; c++)
-                    if (t[c] != e.t[c] && mismatches++ < 10)
-                        std::printf("mismatch: line %ld: t%c %lld, expected %lld\n", e.line, "uv"[c],
-                                    (long long)t[c], (long long)e.t[c]);
-            }
-        } else if (++idle > 100) {
-            std::printf("mismatch: no output for 100 cycles with %zu pixels pending\n", want.size() - got);
-            mismatches++;
-            break;
-        }
-        dut->clk = 0, dut->eval();
-    }
+    long in_range = 0;
+    const tb::timing t = tb::clock_run(
+        *dut, v.px.size(), "pixels", v.mismatches,
+        [&](Vsubdiv &d) {
+            if (next == v.jobs.size()) return false;
+            tb::load_uv_ends(d, v.jobs[next++]);
+            return true;
+        },
+        [&](Vsubdiv &d) -> size_t {
+            if (!d.out_valid) return 0;
+            tb::check_uv(v.px[got++], d.out_ovf, d.out_tu, d.out_tv, "", v.mismatches, in_range);
+            return 1;
+        });
     std::printf("subdiv: %ld spans (%ld outside the format, %ld pixels; %ld of 1-2 pixels, %ld of 64), %zu pixels "
                 "in the hardware, %ld in range\n",
-                spans, outside, outside_pixels, short_spans, long_spans, want.size(), in_range);
-    std::printf("subdiv: latency %ld cycles, cycles %ld for %zu pixels: %.4f pixels per clock\n", latency, cycles,
-                got, cycles ? (double)got / (double)cycles : 0.0);
-    return tb::verdict("subdiv", (long)got, mismatches, min_pixels);
+                v.spans, v.outside, v.outside_pixels, v.short_spans, v.long_spans, v.px.size(), in_range);
+    tb::print_timing("subdiv", t, got, "pixels");
+    return tb::verdict("subdiv", (long)got, v.mismatches, min_pixels);
 }

@@ -22,12 +22,7 @@ struct tw_span {
 template <class DUT, class LOAD>
 int run_tw(const char *name, int argc, char **argv, LOAD load_ports)
 {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: tb_%s VECTORS [MIN_PIXELS]\n", name);
-        return 2;
-    }
-    const long min_pixels = argc > 2 ? std::atol(argv[2]) : 1;
+    const long min_pixels = min_units(name, "PIXELS", argc, argv);
     const std::vector<record> recs = read_records(argv[1], nullptr);
     std::vector<tw_span> spans;
     std::vector<std::pair<int64_t, long>> want;
@@ -44,39 +39,25 @@ int run_tw(const char *name, int argc, char **argv, LOAD load_ports)
         }
     }
     auto dut = std::make_unique<DUT>();
-    dut->clk = 0, dut->rst = 1, dut->load = 0;
-    dut->eval();
-    dut->clk = 1, dut->eval();
-    dut->clk = 0, dut->rst = 0, dut->eval();
+    reset(*dut);
     size_t next = 0, got = 0;
-    long cycles = 0, latency = -1, first_load = -1, idle = 0;
-    while (got < want.size()) {
-        dut->load = 0;
-        if (dut->ready && next < spans.size()) {
-            dut->load = 1;
-            load_ports(*dut, spans[next++]);
-            if (first_load < 0) first_load = cycles;
-        }
-        dut->eval();
-        dut->clk = 1, dut->eval();
-        cycles++;
-        if (dut->out_valid) {
-            if (latency < 0) latency = cycles - 1 - first_load;
+    const timing t = clock_run(
+        *dut, want.size(), "pixels", mismatches,
+        [&](DUT &d) {
+            if (next == spans.size()) return false;
+            load_ports(d, spans[next++]);
+            return true;
+        },
+        [&](DUT &d) -> size_t {
+            if (!d.out_valid) return 0;
             const auto &e = want[got++];
-            idle = 0;
-            if ((int64_t)dut->out_t != e.first && mismatches++ < 10)
-                std::printf("mismatch: line %ld: t_w %lld, expected %lld\n", e.second, (long long)dut->out_t,
+            if ((int64_t)d.out_t != e.first && mismatches++ < 10)
+                std::printf("mismatch: line %ld: t_w %lld, expected %lld\n", e.second, (long long)d.out_t,
                             (long long)e.first);
-        } else if (++idle > 100) {
-            std::printf("mismatch: no output for 100 cycles with %zu pixels pending\n", want.size() - got);
-            mismatches++;
-            break;
-        }
-        dut->clk = 0, dut->eval();
-    }
+            return 1;
+        });
     std::printf("%s: %zu spans (%ld outside the format), %zu pixels\n", name, spans.size(), outside, want.size());
-    std::printf("%s: latency %ld cycles, cycles %ld for %zu pixels: %.4f pixels per clock\n", name, latency, cycles,
-                got, cycles ? (double)got / (double)cycles : 0.0);
+    print_timing(name, t, got, "pixels");
     return verdict(name, (long)got, mismatches, min_pixels);
 }
 
