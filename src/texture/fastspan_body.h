@@ -143,23 +143,20 @@ static inline PERSP_INLINE void linear_weigh(uint32_t t00, uint32_t t10, uint32_
 #if PERSP_HAVE_ISA_VARIANTS
 /* linear_weigh of 8 pixels, the same operations in the same order (no
  * contraction: the target has no FMA). */
-PERSP_TARGET_AVX2 static inline void weigh8_avx2(__m256i t00, __m256i t10, __m256i t01, __m256i t11,
-                                                 __m256 a, __m256 b, float c[4][N], int k)
+PERSP_TARGET_AVX2 static inline void weigh8_avx2(const __m256i t[4], __m256 a, __m256 b, float c[4][N],
+                                                 int k)
 {
     const __m256 one = _mm256_set1_ps(1.0f), ra = _mm256_sub_ps(one, a), rb = _mm256_sub_ps(one, b);
-    const __m256 w00 = _mm256_mul_ps(ra, rb), w10 = _mm256_mul_ps(a, rb);
-    const __m256 w01 = _mm256_mul_ps(ra, b), w11 = _mm256_mul_ps(a, b);
-    static const uint32_t mask[3] = {0xffu, 0xff00u, 0xff0000u};
-    static const float scale[3] = {1.0f, 0x1p-8f, 0x1p-16f};
+    const __m256 w[4] = {_mm256_mul_ps(ra, rb), _mm256_mul_ps(a, rb), _mm256_mul_ps(ra, b), _mm256_mul_ps(a, b)};
     for (int ch = 0; ch < 4; ch++) {
-        __m256i m = _mm256_set1_epi32((int32_t)mask[ch < 3 ? ch : 0]);
-#define CH(t) _mm256_cvtepi32_ps(ch < 3 ? _mm256_and_si256(t, m) : _mm256_srli_epi32(t, 24))
-        __m256 sum = _mm256_mul_ps(w00, CH(t00));
-        sum = _mm256_add_ps(sum, _mm256_mul_ps(w10, CH(t10)));
-        sum = _mm256_add_ps(sum, _mm256_mul_ps(w01, CH(t01)));
-        sum = _mm256_add_ps(sum, _mm256_mul_ps(w11, CH(t11)));
-#undef CH
-        if (ch == 1 || ch == 2) sum = _mm256_mul_ps(sum, _mm256_set1_ps(scale[ch]));
+        const __m256i m = _mm256_set1_epi32((int32_t)(0xffu << 8 * ch));
+        __m256 sum = _mm256_setzero_ps();
+        for (int i = 0; i < 4; i++) {
+            const __m256i v = ch < 3 ? _mm256_and_si256(t[i], m) : _mm256_srli_epi32(t[i], 24);
+            const __m256 term = _mm256_mul_ps(w[i], _mm256_cvtepi32_ps(v));
+            sum = i ? _mm256_add_ps(sum, term) : term;
+        }
+        if (ch == 1 || ch == 2) sum = _mm256_mul_ps(sum, _mm256_set1_ps(ch == 1 ? 0x1p-8f : 0x1p-16f));
         _mm256_storeu_ps(c[ch] + k, sum);
     }
 }
@@ -210,7 +207,7 @@ PERSP_TARGET_AVX2 static void linear_sum_avx2(const uint32_t *restrict tex, int 
             }
             for (int r = 0; r < 4; r++) t[r] = _mm256_loadu_si256((const __m256i *)(const void *)e[r]);
         }
-        weigh8_avx2(t[0], t[1], t[2], t[3], _mm256_loadu_ps(fa + k), _mm256_loadu_ps(fb + k), c, k);
+        weigh8_avx2(t, _mm256_loadu_ps(fa + k), _mm256_loadu_ps(fb + k), c, k);
     }
     for (; k < n; k++) linear_weigh(tex[a00[k]], tex[a10[k]], tex[a01[k]], tex[a11[k]], fa[k], fb[k], c, k);
 }
@@ -292,12 +289,14 @@ static inline PERSP_INLINE void span_lambda(const persp_sampler_state *st,
     }
 }
 
-/* *_MIP_NEAREST level (GL 4.6 eq. 8.17, mip_nearest_level of sampler.c):
- * 0 when lambda <= 1/2, else ceil(lambda + 1/2) - 1 up to the last level. */
-/* Level ranges of a span, for linear_taps. */
+/* The lowest and highest level of a span's pixels, for linear_taps. */
 typedef struct {
     int32_t lo, hi;
 } lev_range;
+
+/* *_MIP_NEAREST level (GL 4.6 eq. 8.17, mip_nearest_level of sampler.c):
+ * 0 when lambda <= 1/2, else ceil(lambda + 1/2) - 1 up to the last level;
+ * their range into r unless it is NULL. */
 
 static inline PERSP_INLINE void mip_nearest_levels(const persp_sampler_state *st, int n,
                                                    const float *lam, int32_t *lev,
@@ -312,11 +311,12 @@ static inline PERSP_INLINE void mip_nearest_levels(const persp_sampler_state *st
         lo = lev[k] < lo ? lev[k] : lo;
         hi = lev[k] > hi ? lev[k] : hi;
     }
-    *r = (lev_range){lo, hi};
+    if (r) *r = (lev_range){lo, hi};
 }
 
 /* Blend level d1 towards d2 by f (trilinear and nearest-mip-linear): the
- * levels and factor of every pixel; returns whether any pixel blends. */
+ * levels and factor of every pixel, the ranges of d1 and d2 into r unless
+ * it is NULL; returns whether any pixel blends. */
 static inline PERSP_INLINE int mip_linear_levels(const persp_sampler_state *st, int n,
                                                  const float *lam, int32_t *d1, int32_t *d2,
                                                  float *f, lev_range r[2])
@@ -338,8 +338,10 @@ static inline PERSP_INLINE int mip_linear_levels(const persp_sampler_state *st, 
         lo2 = d2[k] < lo2 ? d2[k] : lo2;
         hi2 = d2[k] > hi2 ? d2[k] : hi2;
     }
-    r[0] = (lev_range){lo1, hi1};
-    r[1] = (lev_range){lo2, hi2};
+    if (r) {
+        r[0] = (lev_range){lo1, hi1};
+        r[1] = (lev_range){lo2, hi2};
+    }
     return blend;
 }
 
@@ -352,9 +354,8 @@ static inline PERSP_INLINE void span_nmn(const persp_sampler_state *st, const pe
     const int n = in->n;
     float lam[N];
     int32_t lev[N], addr[N];
-    lev_range r;
     span_lambda(st, in, lam);
-    mip_nearest_levels(st, n, lam, lev, &r);
+    mip_nearest_levels(st, n, lam, lev, NULL);
     nearest_addr(&st->pot, ws, wt, n, in->u, in->v, lev, addr);
     for (int k = 0; k < n; k++) dst[k] = tex[addr[k]];
 }
@@ -384,8 +385,7 @@ static inline PERSP_INLINE void span_nml(const persp_sampler_state *st, const pe
     float lam[N], f[N], c[4][N];
     int32_t d1[N], d2[N], a1[N], a2[N];
     span_lambda(st, in, lam);
-    lev_range r[2];
-    mip_linear_levels(st, n, lam, d1, d2, f, r);
+    mip_linear_levels(st, n, lam, d1, d2, f, NULL);
     nearest_addr(&st->pot, ws, wt, n, in->u, in->v, d1, a1);
     nearest_addr(&st->pot, ws, wt, n, in->u, in->v, d2, a2);
     for (int k = 0; k < n; k++) {
