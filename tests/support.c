@@ -185,3 +185,16 @@ void test_golden_check(persp_context *ctx, const char *name_in, const persp_imag
     persp_image_free(ctx, &diff);
     persp_image_free(ctx, &want);
 }
+
+void test_write_file(const char *dir, const char *name, const void *data, size_t size)
+{
+    char path[1024];
+    if (dir)
+        snprintf(path, sizeof path, "%s/%s", dir, name);
+    else
+        snprintf(path, sizeof path, "%s", name);
+    FILE *f = fopen(path, "wb");
+    if (!f) fail_msg("cannot create %s", path);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    assert_int_equal(fclose(f), 0);
+}

@@ -24,6 +24,9 @@ uint64_t test_hash(const void *data, size_t n);
  * such a directory with its contents; 0 on success. */
 int test_tmpdir_make(char *dir, size_t size, const char *tag);
 int test_tmpdir_remove(const char *dir);
+/* Writes size bytes to the file name in dir (dir may be NULL: name is the
+ * path); the test fails if that cannot be done. */
+void test_write_file(const char *dir, const char *name, const void *data, size_t size);
 /* A context that fails the test if it cannot be created. */
 persp_context *test_context(void);
 /* A context drawing with the given number of threads. */

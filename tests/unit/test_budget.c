@@ -62,13 +62,7 @@ static void assert_detail(persp_context *ctx, const char *a, const char *b)
     if (!strstr(e, a) || (b && !strstr(e, b))) fail_msg("detail '%s' lacks '%s' / '%s'", e, a, b ? b : "");
 }
 
-static void write_file(const char *path, const void *data, size_t n)
-{
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, n, f), n);
-    assert_int_equal(fclose(f), 0);
-}
+static void write_file(const char *path, const void *data, size_t n) { test_write_file(NULL, path, data, n); }
 
 static unsigned char *read_all(const char *path, size_t *n)
 {

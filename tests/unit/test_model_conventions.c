@@ -14,15 +14,7 @@
 
 static char tmpdir[64];
 
-static void write_file(const char *name, const void *data, size_t size)
-{
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, size, f), size);
-    fclose(f);
-}
+static void write_file(const char *name, const void *data, size_t size) { test_write_file(tmpdir, name, data, size); }
 
 static void write_text(const char *name, const char *text) { write_file(name, text, strlen(text)); }
 

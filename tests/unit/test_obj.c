@@ -55,15 +55,7 @@ static void tmp_path(char *out, size_t size, const char *name)
     snprintf(out, size, "%s/%s", tmpdir, name);
 }
 
-static void write_file(const char *name, const void *data, size_t size)
-{
-    char path[1024];
-    tmp_path(path, sizeof path, name);
-    FILE *f = fopen(path, "wb");
-    assert_non_null(f);
-    assert_int_equal(fwrite(data, 1, size, f), size);
-    assert_int_equal(fclose(f), 0);
-}
+static void write_file(const char *name, const void *data, size_t size) { test_write_file(tmpdir, name, data, size); }
 
 static void write_text(const char *name, const char *text)
 {
