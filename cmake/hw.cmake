@@ -7,6 +7,22 @@ find_program(PERSP_VERILATOR verilator)
 # threads.
 if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROSSCOMPILING AND NOT PERSP_TSAN)
   set(PERSP_HW_DIR ${PROJECT_BINARY_DIR}/hw)
+  # The ctest entry NAME: writes each of SETS' vector sets (`|` between
+  # them) with `persp vectors`, joins them and runs the testbench TB on the
+  # result, which must hold at least 100 000 pixels.
+  function(persp_hw_test name sets tb)
+    string(REPLACE "|" ";" parts "${sets}")
+    set(gen "")
+    set(k 0)
+    foreach(opts ${parts})
+      math(EXPR k "${k} + 1")
+      string(APPEND gen "\"$1\" vectors ${opts} -o \"$2.${k}\" 2>/dev/null && ")
+    endforeach()
+    add_test(NAME ${name}
+             COMMAND sh -c "${gen}cat \"$2\".* > \"$2\" && \"$3\" \"$2\" 100000"
+                     ${name} $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/${name}.ctest.vectors ${tb})
+    set_tests_properties(${name} PROPERTIES LABELS hw TIMEOUT 300)
+  endfunction()
   # Each module's vector sets, `|` between sets: the paths its model has
   # (ordinary pixels, re-seeds, leaving the format; see scripts/hw.sh).
   set(PERSP_HW_SETS_midpoint_int
@@ -28,7 +44,6 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
   endforeach()
   foreach(m midpoint_int exact window_one window_two tw_exact tw_quadratic tw_pwquad tw_cubic
           subdiv incremental quadratic cubic bezier)
-    string(REPLACE "|" ";" parts "${PERSP_HW_SETS_${m}}")
     set(tb ${PERSP_HW_DIR}/obj_${m}/tb_${m})
     add_custom_command(
       OUTPUT ${tb}
@@ -42,27 +57,11 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
               ${PROJECT_SOURCE_DIR}/hw/tb/tb_tw.h ${PROJECT_SOURCE_DIR}/hw/tb/tb_window.h
       COMMENT "verilator: hw/rtl/${m}.v")
     add_custom_target(hw_tb_${m} ALL DEPENDS ${tb})
-    set(gen "")
-    set(k 0)
-    foreach(opts ${parts})
-      math(EXPR k "${k} + 1")
-      string(APPEND gen "\"$1\" vectors ${opts} -o \"$2.${k}\" 2>/dev/null && ")
-    endforeach()
-    add_test(NAME hw_${m}
-             COMMAND sh -c "${gen}cat \"$2\".* > \"$2\" && \"$3\" \"$2\" 100000"
-                     hw_${m} $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/${m}.ctest.vectors ${tb})
-    set_tests_properties(hw_${m} PROPERTIES LABELS hw TIMEOUT 300)
+    persp_hw_test(hw_${m} "${PERSP_HW_SETS_${m}}" ${tb})
   endforeach()
   # midpoint_int's other settings, each on the default's vector sets: the
   # run-ahead divider (FALLBACK 1) at STEPS 4, the stalling design
   # (FALLBACK 0) at STEPS 4 and 1, and the divider alone (FALLBACK 2).
-  string(REPLACE "|" ";" parts "${PERSP_HW_SETS_midpoint_int}")
-  set(gen "")
-  set(k 0)
-  foreach(opts ${parts})
-    math(EXPR k "${k} + 1")
-    string(APPEND gen "\"$1\" vectors ${opts} -o \"$2.${k}\" 2>/dev/null && ")
-  endforeach()
   foreach(variant "f1s4:-GSTEPS=4" "f0s4:-GFALLBACK=0:-GSTEPS=4" "f0s1:-GFALLBACK=0:-GSTEPS=1" "f2:-GFALLBACK=2")
     string(REPLACE ":" ";" vparts "${variant}")
     list(POP_FRONT vparts v)
@@ -78,10 +77,7 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
               ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
       COMMENT "verilator: hw/rtl/midpoint_int.v, ${vtext}")
     add_custom_target(hw_tb_midpoint_int_${v} ALL DEPENDS ${tbv})
-    add_test(NAME hw_midpoint_int_${v}
-             COMMAND sh -c "${gen}cat \"$2\".* > \"$2\" && \"$3\" \"$2\" 100000"
-                     hw_midpoint_int_${v} $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/midpoint_int_${v}.ctest.vectors ${tbv})
-    set_tests_properties(hw_midpoint_int_${v} PROPERTIES LABELS hw TIMEOUT 300)
+    persp_hw_test(hw_midpoint_int_${v} "${PERSP_HW_SETS_midpoint_int}" ${tbv})
   endforeach()
   # subdiv at N = 8: the same RTL built with -GN=8, against `--module subdiv:8`.
   set(tb8 ${PERSP_HW_DIR}/obj_subdiv8/tb_subdiv)
@@ -96,8 +92,7 @@ if(PERSP_VERILATOR AND TARGET persp_cli AND PERSP_BUILD_TESTS AND NOT CMAKE_CROS
             ${PROJECT_SOURCE_DIR}/hw/tb/tb_common.h
     COMMENT "verilator: hw/rtl/subdiv.v, N = 8")
   add_custom_target(hw_tb_subdiv8 ALL DEPENDS ${tb8})
-  add_test(NAME hw_subdiv8
-           COMMAND sh -c "\"$1\" vectors --module subdiv:8 --triangles 40 -o \"$2.1\" 2>/dev/null && \"$1\" vectors --module subdiv:8 --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3 -o \"$2.2\" 2>/dev/null && cat \"$2\".1 \"$2\".2 > \"$2\" && \"$3\" \"$2\" 100000"
-                   hw_subdiv8 $<TARGET_FILE:persp_cli> ${PERSP_HW_DIR}/subdiv8.ctest.vectors ${tb8})
-  set_tests_properties(hw_subdiv8 PROPERTIES LABELS hw TIMEOUT 300)
+  persp_hw_test(hw_subdiv8
+                "--module subdiv:8 --triangles 40|--module subdiv:8 --texture-size 4096x4096 --uv-range 20 --triangles 30 --seed 3"
+                ${tb8})
 endif()
