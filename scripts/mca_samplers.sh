@@ -23,7 +23,9 @@
 # Environment:
 #   CC=gcc  LLVM_MCA=llvm-mca  ITER=100
 #   CPUS="skylake-avx512 cascadelake icelake-server znver3"
-#   FUNCS="nearest_avx2_RR nearest_avx512_RR bilinear_avx2_RR ..."
+#   FUNCS="nearest_avx2_RR nearest_avx512_RR bilinear_avx2_RR ..." (the AVX2
+#   variants fetch and weigh the linear filters in linear_sum_avx2, a
+#   function of its own: its row adds to theirs)
 #   VARIANTS="asis gather"   asis: the flags of the build;
 #                            gather: the same plus -mtune-ctrl=use_gather, so
 #                            that GCC fetches texels with vpgatherdd (what the
@@ -44,7 +46,7 @@ cc="${CC:-gcc}"
 mca="${LLVM_MCA:-llvm-mca}"
 iter="${ITER:-100}"
 cpus="${CPUS:-skylake-avx512 cascadelake icelake-server znver3}"
-funcs="${FUNCS:-nearest_avx2_RR nearest_avx512_RR bilinear_avx2_RR bilinear_avx512_RR trilinear_avx2_RR trilinear_avx512_RR}"
+funcs="${FUNCS:-nearest_avx2_RR nearest_avx512_RR bilinear_avx2_RR linear_sum_avx2 bilinear_avx512_RR trilinear_avx2_RR trilinear_avx512_RR}"
 variants="${VARIANTS:-asis gather}"
 
 # The flags of the library's objects (CMakeLists.txt: CMAKE_C_STANDARD 11,
