@@ -382,7 +382,10 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
      * (−5 %); lit, it costs its lighting too, so a lit batch is always
      * packed and the shaders below light every lane they are given. */
     if (any < n && (!ds->shade_is_texel || f->pack_avx512)) n = pack_live(lb, n, live, f->pack_avx512, !ds->shade_is_texel);
-    float u[PERSP_LANE_MAX], v[PERSP_LANE_MAX], w1[PERSP_LANE_MAX], w2[PERSP_LANE_MAX], rq[PERSP_LANE_MAX];
+    /* w1, w2, texel and out have PERSP_SHADE_GROUP lanes of slack, zero
+     * where read: persp__shade_gouraud_lanes runs whole groups. */
+    float u[PERSP_LANE_MAX], v[PERSP_LANE_MAX], rq[PERSP_LANE_MAX];
+    float w1[PERSP_LANE_MAX + PERSP_SHADE_GROUP], w2[PERSP_LANE_MAX + PERSP_SHADE_GROUP];
     const int weights = !ds->shade_is_texel;
     /* exact_span: rq = 1 / (Q + k·dQ), which is q[k]; one for u, v and the
      * weights, as persp__exact_span_pair. */
@@ -391,12 +394,14 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
         u[k] = lb->un[k] * rq[k];
         v[k] = lb->vn[k] * rq[k];
     }
-    if (weights)
+    uint32_t texel[PERSP_LANE_MAX + PERSP_SHADE_GROUP], out[PERSP_LANE_MAX + PERSP_SHADE_GROUP];
+    if (weights) {
         for (int k = 0; k < n; k++) {
             w1[k] = lb->an[k] * rq[k];
             w2[k] = lb->bn[k] * rq[k];
         }
-    uint32_t texel[PERSP_LANE_MAX], out[PERSP_LANE_MAX];
+        for (int k = n; k < n + PERSP_SHADE_GROUP; k++) w1[k] = w2[k] = 0.0f, texel[k] = 0;
+    }
     uint32_t *tx = weights ? texel : out;
     /* A filter without a level of detail reads no triangle's derivatives:
      * one call for every segment. */

@@ -427,27 +427,47 @@ float persp__shade_light_side(const persp_tri *t)
  * texel path in one loop, the same operations in the same order, but for
  * the zero specular the combine adds (the specular term of a Gouraud
  * vertex colour is in the colour): x + 0 differs from x only where x is
- * −0, whose channel is 0 either way. */
-static PERSP_ALWAYS_INLINE void gouraud_modulate_body(const persp_tri *t, int attr, int n, const float *b1,
-                                                      const float *b2, const uint32_t *texel, uint32_t *out)
+ * −0, whose channel is 0 either way. whole: the loop runs over whole
+ * groups of PERSP_SHADE_GROUP lanes, past n (see
+ * persp__shade_gouraud_lanes). */
+static PERSP_ALWAYS_INLINE void gouraud_pixels(const persp_tri *t, int attr, int n, const float *restrict b1,
+                                               const float *restrict b2, const uint32_t *restrict texel,
+                                               uint32_t *restrict out, const int whole)
 {
     const float r0 = t->vattr[0][attr], r1 = t->vattr[1][attr], r2 = t->vattr[2][attr];
     const float g0 = t->vattr[0][attr + 1], g1 = t->vattr[1][attr + 1], g2 = t->vattr[2][attr + 1];
     const float c0 = t->vattr[0][attr + 2], c1 = t->vattr[1][attr + 2], c2 = t->vattr[2][attr + 2];
     const float inv = 1.0f / 255.0f;
-    for (int k = 0; k < n; k++) {
-        const float w0 = 1.0f - b1[k] - b2[k];
-        const float cr = w0 * r0 + b1[k] * r1 + b2[k] * r2;
-        const float cg = w0 * g0 + b1[k] * g1 + b2[k] * g2;
-        const float cb = w0 * c0 + b1[k] * c1 + b2[k] * c2;
-        const uint32_t p = texel[k];
-        const float t0 = (float)(p & 255u) * inv, t1 = (float)((p >> 8) & 255u) * inv;
-        const float t2 = (float)((p >> 16) & 255u) * inv;
-        out[k] = pack_channel(cr * t0, 0) | pack_channel(cg * t1, 8) | pack_channel(cb * t2, 16) |
-                 (p & 0xff000000u);
-    }
+    const int step = whole ? PERSP_SHADE_GROUP : 1;
+    for (int k0 = 0; k0 < n; k0 += step)
+        for (int j = 0; j < step; j++) {
+            const int k = k0 + j;
+            const float w0 = 1.0f - b1[k] - b2[k];
+            const float cr = w0 * r0 + b1[k] * r1 + b2[k] * r2;
+            const float cg = w0 * g0 + b1[k] * g1 + b2[k] * g2;
+            const float cb = w0 * c0 + b1[k] * c1 + b2[k] * c2;
+            const uint32_t p = texel[k];
+            const float t0 = (float)(p & 255u) * inv, t1 = (float)((p >> 8) & 255u) * inv;
+            const float t2 = (float)((p >> 16) & 255u) * inv;
+            out[k] = pack_channel(cr * t0, 0) | pack_channel(cg * t1, 8) | pack_channel(cb * t2, 16) |
+                     (p & 0xff000000u);
+        }
+}
+static PERSP_ALWAYS_INLINE void gouraud_modulate_body(const persp_tri *t, int attr, int n, const float *b1,
+                                                      const float *b2, const uint32_t *texel, uint32_t *out)
+{
+    gouraud_pixels(t, attr, n, b1, b2, texel, out, 0);
 }
 PERSP_ISA_VARIANTS(gouraud_modulate,
+                   (const persp_tri *t, int attr, int n, const float *b1, const float *b2,
+                    const uint32_t *texel, uint32_t *out),
+                   (t, attr, n, b1, b2, texel, out))
+static PERSP_ALWAYS_INLINE void gouraud_whole_body(const persp_tri *t, int attr, int n, const float *b1,
+                                                   const float *b2, const uint32_t *texel, uint32_t *out)
+{
+    gouraud_pixels(t, attr, n, b1, b2, texel, out, 1);
+}
+PERSP_ISA_VARIANTS(gouraud_whole,
                    (const persp_tri *t, int attr, int n, const float *b1, const float *b2,
                     const uint32_t *texel, uint32_t *out),
                    (t, attr, n, b1, b2, texel, out))
@@ -455,7 +475,7 @@ PERSP_ISA_VARIANTS(gouraud_modulate,
 void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                                 const float *w2, const uint32_t *texel, uint32_t *out)
 {
-    gouraud_modulate(ds->isa, t, t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R, n, w1, w2, texel, out);
+    gouraud_whole(ds->isa, t, t->light_side < 0.0f ? PERSP_A_BR : PERSP_A_R, n, w1, w2, texel, out);
 }
 
 static void shade_gouraud(const persp_draw_state *ds, const persp_tri *t, const persp_frag_batch *b,

@@ -50,7 +50,12 @@ static inline void persp__shade_span(const persp_draw_state *ds, const persp_tri
 float persp__shade_light_side(const persp_tri *t);
 /* Perspective-correct Gouraud modulating texels for pixels given by their
  * weights w1, w2 alone (in any arrangement: the small-triangle path of
- * tiles.c packs several rows); the same colours as the span shader. */
+ * tiles.c packs several rows); the same colours as the span shader. It
+ * reads and writes whole groups of PERSP_SHADE_GROUP lanes: up to
+ * PERSP_SHADE_GROUP - 1 past n, which must be there (their values are
+ * read, any, and overwritten). Segments of a few pixels (small triangles)
+ * then run no scalar remainder, which cost more than the vector loop. */
+#define PERSP_SHADE_GROUP 8
 void persp__shade_gouraud_lanes(const persp_draw_state *ds, const persp_tri *t, int n, const float *w1,
                                 const float *w2, const uint32_t *texel, uint32_t *out);
 /* The same for perspective-correct Phong (phong-pc with the exact weights). */
