@@ -453,6 +453,52 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
     sc->stats->pixels_written += (uint64_t)any;
 }
 
+/* Trims pixels [*a, *b] of a tile row (at most PERSP_TILE) to its first
+ * and last in front of the depth row drow: value D + k·dD against drow[k],
+ * nearer when greater (invw) or less, the floats shade_lanes tests. On
+ * SSE2, four pixels a compare and their bits by movemask: under overdraw
+ * most rows of the soup are hidden whole, and a pixel at a time the scan
+ * was 4 % of a frame. It reads up to three floats past the row, which the
+ * tile's depth buffer has (TRIM_SLACK). *a > *b when none is in front. */
+#define TRIM_SLACK 4
+static inline void trim_row(const float *drow, float D, float dD, int invw, int *a, int *b)
+{
+    const int len = *b + 1;
+#if defined(__SSE2__)
+    /* A row in front at both ends (most rows of large triangles) is kept
+     * whole after two tests. */
+    const float first = D + 0.0f * dD, last = D + (float)(len - 1) * dD;
+    if (invw ? first > drow[0] && last > drow[len - 1] : first < drow[0] && last < drow[len - 1]) return;
+    const __m128 vd = _mm_set1_ps(D), vdd = _mm_set1_ps(dD);
+    __m128i kk = _mm_setr_epi32(0, 1, 2, 3);
+    uint64_t pass = 0;
+    for (int k = 0; k < len; k += 4) {
+        const __m128 v = _mm_add_ps(vd, _mm_mul_ps(_mm_cvtepi32_ps(kk), vdd));
+        const __m128 d = _mm_loadu_ps(drow + k);
+        const __m128 in_front = invw ? _mm_cmpgt_ps(v, d) : _mm_cmplt_ps(v, d);
+        pass |= (uint64_t)(unsigned)_mm_movemask_ps(in_front) << k;
+        kk = _mm_add_epi32(kk, _mm_set1_epi32(4));
+    }
+    if (len < 64) pass &= (1ull << len) - 1;
+    if (!pass) {
+        *a = len, *b = len - 1;
+        return;
+    }
+    *a = __builtin_ctzll(pass);
+    *b = 63 - __builtin_clzll(pass);
+#else
+    int lo = 0, hi = len - 1;
+    if (invw) {
+        while (lo <= hi && !(D + (float)lo * dD > drow[lo])) lo++;
+        while (hi > lo && !(D + (float)hi * dD > drow[hi])) hi--;
+    } else {
+        while (lo <= hi && !(D + (float)lo * dD < drow[lo])) lo++;
+        while (hi > lo && !(D + (float)hi * dD < drow[hi])) hi--;
+    }
+    *a = lo, *b = hi;
+#endif
+}
+
 /* The rows ya..yb of a small triangle within the tile's columns x0..x1,
  * added to the tile's lane batch in whole rows; the batch is shaded first
  * when a row would overfill it or repeat one of its pixels. */
@@ -489,14 +535,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
          * would find dead. Under overdraw whole rows go (the soup: most). */
         int a = 0, b = hi - lo;
         if (depth_test) {
-            const float *drow = sc->depth + row;
-            if (invw) {
-                while (a <= b && !(Q + (float)a * dq > drow[a])) a++;
-                while (b > a && !(Q + (float)b * dq > drow[b])) b--;
-            } else {
-                while (a <= b && !(Z + (float)a * dz < drow[a])) a++;
-                while (b > a && !(Z + (float)b * dz < drow[b])) b--;
-            }
+            trim_row(sc->depth + row, invw ? Q : Z, invw ? dq : dz, invw, &a, &b);
             /* Trimmed pixels are fragments that failed the depth test. */
             sc->stats->fragments += (uint64_t)(hi - lo + 1 - (a > b ? 0 : b - a + 1));
             if (a > b) continue;
@@ -632,7 +671,8 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
         return;
     }
     _Alignas(64) uint32_t tcolor[PERSP_TILE * PERSP_TILE];
-    _Alignas(64) float tdepth[PERSP_TILE * PERSP_TILE];
+    _Alignas(64) float tdepth[PERSP_TILE * PERSP_TILE + TRIM_SLACK];
+    for (int i = 0; i < TRIM_SLACK; i++) tdepth[PERSP_TILE * PERSP_TILE + i] = 0.0f;
     if (f->clear_pending) {
         const uint32_t cc = f->clear_color;
         const float cd = f->clear_depth;
