@@ -518,6 +518,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
     persp_row_walk walk;
     persp__row_walk_init(&walk, t, ya, yb - ya + 1, x0, x1);
     const int depth_test = sc->ds->depth_test, invw = sc->f->depth_mode == PERSP_DEPTH_INVW;
+    uint64_t trimmed = 0;
     for (int y = ya; y <= yb; y++) {
         int lo, hi;
         if (!persp__row_walk_next(&walk, &lo, &hi)) continue;
@@ -536,8 +537,9 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
         int a = 0, b = hi - lo;
         if (depth_test) {
             trim_row(sc->depth + row, invw ? Q : Z, invw ? dq : dz, invw, &a, &b);
-            /* Trimmed pixels are fragments that failed the depth test. */
-            sc->stats->fragments += (uint64_t)(hi - lo + 1 - (a > b ? 0 : b - a + 1));
+            /* Trimmed pixels are fragments that failed the depth test
+             * (counted here: busy may alias the statistics). */
+            trimmed += (uint64_t)(hi - lo + 1 - (a > b ? 0 : b - a + 1));
             if (a > b) continue;
         }
         const int len = b - a + 1;
@@ -599,6 +601,7 @@ PERSP_SIMD_CLONES static void draw_small(span_ctx *sc, lane_batch *lb, uint64_t 
         lb->n += len;
         lb->seg_start[lb->nseg] = lb->n;
     }
+    sc->stats->fragments += trimmed;
 }
 
 typedef struct area_tri {

@@ -136,12 +136,14 @@ static inline persp_tex_jac persp__span_jacobian(const persp_sampler_state *st,
 }
 
 /* Clamps a level of detail to the sampler's [min_lod, max_lod]; NaN goes to
- * min_lod so that no later conversion sees it. */
+ * min_lod so that no later conversion sees it. Two selects in the operand
+ * order of maxps and minps (x86: a > b ? a : b, a < b ? a : b), which the
+ * vectorised samplers then use; with early returns GCC built the clamp
+ * from three compares and two blends. */
 static inline float persp__clamp_lod(const persp_sampler_state *st, float lam)
 {
-    if (!(lam > st->min_lod)) return st->min_lod;
-    if (lam > st->max_lod) return st->max_lod;
-    return lam;
+    const float lo = lam > st->min_lod ? lam : st->min_lod;
+    return st->max_lod < lo ? st->max_lod : lo;
 }
 
 /* GL 4.6 eq. 8.6 with rho = max of the two footprint lengths (eq. 8.7).
