@@ -71,6 +71,7 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
         st->pot.off[l] = (int32_t)off;
     }
     if (tex->level[0].texels != tex->storage) return NULL;
+    st->pot.coord_limit = PERSP_TEX_COORD_LIMIT;
     st->pot.pot = 1;
     int w = (ws - PERSP_WRAP_REPEAT) * 2 + (wt - PERSP_WRAP_REPEAT);
     /* Indexed by PERSP_ISA_*. */

@@ -21,12 +21,14 @@
 /* Forced, so that each target clone gets its own vectorised copy. */
 #define PERSP_INLINE __attribute__((always_inline))
 
-/* persp__tex_safe: the clamp keeps the later conversion to int defined
- * (NaN goes to the lower limit, as there). */
-static inline PERSP_INLINE float safe_coord(float x)
+/* persp__tex_safe with its bound lim = PERSP_TEX_COORD_LIMIT
+ * (persp_tex_pot.coord_limit): the clamp keeps the later conversion to int
+ * defined (NaN goes to the lower limit, as there). The selects are in the
+ * operand order of maxps and minps. */
+static inline PERSP_INLINE float safe_coord(float x, float lim)
 {
-    x = x > -PERSP_TEX_COORD_LIMIT ? x : -PERSP_TEX_COORD_LIMIT;
-    return x < PERSP_TEX_COORD_LIMIT ? x : PERSP_TEX_COORD_LIMIT;
+    x = x > -lim ? x : -lim;
+    return lim < x ? lim : x;
 }
 
 static inline PERSP_INLINE int32_t wrap_i(int wrap, int32_t i, int32_t mask)
@@ -69,8 +71,8 @@ linear_taps_on(const persp_tex_pot *restrict p, int ws, int wt, int n, const flo
         wl = wl > 1 ? wl : 1;
         hl = hl > 1 ? hl : 1;
         sh = sh > 0 ? sh : 0;
-        float x = safe_coord(u[k] * (float)wl - 0.5f);
-        float y = safe_coord(v[k] * (float)hl - 0.5f);
+        float x = safe_coord(u[k] * (float)wl - 0.5f, p->coord_limit);
+        float y = safe_coord(v[k] * (float)hl - 0.5f, p->coord_limit);
         float fx = floorf(x), fy = floorf(y);
         int32_t i0 = (int32_t)fx, j0 = (int32_t)fy;
         fa[k] = x - fx;
@@ -257,8 +259,8 @@ static inline PERSP_INLINE void nearest_addr(const persp_tex_pot *restrict p, in
         wl = wl > 1 ? wl : 1;
         hl = hl > 1 ? hl : 1;
         sh = sh > 0 ? sh : 0;
-        int32_t i = (int32_t)floorf(safe_coord(u[k] * (float)wl));
-        int32_t j = (int32_t)floorf(safe_coord(v[k] * (float)hl));
+        int32_t i = (int32_t)floorf(safe_coord(u[k] * (float)wl, p->coord_limit));
+        int32_t j = (int32_t)floorf(safe_coord(v[k] * (float)hl, p->coord_limit));
         int32_t off = lev ? p->off[l] : 0;
         addr[k] = off + (wrap_i(wt, j, hl - 1) << sh) + wrap_i(ws, i, wl - 1);
     }

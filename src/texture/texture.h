@@ -44,6 +44,12 @@ typedef struct persp_tex_span_in {
  * (j << shift[l]) + i]; valid when pot != 0. */
 typedef struct persp_tex_pot {
     int pot;
+    /* PERSP_TEX_COORD_LIMIT, as data: with a constant bound GCC builds the
+     * span samplers' coordinate clamp (and the floor, conversion and wrap
+     * it pushes through it) from compares and blends, with a bound it
+     * cannot fold from a max and a min (4 to 8 instructions per
+     * coordinate and 8 pixels). */
+    float coord_limit;
     float fw[PERSP_TEX_MAX_LEVELS], fh[PERSP_TEX_MAX_LEVELS];
     int32_t wmask[PERSP_TEX_MAX_LEVELS], hmask[PERSP_TEX_MAX_LEVELS];
     int32_t shift[PERSP_TEX_MAX_LEVELS], off[PERSP_TEX_MAX_LEVELS];
