@@ -138,12 +138,12 @@ static void format_bytes(char *buf, size_t n, size_t bytes)
 
 /* The budget's part of a detail: "needs X, over the memory budget of Y (Z
  * already in use)". */
-static void budget_detail(const persp_context *ctx, size_t bytes, char *buf, size_t n)
+static void budget_detail(const persp_context *ctx, size_t bytes, size_t in_use, char *buf, size_t n)
 {
     char need[32], max[32], used[32];
     format_bytes(need, sizeof need, bytes);
     format_bytes(max, sizeof max, ctx->max_memory);
-    format_bytes(used, sizeof used, ctx->mem_used);
+    format_bytes(used, sizeof used, in_use);
     snprintf(buf, n, "needs %s, over the memory budget of %s (%s already in use)", need, max, used);
 }
 
@@ -164,7 +164,7 @@ persp_status persp__mem_reserve(persp_context *ctx, size_t bytes, const char *wh
     if (!ctx) return PERSP_OK;
     if (!budget_fits(ctx, bytes)) {
         char detail[160];
-        budget_detail(ctx, bytes, detail, sizeof detail);
+        budget_detail(ctx, bytes, ctx->mem_used, detail, sizeof detail);
         ctx->mem_refused = 0; /* this detail already names the budget */
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: %s", what ? what : "memory", detail);
     }
@@ -224,7 +224,7 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
          * knew about it. */
         if (status == PERSP_ERR_OUT_OF_MEMORY && ctx->mem_refused) {
             char detail[160];
-            budget_detail(ctx, ctx->mem_refused, detail, sizeof detail);
+            budget_detail(ctx, ctx->mem_refused, ctx->mem_refused_used, detail, sizeof detail);
             size_t len = strlen(ctx->error);
             snprintf(ctx->error + len, sizeof ctx->error - len, " (%s)", detail);
             ctx->mem_refused = 0;
@@ -242,6 +242,7 @@ void *persp__alloc(persp_context *ctx, size_t size)
     ctx->mem_refused = 0; /* the detail speaks of the latest request only */
     if (!budget_fits(ctx, total)) {
         ctx->mem_refused = total;
+        ctx->mem_refused_used = ctx->mem_used;
         return NULL;
     }
     unsigned char *p = ctx->allocator.alloc(ctx->allocator.user, total);

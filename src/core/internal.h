@@ -54,9 +54,10 @@ struct persp_context {
     void *temp_user;
     /* Memory budget (persp_context_desc.max_memory, 0: none): bytes held
      * through persp__alloc plus those reserved for a library's working
-     * memory, the most held at once, and the request last refused (0:
-     * none since the current public call began). */
-    size_t max_memory, mem_used, mem_peak, mem_refused;
+     * memory, the most held at once, the request last refused (0: none
+     * since the current public call began) and what was held when it was
+     * refused (the error is written after the caller has freed its part). */
+    size_t max_memory, mem_used, mem_peak, mem_refused, mem_refused_used;
     /* Images from persp_image_alloc (and so _load) not yet freed, newest
      * first: persp_image_free frees only pixels found here, so an image the
      * caller filled in is never taken for one of persp's (src/core/image_alloc.c). */
