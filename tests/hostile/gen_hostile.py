@@ -3,12 +3,13 @@
 
     python3 tests/hostile/gen_hostile.py OUTDIR
 
-Each case is one file NN-short-name.ext (plus the side files it names) and a
-line of OUTDIR/cases.tsv: file, formats_needed (common: read with persp's
-default formats; all: only with --formats all / PERSP_MODEL_FORMATS_ALL),
+Each case is one file NN-short-name.ext (a model, or a JSON scene naming
+one; plus the side files it names) and a line of OUTDIR/cases.tsv: file,
+formats_needed (common: read with persp's default formats; all: only with
+--formats all / PERSP_MODEL_FORMATS_ALL),
 class (crash, memory, hang, leak, asan, noise, special) and what it does.
 Python 3 standard library only; deterministic (the same bytes on every run);
-about 12 MB in all, most of it the 10 MB buffer of the shared-buffer case,
+about 28 MB in all, 10 MB of it the buffer of the shared-buffer case,
 written here and never committed. The FIFO cases cannot live in a folder
 git holds: tests/cli/test_hostile_models.sh makes them at run time.
 """
