@@ -477,7 +477,8 @@ PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name,
 /* Loads a JSON scene file (paths inside resolve relative to it), or a model
  * file in any format Assimp reads (OBJ, glTF/GLB, PLY, STL, FBX, ...) shown
  * with a default camera and lights (docs/SCENES.md). Problems worked around
- * (a model's missing texture or material file) go to the warning handler.
+ * (a model's missing texture or material file) go to the warning handler
+ * once the file has loaded; a load that fails gives its error alone.
  * Models other than OBJ are read in a helper process with limits
  * (persp_model_import). The files a scene or model
  * names must lie in the loaded file's folder or below it; see

@@ -106,6 +106,7 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
 void persp_context_destroy(persp_context *ctx)
 {
     if (!ctx) return;
+    persp__warn_release(ctx, 0);
     persp__pool_destroy(ctx);
     if (ctx->render_free) ctx->render_free(ctx);
     persp_allocator al = ctx->allocator;
@@ -210,7 +211,37 @@ void persp__warn(persp_context *ctx, const char *fmt, ...)
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
     one_line(line);
+    if (ctx->holding) {
+        /* A warning between a refusal and its error keeps the refusal's
+         * detail (persp__alloc clears it when it grants a block). */
+        const size_t refused = ctx->mem_refused, refused_used = ctx->mem_refused_used;
+        const size_t n = strlen(line) + 1;
+        const int held = persp__grow(ctx, (void **)&ctx->held, &ctx->held_cap, ctx->held_len + n, 1) == PERSP_OK;
+        ctx->mem_refused = refused, ctx->mem_refused_used = refused_used;
+        if (held) {
+            memcpy(ctx->held + ctx->held_len, line, n);
+            ctx->held_len += n;
+            return;
+        }
+        persp__warn_release(ctx, 1);
+    }
     ctx->warn(ctx->warn_user, line);
+}
+
+void persp__warn_hold(persp_context *ctx)
+{
+    if (ctx) ctx->holding = 1;
+}
+
+void persp__warn_release(persp_context *ctx, int deliver)
+{
+    if (!ctx) return;
+    ctx->holding = 0;
+    for (size_t at = 0; deliver && ctx->warn && at < ctx->held_len; at += strlen(ctx->held + at) + 1)
+        ctx->warn(ctx->warn_user, ctx->held + at);
+    persp__free(ctx, ctx->held);
+    ctx->held = NULL;
+    ctx->held_len = ctx->held_cap = 0;
 }
 
 persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)

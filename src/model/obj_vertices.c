@@ -90,11 +90,11 @@ void persp__obj_canon_add(obj_reader *r, size_t i)
 /* Assimp's scan and crease test cost the square of the corners at or near
  * one place: 10^5 triangles round one vertex (1.6 MB of "f 1 2 3") took
  * 36 s, a 300x300 grid in the plane across the sort direction 28 s. Past
- * this many scan steps and corner pairs in one file (about 2 s on the
+ * this many scan steps and corner pairs in one file (under a second on the
  * development machine) it is refused, as the object-space pipeline refuses
  * a walk over its limit; the 1M-triangle grid of docs/RELIABILITY.md
  * takes 1.1e8. */
-#define OBJ_NORMALS_MAX_WORK (1ull << 29)
+#define OBJ_NORMALS_MAX_WORK (1ull << 28)
 
 typedef struct extra {
     uint32_t tuple;
@@ -105,6 +105,7 @@ typedef struct group_key {
     float d;        /* along Assimp's SpatialSort direction */
     uint32_t group; /* of corners at one position */
     uint32_t pos;   /* that position */
+    float p[3];     /* its coordinates, beside d for the scan (near_add) */
 } group_key;
 
 static int by_distance(const void *a, const void *b)
@@ -193,6 +194,7 @@ static int group_corners(obj_reader *r, normals_work *w)
         w->keys[g].d = 0.8523f * p[0] + 0.34321f * p[1] + 0.5736f * p[2];
         w->keys[g].group = g;
         w->keys[g].pos = c;
+        memcpy(w->keys[g].p, p, sizeof w->keys[g].p);
     }
     qsort(w->keys, w->groups, sizeof *w->keys, by_distance);
     for (size_t c = 0; c < r->nidx; c++) w->off[corner_group(r, c) + 2]++;
@@ -205,7 +207,7 @@ static int group_corners(obj_reader *r, normals_work *w)
  * i's (i itself always); 0 when out of memory. */
 static int near_add(obj_reader *r, normals_work *w, size_t i, size_t j, size_t *n)
 {
-    const float *p = r->pos + 3 * (size_t)w->keys[i].pos, *q = r->pos + 3 * (size_t)w->keys[j].pos;
+    const float *p = w->keys[i].p, *q = w->keys[j].p;
     const float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
     if (j != i && !(ex * ex + ey * ey + ez * ez < w->eps * w->eps)) return 1;
     if (persp__grow(r->ctx, (void **)&w->near, &w->near_cap, *n + 1, sizeof *w->near) != PERSP_OK) return 0;

@@ -9,7 +9,7 @@ formats_needed (common: read with persp's default formats; all: only with
 --formats all / PERSP_MODEL_FORMATS_ALL),
 class (crash, memory, hang, leak, asan, noise, special) and what it does.
 Python 3 standard library only; deterministic (the same bytes on every run);
-about 28 MB in all, 10 MB of it the buffer of the shared-buffer case,
+about 30 MB in all, 10 MB of it the buffer of the shared-buffer case,
 written here and never committed. The FIFO cases cannot live in a folder
 git holds: tests/cli/test_hostile_models.sh makes them at run time.
 """
@@ -27,7 +27,9 @@ CASES = []  # (file, formats, class, description)
 def write(outdir, name, data):
     if isinstance(data, str):
         data = data.encode("ascii")
-    with open(os.path.join(outdir, name), "wb") as f:
+    path = os.path.join(outdir, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "wb") as f:
         f.write(data)
 
 
@@ -518,6 +520,17 @@ def generate(out):
     doc["buffers"] = [{"uri": "/etc/passwd", "byteLength": len(TRIANGLE)}]
     case(out, "39-buffer-abs.gltf", gltf(doc), "common", "special",
          "glTF whose buffer uri is an absolute path outside its folder (/etc/passwd)")
+    # --- warnings of a load that then fails; folders read whole -------------
+    t, f = 20000, 5000
+    obj = ["mtllib 41-many-textures.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n"]
+    obj += ["usemtl m%d\nf 1/1 2/1 3/1\n" % i for i in range(t)]
+    obj.append("f 1 2 9\n")
+    case(out, "41-many-textures.obj", "".join(obj), "common", "hang",
+         "OBJ whose %d materials name textures missing from 41-folder/, which holds %d empty "
+         "files, then a face out of range" % (t, f),
+         side=[("41-many-textures.mtl",
+                "".join("newmtl m%d\nmap_Kd 41-folder/missing%d.png\n" % (i, i) for i in range(t)))] +
+              [("41-folder/f%04d" % i, b"") for i in range(f)])
     whole = glb(gltf(tri_doc), TRIANGLE)
     at = 20 + struct.unpack("<I", whole[12:16])[0]
     case(out, "40-glb-chunk-past-end.glb",

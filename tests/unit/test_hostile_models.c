@@ -306,6 +306,7 @@ static int load_case(const hostile_case *c, persp_model_import import, unsigned 
         persp_scene_destroy(scene);
     } else {
         if (!msg[0]) WHY("%s with an empty error; ", persp_status_string(st));
+        if (warn.count) WHY("%d warnings before the error ('%.200s'); ", warn.count, warn.first);
         if (strchr(msg, '\n')) WHY("the error is more than one line; ");
         /* A scene's error about a model it names names that model, a file
          * of the case's folder. */
