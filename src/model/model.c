@@ -897,7 +897,6 @@ static int send_request(wire_chan *c, const char *main_name, const char *data, s
            persp__wire_write(c, &n, sizeof n) && persp__wire_write(c, data, size);
 }
 
-/* The failure of an import whose importer went away without an answer. */
 /* The time limit's failure; earlier_ms: what the scene's earlier imports
  * took of the limit they share with this one. */
 static persp_status out_of_time(persp_context *ctx, const char *display, const persp_importer_opts *o,
@@ -915,6 +914,7 @@ static persp_status out_of_time(persp_context *ctx, const char *display, const p
                        display, o->time_limit_ms / 1000.0);
 }
 
+/* The failure of an import whose importer went away without an answer. */
 static persp_status lost_importer(persp_context *ctx, const char *display, const wire_chan *c,
                                   const persp_importer_end *end, const persp_importer_opts *o, int64_t earlier_ms)
 {

@@ -531,6 +531,9 @@ def generate(out):
          side=[("41-many-textures.mtl",
                 "".join("newmtl m%d\nmap_Kd 41-folder/missing%d.png\n" % (i, i) for i in range(t)))] +
               [("41-folder/f%04d" % i, b"") for i in range(f)])
+    case(out, "42-warned-then-bad.obj",
+         "mtllib 42-missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "common", "noise",
+         "OBJ naming a material library that is not there (a warning), then a face out of range")
     whole = glb(gltf(tri_doc), TRIANGLE)
     at = 20 + struct.unpack("<I", whole[12:16])[0]
     case(out, "40-glb-chunk-past-end.glb",
