@@ -125,7 +125,8 @@ unit = {"bytes": 1, "KiB": 2**10, "MiB": 2**20, "GiB": 2**30, "TiB": 2**40}
 size = r"([0-9]+(?:\.[0-9]+)?) (bytes|KiB|MiB|GiB|TiB)"
 if not re.search(size, text):
     sys.exit(1)
-for m in re.finditer("needs %s, over the memory budget of %s \\(%s already in use\\)" % (size, size, size), text):
+needs = "needs %s, over the memory budget of %s \\(%s already in use\\)" % (size, size, size)
+for m in re.finditer(needs, text):
     need, budget, used = (float(m.group(i)) * unit[m.group(i + 1)] for i in (1, 3, 5))
     slack = 0.1 * (unit[m.group(2)] + unit[m.group(6)])
     if need + used + slack < budget:

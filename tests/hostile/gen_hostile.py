@@ -171,8 +171,9 @@ def png_header_only(width, height):
     rows = zlib.compressobj(9)
     row = b"\0" * (1 + 4 * width)
     idat = b"".join(rows.compress(row) for _ in range(height)) + rows.flush()
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)) +
-            chunk(b"IDAT", idat) + chunk(b"IEND", b""))
+    head = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", head) + chunk(b"IDAT", idat) +
+            chunk(b"IEND", b""))
 
 
 # Assimp's SpatialSort direction, which persp's OBJ normals follow
@@ -487,7 +488,8 @@ def generate(out):
     n = 100000
     mtl = "".join("newmtl m%d\nKd 1 1 1\n" % i for i in range(n))
     case(out, "35-many-materials.obj",
-         "mtllib 35-many-materials.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m%d\nf 1 2 3\nf 1 2 4\n" % (n - 1),
+         "mtllib 35-many-materials.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+         "usemtl m%d\nf 1 2 3\nf 1 2 4\n" % (n - 1),
          "common", "hang",
          "OBJ (persp's reader): a material library of %d materials, each looked up among those "
          "before it, then a face out of range" % n,
@@ -507,8 +509,8 @@ def generate(out):
     faces = zlib.compress(struct.pack("<3i", 0, 1, -3) * n, 9)
     case(out, "37-tiny-huge-mesh.fbx",
          fbx_binary_triangle_indices(("zi", (3 * n, faces))), "common", "memory",
-         "binary FBX of %d KB whose deflated PolygonVertexIndex makes %d triangles without normals, "
-         "which persp makes under the budget" % (len(faces) // 1024 + 1, n))
+         "binary FBX of %d KB whose deflated PolygonVertexIndex makes %d triangles without "
+         "normals, which persp makes under the budget" % (len(faces) // 1024 + 1, n))
     case(out, "38-png-bomb.obj", "mtllib 38-png-bomb.mtl\n" + "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
          "vt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n", "common", "memory",
          "OBJ whose texture 38-png-bomb.png is 8192x8192 (256 MiB decoded) in 260 KB",
@@ -520,6 +522,12 @@ def generate(out):
     doc["buffers"] = [{"uri": "/etc/passwd", "byteLength": len(TRIANGLE)}]
     case(out, "39-buffer-abs.gltf", gltf(doc), "common", "special",
          "glTF whose buffer uri is an absolute path outside its folder (/etc/passwd)")
+    whole = glb(gltf(tri_doc), TRIANGLE)
+    at = 20 + struct.unpack("<I", whole[12:16])[0]
+    case(out, "40-glb-chunk-past-end.glb",
+         whole[:at] + struct.pack("<I", 0x7FFFFFF0) + whole[at + 4:], "common", "noise",
+         "binary glTF whose BIN chunk declares 2 GiB, the header the file's true length")
+
     # --- warnings of a load that then fails; folders read whole -------------
     t, f = 20000, 5000
     obj = ["mtllib 41-many-textures.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n"]
@@ -529,16 +537,12 @@ def generate(out):
          "OBJ whose %d materials name textures missing from 41-folder/, which holds %d empty "
          "files, then a face out of range" % (t, f),
          side=[("41-many-textures.mtl",
-                "".join("newmtl m%d\nmap_Kd 41-folder/missing%d.png\n" % (i, i) for i in range(t)))] +
+                "".join("newmtl m%d\nmap_Kd 41-folder/missing%d.png\n" % (i, i)
+                        for i in range(t)))] +
               [("41-folder/f%04d" % i, b"") for i in range(f)])
     case(out, "42-warned-then-bad.obj",
          "mtllib 42-missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "common", "noise",
          "OBJ naming a material library that is not there (a warning), then a face out of range")
-    whole = glb(gltf(tri_doc), TRIANGLE)
-    at = 20 + struct.unpack("<I", whole[12:16])[0]
-    case(out, "40-glb-chunk-past-end.glb",
-         whole[:at] + struct.pack("<I", 0x7FFFFFF0) + whole[at + 4:], "common", "noise",
-         "binary glTF whose BIN chunk declares 2 GiB, the header the file's true length")
 
 
 def main():
