@@ -477,7 +477,8 @@ PERSP_API persp_status persp_scene_builtin(persp_context *ctx, const char *name,
 /* Loads a JSON scene file (paths inside resolve relative to it), or a model
  * file in any format Assimp reads (OBJ, glTF/GLB, PLY, STL, FBX, ...) shown
  * with a default camera and lights (docs/SCENES.md). Problems worked around
- * (a model's missing texture or material file) go to the warning handler.
+ * (a model's missing texture or material file) go to the warning handler
+ * once the file has loaded; a load that fails gives its error alone.
  * Models other than OBJ are read in a helper process with limits
  * (persp_model_import). The files a scene or model
  * names must lie in the loaded file's folder or below it; see
@@ -536,9 +537,9 @@ typedef enum persp_model_formats {
     PERSP_MODEL_FORMATS_COMMON,
     PERSP_MODEL_FORMATS_ALL
 } persp_model_formats;
-/* Default limit on one model import's wall-clock time: a base, and more
- * for every MiB the importer is given (the model file and the files it
- * names, as they are handed over), at most PERSP_IMPORT_TIME_LIMIT_MAX_MS:
+/* Default limit on the wall-clock time of a load's model imports: a base,
+ * and more for every MiB the importer is given (the model file and the
+ * files it names, as they are handed over), at most PERSP_IMPORT_TIME_LIMIT_MAX_MS:
  * a hostile 14-byte file is stopped after 5 s, a 100 MB model may take
  * 205 s. */
 #define PERSP_IMPORT_TIME_LIMIT_MS 5000u
@@ -549,9 +550,10 @@ typedef struct persp_scene_load_desc {
     persp_model_up model_up; /* a model file's up axis; DEFAULT: +y */
     persp_model_import import;
     persp_model_formats formats;
-    /* Wall-clock limit of each model import in milliseconds (isolated
-     * imports only); 0: PERSP_IMPORT_TIME_LIMIT_MS plus
-     * PERSP_IMPORT_TIME_PER_MIB_MS a MiB of what the importer reads. */
+    /* Wall-clock limit of a load's model imports together in milliseconds
+     * (isolated imports only; a JSON scene's models share it); 0:
+     * PERSP_IMPORT_TIME_LIMIT_MS plus PERSP_IMPORT_TIME_PER_MIB_MS a MiB of
+     * what the importer reads. */
     unsigned import_time_limit_ms;
     /* persp-import's path; NULL: beside the library, then PREFIX/libexec/persp/. */
     const char *import_helper;

@@ -106,6 +106,7 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
 void persp_context_destroy(persp_context *ctx)
 {
     if (!ctx) return;
+    persp__warn_release(ctx, 0);
     persp__pool_destroy(ctx);
     if (ctx->render_free) ctx->render_free(ctx);
     persp_allocator al = ctx->allocator;
@@ -138,12 +139,12 @@ static void format_bytes(char *buf, size_t n, size_t bytes)
 
 /* The budget's part of a detail: "needs X, over the memory budget of Y (Z
  * already in use)". */
-static void budget_detail(const persp_context *ctx, size_t bytes, char *buf, size_t n)
+static void budget_detail(const persp_context *ctx, size_t bytes, size_t in_use, char *buf, size_t n)
 {
     char need[32], max[32], used[32];
     format_bytes(need, sizeof need, bytes);
     format_bytes(max, sizeof max, ctx->max_memory);
-    format_bytes(used, sizeof used, ctx->mem_used);
+    format_bytes(used, sizeof used, in_use);
     snprintf(buf, n, "needs %s, over the memory budget of %s (%s already in use)", need, max, used);
 }
 
@@ -164,7 +165,7 @@ persp_status persp__mem_reserve(persp_context *ctx, size_t bytes, const char *wh
     if (!ctx) return PERSP_OK;
     if (!budget_fits(ctx, bytes)) {
         char detail[160];
-        budget_detail(ctx, bytes, detail, sizeof detail);
+        budget_detail(ctx, bytes, ctx->mem_used, detail, sizeof detail);
         ctx->mem_refused = 0; /* this detail already names the budget */
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "%s: %s", what ? what : "memory", detail);
     }
@@ -210,7 +211,37 @@ void persp__warn(persp_context *ctx, const char *fmt, ...)
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
     one_line(line);
+    if (ctx->holding) {
+        /* A warning between a refusal and its error keeps the refusal's
+         * detail (persp__alloc clears it when it grants a block). */
+        const size_t refused = ctx->mem_refused, refused_used = ctx->mem_refused_used;
+        const size_t n = strlen(line) + 1;
+        const int held = persp__grow(ctx, (void **)&ctx->held, &ctx->held_cap, ctx->held_len + n, 1) == PERSP_OK;
+        ctx->mem_refused = refused, ctx->mem_refused_used = refused_used;
+        if (held) {
+            memcpy(ctx->held + ctx->held_len, line, n);
+            ctx->held_len += n;
+            return;
+        }
+        persp__warn_release(ctx, 1);
+    }
     ctx->warn(ctx->warn_user, line);
+}
+
+void persp__warn_hold(persp_context *ctx)
+{
+    if (ctx) ctx->holding = 1;
+}
+
+void persp__warn_release(persp_context *ctx, int deliver)
+{
+    if (!ctx) return;
+    ctx->holding = 0;
+    for (size_t at = 0; deliver && ctx->warn && at < ctx->held_len; at += strlen(ctx->held + at) + 1)
+        ctx->warn(ctx->warn_user, ctx->held + at);
+    persp__free(ctx, ctx->held);
+    ctx->held = NULL;
+    ctx->held_len = ctx->held_cap = 0;
 }
 
 persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt, ...)
@@ -224,7 +255,7 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
          * knew about it. */
         if (status == PERSP_ERR_OUT_OF_MEMORY && ctx->mem_refused) {
             char detail[160];
-            budget_detail(ctx, ctx->mem_refused, detail, sizeof detail);
+            budget_detail(ctx, ctx->mem_refused, ctx->mem_refused_used, detail, sizeof detail);
             size_t len = strlen(ctx->error);
             snprintf(ctx->error + len, sizeof ctx->error - len, " (%s)", detail);
             ctx->mem_refused = 0;
@@ -242,6 +273,7 @@ void *persp__alloc(persp_context *ctx, size_t size)
     ctx->mem_refused = 0; /* the detail speaks of the latest request only */
     if (!budget_fits(ctx, total)) {
         ctx->mem_refused = total;
+        ctx->mem_refused_used = ctx->mem_used;
         return NULL;
     }
     unsigned char *p = ctx->allocator.alloc(ctx->allocator.user, total);

@@ -54,9 +54,15 @@ struct persp_context {
     void *temp_user;
     /* Memory budget (persp_context_desc.max_memory, 0: none): bytes held
      * through persp__alloc plus those reserved for a library's working
-     * memory, the most held at once, and the request last refused (0:
-     * none since the current public call began). */
-    size_t max_memory, mem_used, mem_peak, mem_refused;
+     * memory, the most held at once, the request last refused (0: none
+     * since the current public call began) and what was held when it was
+     * refused (the error is written after the caller has freed its part). */
+    size_t max_memory, mem_used, mem_peak, mem_refused, mem_refused_used;
+    /* While a scene loads (persp__warn_hold): its warnings, NUL-separated,
+     * given when it has loaded and dropped when it fails. */
+    char *held;
+    size_t held_len, held_cap;
+    int holding;
     /* Images from persp_image_alloc (and so _load) not yet freed, newest
      * first: persp_image_free frees only pixels found here, so an image the
      * caller filled in is never taken for one of persp's (src/core/image_alloc.c). */
@@ -80,6 +86,11 @@ void persp__warn(persp_context *ctx, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* Warnings from here to persp__warn_release are held (from the context's
+ * allocator; given at once when it refuses), then given if deliver, else
+ * dropped. */
+void persp__warn_hold(persp_context *ctx);
+void persp__warn_release(persp_context *ctx, int deliver);
 
 /* Sets the context's detail message and returns status (NULL ctx: only returns). */
 PERSP_INTERNAL persp_status persp__fail(persp_context *ctx, persp_status status, const char *fmt,

@@ -143,12 +143,15 @@ static persp_status crease_corner_normals(persp_context *ctx, const persp_mesh *
     const size_t nc = m->index_count, nv = m->vertex_count, nt = nc / 3;
     size_t cap = 16;
     while (cap < 2 * (nv > nc ? nv : nc)) cap *= 2;
+    /* Each block only when those before it were given: a smaller one
+     * granted after a refusal would clear the refusal's detail (how much,
+     * over which budget) from the error. */
     float *fn = persp__alloc(ctx, (nt ? nt : 1) * 4 * sizeof *fn); /* the unit normal of each triangle */
-    float *weight = persp__alloc(ctx, nc * sizeof *weight);
-    uint32_t *group = persp__alloc(ctx, nv * sizeof *group);
-    uint32_t *table = persp__alloc(ctx, cap * sizeof *table);
-    uint32_t *off = persp__calloc(ctx, nv + 2, sizeof *off);
-    uint32_t *list = persp__alloc(ctx, nc * sizeof *list);
+    float *weight = fn ? persp__alloc(ctx, nc * sizeof *weight) : NULL;
+    uint32_t *group = weight ? persp__alloc(ctx, nv * sizeof *group) : NULL;
+    uint32_t *table = group ? persp__alloc(ctx, cap * sizeof *table) : NULL;
+    uint32_t *off = table ? persp__calloc(ctx, nv + 2, sizeof *off) : NULL;
+    uint32_t *list = off ? persp__alloc(ctx, nc * sizeof *list) : NULL;
     persp_status st = PERSP_ERR_OUT_OF_MEMORY;
     if (fn && weight && group && table && off && list) {
         face_normals(m, fn, weight);
@@ -176,10 +179,10 @@ static persp_status split_vertices(persp_context *ctx, persp_mesh *m, const floa
     const size_t nc = m->index_count;
     size_t cap = 16;
     while (cap < 2 * nc) cap *= 2;
-    uint32_t *table = persp__alloc(ctx, cap * sizeof *table);
-    persp_vertex *out = persp__alloc(ctx, nc * sizeof *out);
-    uint32_t *outix = persp__alloc(ctx, nc * sizeof *outix);
-    uint32_t *src = persp__alloc(ctx, nc * sizeof *src);
+    uint32_t *table = persp__alloc(ctx, cap * sizeof *table); /* one after another: as above */
+    persp_vertex *out = table ? persp__alloc(ctx, nc * sizeof *out) : NULL;
+    uint32_t *outix = out ? persp__alloc(ctx, nc * sizeof *outix) : NULL;
+    uint32_t *src = outix ? persp__alloc(ctx, nc * sizeof *src) : NULL;
     persp_status st = PERSP_ERR_OUT_OF_MEMORY;
     if (table && out && outix && src) {
         memset(table, 0xff, cap * sizeof *table);

@@ -141,6 +141,11 @@ struct persp_scene {
     const char *load_root;
     /* While a file loads: how models are imported (NULL: the defaults). */
     const persp_scene_load_desc *load_desc;
+    /* While a file loads: the wall-clock time its isolated model imports
+     * have taken together, and the limit they share, with what their files
+     * granted (0: no import yet; src/model/model.c). */
+    int64_t import_used_ms;
+    unsigned import_limit_ms;
 };
 
 /* Allocates an empty scene with defaults (camera at origin looking down -z). */

@@ -897,18 +897,31 @@ static int send_request(wire_chan *c, const char *main_name, const char *data, s
            persp__wire_write(c, &n, sizeof n) && persp__wire_write(c, data, size);
 }
 
+/* The time limit's failure; earlier_ms: what the scene's earlier imports
+ * took of the limit they share with this one. */
+static persp_status out_of_time(persp_context *ctx, const char *display, const persp_importer_opts *o,
+                                int64_t earlier_ms)
+{
+    if (earlier_ms > 0)
+        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: the scene's model imports took longer than the limit of %.1f s they share "
+                           "(--import-timeout; %.1f s before this one); a model is malformed or hostile, "
+                           "or they need more time",
+                           display, o->time_limit_ms / 1000.0, (double)earlier_ms / 1000.0);
+    return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
+                       "%s: the import took longer than its limit of %.1f s (--import-timeout); the "
+                       "file is malformed or hostile, or needs more time",
+                       display, o->time_limit_ms / 1000.0);
+}
+
 /* The failure of an import whose importer went away without an answer. */
 static persp_status lost_importer(persp_context *ctx, const char *display, const wire_chan *c,
-                                  const persp_importer_end *end, const persp_importer_opts *o)
+                                  const persp_importer_end *end, const persp_importer_opts *o, int64_t earlier_ms)
 {
     char lim[32], used[32];
     mib(lim, sizeof lim, o->memory);
     mib(used, sizeof used, end->peak_bytes);
-    if (c->failed == 2 || end->signal == SIGXCPU)
-        return persp__fail(ctx, PERSP_ERR_TOO_LARGE,
-                           "%s: the import took longer than its limit of %.1f s (--import-timeout); the "
-                           "file is malformed or hostile, or needs more time",
-                           display, o->time_limit_ms / 1000.0);
+    if (c->failed == 2 || end->signal == SIGXCPU) return out_of_time(ctx, display, o, earlier_ms);
     if (end->exit_code == PERSP_IMPORT_EXIT_OUT_OF_MEMORY)
         return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY,
                            "%s: importing the model needs more than the %s of memory it may use (what "
@@ -1032,15 +1045,29 @@ static persp_status run_import(receiver *r, persp_importer_opts *o, const char *
                                int *kind, char why[WIRE_MAX_TEXT + 1])
 {
     persp_context *ctx = r->ctx;
+    persp_scene *scene = r->scene;
     if (o->in_process) pthread_mutex_lock(&import_lock);
-    persp_importer imp;
-    persp_status st = persp__importer_start(ctx, o, r->display, &imp);
-    wire_chan chan = {imp.fd, o->in_process ? 0 : persp__wire_now_ms() + o->time_limit_ms, 0};
+    /* A scene's imports share one limit, so that a scene naming a model
+     * that takes the whole limit a thousand times ends as soon as one
+     * would: the clock starts where the earlier imports left it, and what
+     * their files granted stays granted. */
+    const int64_t earlier_ms = o->in_process ? 0 : scene->import_used_ms;
+    if (!o->in_process && scene->import_limit_ms) o->time_limit_ms = scene->import_limit_ms;
+    wire_chan chan = {-1, 0, 0};
     r->chan = &chan;
     r->opts = o;
-    r->started_ms = persp__wire_now_ms();
-    if (chan.deadline_ms) grant_time(r, r->io->size);
-    if (st == PERSP_OK) {
+    r->started_ms = persp__wire_now_ms() - earlier_ms;
+    if (!o->in_process) {
+        chan.deadline_ms = r->started_ms + o->time_limit_ms;
+        grant_time(r, r->io->size);
+    }
+    persp_importer imp;
+    persp_status st = !o->in_process && persp__wire_now_ms() >= chan.deadline_ms
+                          ? out_of_time(ctx, r->display, o, earlier_ms)
+                          : persp__importer_start(ctx, o, r->display, &imp);
+    const int started = st == PERSP_OK;
+    chan.fd = started ? imp.fd : -1;
+    if (started) {
         if (!send_request(&chan, main_name, r->io->data, r->io->size, r->max_vertices))
             r->lost = 1, st = PERSP_ERR_IO;
         else
@@ -1048,7 +1075,11 @@ static persp_status run_import(receiver *r, persp_importer_opts *o, const char *
         persp_importer_end end;
         /* Anything but a complete answer or refusal stops the importer. */
         persp__importer_finish(&imp, st != PERSP_OK && !*kind, &end);
-        if (r->lost) st = lost_importer(ctx, r->display, &chan, &end, o);
+        if (r->lost) st = lost_importer(ctx, r->display, &chan, &end, o, earlier_ms);
+    }
+    if (!o->in_process) {
+        scene->import_used_ms = persp__wire_now_ms() - r->started_ms;
+        scene->import_limit_ms = o->time_limit_ms;
     }
     if (o->in_process) pthread_mutex_unlock(&import_lock);
     r->chan = NULL;

@@ -21,6 +21,7 @@ typedef struct persp_texcache_entry {
 typedef struct persp_texcache {
     persp_texcache_entry *entries;
     size_t count, cap;
+    size_t case_misses; /* textures looked for in any case and not found (model_refs.c) */
 } persp_texcache;
 
 /* Loads an image file as a scene texture (or finds it in the cache). */

@@ -368,13 +368,48 @@ static persp_status pool_add(obj_reader *r, const char *s, size_t n, size_t *off
     return PERSP_OK;
 }
 
+static size_t name_slot(const char *name, size_t n, size_t cap)
+{
+    uint64_t h = 1469598103934665603ull; /* FNV-1a */
+    for (size_t k = 0; k < n; k++) h = (h ^ (unsigned char)name[k]) * 1099511628211ull;
+    return (size_t)(h ^ (h >> 32)) & (cap - 1);
+}
+
+/* Found through a hash of the names: a library of 10^5 materials, each
+ * compared with all before it, took half a minute. */
 static int find_material(const obj_reader *r, const char *name, size_t n)
 {
-    for (size_t i = 0; i < r->nmats; i++) {
-        const char *m = r->pool + r->mats[i].name;
-        if (strlen(m) == n && memcmp(m, name, n) == 0) return (int)i;
+    if (!r->mat_table_cap) return -1;
+    for (size_t s = name_slot(name, n, r->mat_table_cap);; s = (s + 1) & (r->mat_table_cap - 1)) {
+        const uint32_t e = r->mat_table[s];
+        if (!e) return -1;
+        const char *m = r->pool + r->mats[e - 1].name;
+        if (strlen(m) == n && memcmp(m, name, n) == 0) return (int)(e - 1);
     }
-    return -1;
+}
+
+/* Material i into the name hash, which is kept at most half full. */
+static persp_status hash_material(obj_reader *r, size_t i)
+{
+    if (2 * (i + 1) > r->mat_table_cap) {
+        size_t cap = r->mat_table_cap ? 2 * r->mat_table_cap : 64;
+        uint32_t *t = persp__calloc(r->ctx, cap, sizeof *t);
+        if (!t) return persp__obj_oom(r);
+        persp__free(r->ctx, r->mat_table);
+        r->mat_table = t;
+        r->mat_table_cap = cap;
+        for (size_t k = 0; k < i; k++) {
+            const char *m = r->pool + r->mats[k].name;
+            size_t s = name_slot(m, strlen(m), cap);
+            while (t[s]) s = (s + 1) & (cap - 1);
+            t[s] = (uint32_t)k + 1;
+        }
+    }
+    const char *m = r->pool + r->mats[i].name;
+    size_t s = name_slot(m, strlen(m), r->mat_table_cap);
+    while (r->mat_table[s]) s = (s + 1) & (r->mat_table_cap - 1);
+    r->mat_table[s] = (uint32_t)i + 1;
+    return PERSP_OK;
 }
 
 /* A material as Assimp's MTL reader starts one (ObjFile::Material): grey
@@ -392,6 +427,7 @@ static persp_status new_material(obj_reader *r, const char *name, size_t n, size
     m->lib = lib;
     m->scene = -1;
     persp_status st = pool_add(r, name, n, &m->name);
+    if (st == PERSP_OK) st = hash_material(r, r->nmats);
     if (st != PERSP_OK) return st;
     *out = (int)r->nmats++;
     return PERSP_OK;
@@ -1185,7 +1221,7 @@ static void free_reader(obj_reader *r)
     free_run(r);
     void *blocks[] = {r->runs, r->pos,   r->col,      r->tc,    r->nrm,  r->mats,
                       r->pool, r->poly,  r->poly_v,   r->tri,   r->link, r->flat,
-                      r->seen, r->canon, r->group_of, r->ctable};
+                      r->seen, r->canon, r->group_of, r->ctable, r->mat_table};
     for (size_t i = 0; i < sizeof blocks / sizeof blocks[0]; i++)
         persp__free(r->ctx, blocks[i]);
 }

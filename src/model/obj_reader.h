@@ -66,6 +66,8 @@ typedef struct obj_reader {
     /* materials */
     obj_mat *mats;
     size_t nmats, mats_cap;
+    uint32_t *mat_table; /* hash of the materials' names: index + 1, 0 empty */
+    size_t mat_table_cap;
     char *pool;
     size_t pool_len, pool_cap;
     int default_material; /* scene material for faces without one, -1 not yet */
@@ -105,6 +107,7 @@ typedef struct obj_reader {
     uint32_t *group_of; /* per canonical position: group in the run, NO_INDEX */
     uint32_t *ctable;   /* hash of the positions read: index + 1, 0 empty */
     size_t ctable_cap;
+    uint64_t normals_work; /* their scan steps and corner pairs, all runs (obj_vertices.c) */
     size_t idx_cap; /* entries of idx (from pass 1) */
 } obj_reader;
 

@@ -87,6 +87,15 @@ void persp__obj_canon_add(obj_reader *r, size_t i)
     }
 }
 
+/* Assimp's scan and crease test cost the square of the corners at or near
+ * one place: 10^5 triangles round one vertex (1.6 MB of "f 1 2 3") took
+ * 36 s, a 300x300 grid in the plane across the sort direction 28 s. Past
+ * this many scan steps and corner pairs in one file (under a second on the
+ * development machine) it is refused, as the object-space pipeline refuses
+ * a walk over its limit; the 1M-triangle grid of docs/RELIABILITY.md
+ * takes 1.1e8. */
+#define OBJ_NORMALS_MAX_WORK (1ull << 28)
+
 typedef struct extra {
     uint32_t tuple;
     float n[3];
@@ -96,6 +105,7 @@ typedef struct group_key {
     float d;        /* along Assimp's SpatialSort direction */
     uint32_t group; /* of corners at one position */
     uint32_t pos;   /* that position */
+    float p[3];     /* its coordinates, beside d for the scan (near_add) */
 } group_key;
 
 static int by_distance(const void *a, const void *b)
@@ -184,6 +194,7 @@ static int group_corners(obj_reader *r, normals_work *w)
         w->keys[g].d = 0.8523f * p[0] + 0.34321f * p[1] + 0.5736f * p[2];
         w->keys[g].group = g;
         w->keys[g].pos = c;
+        memcpy(w->keys[g].p, p, sizeof w->keys[g].p);
     }
     qsort(w->keys, w->groups, sizeof *w->keys, by_distance);
     for (size_t c = 0; c < r->nidx; c++) w->off[corner_group(r, c) + 2]++;
@@ -196,7 +207,7 @@ static int group_corners(obj_reader *r, normals_work *w)
  * i's (i itself always); 0 when out of memory. */
 static int near_add(obj_reader *r, normals_work *w, size_t i, size_t j, size_t *n)
 {
-    const float *p = r->pos + 3 * (size_t)w->keys[i].pos, *q = r->pos + 3 * (size_t)w->keys[j].pos;
+    const float *p = w->keys[i].p, *q = w->keys[j].p;
     const float ex = q[0] - p[0], ey = q[1] - p[1], ez = q[2] - p[2];
     if (j != i && !(ex * ex + ey * ey + ez * ez < w->eps * w->eps)) return 1;
     if (persp__grow(r->ctx, (void **)&w->near, &w->near_cap, *n + 1, sizeof *w->near) != PERSP_OK) return 0;
@@ -210,13 +221,15 @@ static int near_add(obj_reader *r, normals_work *w, size_t i, size_t j, size_t *
 static size_t near_groups(obj_reader *r, normals_work *w, size_t i)
 {
     const group_key *keys = w->keys;
-    size_t n = 0;
-    for (size_t j = i + 1; j-- > 0;) {
+    size_t n = 0, j = i + 1;
+    while (j-- > 0) {
         if (j < i && !(keys[i].d - keys[j].d < w->eps)) break;
         if (!near_add(r, w, i, j, &n)) return SIZE_MAX;
     }
-    for (size_t j = i + 1; j < w->groups && keys[j].d - keys[i].d < w->eps; j++)
+    r->normals_work += i + 1 - (j + 1);
+    for (j = i + 1; j < w->groups && keys[j].d - keys[i].d < w->eps; j++)
         if (!near_add(r, w, i, j, &n)) return SIZE_MAX;
+    r->normals_work += j - i;
     return n;
 }
 
@@ -281,7 +294,8 @@ static uint32_t extra_vertex(obj_reader *r, normals_work *w, uint32_t t, const f
 
 /* Every corner's normal; corners of one tuple with different normals
  * become different vertices (r->idx rewritten to vertex numbers). 0: out
- * of memory. */
+ * of memory; -1: over OBJ_NORMALS_MAX_WORK (checked before each group's
+ * corner pairs are summed). */
 static int corner_normals(obj_reader *r, normals_work *w)
 {
     const float limit = cosf(r->crease_deg * 0.0174532925f);
@@ -289,6 +303,10 @@ static int corner_normals(obj_reader *r, normals_work *w)
         const size_t nnear = near_groups(r, w, i);
         if (nnear == SIZE_MAX) return 0;
         const uint32_t g = w->keys[i].group;
+        uint64_t near_corners = 0;
+        for (size_t h = 0; h < nnear; h++) near_corners += w->off[w->near[h] + 1] - w->off[w->near[h]];
+        r->normals_work += (uint64_t)(w->off[g + 1] - w->off[g]) * near_corners;
+        if (r->normals_work > OBJ_NORMALS_MAX_WORK) return -1;
         for (uint32_t k = w->off[g]; k < w->off[g + 1]; k++) {
             const size_t c = w->list[k];
             const uint32_t t = corner_tuple(r, c);
@@ -323,10 +341,17 @@ static persp_status generate_normals(obj_reader *r, persp_mesh *mesh)
     if (ok) {
         face_normals(r, &w);
         for (size_t u = 0; u < 3 * U; u++) w.first[u] = NAN;
-        ok = group_corners(r, &w) && corner_normals(r, &w);
+        ok = group_corners(r, &w) ? corner_normals(r, &w) : 0;
     }
     /* The scan's arrays go before the vertices are made. */
     normals_free_scan(r, &w);
+    if (ok < 0) {
+        normals_free(r, &w);
+        return persp__fail(r->ctx, PERSP_ERR_TOO_LARGE,
+                           "%s: making the normals the file does not give takes more than %llu steps "
+                           "(too many corners at or near one place); give the model normals (vn)",
+                           r->display, (unsigned long long)OBJ_NORMALS_MAX_WORK);
+    }
     if (ok && (U + w.nextra > PERSP_SCENE_MAX_VERTICES || U + w.nextra > r->max_vertices - r->vertices_used)) {
         normals_free(r, &w);
         return persp__obj_too_large(r);

@@ -1167,10 +1167,9 @@ persp_status persp__scene_load_memory(persp_context *ctx, const char *data, size
     return load_json(ctx, data, size, name, base_dir, NULL, max_vertices, NULL, out);
 }
 
-persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
-                                 const persp_scene_load_desc *desc, persp_scene **out)
+static persp_status load_ex(persp_context *ctx, const char *path, const persp_scene_load_desc *desc,
+                            persp_scene **out)
 {
-    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
     persp__clear_error(ctx);
     if (!path || !out) return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "scene: no path or no scene to fill");
     *out = NULL;
@@ -1203,6 +1202,19 @@ persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
         return persp__scene_from_model(ctx, data, size, path, dir[0] ? dir : "./", allowed, desc, out);
     st = load_json(ctx, data, size, path, dir[0] ? dir : "./", allowed, 0, desc, out);
     persp__free(ctx, data);
+    return st;
+}
+
+persp_status persp_scene_load_ex(persp_context *ctx, const char *path,
+                                 const persp_scene_load_desc *desc, persp_scene **out)
+{
+    if (!ctx) return PERSP_ERR_INVALID_ARGUMENT;
+    /* A file that fails ends with its error alone: the warnings of its
+     * load (a missing texture, then a face out of range) are given only
+     * when it has loaded. */
+    persp__warn_hold(ctx);
+    persp_status st = load_ex(ctx, path, desc, out);
+    persp__warn_release(ctx, st == PERSP_OK);
     return st;
 }
 

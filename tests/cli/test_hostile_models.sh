@@ -114,6 +114,25 @@ status = "exit %d" % rc if rc >= 0 else "signal " + signal.Signals(-rc).name.rep
 print("%s\t%.2f\t%.0f\t%s" % (status, seconds, peak / 2**20, note))
 PY
 
+# oom.py FILE: whether an out-of-memory message says how much (a size in
+# bytes, KiB, MiB or GiB), and, where it reads "needs A, over the memory
+# budget of B (C already in use)", whether A + C is over B, as the refusal
+# it reports was (each rounded to 0.1 of its unit).
+cat >"$tmp/oom.py" <<'PY'
+import re, sys
+text = open(sys.argv[1], encoding="utf-8", errors="replace").read()
+unit = {"bytes": 1, "KiB": 2**10, "MiB": 2**20, "GiB": 2**30, "TiB": 2**40}
+size = r"([0-9]+(?:\.[0-9]+)?) (bytes|KiB|MiB|GiB|TiB)"
+if not re.search(size, text):
+    sys.exit(1)
+needs = "needs %s, over the memory budget of %s \\(%s already in use\\)" % (size, size, size)
+for m in re.finditer(needs, text):
+    need, budget, used = (float(m.group(i)) * unit[m.group(i + 1)] for i in (1, 3, 5))
+    slack = 0.1 * (unit[m.group(2)] + unit[m.group(6)])
+    if need + used + slack < budget:
+        sys.exit(1)
+PY
+
 help=$("$persp" render --help 2>&1)
 has_formats=0 timeout_args=()
 grep -q -- "--formats" <<<"$help" && has_formats=1
@@ -227,6 +246,9 @@ must_fail() {
     [ "$stderr_lines" -eq 1 ] || why+="$stderr_lines lines of stderr (expected 1); "
     grep -qF -- "$name" "$tmp/stderr" || why+="stderr does not name $name; "
     [ -z "$pattern" ] || grep -qiE -- "$pattern" "$tmp/stderr" || why+="stderr lacks /$pattern/; "
+    if grep -qF "(out of memory)" "$tmp/stderr" && ! python3 "$tmp/oom.py" "$tmp/stderr"; then
+        why+="out of memory without saying how much, or with numbers that do not add up; "
+    fi
     [ "$stdout_lines" -eq 0 ] && [ ! -s "$tmp/stdout" ] || why+="stdout not empty; "
     [ -z "$(ls -A "$out")" ] || why+="left $(ls -A "$out" | tr '\n' ' '); "
     [ -z "$why" ] || why+="stderr: ${err:-(none)}"
@@ -262,6 +284,18 @@ for entry in "${special[@]}"; do
     fi
     verdict "$file" "$why"
 done
+
+# A model named with a line break: the message is still one line, naming it
+# with the break written as a space (as the library writes it).
+name=$'96-line\nbreak.obj'
+if [[ "96-line-break.obj" =~ $HOSTILE_ONLY ]]; then
+    printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n' >"$sp/$name"
+    run "$sp/$name" "$KILL_S"
+    why=""
+    common_checks "96-line-break.obj"
+    must_fail "96-line break.obj"
+    verdict "96-line(LF)break.obj" "$why"
+fi
 
 echo "== default formats: each case of a format outside the common ones refused"
 while IFS=$'\t' read -r file formats class description; do

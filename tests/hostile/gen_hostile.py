@@ -3,20 +3,23 @@
 
     python3 tests/hostile/gen_hostile.py OUTDIR
 
-Each case is one file NN-short-name.ext (plus the side files it names) and a
-line of OUTDIR/cases.tsv: file, formats_needed (common: read with persp's
-default formats; all: only with --formats all / PERSP_MODEL_FORMATS_ALL),
+Each case is one file NN-short-name.ext (a model, or a JSON scene naming
+one; plus the side files it names) and a line of OUTDIR/cases.tsv: file,
+formats_needed (common: read with persp's default formats; all: only with
+--formats all / PERSP_MODEL_FORMATS_ALL),
 class (crash, memory, hang, leak, asan, noise, special) and what it does.
 Python 3 standard library only; deterministic (the same bytes on every run);
-about 12 MB in all, most of it the 10 MB buffer of the shared-buffer case,
+about 30 MB in all, 10 MB of it the buffer of the shared-buffer case,
 written here and never committed. The FIFO cases cannot live in a folder
 git holds: tests/cli/test_hostile_models.sh makes them at run time.
 """
 import base64
 import json
+import math
 import os
 import struct
 import sys
+import zlib
 
 CASES = []  # (file, formats, class, description)
 
@@ -24,7 +27,9 @@ CASES = []  # (file, formats, class, description)
 def write(outdir, name, data):
     if isinstance(data, str):
         data = data.encode("ascii")
-    with open(os.path.join(outdir, name), "wb") as f:
+    path = os.path.join(outdir, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "wb") as f:
         f.write(data)
 
 
@@ -102,6 +107,9 @@ def fbx_binary(nodes):
         if t == "S":
             raw = v.encode("ascii") if isinstance(v, str) else v
             return b"S" + struct.pack("<I", len(raw)) + raw
+        if t == "zi":  # int32s, deflated: (declared count, zlib bytes)
+            count, raw = v
+            return b"i" + struct.pack("<III", count, 1, len(raw)) + raw
         if t == "z":  # doubles, deflated: (declared count, zlib bytes)
             count, raw = v
             return b"d" + struct.pack("<III", count, 1, len(raw)) + raw
@@ -146,6 +154,61 @@ def fbx_binary_triangle(vertices=None):
             ("Geometry", [("L", 100), ("S", b"tri\x00\x01Geometry"), ("S", "Mesh")],
              [("Vertices", [vertices], []),
               ("PolygonVertexIndex", [("i", [0, 1, -3] * 40)], [])]),
+            ("Model", [("L", 200), ("S", b"tri\x00\x01Model"), ("S", "Mesh")],
+             [("Version", [("I", 232)], [])]),
+        ]),
+        ("Connections", [], [("C", [("S", "OO"), ("L", 100), ("L", 200)], []),
+                             ("C", [("S", "OO"), ("L", 200), ("L", 0)], [])]),
+    ])
+
+
+def png_header_only(width, height):
+    """A PNG of the given size whose pixels are all zero: a few hundred bytes
+    of deflate for 4 * width * height bytes of image."""
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data +
+                struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+    rows = zlib.compressobj(9)
+    row = b"\0" * (1 + 4 * width)
+    idat = b"".join(rows.compress(row) for _ in range(height)) + rows.flush()
+    head = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", head) + chunk(b"IDAT", idat) +
+            chunk(b"IEND", b""))
+
+
+# Assimp's SpatialSort direction, which persp's OBJ normals follow
+# (src/model/obj_vertices.c): positions in a plane across it all sort
+# together.
+SORT_DIRECTION = (0.8523, 0.34321, 0.5736)
+
+
+def grid_across_sort(k):
+    """OBJ text: k*k positions 10 apart in the plane across SORT_DIRECTION,
+    one triangle for every three, no normals."""
+    n = SORT_DIRECTION
+    length = math.sqrt(sum(c * c for c in n))
+    n = [c / length for c in n]
+    u = [n[1], -n[0], 0.0]
+    length = math.sqrt(u[0] ** 2 + u[1] ** 2)
+    u = [c / length for c in u]
+    v = [n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]]
+    out = ["v %.4f %.4f %.4f\n" % tuple(10 * i * u[c] + 10 * j * v[c] for c in range(3))
+           for i in range(k) for j in range(k)]
+    out += ["f %d %d %d\n" % (t + 1, t + 2, t + 3) for t in range(0, k * k - 2, 3)]
+    return "".join(out)
+
+
+def fbx_binary_triangle_indices(indices):
+    """A binary FBX of one triangle's vertices whose PolygonVertexIndex
+    property is indices, (type, value)."""
+    return fbx_binary([
+        ("FBXHeaderExtension", [], [("FBXHeaderVersion", [("I", 1003)], []),
+                                    ("FBXVersion", [("I", 7400)], [])]),
+        ("GlobalSettings", [], [("Version", [("I", 1000)], [])]),
+        ("Objects", [], [
+            ("Geometry", [("L", 100), ("S", b"tri\x00\x01Geometry"), ("S", "Mesh")],
+             [("Vertices", [("d", [0.0, 0, 0, 1, 0, 0, 0, 1, 0])], []),
+              ("PolygonVertexIndex", [indices], [])]),
             ("Model", [("L", 200), ("S", b"tri\x00\x01Model"), ("S", "Mesh")],
              [("Version", [("I", 232)], [])]),
         ]),
@@ -412,6 +475,74 @@ def generate(out):
     tds = three_ds_quads(200)
     case(out, "32-cut.3ds", tds[:len(tds) * 2 // 3], "common", "noise",
          "3DS cut two thirds of the way through its vertex list")
+
+    # --- work that grows with the square of the file (persp's own code) ----
+    n = 100000
+    case(out, "33-fan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n" + "f 1 2 3\n" * n, "common", "hang",
+         "OBJ (persp's reader): %d copies of one triangle without normals: the normal of each "
+         "corner sums the faces of every other at its place" % n)
+    k = 300
+    case(out, "34-grid-across.obj", grid_across_sort(k), "common", "hang",
+         "OBJ (persp's reader): %dx%d positions in the plane across the direction the normals' "
+         "scan sorts by, so that each scans all" % (k, k))
+    n = 100000
+    mtl = "".join("newmtl m%d\nKd 1 1 1\n" % i for i in range(n))
+    case(out, "35-many-materials.obj",
+         "mtllib 35-many-materials.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\n"
+         "usemtl m%d\nf 1 2 3\nf 1 2 4\n" % (n - 1),
+         "common", "hang",
+         "OBJ (persp's reader): a material library of %d materials, each looked up among those "
+         "before it, then a face out of range" % n,
+         side=[("35-many-materials.mtl", mtl)])
+    n = 1000
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+           "nodes": [{"mesh": 0}]}
+    doc.update(gltf_triangle_parts())
+    scene = {"camera": {"position": [0, 0, 3], "target": [0, 0, 0], "up": [0, 1, 0], "fov": 60},
+             "objects": [{"name": "o%d" % i, "mesh": {"file": "36-one.gltf"}} for i in range(n)]}
+    case(out, "36-scene-1000.json", json.dumps(scene), "common", "hang",
+         "a JSON scene naming a one-triangle glTF (36-one.gltf) %d times: an import each" % n,
+         side=[("36-one.gltf", gltf(doc))])
+
+    # --- memory: refused, saying how much ------------------------------------
+    n = 700000
+    faces = zlib.compress(struct.pack("<3i", 0, 1, -3) * n, 9)
+    case(out, "37-tiny-huge-mesh.fbx",
+         fbx_binary_triangle_indices(("zi", (3 * n, faces))), "common", "memory",
+         "binary FBX of %d KB whose deflated PolygonVertexIndex makes %d triangles without "
+         "normals, which persp makes under the budget" % (len(faces) // 1024 + 1, n))
+    case(out, "38-png-bomb.obj", "mtllib 38-png-bomb.mtl\n" + "v 0 0 0\nv 1 0 0\nv 0 1 0\n"
+         "vt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n", "common", "memory",
+         "OBJ whose texture 38-png-bomb.png is 8192x8192 (256 MiB decoded) in 260 KB",
+         side=[("38-png-bomb.mtl", "newmtl m\nmap_Kd 38-png-bomb.png\n"),
+               ("38-png-bomb.png", png_header_only(8192, 8192))])
+    doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+           "nodes": [{"mesh": 0}]}
+    doc.update(gltf_triangle_parts())
+    doc["buffers"] = [{"uri": "/etc/passwd", "byteLength": len(TRIANGLE)}]
+    case(out, "39-buffer-abs.gltf", gltf(doc), "common", "special",
+         "glTF whose buffer uri is an absolute path outside its folder (/etc/passwd)")
+    whole = glb(gltf(tri_doc), TRIANGLE)
+    at = 20 + struct.unpack("<I", whole[12:16])[0]
+    case(out, "40-glb-chunk-past-end.glb",
+         whole[:at] + struct.pack("<I", 0x7FFFFFF0) + whole[at + 4:], "common", "noise",
+         "binary glTF whose BIN chunk declares 2 GiB, the header the file's true length")
+
+    # --- warnings of a load that then fails; folders read whole -------------
+    t, f = 20000, 5000
+    obj = ["mtllib 41-many-textures.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n"]
+    obj += ["usemtl m%d\nf 1/1 2/1 3/1\n" % i for i in range(t)]
+    obj.append("f 1 2 9\n")
+    case(out, "41-many-textures.obj", "".join(obj), "common", "hang",
+         "OBJ whose %d materials name textures missing from 41-folder/, which holds %d empty "
+         "files, then a face out of range" % (t, f),
+         side=[("41-many-textures.mtl",
+                "".join("newmtl m%d\nmap_Kd 41-folder/missing%d.png\n" % (i, i)
+                        for i in range(t)))] +
+              [("41-folder/f%04d" % i, b"") for i in range(f)])
+    case(out, "42-warned-then-bad.obj",
+         "mtllib 42-missing.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n", "common", "noise",
+         "OBJ naming a material library that is not there (a warning), then a face out of range")
 
 
 def main():

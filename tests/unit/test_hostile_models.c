@@ -218,6 +218,49 @@ static long now_ms(void)
     return (long)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
 }
 
+/* The bytes of a size as persp writes one ("12 bytes", "96.1 MiB") at p,
+ * *end past it; -1 when there is none. */
+static double size_at(const char *p, const char **end)
+{
+    static const struct {
+        const char *name;
+        double bytes;
+    } units[] = {{" bytes", 1.0}, {" KiB", 1024.0}, {" MiB", 1048576.0}, {" GiB", 1073741824.0}};
+    char *q;
+    double v = strtod(p, &q);
+    if (q == p) return -1.0;
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++)
+        if (!strncmp(q, units[i].name, strlen(units[i].name))) {
+            *end = q + strlen(units[i].name);
+            return v * units[i].bytes;
+        }
+    return -1.0;
+}
+
+/* Whether an out-of-memory error says how much (a size somewhere), and
+ * where it reads "needs A, over the memory budget of B (C already in use)"
+ * whether A + C is over B, as the refusal it reports was (each rounded to
+ * a tenth of its unit). */
+static int oom_detail_sound(const char *msg)
+{
+    int sized = 0;
+    for (const char *p = msg; *p && !sized; p++) {
+        const char *e;
+        sized = (p == msg || !(p[-1] >= '0' && p[-1] <= '9')) && *p >= '0' && *p <= '9' &&
+                size_at(p, &e) >= 0.0;
+    }
+    if (!sized) return 0;
+    for (const char *p = strstr(msg, "needs "); p; p = strstr(p + 1, "needs ")) {
+        const char *e;
+        double need = size_at(p + 6, &e), budget, used;
+        if (need < 0.0 || strncmp(e, ", over the memory budget of ", 28)) continue;
+        if ((budget = size_at(e + 28, &e)) < 0.0 || strncmp(e, " (", 2)) continue;
+        if ((used = size_at(e + 2, &e)) < 0.0 || strncmp(e, " already in use)", 16)) continue;
+        if (need + used + 0.2 * 1048576.0 < budget) return 0;
+    }
+    return 1;
+}
+
 /* Loads one case and prints its line; 1 when it did what it must. */
 static int load_case(const hostile_case *c, persp_model_import import, unsigned time_limit_ms)
 {
@@ -263,8 +306,18 @@ static int load_case(const hostile_case *c, persp_model_import import, unsigned 
         persp_scene_destroy(scene);
     } else {
         if (!msg[0]) WHY("%s with an empty error; ", persp_status_string(st));
+        if (warn.count) WHY("%d warnings before the error ('%.200s'); ", warn.count, warn.first);
         if (strchr(msg, '\n')) WHY("the error is more than one line; ");
-        if (!strstr(msg, c->file)) WHY("the error does not name %.127s; ", c->file);
+        /* A scene's error about a model it names names that model, a file
+         * of the case's folder. */
+        char folder[PATH_BYTES + 2];
+        snprintf(folder, sizeof folder, "%s/", c->dir);
+        const size_t len = strlen(c->file);
+        const int scene = len > 5 && !strcmp(c->file + len - 5, ".json");
+        if (!strstr(msg, c->file) && !(scene && strstr(msg, folder)))
+            WHY("the error does not name %.127s%s; ", c->file, scene ? " or a file beside it" : "");
+        if (st == PERSP_ERR_OUT_OF_MEMORY && !oom_detail_sound(msg))
+            WHY("out of memory without saying how much, or with numbers that do not add up; ");
     }
     if (strstr(c->file, ".md5mesh") && (strstr(msg, "md5anim") || strstr(warn.first, "md5anim")))
         WHY("blames the missing optional .md5anim; ");

@@ -9,14 +9,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* One line, as the library's details are (persp.h): a file named on the
+ * command line may hold a line break, which is written as a space, as the
+ * library writes it in the detail that follows. */
 int cli_error(int code, const char *fmt, ...)
 {
+    char line[8192];
     va_list ap;
     va_start(ap, fmt);
-    fputs("persp: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
+    vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
+    for (char *c = line; *c; c++)
+        if (*c == '\n' || *c == '\r') *c = ' ';
+    fprintf(stderr, "persp: %s\n", line);
     return code;
 }
 

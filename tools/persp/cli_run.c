@@ -23,11 +23,21 @@ void cli_warning(void *user, const char *message)
     fprintf(stderr, "persp: warning: %s%s\n", message, folder_hint(message));
 }
 
+/* Whether detail starts with what and a colon; a line break in what stands
+ * for the space the library writes for it in a detail. */
+static int starts_with_name(const char *detail, const char *what)
+{
+    size_t i = 0;
+    for (; what[i]; i++)
+        if (detail[i] != (what[i] == '\n' || what[i] == '\r' ? ' ' : what[i])) return 0;
+    return detail[i] == ':';
+}
+
 int cli_status(persp_context *ctx, persp_status st, const char *what)
 {
     const char *detail = ctx ? persp_context_error(ctx) : "";
     /* Library details start with the file they concern; do not name it twice. */
-    size_t wl = strlen(what);
+    const int same = detail && starts_with_name(detail, what);
     /* The status of a refused file is an I/O error, which reads as a
      * failing disk: the hint replaces it. */
     const char *hint = folder_hint(detail);
@@ -36,11 +46,10 @@ int cli_status(persp_context *ctx, persp_status st, const char *what)
      * open: No such file or directory"), which "(input/output error)"
      * after it would contradict. */
     if (st == PERSP_ERR_IO && !hint[0]) {
-        if (detail && !strncmp(detail, what, wl) && detail[wl] == ':') return cli_error(CLI_FAIL, "%s", detail);
+        if (same) return cli_error(CLI_FAIL, "%s", detail);
         if (detail && detail[0]) return cli_error(CLI_FAIL, "%s: %s", what, detail);
     }
-    if (detail && !strncmp(detail, what, wl) && detail[wl] == ':')
-        return cli_error(CLI_FAIL, "%s (%s%s)", detail, kind, hint);
+    if (same) return cli_error(CLI_FAIL, "%s (%s%s)", detail, kind, hint);
     if (detail && detail[0]) return cli_error(CLI_FAIL, "%s: %s (%s%s)", what, detail, kind, hint);
     return cli_error(CLI_FAIL, "%s: %s", what, persp_status_string(st));
 }

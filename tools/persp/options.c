@@ -645,8 +645,9 @@ const cli_spec cli_opt_import_timeout = {
     .metavar = "SECONDS",
     .parse = parse_seconds_ms,
     .accepts = "seconds from 0.1 to 3600",
-    .help = "stop a model import that takes longer (default: 5 s\n"
-            "and 2 s a MiB of what the importer reads, at most 600 s)"};
+    .help = "stop model imports that take longer (a scene's\n"
+            "together; default: 5 s and 2 s a MiB of what the\n"
+            "importer reads, at most 600 s)"};
 const cli_spec cli_opt_crease = {.name = "crease",
                                  .kind = CLI_KIND_REAL,
                                  .metavar = "DEG",
