@@ -461,6 +461,7 @@ PERSP_SIMD_CLONES static void shade_lanes(span_ctx *sc, lane_batch *lb, uint64_t
  * was 4 % of a frame. It reads up to three floats past the row, which the
  * tile's depth buffer has (TRIM_SLACK). *a > *b when none is in front. */
 #define TRIM_SLACK 4
+static inline int in_front(float v, float d, int invw) { return invw ? v > d : v < d; }
 static inline void trim_row(const float *drow, float D, float dD, int invw, int *a, int *b)
 {
     const int len = *b + 1;
@@ -471,7 +472,7 @@ static inline void trim_row(const float *drow, float D, float dD, int invw, int 
      * hidden or not at random) mispredicted (+2 % there). */
     if (len > 8) {
         const float first = D + 0.0f * dD, last = D + (float)(len - 1) * dD;
-        if (invw ? first > drow[0] && last > drow[len - 1] : first < drow[0] && last < drow[len - 1]) return;
+        if (in_front(first, drow[0], invw) && in_front(last, drow[len - 1], invw)) return;
     }
     const __m128 vd = _mm_set1_ps(D), vdd = _mm_set1_ps(dD);
     __m128i kk = _mm_setr_epi32(0, 1, 2, 3);
@@ -492,13 +493,8 @@ static inline void trim_row(const float *drow, float D, float dD, int invw, int 
     *b = 63 - __builtin_clzll(pass);
 #else
     int lo = 0, hi = len - 1;
-    if (invw) {
-        while (lo <= hi && !(D + (float)lo * dD > drow[lo])) lo++;
-        while (hi > lo && !(D + (float)hi * dD > drow[hi])) hi--;
-    } else {
-        while (lo <= hi && !(D + (float)lo * dD < drow[lo])) lo++;
-        while (hi > lo && !(D + (float)hi * dD < drow[hi])) hi--;
-    }
+    while (lo <= hi && !in_front(D + (float)lo * dD, drow[lo], invw)) lo++;
+    while (hi > lo && !in_front(D + (float)hi * dD, drow[hi], invw)) hi--;
     *a = lo, *b = hi;
 #endif
 }
