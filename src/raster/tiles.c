@@ -327,6 +327,7 @@ static PERSP_ALWAYS_INLINE int pack_live(lane_batch *lb, int n, int32_t *live, i
          * soup's 1 300 instructions a pixel, gouraud-pc, with AVX2). */
         (void)avx512;
         (void)weights;
+        (void)n; /* the segments' ends bound the lanes */
         int j = 0, k = 0;
         for (int s = 0; s < lb->nseg; s++) {
             const int end = lb->seg_start[s + 1];
