@@ -97,63 +97,92 @@ static double now_seconds(void)
 }
 #endif
 
-/* Whether texels are fetched faster by gather instructions or by scalar
- * loads depends on the core, and not only on its vendor: gathers are
- * microcoded and slow on AMD's Zen, fast on Intel's cores from Skylake on,
- * and several times slower again on those with the 2023 "Downfall" (GDS)
- * microcode. So the two are timed here, on a bilinear span of an L1-resident
- * texture (the fetch is what differs between them; docs/PERFORMANCE.md,
- * "On an Intel Xeon: samplers with gathers, 16 threads"): a few spans each, interleaved, best of
- * several rounds, about 0.2 ms in all. The gather variant must win by 10 %:
- * where the two are close (Zen 5: gathers 1 % slower here, and timing noise
- * of a few per cent) the scalar loads are kept, as they cost less on the
- * cache misses of large textures; on the Intel Xeon measured (Emerald
- * Rapids) gathers made the corridor's bilinear frame 22 % faster. Either
- * way the images are the same. */
-int persp__fast_span_auto_isa(void)
-{
-    const int isa = persp__cpu_isa();
+/* Which variant runs fastest depends on the core, and not only on its
+ * vendor or on what it reports:
+ * - Gathers are microcoded and slow on AMD's Zen, fast on Intel's cores
+ *   from Skylake on, and several times slower again on those with the 2023
+ *   "Downfall" (GDS) microcode.
+ * - AVX-512 is not always the faster width: on the AMD EPYC (Zen 5) VM of
+ *   docs/PERFORMANCE.md its bilinear spans took 1.2-1.3 times as long as
+ *   AVX2's at every length from 8 to 256 lanes, and whole frames were up to
+ *   10 % slower (corridor bilinear 237 against 260 Mpix/s), its 16-lane
+ *   groups padding the short rows of small triangles further besides.
+ * So the candidates are timed here, on a bilinear span of an L1-resident
+ * texture (the fetch and the width are what differ between them;
+ * docs/PERFORMANCE.md, "On an Intel Xeon: samplers with gathers, 16
+ * threads"): a few spans each, interleaved, best of several rounds, under
+ * a millisecond in all. First the width: AVX-512 must beat AVX2 by 10 %,
+ * for its wider padding costs on short rows that a long span does not
+ * show. Then the fetch at that width: the gather variant must also win by
+ * 10 %; where the two are close (Zen 5: gathers 1 % slower here, and timing
+ * noise of a few per cent) the scalar loads are kept, as they cost less on
+ * the cache misses of large textures; on the Intel Xeon measured (Emerald
+ * Rapids) gathers made the corridor's bilinear frame 22 % faster. Whatever
+ * the choice, the images are the same. */
 #if PERSP_HAVE_ISA_VARIANTS
-    if (isa == PERSP_ISA_BASE) return isa;
-    enum { S = 64, ROUNDS = 11, SPANS = 6 };
-    const int gather = isa == PERSP_ISA_AVX512 ? PERSP_ISA_AVX512_GATHER : PERSP_ISA_AVX2_GATHER;
-    uint32_t texels[S * S];
-    for (uint32_t i = 0; i < S * S; i++) texels[i] = i * 2654435761u;
+#define TIMED_SIDE 64
+typedef struct timed_span {
     struct persp_texture tex;
-    memset(&tex, 0, sizeof tex);
-    tex.width = tex.height = S;
-    tex.levels = 1;
-    tex.level[0] = (persp_tex_level){S, S, texels};
-    tex.storage = texels;
-    persp_sampler_state st[2];
+    uint32_t texels[TIMED_SIDE * TIMED_SIDE];
+    float u[N], v[N];
+    uint32_t out[N];
+} timed_span;
+
+/* Best time of a few spans of each of the n variants (PERSP_ISA_*),
+ * interleaved; 0 if a variant has no sampler here. */
+static int time_variants(timed_span *ts, const int *variant, int n, double *best)
+{
+    enum { ROUNDS = 11, SPANS = 6 };
+    persp_sampler_state st[4];
+    persp_tex_span_fn fn[4];
     memset(st, 0, sizeof st);
-    persp_tex_span_fn fn[2];
-    const int variant[2] = {isa, gather};
-    for (int v = 0; v < 2; v++) {
-        st[v].tex = &tex;
+    for (int v = 0; v < n; v++) {
+        st[v].tex = &ts->tex;
         st[v].desc.filter = PERSP_FILTER_BILINEAR;
         st[v].desc.wrap_s = st[v].desc.wrap_t = PERSP_WRAP_REPEAT;
         fn[v] = persp__fast_span_select_isa(&st[v], variant[v]);
-        if (!fn[v]) return isa;
+        if (!fn[v]) return 0;
+        best[v] = 1e30;
     }
+    persp_tex_span_in in = {.n = N, .u = ts->u, .v = ts->v};
+    for (int r = 0; r < ROUNDS; r++)
+        for (int v = 0; v < n; v++) {
+            double t0 = now_seconds();
+            for (int i = 0; i < SPANS; i++) fn[v](&st[v], &in, ts->out);
+            double t = now_seconds() - t0;
+            best[v] = t < best[v] ? t : best[v];
+        }
+    return 1;
+}
+#endif
+
+int persp__fast_span_auto_isa(void)
+{
+    int isa = persp__cpu_isa();
+#if PERSP_HAVE_ISA_VARIANTS
+    if (isa == PERSP_ISA_BASE) return isa;
+    enum { S = TIMED_SIDE };
+    timed_span ts;
+    memset(&ts.tex, 0, sizeof ts.tex);
+    for (uint32_t i = 0; i < S * S; i++) ts.texels[i] = i * 2654435761u;
+    ts.tex.width = ts.tex.height = S;
+    ts.tex.levels = 1;
+    ts.tex.level[0] = (persp_tex_level){S, S, ts.texels};
+    ts.tex.storage = ts.texels;
     /* A span crossing the texture at an angle, minified about 1.5 times,
      * as the corridor's floor is on most rows. */
-    float u[N], v[N];
     for (int k = 0; k < N; k++) {
-        u[k] = 0.137f + (float)k * (1.5f / S);
-        v[k] = 0.711f + (float)k * (0.6f / S);
+        ts.u[k] = 0.137f + (float)k * (1.5f / S);
+        ts.v[k] = 0.711f + (float)k * (0.6f / S);
     }
-    persp_tex_span_in in = {.n = N, .u = u, .v = v};
-    uint32_t out[N];
-    double best[2] = {1e30, 1e30};
-    for (int r = 0; r < ROUNDS; r++)
-        for (int w = 0; w < 2; w++) {
-            double t0 = now_seconds();
-            for (int i = 0; i < SPANS; i++) fn[w](&st[w], &in, out);
-            double t = now_seconds() - t0;
-            best[w] = t < best[w] ? t : best[w];
-        }
-    return best[1] < 0.9 * best[0] ? gather : isa;
+    double best[2];
+    if (isa == PERSP_ISA_AVX512) {
+        const int width[2] = {PERSP_ISA_AVX2, PERSP_ISA_AVX512};
+        if (time_variants(&ts, width, 2, best) && !(best[1] < 0.9 * best[0])) isa = PERSP_ISA_AVX2;
+    }
+    const int fetch[2] = {isa, isa == PERSP_ISA_AVX512 ? PERSP_ISA_AVX512_GATHER : PERSP_ISA_AVX2_GATHER};
+    if (!time_variants(&ts, fetch, 2, best)) return isa;
+    return best[1] < 0.9 * best[0] ? fetch[1] : isa;
 #else
     return isa;
 #endif

@@ -105,8 +105,9 @@ persp_tex_span_fn persp__fast_span_select(persp_sampler_state *st);
  * _AVX2, _AVX512 of core/fmath.h; tests compare each the CPU can run
  * against the general sampler). */
 persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa);
-/* The variant PERSP_SIMD_AUTO stands for on this CPU (PERSP_ISA_*): the
- * widest instruction set it has, with or without gathers as timed. */
+/* The variant PERSP_SIMD_AUTO stands for on this CPU (PERSP_ISA_*): AVX2
+ * or, where the CPU has it and it times faster, AVX-512; with or without
+ * gathers as timed. */
 int persp__fast_span_auto_isa(void);
 /* The general (table-driven) span sampler of a filter and wrap pair, for
  * comparing the vectorised one against it. */
