@@ -5,8 +5,10 @@
 # trilinear; every row at 1 thread and at all threads, with Mesa's peer
 # drawing the same scene in the same `persp bench` run (runs interleaved,
 # medians) and the PSNR of its image against persp's over the covered
-# pixels. Prints a Markdown table; the raw JSON of each run is kept in
-# OUTDIR.
+# pixels. Prints a Markdown table, with the range of the cross-core round
+# trips `persp bench` measured around the multi-thread rows (the host's
+# placement of the vCPUs moves the two-thread figures); the raw JSON of
+# each run is kept in OUTDIR.
 #
 #   scripts/bench.sh [--quick] [PERSP] [OUTDIR]   (defaults: build/persp, out/bench)
 #   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 SIMD=auto scripts/bench.sh
@@ -66,7 +68,9 @@ if "error" in r:
     print(head, r["error"])
 else:
     m = r["mpix_median"]
-    print(head, f"{m:.1f} Mpix/s" + (f", {m / p['mpix_median']:.2f}x {p['renderer']}" if p else ""))
+    x = j.get("xcore_round_trip_ns")
+    xs = f"; cross-core round trip {x['before'][1]:.0f} / {x['after'][1]:.0f} ns before / after" if x else ""
+    print(head, f"{m:.1f} Mpix/s" + (f", {m / p['mpix_median']:.2f}x {p['renderer']}" if p else "") + xs)
 EOF
     done
 done
@@ -109,4 +113,11 @@ for j in runs:
     psnr = "–" if not d else ("inf" if d["psnr_db"] is None else f"{d['psnr_db']:.1f}")
     cov = f"{d['covered_pct']:.0f} %" if d else "–"
     print(f"| {name} | {what} | {j['threads']} | {fmt(r['mpix_median'])} | {pm} | {ratio} | {psnr} | {cov} |")
+# The host may place the vCPUs near each other or far apart (tools/persp/xcore.c):
+# the round trips measured around each multi-thread row, the most over the pairs.
+xs = [v for j in runs if "xcore_round_trip_ns" in j for k in ("before", "after")
+      for v in [j["xcore_round_trip_ns"][k][1]] if v is not None]
+if xs:
+    print()
+    print(f"Cross-core round trip of a cache line around the multi-thread rows: {min(xs):.0f}-{max(xs):.0f} ns.")
 EOF

@@ -34,6 +34,8 @@ else
     then ok; else bad "no parsable exact row (frames 1, min <= median <= max, vs_exact 1): $out"; fi
     grep -qE "^bench corridor 32x24 filter bilinear threads 1 simd [a-z0-9-]+ reps 1$" <<<"$out" && ok || bad "header line: $out"
     grep -qE "^peak resident memory: persp [0-9.]+ MiB" <<<"$out" && ok || bad "no peak memory line: $out"
+    # One thread: no cross-core figure.
+    grep -q "cross-core" <<<"$out" && bad "cross-core line at one thread: $out" || ok
 fi
 
 # JSON, single method, several runs: median between min and max, one entry per run.
@@ -46,6 +48,16 @@ if "$persp" bench --size 40x30 --frames 2 --reps 3 --filter nearest --threads 2 
         and j['results'][0]['mpix_min'] <= j['results'][0]['mpix_median'] <= j['results'][0]['mpix_max'] \
         and sorted(j['results'][0]['mpix_runs'])[1] == j['results'][0]['mpix_median'] \
         and j['peak_rss_mib'] > 0"
+    # Two threads: the cross-core round trip, from the first processor to
+    # each other one the process may run on (none with one processor).
+    cpus=$(nproc)
+    pairs=$(( cpus > 64 ? 63 : cpus - 1 ))
+    if [ "$pairs" -gt 0 ]; then
+        check_json "$tmp/one.json" "all(0 < x['before'][0] <= x['before'][1] < 1e6 and 0 < x['after'][0] <= x['after'][1] < 1e6 \
+            for x in [j['xcore_round_trip_ns']]) and j['xcore_round_trip_ns']['pairs'] == $pairs"
+    else
+        check_json "$tmp/one.json" "'xcore_round_trip_ns' not in j"
+    fi
 else bad "bench --json exited non-zero: $(cat "$tmp/err")"; fi
 
 # --method all: one entry per method `persp methods` lists, exact's ratio 1.

@@ -182,4 +182,14 @@ int vectors_span(const vectors_job *job);
  * a '.' and digits and an exponent (cli_common.c). */
 int cli_decimal_syntax(const char *s, int fraction);
 
+/* The round trip of one cache line between the first processor of this
+ * thread's mask and each other one (tools/persp/xcore.c), ns: the least
+ * and the most over those pairs; pairs 0 (NaN figures) where it cannot be
+ * measured. */
+typedef struct cli_xcore {
+    double min_ns, max_ns;
+    int pairs;
+} cli_xcore;
+cli_xcore cli_xcore_measure(void);
+
 #endif

@@ -500,6 +500,7 @@ typedef struct bench_report {
     const peer_result *peer;
     const image_diff *diff;
     double rss_mib, rss_start_mib;
+    const cli_xcore *xcore; /* [2], or NULL */
 } bench_report;
 
 static json_t *json_results(const bench_report *r)
@@ -567,6 +568,14 @@ static int print_json(FILE *out, const bench_report *r)
     json_object_set_new(j, "simd_asked", json_string(persp_simd_name(o->simd_asked)));
     json_object_set_new(j, "peak_rss_mib", json_num(r->rss_mib));
     json_object_set_new(j, "rss_at_start_mib", json_num(r->rss_start_mib));
+    if (r->xcore && r->xcore[0].pairs) {
+        json_t *x = json_object();
+        json_object_set_new(x, "pairs", json_integer(r->xcore[0].pairs));
+        static const char *const when[2] = {"before", "after"};
+        for (int k = 0; k < 2; k++)
+            json_object_set_new(x, when[k], json_pack("[oo]", json_num(r->xcore[k].min_ns), json_num(r->xcore[k].max_ns)));
+        json_object_set_new(j, "xcore_round_trip_ns", x);
+    }
     json_object_set_new(j, "results", json_results(r));
     if (r->peer && r->peer->ok) json_object_set_new(j, "peer", json_peer(o, r->peer));
     if (r->diff) json_object_set_new(j, "peer_image", json_diff(o, r->diff));
@@ -634,6 +643,20 @@ static void print_text_tail(FILE *out, const bench_report *r)
             r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
     if (peer_col) fprintf(out, ", peer process %.1f MiB", r->peer->maxrss_mib);
     fprintf(out, "\n");
+    if (r->xcore && r->xcore[0].pairs) {
+        /* One pair: its figure; more: the least and the most. */
+        const cli_xcore *x = r->xcore;
+        char when[2][48];
+        for (int k = 0; k < 2; k++)
+            if (x[k].pairs == 1)
+                snprintf(when[k], sizeof when[k], "%.0f ns", x[k].min_ns);
+            else
+                snprintf(when[k], sizeof when[k], "%.0f-%.0f ns", x[k].min_ns, x[k].max_ns);
+        fprintf(out,
+                "cross-core round trip of a cache line: %s before the runs, %s after "
+                "(first processor with %d other%s)\n",
+                when[0], when[1], x[0].pairs, x[0].pairs == 1 ? "" : "s");
+    }
     if (r->diff) {
         const image_diff *d = r->diff;
         fprintf(out,
@@ -770,6 +793,7 @@ typedef struct bench_session {
     cli_output *out;
     size_t max_memory;
     double rss_start_mib, rss_mib;
+    cli_xcore xcore[2]; /* before and after the runs; measured with two threads or more */
 } bench_session;
 
 /* Options into s->o; CLI_HELP after --help. *child: the hidden --peer-child. */
@@ -996,9 +1020,13 @@ static int bench_report_out(bench_session *s)
     cli_output *out = s->out;
     int rc;
     s->streaming = !s->o.json;
+    /* Before and after, as the host may move the vCPUs during the runs. */
+    if (s->o.threads > 1) s->xcore[0] = cli_xcore_measure();
     rc = bench_measure(s);
+    if (s->o.threads > 1) s->xcore[1] = cli_xcore_measure();
     bench_report report = {&s->o, s->results, s->count, s->exact, s->o.peer && s->peer.ok ? &s->peer : NULL,
-                           s->have_diff ? &s->diff : NULL, s->rss_mib, s->rss_start_mib};
+                           s->have_diff ? &s->diff : NULL, s->rss_mib, s->rss_start_mib,
+                           s->o.threads > 1 ? s->xcore : NULL};
     if (s->o.json)
         rc = print_json(out->f, &report) != CLI_OK && rc == CLI_OK ? CLI_FAIL : rc;
     else
