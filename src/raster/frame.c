@@ -109,8 +109,10 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
     f->batch_base = f->batch;
     f->batch_adapt = !ctx->frame_batch;
     persp_context_simd(ctx);
-    f->pack_avx512 =
-        (ctx->isa == PERSP_ISA_AVX512 || ctx->isa == PERSP_ISA_AVX512_GATHER) && !ctx->pack_portable;
+    f->pack = ctx->pack_portable                                                     ? PERSP_PACK_PORTABLE
+              : ctx->isa == PERSP_ISA_AVX512 || ctx->isa == PERSP_ISA_AVX512_GATHER ? PERSP_PACK_AVX512
+              : ctx->isa == PERSP_ISA_AVX2 || ctx->isa == PERSP_ISA_AVX2_GATHER     ? PERSP_PACK_AVX2
+                                                                                    : PERSP_PACK_PORTABLE;
     return PERSP_OK;
 }
 

@@ -8,6 +8,12 @@
 
 struct persp_render_cache;
 
+/* How shade_lanes packs a lane batch's live lanes together (tiles.c,
+ * pack_live): one lane at a time, eight by a permutation, sixteen by
+ * compress. The portable loop stays for tests to compare with
+ * (persp_context.pack_portable) and where the CPU has no AVX2. */
+enum { PERSP_PACK_PORTABLE, PERSP_PACK_AVX2, PERSP_PACK_AVX512 };
+
 typedef struct persp_frame {
     persp_context *ctx;
     persp_framebuffer *fb;
@@ -18,7 +24,7 @@ typedef struct persp_frame {
     size_t batch; /* records drawn at once without a capture (frame.c, frame_batch_limit) */
     size_t batch_base; /* batch before adapting to how spread the last one was (frame.c) */
     int batch_adapt;
-    int pack_avx512; /* lane batches packed with AVX-512 compress (tiles.c pack_live) */
+    int pack; /* how lane batches are packed (tiles.c pack_live): PERSP_PACK_* */
     persp_render_stats stats;
     persp_capture *capture; /* non-NULL: record per-pixel triangle and u, v */
     persp_mat4 proj;        /* projection of the scene's camera */
