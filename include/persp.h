@@ -117,13 +117,15 @@ typedef struct persp_context persp_context;
 /* Instruction-set variant of the texture span samplers and the lane packing,
  * and the vector width (baseline, AVX2 or AVX-512) of the vertex stage and
  * the lighting loops (docs/PERFORMANCE.md, "On an Intel Xeon: samplers
- * with gathers, 16 threads"; docs/PERFORMANCE_HISTORY.md, item 58). Every
+ * with gathers, 16 threads"; docs/PERFORMANCE_HISTORY.md, item 58). AUTO
+ * times the samplers' variant and the lighting loops' width apart
+ * (persp_context_simd, persp_context_lighting_simd). Every
  * variant computes the same bits; they differ only in speed, which depends on the CPU (the texel
  * fetch by gather instructions is fast on some cores and slow on others;
  * 512-bit arithmetic may lower the clock of some). The other span loops take AVX2 wherever the CPU has
  * it, chosen by the dynamic loader. */
 typedef enum persp_simd {
-    PERSP_SIMD_AUTO = 0,      /* the fastest samplers for this CPU, timed at the first frame */
+    PERSP_SIMD_AUTO = 0,      /* the fastest samplers and lighting loops for this CPU, timed at the first frame */
     PERSP_SIMD_BASELINE,      /* x86-64 baseline (SSE2), or plain C elsewhere */
     PERSP_SIMD_AVX2,          /* 8 lanes, texels fetched by scalar loads */
     PERSP_SIMD_AVX2_GATHER,   /* 8 lanes, texels fetched by vpgatherdd */
@@ -168,6 +170,12 @@ PERSP_API const char *persp_context_error(const persp_context *ctx);
  * context). For PERSP_SIMD_AUTO the first call, or the first render,
  * decides it by timing the candidates for a fraction of a millisecond. */
 PERSP_API persp_simd persp_context_simd(persp_context *ctx);
+/* The variant of the lighting loops (per-vertex and per-pixel Blinn-Phong,
+ * Gouraud's colours): the context's for a variant given; for
+ * PERSP_SIMD_AUTO, timed apart from the samplers' (PERSP_SIMD_AVX512 only
+ * where the CPU has it and it wins, else AVX2 or the baseline), as the two
+ * need not agree on one CPU. */
+PERSP_API persp_simd persp_context_lighting_simd(persp_context *ctx);
 /* Warnings: problems persp worked around (a model's missing material or
  * texture file, for instance), one line each without a trailing newline.
  * persp never prints; without a handler warnings are dropped. Called on the

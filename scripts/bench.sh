@@ -94,7 +94,7 @@ def fmt(x):
     return f"{x:.1f}" if x >= 10 else f"{x:.2f}" if x >= 0.1 else f"{x:.3f}"
 peer = next((j["peer"] for j in runs if "peer" in j), None)
 print(f"CPU: {cpu}, {len({j['threads'] for j in runs})} thread count(s); persp {built}; "
-      f"--simd {runs[0]['simd_asked']} ({runs[0]['simd']}); {size}, method exact, medians of {reps} run(s) interleaved with the peer's"
+      f"--simd {runs[0]['simd_asked']} (samplers {runs[0]['simd']}, lighting {runs[0].get('simd_lighting', runs[0]['simd'])}); {size}, method exact, medians of {reps} run(s) interleaved with the peer's"
       + (f"; peer {peer['renderer']}, {peer['version']}" if peer else ""))
 print()
 print("| workload | shading / filter | threads | persp Mpix/s | llvmpipe Mpix/s | ratio | PSNR dB | covered |")

@@ -97,7 +97,7 @@ persp_status persp_context_create(const persp_context_desc *desc, persp_context 
     ctx->allocator = al;
     ctx->threads = threads;
     ctx->max_memory = max_memory;
-    ctx->isa = isa;
+    ctx->isa = ctx->shade_isa = isa;
     ctx->mem_used = ctx->mem_peak = sizeof *ctx;
     *out = ctx;
     return PERSP_OK;

@@ -75,13 +75,22 @@ static void render_cache_free(persp_context *ctx)
 #define PERSP_FRAME_BATCH_MAX 65536u
 
 /* PERSP_SIMD_AUTO is resolved here, at the first frame, rather than at
- * context creation: the choice is timed on the samplers of the texture
- * module, which the context's own module sits below. */
+ * context creation: the choices are timed on the samplers of the texture
+ * module and on the lighting loops of the shading module, which the
+ * context's own module sits below. */
 persp_simd persp_context_simd(persp_context *ctx)
 {
     if (!ctx) return PERSP_SIMD_AUTO;
     if (ctx->isa < 0) ctx->isa = persp__fast_span_auto_isa();
+    if (ctx->shade_isa < 0) ctx->shade_isa = persp__shade_auto_isa();
     return persp__simd_from_isa(ctx->isa);
+}
+
+persp_simd persp_context_lighting_simd(persp_context *ctx)
+{
+    if (!ctx) return PERSP_SIMD_AUTO;
+    persp_context_simd(ctx);
+    return persp__simd_from_isa(ctx->shade_isa);
 }
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,

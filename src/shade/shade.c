@@ -20,6 +20,7 @@
 
 #include <math.h>
 #include <string.h>
+#include <time.h>
 
 static const char *const shading_names[PERSP_SHADING_COUNT] = {
     "default", "none", "flat", "gouraud", "gouraud-pc", "phong", "phong-pc", "phong-pc:quad",
@@ -825,13 +826,77 @@ static const char *shade_method_spec(persp_shading s)
     }
 }
 
+#if PERSP_HAVE_ISA_VARIANTS
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+#endif
+
+/* The samplers' variant is timed on their spans (texture/fastspan.c); the
+ * lighting loops' apart, since the two need not agree: on the Zen 5 VM of
+ * docs/PERFORMANCE.md AVX-512's bilinear spans take 1.2-1.3 times as long
+ * as AVX2's, while its lighting loops lit the 2k and 20k tori's phong-pc
+ * frames 17-18 % faster with the samplers at AVX2. So light_soa, the
+ * per-pixel Blinn-Phong of both per-pixel modes and of the vertices, is
+ * timed here at both widths on one span of lanes with a point light, a
+ * directional one and a specular highlight (the benchmark scenes'
+ * lights): a few spans each, interleaved, best of several rounds, well
+ * under a millisecond; AVX-512 must win by 10 %, as for the samplers. The
+ * images are the same either way. */
+int persp__shade_auto_isa(void)
+{
+    const int isa = persp__cpu_isa();
+#if PERSP_HAVE_ISA_VARIANTS
+    if (isa != PERSP_ISA_AVX512) return isa;
+    enum { LANES = 64, ROUNDS = 11, SPANS = 6 };
+    persp_draw_state ds;
+    memset(&ds, 0, sizeof ds);
+    for (int c = 0; c < 3; c++) {
+        ds.material.ambient[c] = 0.2f;
+        ds.material.diffuse[c] = 0.8f;
+        ds.material.specular[c] = 0.6f;
+        ds.lighting.ambient[c] = 0.15f;
+    }
+    ds.material.shininess = 40.0f;
+    ds.lighting.count = 2;
+    ds.lighting.light[0] =
+        (persp_eye_light){PERSP_LIGHT_POINT, {1.0f, 1.5f, 1.0f}, {1.0f, 0.97f, 0.9f}, {1.0f, 0.0f, 0.01f}};
+    ds.lighting.light[1] =
+        (persp_eye_light){PERSP_LIGHT_DIRECTIONAL, {0.87f, -0.43f, -0.26f}, {0.25f, 0.3f, 0.4f}, {1.0f, 0.0f, 0.0f}};
+    lit_span g;
+    float side[LANES], d[6][LANES];
+    for (int k = 0; k < LANES; k++) {
+        const float a = 0.05f * (float)k;
+        g.nx[k] = 0.3f * a - 0.5f, g.ny[k] = 0.6f - 0.2f * a, g.nz[k] = 0.7f;
+        g.ex[k] = 0.02f * (float)k - 0.6f, g.ey[k] = 0.3f, g.ez[k] = -2.0f;
+        side[k] = 1.0f;
+    }
+    double best[2] = {1e30, 1e30};
+    for (int r = 0; r < ROUNDS; r++)
+        for (int w = 0; w < 2; w++) {
+            const double t0 = now_seconds();
+            for (int i = 0; i < SPANS; i++)
+                light_soa(w ? PERSP_ISA_AVX512 : PERSP_ISA_AVX2, &ds, side, LANES, &g, d[0], d[1], d[2], d[3], d[4],
+                          d[5]);
+            const double t = now_seconds() - t0;
+            best[w] = t < best[w] ? t : best[w];
+        }
+    return best[1] < 0.9 * best[0] ? PERSP_ISA_AVX512 : PERSP_ISA_AVX2;
+#else
+    return isa;
+#endif
+}
+
 persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds)
 {
     memset(&ds->shade_method, 0, sizeof ds->shade_method);
-    /* The lighting loops follow the context's instruction set, as the
-     * samplers do (persp_context_desc.simd, resolved when a frame begins);
-     * before any frame, the widest this CPU has. */
-    ds->isa = ctx && ctx->isa >= 0 ? ctx->isa : persp__cpu_isa();
+    /* The lighting loops take the context's variant for them
+     * (persp_context_desc.simd, or for AUTO timed when a frame begins,
+     * persp__shade_auto_isa); before any frame, the widest this CPU has. */
+    ds->isa = ctx && ctx->shade_isa >= 0 ? ctx->shade_isa : persp__cpu_isa();
     if (ds->shading == PERSP_SHADING_DEFAULT) ds->shading = PERSP_SHADING_NONE;
     const char *spec = shade_method_spec(ds->shading);
     if (spec) {

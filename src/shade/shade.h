@@ -10,6 +10,9 @@
 /* Chooses ds->shade (and ds->shade_method) from ds->shading, the texture
  * environment and whether a texture is bound. */
 PERSP_INTERNAL persp_status persp__shade_resolve(persp_context *ctx, persp_draw_state *ds);
+/* The lighting loops' variant PERSP_SIMD_AUTO stands for on this CPU
+ * (PERSP_ISA_*): AVX2, or AVX-512 where the CPU has it and it times faster. */
+int persp__shade_auto_isa(void);
 /* The shading modes that light vertices (gouraud, gouraud-pc). */
 static inline int persp__shade_is_gouraud(const persp_draw_state *ds)
 {

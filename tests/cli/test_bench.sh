@@ -101,7 +101,7 @@ ran=0
 for s in baseline avx2 avx2-gather avx512 avx512-gather; do
     if "$persp" bench --simd "$s" "${tiny[@]}" --json >"$tmp/simd.json" 2>"$tmp/err"; then
         ran=$((ran + 1))
-        check_json "$tmp/simd.json" "j['simd'] == '$s' and j['simd_asked'] == '$s'"
+        check_json "$tmp/simd.json" "j['simd'] == '$s' and j['simd_asked'] == '$s' and j['simd_lighting'] == '$s'"
         for f in nearest bilinear nearest-mip-nearest bilinear-mip-nearest nearest-mip-linear trilinear aniso; do
             for w in repeat clamp-to-edge; do
                 "$persp" render corridor --size 96x64 --filter "$f" --wrap "$w" --simd "$s" \
@@ -129,7 +129,8 @@ for s in baseline avx2 avx2-gather avx512 avx512-gather; do
 done
 [ "$ran" -ge 1 ] && ok || bad "no --simd variant ran"
 if "$persp" bench "${tiny[@]}" --json >"$tmp/auto.json" 2>"$tmp/err"; then
-    check_json "$tmp/auto.json" "j['simd_asked'] == 'auto' and j['simd'] in ('baseline', 'avx2', 'avx2-gather', 'avx512', 'avx512-gather')"
+    check_json "$tmp/auto.json" "j['simd_asked'] == 'auto' and j['simd'] in ('baseline', 'avx2', 'avx2-gather', 'avx512', 'avx512-gather') \
+        and j['simd_lighting'] in ('baseline', 'avx2', 'avx512')"
 else bad "bench --json exited non-zero: $(cat "$tmp/err")"; fi
 
 expect 2 "unknown option '--bogus'" -- "$persp" bench --bogus

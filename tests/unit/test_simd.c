@@ -63,6 +63,7 @@ static void test_create(void **state)
         }
         assert_int_equal(st, PERSP_OK);
         assert_int_equal(persp_context_simd(ctx), variants[i]);
+        assert_int_equal(persp_context_lighting_simd(ctx), variants[i]);
         persp_context_destroy(ctx);
         ran++;
     }
@@ -72,7 +73,16 @@ static void test_create(void **state)
     persp_simd a = persp_context_simd(ctx);
     assert_int_not_equal(a, PERSP_SIMD_AUTO);
     assert_int_equal(persp_context_simd(ctx), a);
+    /* The lighting loops' AUTO: a width the CPU runs, without gathers (the
+     * loops fetch no texels), the same on every call. */
+    persp_simd l = persp_context_lighting_simd(ctx);
+    assert_true(l == PERSP_SIMD_BASELINE || l == PERSP_SIMD_AVX2 || l == PERSP_SIMD_AVX512);
+    assert_true(persp__isa_runs(l == PERSP_SIMD_AVX512 ? PERSP_ISA_AVX512
+                                : l == PERSP_SIMD_AVX2 ? PERSP_ISA_AVX2
+                                                       : PERSP_ISA_BASE));
+    assert_int_equal(persp_context_lighting_simd(ctx), l);
     persp_context_destroy(ctx);
+    assert_int_equal(persp_context_lighting_simd(NULL), PERSP_SIMD_AUTO);
 }
 
 static uint64_t render_hash(persp_simd simd, const char *scene_name, persp_filter filter,

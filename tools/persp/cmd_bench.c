@@ -76,6 +76,7 @@ typedef struct bench_opts {
     int max_aniso;
     int threads, peer_threads, width, height, reps, json;
     persp_simd simd, simd_asked; /* the context's choice, and what --simd asked for */
+    persp_simd simd_lighting;    /* the lighting loops' (persp_context_lighting_simd) */
     long frames; /* 0: calibrate */
     double run_seconds;
 } bench_opts;
@@ -566,6 +567,7 @@ static int print_json(FILE *out, const bench_report *r)
     json_object_set_new(j, "threads", json_integer(o->threads));
     json_object_set_new(j, "simd", json_string(persp_simd_name(o->simd)));
     json_object_set_new(j, "simd_asked", json_string(persp_simd_name(o->simd_asked)));
+    json_object_set_new(j, "simd_lighting", json_string(persp_simd_name(o->simd_lighting)));
     json_object_set_new(j, "peak_rss_mib", json_num(r->rss_mib));
     json_object_set_new(j, "rss_at_start_mib", json_num(r->rss_start_mib));
     if (r->xcore && r->xcore[0].pairs) {
@@ -639,6 +641,8 @@ static void print_text_tail(FILE *out, const bench_report *r)
         if (p->aniso > 0.0) fprintf(out, ", anisotropy %g", p->aniso);
         fprintf(out, "\npeer pipeline: %s\n", p->pipeline);
     }
+    fprintf(out, "vector variants: samplers %s, lighting loops %s\n", persp_simd_name(o->simd),
+            persp_simd_name(o->simd_lighting));
     fprintf(out, "peak resident memory: persp %.1f MiB (%.1f MiB above the %.1f MiB at start)",
             r->rss_mib, r->rss_mib - r->rss_start_mib, r->rss_start_mib);
     if (peer_col) fprintf(out, ", peer process %.1f MiB", r->peer->maxrss_mib);
@@ -878,6 +882,7 @@ static int bench_open(bench_session *s, persp_context *ctx)
     b->ctx = ctx;
     o->simd_asked = o->simd;
     o->simd = persp_context_simd(b->ctx);
+    o->simd_lighting = persp_context_lighting_simd(b->ctx);
     if (cli_is_builtin(o->scene)) st = persp_scene_builtin(b->ctx, o->scene, &b->scene);
     else st = persp_scene_load_ex(b->ctx, o->scene, &o->load, &b->scene);
     if (st != PERSP_OK) return cli_status(b->ctx, st, o->scene);
