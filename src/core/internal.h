@@ -8,6 +8,7 @@
 
 #include <stdarg.h>
 #include <stddef.h>
+#include <time.h>
 
 #define PERSP_ERRMSG_BYTES 512
 
@@ -75,6 +76,15 @@ struct persp_context {
 
 /* The persp_simd naming variant isa (PERSP_ISA_*); AUTO for none. */
 persp_simd persp__simd_from_isa(int isa);
+
+/* A monotonic clock in seconds, for the timings that choose a variant
+ * (texture/fastspan.c, shade/shade.c). */
+static inline double persp__now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
 
 /* Overflow-checked size arithmetic: returns 0 and leaves *out untouched on overflow. */
 static inline int persp__size_mul(size_t a, size_t b, size_t *out)

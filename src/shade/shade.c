@@ -20,7 +20,6 @@
 
 #include <math.h>
 #include <string.h>
-#include <time.h>
 
 static const char *const shading_names[PERSP_SHADING_COUNT] = {
     "default", "none", "flat", "gouraud", "gouraud-pc", "phong", "phong-pc", "phong-pc:quad",
@@ -826,14 +825,6 @@ static const char *shade_method_spec(persp_shading s)
     }
 }
 
-#if PERSP_HAVE_ISA_VARIANTS
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-#endif
 
 /* The samplers' variant is timed on their spans (texture/fastspan.c); the
  * lighting loops' apart, since the two need not agree: on the Zen 5 VM of
@@ -877,11 +868,11 @@ int persp__shade_auto_isa(void)
     double best[2] = {1e30, 1e30};
     for (int r = 0; r < ROUNDS; r++)
         for (int w = 0; w < 2; w++) {
-            const double t0 = now_seconds();
+            const double t0 = persp__now_seconds();
             for (int i = 0; i < SPANS; i++)
                 light_soa(w ? PERSP_ISA_AVX512 : PERSP_ISA_AVX2, &ds, side, LANES, &g, d[0], d[1], d[2], d[3], d[4],
                           d[5]);
-            const double t = now_seconds() - t0;
+            const double t = persp__now_seconds() - t0;
             best[w] = t < best[w] ? t : best[w];
         }
     return best[1] < 0.9 * best[0] ? PERSP_ISA_AVX512 : PERSP_ISA_AVX2;

@@ -27,7 +27,6 @@
  */
 #include "texture/fastspan_body.h"
 
-#include <time.h>
 
 /* The baseline variants (SSE2 on x86-64: 4 lanes) and, where the compiler
  * can target them, AVX2 (8 lanes) and AVX-512 (16 lanes) ones, picked at
@@ -88,14 +87,6 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     return table[isa][st->desc.filter - PERSP_FILTER_NEAREST][w];
 }
 
-#if PERSP_HAVE_ISA_VARIANTS
-static double now_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-#endif
 
 /* Which variant runs fastest depends on the core, and not only on its
  * vendor or on what it reports:
@@ -147,9 +138,9 @@ static int time_variants(timed_span *ts, const int *variant, int n, double *best
     persp_tex_span_in in = {.n = N, .u = ts->u, .v = ts->v};
     for (int r = 0; r < ROUNDS; r++)
         for (int v = 0; v < n; v++) {
-            double t0 = now_seconds();
+            double t0 = persp__now_seconds();
             for (int i = 0; i < SPANS; i++) fn[v](&st[v], &in, ts->out);
-            double t = now_seconds() - t0;
+            double t = persp__now_seconds() - t0;
             best[v] = t < best[v] ? t : best[v];
         }
     return 1;
