@@ -119,7 +119,8 @@ typedef struct persp_context persp_context;
  * the lighting loops (docs/PERFORMANCE.md, "On an Intel Xeon: samplers
  * with gathers, 16 threads"; docs/PERFORMANCE_HISTORY.md, item 58). AUTO
  * times the samplers' variant and the lighting loops' width apart
- * (persp_context_simd, persp_context_lighting_simd). Every
+ * (persp_context_simd, persp_context_lighting_simd); the vertex stage
+ * takes the lighting loops'. Every
  * variant computes the same bits; they differ only in speed, which depends on the CPU (the texel
  * fetch by gather instructions is fast on some cores and slow on others;
  * 512-bit arithmetic may lower the clock of some). The other span loops take AVX2 wherever the CPU has
@@ -171,7 +172,8 @@ PERSP_API const char *persp_context_error(const persp_context *ctx);
  * decides it by timing the candidates for a fraction of a millisecond. */
 PERSP_API persp_simd persp_context_simd(persp_context *ctx);
 /* The variant of the lighting loops (per-vertex and per-pixel Blinn-Phong,
- * Gouraud's colours): the context's for a variant given; for
+ * Gouraud's colours) and of the vertex stage: the context's for a variant
+ * given; for
  * PERSP_SIMD_AUTO, timed apart from the samplers' (PERSP_SIMD_AVX512 only
  * where the CPU has it and it wins, else AVX2 or the baseline), as the two
  * need not agree on one CPU. */
