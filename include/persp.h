@@ -173,10 +173,9 @@ PERSP_API const char *persp_context_error(const persp_context *ctx);
 PERSP_API persp_simd persp_context_simd(persp_context *ctx);
 /* The variant of the lighting loops (per-vertex and per-pixel Blinn-Phong,
  * Gouraud's colours) and of the vertex stage: the context's for a variant
- * given; for
- * PERSP_SIMD_AUTO, timed apart from the samplers' (PERSP_SIMD_AVX512 only
- * where the CPU has it and it wins, else AVX2 or the baseline), as the two
- * need not agree on one CPU. */
+ * given; for PERSP_SIMD_AUTO, timed apart from the samplers'
+ * (PERSP_SIMD_AVX512 only where the CPU has it and it wins, else AVX2 or
+ * the baseline), as the two need not agree on one CPU. */
 PERSP_API persp_simd persp_context_lighting_simd(persp_context *ctx);
 /* Warnings: problems persp worked around (a model's missing material or
  * texture file, for instance), one line each without a trailing newline.

@@ -46,9 +46,9 @@ struct persp_context {
      * persp_context_desc.simd; -1 for AUTO until persp_context_simd
      * decides it. */
     int isa;
-    /* The lighting loops' variant (persp_draw_state.isa): the same as isa
-     * for a --simd given, timed apart for AUTO (persp__shade_auto_isa);
-     * -1 until then. */
+    /* The lighting loops' variant (persp_draw_state.isa), which the vertex
+     * stage takes too: the same as isa for a --simd given, timed apart for
+     * AUTO (persp__shade_auto_isa); -1 until then. */
     int shade_isa;
     /* Samples and rows the object-space pipeline may walk in one frame; 0:
      * its default. Changed only by tests, to reach the limit cheaply. */

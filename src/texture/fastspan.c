@@ -27,7 +27,6 @@
  */
 #include "texture/fastspan_body.h"
 
-
 /* The baseline variants (SSE2 on x86-64: 4 lanes) and, where the compiler
  * can target them, AVX2 (8 lanes) and AVX-512 (16 lanes) ones, picked at
  * sampler set-up from the CPU. */
@@ -87,7 +86,6 @@ persp_tex_span_fn persp__fast_span_select_isa(persp_sampler_state *st, int isa)
     return table[isa][st->desc.filter - PERSP_FILTER_NEAREST][w];
 }
 
-
 /* Which variant runs fastest depends on the core, and not only on its
  * vendor or on what it reports:
  * - Gathers are microcoded and slow on AMD's Zen, fast on Intel's cores
@@ -119,15 +117,15 @@ typedef struct timed_span {
     uint32_t out[N];
 } timed_span;
 
-/* Best time of a few spans of each of the n variants (PERSP_ISA_*),
+/* Best time of a few spans of each of two variants (PERSP_ISA_*),
  * interleaved; 0 if a variant has no sampler here. */
-static int time_variants(timed_span *ts, const int *variant, int n, double *best)
+static int time_variants(timed_span *ts, const int variant[2], double best[2])
 {
     enum { ROUNDS = 11, SPANS = 6 };
-    persp_sampler_state st[4];
-    persp_tex_span_fn fn[4];
+    persp_sampler_state st[2];
+    persp_tex_span_fn fn[2];
     memset(st, 0, sizeof st);
-    for (int v = 0; v < n; v++) {
+    for (int v = 0; v < 2; v++) {
         st[v].tex = &ts->tex;
         st[v].desc.filter = PERSP_FILTER_BILINEAR;
         st[v].desc.wrap_s = st[v].desc.wrap_t = PERSP_WRAP_REPEAT;
@@ -137,7 +135,7 @@ static int time_variants(timed_span *ts, const int *variant, int n, double *best
     }
     persp_tex_span_in in = {.n = N, .u = ts->u, .v = ts->v};
     for (int r = 0; r < ROUNDS; r++)
-        for (int v = 0; v < n; v++) {
+        for (int v = 0; v < 2; v++) {
             double t0 = persp__now_seconds();
             for (int i = 0; i < SPANS; i++) fn[v](&st[v], &in, ts->out);
             double t = persp__now_seconds() - t0;
@@ -169,10 +167,10 @@ int persp__fast_span_auto_isa(void)
     double best[2];
     if (isa == PERSP_ISA_AVX512) {
         const int width[2] = {PERSP_ISA_AVX2, PERSP_ISA_AVX512};
-        if (time_variants(&ts, width, 2, best) && !(best[1] < 0.9 * best[0])) isa = PERSP_ISA_AVX2;
+        if (time_variants(&ts, width, best) && !(best[1] < 0.9 * best[0])) isa = PERSP_ISA_AVX2;
     }
     const int fetch[2] = {isa, isa == PERSP_ISA_AVX512 ? PERSP_ISA_AVX512_GATHER : PERSP_ISA_AVX2_GATHER};
-    if (!time_variants(&ts, fetch, 2, best)) return isa;
+    if (!time_variants(&ts, fetch, best)) return isa;
     return best[1] < 0.9 * best[0] ? fetch[1] : isa;
 #else
     return isa;

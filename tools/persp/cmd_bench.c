@@ -575,7 +575,8 @@ static int print_json(FILE *out, const bench_report *r)
         json_object_set_new(x, "pairs", json_integer(r->xcore[0].pairs));
         static const char *const when[2] = {"before", "after"};
         for (int k = 0; k < 2; k++)
-            json_object_set_new(x, when[k], json_pack("[oo]", json_num(r->xcore[k].min_ns), json_num(r->xcore[k].max_ns)));
+            json_object_set_new(x, when[k],
+                                json_pack("[oo]", json_num(r->xcore[k].min_ns), json_num(r->xcore[k].max_ns)));
         json_object_set_new(j, "xcore_round_trip_ns", x);
     }
     json_object_set_new(j, "results", json_results(r));
