@@ -11,7 +11,11 @@
 # each run is kept in OUTDIR.
 #
 #   scripts/bench.sh [--quick] [PERSP] [OUTDIR]   (defaults: build/persp, out/bench)
-#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 SIMD=auto scripts/bench.sh
+#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 SIMD=auto FAR_NS=200 scripts/bench.sh
+#
+# FAR_NS: a multi-thread run next to a cross-core round trip above this
+# many ns counts as run with the vCPUs far apart; rows with such runs are
+# listed under the table with their near and far runs apart.
 #
 # SIMD (make bench SIMD=avx2) is persp's --simd variant for every row: avx2
 # on a machine with AVX-512 stands in for a CPU without it (llvmpipe's
@@ -69,7 +73,8 @@ if "error" in r:
 else:
     m = r["mpix_median"]
     x = j.get("xcore_round_trip_ns")
-    xs = f"; cross-core round trip {x['before'][1]:.0f} / {x['after'][1]:.0f} ns before / after" if x else ""
+    xs = (f"; cross-core round trip before each run " + ", ".join(f"{v[1]:.0f}" for v in x.get("runs", []))
+          + f", after {x['after'][1]:.0f} ns") if x else ""
     print(head, f"{m:.1f} Mpix/s" + (f", {m / p['mpix_median']:.2f}x {p['renderer']}" if p else "") + xs)
 EOF
     done
@@ -87,7 +92,7 @@ else
     built="version $("$persp" --version | sed 's/^persp //'), not a git checkout"
 fi
 python3 - "$cpu" "$built" "$size" "$reps" "${files[@]}" <<'EOF'
-import json, sys
+import json, os, statistics, sys
 cpu, built, size, reps = sys.argv[1:5]
 runs = [json.load(open(p)) for p in sys.argv[5:]]
 def fmt(x):
@@ -120,4 +125,31 @@ xs = [v for j in runs if "xcore_round_trip_ns" in j for k in ("before", "after")
 if xs:
     print()
     print(f"Cross-core round trip of a cache line around the multi-thread rows: {min(xs):.0f}-{max(xs):.0f} ns.")
+# A run between two round trips of which either exceeds far_ns ran with the
+# vCPUs (possibly) far apart: such rows are listed with the medians of
+# their near and far runs apart; the table above keeps all runs.
+far_ns = float(os.environ.get("FAR_NS", "200"))
+notes = []
+for j in runs:
+    x, r, p = j.get("xcore_round_trip_ns"), j["results"][0], j.get("peer")
+    if not x or "error" in r or len(x.get("runs", [])) != len(r["mpix_runs"]):
+        continue
+    edges = [v[1] for v in x["runs"]] + [x["after"][1]]
+    far = [any(e is None or e > far_ns for e in edges[k:k + 2]) for k in range(len(r["mpix_runs"]))]
+    if not any(far):
+        continue
+    def part(flag):
+        v = [m for m, f in zip(r["mpix_runs"], far) if f == flag]
+        if not v:
+            return "none"
+        med = statistics.median(v)
+        return f"{fmt(med)} Mpix/s" + (f" ({med / p['mpix_median']:.2f}x)" if p else "")
+    name = j["scene"].rsplit("/", 1)[-1].removesuffix(".json")
+    what = j["filter"] if name == "corridor" else j["shading"]
+    notes.append(f"- {name} {what}, {j['threads']} threads: {sum(far)} of {len(far)} runs next to a round trip "
+                 f"over {far_ns:.0f} ns; near runs {part(False)}, far runs {part(True)}")
+if notes:
+    print()
+    print(f"Rows with runs while the vCPUs were far apart (ratios to the peer's median):")
+    print("\n".join(notes))
 EOF

@@ -55,6 +55,9 @@ if "$persp" bench --size 40x30 --frames 2 --reps 3 --filter nearest --threads 2 
     if [ "$pairs" -gt 0 ]; then
         check_json "$tmp/one.json" "all(0 < x['before'][0] <= x['before'][1] < 1e6 and 0 < x['after'][0] <= x['after'][1] < 1e6 \
             for x in [j['xcore_round_trip_ns']]) and j['xcore_round_trip_ns']['pairs'] == $pairs"
+        # One figure before each run, the first the one before the runs.
+        check_json "$tmp/one.json" "len(x['runs']) == 3 and x['runs'][0] == x['before'] \
+            and all(0 < a <= b < 1e6 for a, b in x['runs']) for x in [j['xcore_round_trip_ns']]"
     else
         check_json "$tmp/one.json" "'xcore_round_trip_ns' not in j"
     fi

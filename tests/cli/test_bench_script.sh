@@ -43,5 +43,18 @@ for from in "$src" "$tmp/archive"; do
     fi
 done
 
+# Two threads with FAR_NS=0: every run counts as far apart, so every row is
+# listed under the table with its runs as far runs (where the machine has a
+# second processor to measure the round trip to).
+if [ "$(nproc)" -gt 1 ]; then
+    out=$(THREADS=2 FAR_NS=0 bash "$src/scripts/bench.sh" --quick "$persp" "$tmp/bench2" 2>"$tmp/err"); rc=$?
+    if [ "$rc" -ne 0 ]; then bad "bench.sh --quick, two threads, exited $rc: $(cat "$tmp/err")"
+    else
+        grep -q "^Rows with runs while the vCPUs were far apart" <<<"$out" && ok || bad "no far-apart list: $out"
+        far=$(grep -cE "^- (torus-(2k|20k|200k|2m)|soup-200k|corridor) .*, 2 threads: 1 of 1 runs .* near runs none, far runs [0-9.]+ Mpix/s" <<<"$out")
+        [ "$far" -eq 18 ] && ok || bad "expected 18 far-apart rows, got $far: $out"
+    fi
+fi
+
 echo "$pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -502,6 +502,7 @@ typedef struct bench_report {
     const image_diff *diff;
     double rss_mib, rss_start_mib;
     const cli_xcore *xcore; /* [2], or NULL */
+    const cli_xcore *run_xcore; /* before each run of the first method (results[0]) */
 } bench_report;
 
 static json_t *json_results(const bench_report *r)
@@ -577,6 +578,11 @@ static int print_json(FILE *out, const bench_report *r)
         for (int k = 0; k < 2; k++)
             json_object_set_new(x, when[k],
                                 json_pack("[oo]", json_num(r->xcore[k].min_ns), json_num(r->xcore[k].max_ns)));
+        json_t *runs = json_array();
+        for (int k = 0; r->count && k < r->results[0].stats.reps; k++)
+            json_array_append_new(runs, json_pack("[oo]", json_num(r->run_xcore[k].min_ns),
+                                                  json_num(r->run_xcore[k].max_ns)));
+        json_object_set_new(x, "runs", runs);
         json_object_set_new(j, "xcore_round_trip_ns", x);
     }
     json_object_set_new(j, "results", json_results(r));
@@ -661,6 +667,12 @@ static void print_text_tail(FILE *out, const bench_report *r)
                 "cross-core round trip of a cache line: %s before the runs, %s after "
                 "(first processor with %d other%s)\n",
                 when[0], when[1], x[0].pairs, x[0].pairs == 1 ? "" : "s");
+        if (r->count && r->results[0].stats.reps > 1) {
+            fprintf(out, "  before each run of %s (the most over the pairs):", r->results[0].spec);
+            for (int k = 0; k < r->results[0].stats.reps; k++)
+                fprintf(out, "%s %.0f", k ? "," : "", r->run_xcore[k].max_ns);
+            fprintf(out, " ns\n");
+        }
     }
     if (r->diff) {
         const image_diff *d = r->diff;
@@ -799,6 +811,10 @@ typedef struct bench_session {
     size_t max_memory;
     double rss_start_mib, rss_mib;
     cli_xcore xcore[2]; /* before and after the runs; measured with two threads or more */
+    /* Before each run of the first method, the first before the runs: the
+     * host may move the vCPUs apart for seconds, and a run between two far
+     * figures ran with them apart (docs/PERFORMANCE.md, "Measuring"). */
+    cli_xcore run_xcore[BENCH_MAX_REPS];
 } bench_session;
 
 /* Options into s->o; CLI_HELP after --help. *child: the hidden --peer-child. */
@@ -981,6 +997,7 @@ static int bench_measure(bench_session *s)
     if (o->peer) peer_live = (rc = peer_start(o, &pp, &s->peer)) == CLI_OK;
 #endif
     for (int rep = 0; rep < o->reps; rep++) {
+        if (o->threads > 1) s->run_xcore[rep] = rep ? cli_xcore_measure() : s->xcore[0];
         if (s->results[0].ok) run_method(&s->b, o, &s->results[0]);
 #ifdef PERSP_HAVE_OSMESA
         if (peer_live) peer_live = (rc = peer_run(&pp, o, &s->peer)) == CLI_OK;
@@ -1032,7 +1049,7 @@ static int bench_report_out(bench_session *s)
     if (s->o.threads > 1) s->xcore[1] = cli_xcore_measure();
     bench_report report = {&s->o, s->results, s->count, s->exact, s->o.peer && s->peer.ok ? &s->peer : NULL,
                            s->have_diff ? &s->diff : NULL, s->rss_mib, s->rss_start_mib,
-                           s->o.threads > 1 ? s->xcore : NULL};
+                           s->o.threads > 1 ? s->xcore : NULL, s->run_xcore};
     if (s->o.json)
         rc = print_json(out->f, &report) != CLI_OK && rc == CLI_OK ? CLI_FAIL : rc;
     else
