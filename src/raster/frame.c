@@ -870,6 +870,14 @@ static void setup_task(void *user, int task, int worker)
     const size_t b = PERSP_MIN(a + j->chunk, j->mesh->index_count / 3);
     slab.count = 0;
     (void)mesh_triangles(j, a, b, &slab); /* a slab sink cannot fail */
+    /* In place, the slots left unused become gaps, marked as covering no
+     * tile here rather than by the calling thread after the round while
+     * the other workers wait (most of a slab on a culled mesh). Two
+     * threads, medians of about 70 single runs each, interleaved: 2M torus
+     * gouraud-pc 15.48 → 15.60 Mpix/s, 200k torus unlit 87.5 → 88.5, the
+     * soup unchanged. */
+    if (slab.tiles)
+        for (size_t i = slab.count; i < slab.cap; i++) slab.tiles[i] = (struct tri_tiles){1, 0, 1, 0};
     j->slabs[task] = slab;
 }
 
@@ -958,11 +966,9 @@ static persp_status mesh_triangles_parallel(tri_job *j, size_t ntri, int workers
             if (copying) {
                 if ((st = append_slab(f, slab)) != PERSP_OK) return st;
             } else {
-                /* The records and their tile ranges are in place (the task
-                 * wrote both); the unused slots become gaps. */
+                /* The records and their tile ranges are in place, the
+                 * unused slots marked as gaps (setup_task). */
                 const size_t region = base + (size_t)k * j->slab;
-                for (size_t i = slab->count; i < j->slab; i++)
-                    c->tiles[region + i] = (struct tri_tiles){1, 0, 1, 0};
                 f->gap_count += j->slab - slab->count;
                 f->tri_count = region + j->slab;
                 if (slab->stop < end && k + 1 < tasks) {
