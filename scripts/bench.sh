@@ -150,6 +150,6 @@ for j in runs:
                  f"over {far_ns:.0f} ns; near runs {part(False)}, far runs {part(True)}")
 if notes:
     print()
-    print(f"Rows with runs while the vCPUs were far apart (ratios to the peer's median):")
+    print("Rows with runs while the vCPUs were far apart (ratios to the peer's median):")
     print("\n".join(notes))
 EOF

@@ -166,8 +166,8 @@ static size_t frame_batch_limit(const persp_frame *f)
 }
 
 /* Room for need records in the frame's array, its first tri_count kept;
- * whole: grow to a whole batch at once (in-place set-up, which fills it)
- * rather than by doubling (serial set-up, whatever the scene's size, so
+ * whole: grow to a batch's slots for in-place set-up at once, twice a
+ * batch (mesh_triangles_parallel), rather than by doubling (serial set-up, whatever the scene's size, so
  * that a small scene holds little of the memory budget). Unlike
  * persp__grow nothing is zeroed and only the kept records are copied: the
  * slots that in-place set-up leaves as gaps (mesh_triangles_parallel; most

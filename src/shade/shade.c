@@ -825,7 +825,6 @@ static const char *shade_method_spec(persp_shading s)
     }
 }
 
-
 /* The samplers' variant is timed on their spans (texture/fastspan.c); the
  * lighting loops' apart, since the two need not agree: on the Zen 5 VM of
  * docs/PERFORMANCE.md AVX-512's bilinear spans take 1.2-1.3 times as long
