@@ -636,6 +636,19 @@ typedef struct persp_render_desc {
     persp_toggle cull_backfaces; /* DEFAULT: the scene's */
     persp_toggle count_ops;  /* ON: the methods count their operations into
                                 persp_render_stats.ops (instrumented, slower render) */
+    /* How a context of several threads shares a frame among them. OFF: sort
+     * middle, every worker taking vertex ranges, set-up chunks and screen
+     * tiles in turn, each reading what another wrote. ON: sort first, each
+     * worker running the whole frame for its own screen region (tile rows
+     * taken in turn), sharing nothing but the scene it reads and the
+     * framebuffer rows it owns, at the price of each transforming every
+     * vertex (docs/DESIGN.md, "Threads"). DEFAULT: sort middle, but sort
+     * first with two workers while handing a cache line between them and
+     * back takes longer than PERSP_SORT_FIRST_ROUND_TRIP_NS (measured before
+     * a frame, at most every 50 ms). The image and the counts are the same
+     * either way; the object-space pipeline and count_ops always take
+     * sort middle. */
+    persp_toggle sort_first;
     /* Camera override (interactive viewers, camera paths): each non-NULL
      * matrix replaces the scene camera's (world -> eye, eye -> clip); NULL
      * keeps the scene's (see persp_scene_get_camera). Lights stay in world
@@ -661,7 +674,17 @@ typedef struct persp_render_stats {
     /* The object-space walk's work: sample rows and samples stepped through,
      * inside the tiles or not (bounded, docs/RELIABILITY.md). */
     uint64_t objspace_visited;
+    /* The screen regions the frame was drawn in sort first, one a worker
+     * (persp_render_desc.sort_first); 0: sort middle. */
+    uint64_t sort_first_regions;
 } persp_render_stats;
+
+/* The cross-core round trip (ns) above which a two-worker context draws a
+ * frame sort first by default: between the trips of two vCPUs sharing a
+ * cache (50-100 ns on the AMD EPYC VM of docs/PERFORMANCE.md) and those of
+ * two the host placed apart (315-870 ns), where sort middle ran at half
+ * its speed and sort first at the speed of two independent threads. */
+#define PERSP_SORT_FIRST_ROUND_TRIP_NS 200.0
 
 /* Clears fb and renders the scene into it. desc and stats may be NULL. */
 PERSP_API persp_status persp_render(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,

@@ -11,11 +11,16 @@
 # each run is kept in OUTDIR.
 #
 #   scripts/bench.sh [--quick] [PERSP] [OUTDIR]   (defaults: build/persp, out/bench)
-#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 SIMD=auto FAR_NS=200 scripts/bench.sh
+#   SIZE=1024x768 THREADS="1 N" PEER=llvmpipe REPS=5 TIME=0.5 SIMD=auto FAR_NS=200 SORT_FIRST=auto scripts/bench.sh
 #
 # FAR_NS: a multi-thread run next to a cross-core round trip above this
 # many ns counts as run with the vCPUs far apart; rows with such runs are
 # listed under the table with their near and far runs apart.
+#
+# SORT_FIRST: persp's --sort-first for every multi-thread row (auto: sort
+# first only for two threads whose cores hand each other data slowly,
+# docs/DESIGN.md "Threads"); the per-row lines say how many frames of each
+# run it drew sort first.
 #
 # SIMD (make bench SIMD=avx2) is persp's --simd variant for every row: avx2
 # on a machine with AVX-512 stands in for a CPU without it (llvmpipe's
@@ -39,6 +44,7 @@ fi
 peer="${PEER:-llvmpipe}"
 simd="${SIMD:-auto}"
 run_time="${TIME:-0.5}"
+sort_first="${SORT_FIRST:-auto}"
 mkdir -p "$outdir"
 
 peer_args=(--peer "$peer")
@@ -61,7 +67,7 @@ for row in "${rows[@]}"; do
         out="$outdir/$label-${setting##* }-$size-$simd-t$t.json"
         # shellcheck disable=SC2086  # $setting is an option and its value
         "$persp" bench "$scene" --size "$size" $setting --threads "$t" --reps "$reps" \
-            --time "$run_time" --simd "$simd" "${frames[@]}" "${peer_args[@]}" --json >"$out"
+            --time "$run_time" --simd "$simd" --sort-first "$sort_first" "${frames[@]}" "${peer_args[@]}" --json >"$out"
         files+=("$out")
         python3 - "$out" "$label" "${setting##* }" <<'EOF' >&2
 import json, sys
@@ -75,7 +81,9 @@ else:
     x = j.get("xcore_round_trip_ns")
     xs = (f"; cross-core round trip before each run " + ", ".join(f"{v[1]:.0f}" for v in x.get("runs", []))
           + f", after {x['after'][1]:.0f} ns") if x else ""
-    print(head, f"{m:.1f} Mpix/s" + (f", {m / p['mpix_median']:.2f}x {p['renderer']}" if p else "") + xs)
+    sf = r.get("sort_first_frames")
+    sfs = f"; frames drawn sort first, each run of {r['frames']}: " + ", ".join(map(str, sf)) if sf else ""
+    print(head, f"{m:.1f} Mpix/s" + (f", {m / p['mpix_median']:.2f}x {p['renderer']}" if p else "") + xs + sfs)
 EOF
     done
 done

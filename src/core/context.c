@@ -113,6 +113,25 @@ void persp_context_destroy(persp_context *ctx)
     al.free(al.user, ctx);
 }
 
+persp_context *persp__context_child(persp_context *ctx)
+{
+    persp_context *c = persp__calloc(ctx, 1, sizeof *c);
+    if (!c) return NULL;
+    c->allocator = ctx->allocator;
+    c->threads = 1;
+    c->isa = ctx->isa;
+    c->shade_isa = ctx->shade_isa;
+    return c;
+}
+
+void persp__context_child_free(persp_context *ctx, persp_context *child)
+{
+    if (!child) return;
+    persp__mem_release(ctx, child->mem_used);
+    if (child->render_free) child->render_free(child);
+    persp__free(ctx, child);
+}
+
 const char *persp_context_error(const persp_context *ctx) { return ctx ? ctx->error : ""; }
 
 void persp__clear_error(persp_context *ctx)
@@ -269,6 +288,10 @@ persp_status persp__fail(persp_context *ctx, persp_status status, const char *fm
 void *persp__alloc(persp_context *ctx, size_t size)
 {
     if (!ctx || size == 0 || size > (size_t)-1 - PERSP_BLOCK_HEADER) return NULL;
+    if (ctx->frozen) {
+        ctx->starved = 1;
+        return NULL;
+    }
     size_t total = size + PERSP_BLOCK_HEADER;
     ctx->mem_refused = 0; /* the detail speaks of the latest request only */
     if (!budget_fits(ctx, total)) {
@@ -334,6 +357,10 @@ persp_status persp__reserve(persp_context *ctx, void **ptr, size_t *cap, size_t 
     if (need <= *cap) return PERSP_OK;
     size_t bytes;
     if (elem == 0 || !persp__size_mul(need, elem, &bytes)) return PERSP_ERR_TOO_LARGE;
+    if (ctx->frozen) {
+        ctx->starved = 1;
+        return PERSP_ERR_OUT_OF_MEMORY;
+    }
     persp__free(ctx, *ptr);
     *ptr = persp__calloc(ctx, need, elem);
     *cap = *ptr ? need : 0;

@@ -40,6 +40,17 @@ struct persp_context {
     /* Nonzero: no mesh cluster is culled whole (src/raster/cluster_cull.c).
      * Changed only by tests, to compare with culling triangle by triangle. */
     int no_cluster_cull;
+    /* The cross-core round trip (ns) above which a two-worker frame is
+     * drawn sort first by default (src/render/sort_first.c); 0:
+     * PERSP_SORT_FIRST_ROUND_TRIP_NS. Changed only by tests, to reach
+     * either choice on any machine. */
+    double sort_first_ns;
+    /* A region context while a worker thread draws with it (sort first):
+     * frozen, persp__alloc and persp__reserve refuse every request without
+     * calling the allocator, which is called only from the thread that
+     * called into persp (persp_allocator), and set starved; the frame's
+     * driver then draws that region again on the calling thread. */
+    int frozen, starved;
     /* Clusters culled whole over the context's frames (tests read it). */
     size_t clusters_culled;
     /* Sampler and packing variant (PERSP_ISA_*), from
@@ -135,6 +146,15 @@ PERSP_INTERNAL persp_status persp__mem_reserve(persp_context *ctx, size_t bytes,
 PERSP_INTERNAL void persp__mem_release(persp_context *ctx, size_t bytes);
 /* Bytes of the budget still free (SIZE_MAX without a budget). */
 size_t persp__mem_available(const persp_context *ctx);
+
+/* A one-thread context for one worker's share of a frame drawn sort first
+ * (src/render/sort_first.c), allocated from ctx, with its allocator and
+ * vector variants; NULL when out of memory. Its own memory is counted in
+ * its mem_used, which the frame's driver adds to ctx's while it holds it. */
+persp_context *persp__context_child(persp_context *ctx);
+/* Frees child's per-frame buffers and child itself, taking the buffers'
+ * bytes (child->mem_used) back out of ctx's count. */
+void persp__context_child_free(persp_context *ctx, persp_context *child);
 
 /* Zero-initialised allocation of n elements of size bytes, overflow-checked. */
 PERSP_INTERNAL void *persp__calloc(persp_context *ctx, size_t n, size_t size);

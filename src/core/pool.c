@@ -153,6 +153,62 @@ persp_status persp__pool_run(persp_context *ctx, int tasks, persp_task_fn fn, vo
     return PERSP_OK;
 }
 
+/* The round-trip probe: the first task to start waits a bounded time for
+ * the second (the same thread may claim both, one after the other, when
+ * the other worker is slow to wake), then times trips of a counter that
+ * each side advances in turn on its own cache line. */
+#define PROBE_TRIPS 32
+#define PROBE_WARM 4
+#define PROBE_JOIN_NS 200000.0
+
+typedef struct probe_job {
+    _Alignas(64) atomic_int arrived; /* tasks started; negative once the first gave up */
+    _Alignas(64) atomic_int ball;
+    double ns;
+} probe_job;
+
+static void probe_task(void *user, int task, int worker)
+{
+    (void)task, (void)worker;
+    probe_job *j = user;
+    const int me = atomic_fetch_add(&j->arrived, 1);
+    if (me < 0) return;
+    if (me == 1) {
+        for (int i = 0; i < PROBE_WARM + PROBE_TRIPS; i++) {
+            while (atomic_load_explicit(&j->ball, memory_order_acquire) != 2 * i + 1) cpu_relax();
+            atomic_store_explicit(&j->ball, 2 * i + 2, memory_order_release);
+        }
+        return;
+    }
+    const double t0 = persp__now_seconds();
+    for (;;) {
+        int expect = 1;
+        if (atomic_load_explicit(&j->arrived, memory_order_acquire) == 2) break;
+        if ((persp__now_seconds() - t0) * 1e9 > PROBE_JOIN_NS &&
+            atomic_compare_exchange_strong(&j->arrived, &expect, -1000))
+            return;
+        cpu_relax();
+    }
+    double start = 0.0;
+    for (int i = 0; i < PROBE_WARM + PROBE_TRIPS; i++) {
+        if (i == PROBE_WARM) start = persp__now_seconds();
+        atomic_store_explicit(&j->ball, 2 * i + 1, memory_order_release);
+        while (atomic_load_explicit(&j->ball, memory_order_acquire) != 2 * i + 2) cpu_relax();
+    }
+    j->ns = (persp__now_seconds() - start) * 1e9 / PROBE_TRIPS;
+}
+
+double persp__pool_round_trip_ns(persp_context *ctx)
+{
+    if (persp__pool_workers(ctx) < 2) return 0.0;
+    probe_job j;
+    atomic_init(&j.arrived, 0);
+    atomic_init(&j.ball, 0);
+    j.ns = 0.0;
+    if (persp__pool_run(ctx, 2, probe_task, &j) != PERSP_OK) return 0.0;
+    return j.ns;
+}
+
 void persp__pool_destroy(persp_context *ctx)
 {
     if (!ctx || !ctx->pool) return;

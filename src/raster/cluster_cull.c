@@ -66,6 +66,8 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
          * A2 > 0: the same test with E negated, which negates g and A2. */
         cv->E[k] = (k % 2 ? -1.0 : 1.0) * (cull == PERSP_CULL_CCW ? -1.0 : 1.0) * det3(m[0], m[1], m[2]);
     }
+    cv->cull = cull;
+    cv->region = cv->regions = 0;
     cv->tx = fmin(gx, 2.0), cv->ty = fmin(gy, 2.0);
     cv->W2 = 0.5 * width, cv->H2 = 0.5 * height;
     for (int i = 0; i < 4; i++)
@@ -96,61 +98,92 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
     cv->eps = 1.0 / (2.0 * PERSP_SUBPIXEL) + (cv->W2 * cv->tx + cv->H2 * cv->ty) * 4e-7;
 }
 
+/* Whether no point of the cluster's sphere projects onto a pixel row of a
+ * tile row of the view's region, with margin: then every triangle of the
+ * cluster, and every piece clipping makes of one (its window y lies
+ * between those of points of the sphere, y/w being monotonic along a
+ * segment with w > 0), has a box the region's frame drops
+ * (frame.c, region_touches). The bounds of y and w over the sphere are
+ * those of the rows at its centre plus and minus the radius times the
+ * rows' lengths; the margin of two pixels and a part in 10^4 covers the
+ * float clip coordinates and the snapping to 1/256 pixel. */
+static int outside_region(const persp_cluster_view *cv, const persp_cluster *cl)
+{
+    const double(*row)[4] = cv->row;
+    const double *c = cl->center, r = cl->radius;
+    const double yc = row[1][0] * c[0] + row[1][1] * c[1] + row[1][2] * c[2] + row[1][3];
+    const double wc = row[3][0] * c[0] + row[3][1] * c[1] + row[3][2] * c[2] + row[3][3];
+    const double w_lo = wc - cv->row_norm[3] * r, w_hi = wc + cv->row_norm[3] * r;
+    if (!(w_lo > PERSP_CLIP_W_EPSILON)) return 0;
+    const double y_lo = yc - cv->row_norm[1] * r, y_hi = yc + cv->row_norm[1] * r;
+    const double ndc_lo = y_lo >= 0.0 ? y_lo / w_hi : y_lo / w_lo;
+    const double ndc_hi = y_hi >= 0.0 ? y_hi / w_lo : y_hi / w_hi;
+    const double margin = 2.0 + 1e-4 * cv->H2 * (1.0 + fmax(fabs(ndc_lo), fabs(ndc_hi)));
+    const double lo = (ndc_lo + 1.0) * cv->H2 - margin, hi = (ndc_hi + 1.0) * cv->H2 + margin;
+    if (!(lo <= hi) || !isfinite(lo) || !isfinite(hi)) return 0;
+    if (hi < 0.0 || lo > 2.0 * cv->H2) return 1; /* beyond the window's rows: nothing to draw */
+    const int64_t t0 = (int64_t)fmax(0.0, lo) / PERSP_TILE, t1 = (int64_t)hi / PERSP_TILE, n = cv->regions;
+    if (t1 - t0 >= n - 1) return 0;
+    return (cv->region - t0 % n + n) % n > t1 - t0;
+}
+
 size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters,
                             size_t count, uint8_t *culled)
 {
-    const double(*row)[4] = cv->row;
-    const double *E = cv->E, *rn = cv->row_norm;
     size_t n = 0;
     for (size_t k = 0; k < count; k++) {
-        const persp_cluster *cl = &clusters[k];
-        culled[k] = 0;
-        if (!cl->usable) continue;
-        const double *c = cl->center, r = cl->radius;
-        const double v[3] = {E[3] * c[0] - E[0], E[3] * c[1] - E[1], E[3] * c[2] - E[2]};
-        const double vl = norm3(v);
-        if (!(vl > 0.0)) continue;
-        const double cos_t = (v[0] * cl->axis[0] + v[1] * cl->axis[1] + v[2] * cl->axis[2]) / vl;
-        const double sin_t = sqrt(fmax(0.0, 1.0 - cos_t * cos_t));
-        const double g_min = vl * (cos_t * cl->cos_a - sin_t * cl->sin_a) - fabs(E[3]) * r;
-        if (!(g_min > 0.0)) continue;
-        /* Each row at the centre, and how far it can move over the sphere;
-         * mag bounds |row·p̃| there, for the margins of float rounding. */
-        double at[4], mag[4];
-        const double cn = norm3(c) + r;
-        for (int i = 0; i < 4; i++) {
-            at[i] = row[i][0] * c[0] + row[i][1] * c[1] + row[i][2] * c[2] + row[i][3];
-            mag[i] = rn[i] * cn + fabs(row[i][3]);
-        }
-        int inside = 1;
-        for (int p = 0; p < 7 && inside; p++) {
-            const double *pl = cv->plane[p];
-            double val = pl[4], mg = 0.0;
-            for (int i = 0; i < 4; i++) {
-                val += pl[i] * at[i];
-                mg += fabs(pl[i]) * mag[i];
-            }
-            inside = val - cv->plane_norm[p] * r - 1e-6 * mg > 0.0;
-        }
-        if (!inside) continue;
-        const double w_min = at[3] - rn[3] * r, w_max = at[3] + rn[3] * r;
-        if (!(w_min > 0.0)) continue;
-        /* K with this cluster's own bounds on |x/w| and |y/w| where they
-         * are tighter than the planes' (a cluster on screen: about 1 against
-         * 2, a third off K). */
-        const double rx = rn[0], ry = rn[1], rw = rn[3];
-        const double ux = fmin(cv->tx, (fabs(at[0]) + rx * r) / w_min);
-        const double uy = fmin(cv->ty, (fabs(at[1]) + ry * r) / w_min);
-        const double K = cv->W2 * (rx + ux * rw) + cv->H2 * (ry + uy * rw);
-        const double lhs = cv->W2 * cv->H2 * cl->alt_min * g_min / (w_max * w_max * w_max);
-        const double rhs =
-            2.0 * (4.0 * cv->eps * K / w_min + 8.0 * cv->eps * cv->eps / cl->edge_min);
-        if (lhs > rhs) {
-            culled[k] = 1;
-            n++;
-        }
+        const int back = persp__cluster_back_facing(cv, &clusters[k]);
+        culled[k] = back ? 1 : cv->regions && clusters[k].usable && outside_region(cv, &clusters[k]) ? 2 : 0;
+        n += (size_t)back;
     }
     return n;
+}
+
+int persp__cluster_back_facing(const persp_cluster_view *cv, const persp_cluster *cl)
+{
+    const double(*row)[4] = cv->row;
+    const double *E = cv->E, *rn = cv->row_norm;
+    if (!cl->usable || !cv->cull) return 0;
+    const double *c = cl->center, r = cl->radius;
+    const double v[3] = {E[3] * c[0] - E[0], E[3] * c[1] - E[1], E[3] * c[2] - E[2]};
+    const double vl = norm3(v);
+    if (!(vl > 0.0)) return 0;
+    const double cos_t = (v[0] * cl->axis[0] + v[1] * cl->axis[1] + v[2] * cl->axis[2]) / vl;
+    const double sin_t = sqrt(fmax(0.0, 1.0 - cos_t * cos_t));
+    const double g_min = vl * (cos_t * cl->cos_a - sin_t * cl->sin_a) - fabs(E[3]) * r;
+    if (!(g_min > 0.0)) return 0;
+    /* Each row at the centre, and how far it can move over the sphere;
+     * mag bounds |row·p̃| there, for the margins of float rounding. */
+    double at[4], mag[4];
+    const double cn = norm3(c) + r;
+    for (int i = 0; i < 4; i++) {
+        at[i] = row[i][0] * c[0] + row[i][1] * c[1] + row[i][2] * c[2] + row[i][3];
+        mag[i] = rn[i] * cn + fabs(row[i][3]);
+    }
+    int inside = 1;
+    for (int p = 0; p < 7 && inside; p++) {
+        const double *pl = cv->plane[p];
+        double val = pl[4], mg = 0.0;
+        for (int i = 0; i < 4; i++) {
+            val += pl[i] * at[i];
+            mg += fabs(pl[i]) * mag[i];
+        }
+        inside = val - cv->plane_norm[p] * r - 1e-6 * mg > 0.0;
+    }
+    if (!inside) return 0;
+    const double w_min = at[3] - rn[3] * r, w_max = at[3] + rn[3] * r;
+    if (!(w_min > 0.0)) return 0;
+    /* K with this cluster's own bounds on |x/w| and |y/w| where they
+     * are tighter than the planes' (a cluster on screen: about 1 against
+     * 2, a third off K). */
+    const double rx = rn[0], ry = rn[1], rw = rn[3];
+    const double ux = fmin(cv->tx, (fabs(at[0]) + rx * r) / w_min);
+    const double uy = fmin(cv->ty, (fabs(at[1]) + ry * r) / w_min);
+    const double K = cv->W2 * (rx + ux * rw) + cv->H2 * (ry + uy * rw);
+    const double lhs = cv->W2 * cv->H2 * cl->alt_min * g_min / (w_max * w_max * w_max);
+    const double rhs =
+        2.0 * (4.0 * cv->eps * K / w_min + 8.0 * cv->eps * cv->eps / cl->edge_min);
+    return lhs > rhs;
 }
 
 void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, size_t block,

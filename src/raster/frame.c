@@ -46,6 +46,8 @@ static void render_cache_free(persp_context *ctx)
     persp__free(ctx, c->vertex_need);
     persp__free(ctx, c->worker_stats);
     persp__free(ctx, c->uv);
+    for (size_t k = 0; k < c->region_count; k++) persp__context_child_free(ctx, c->region_ctx[k]);
+    persp__free(ctx, c->region_ctx);
     persp__free(ctx, c);
     ctx->render = NULL;
     ctx->render_free = NULL;
@@ -232,7 +234,17 @@ static void commit_triangle(persp_frame *f)
 {
     struct persp_render_cache *c = f->cache;
     c->tiles[f->tri_count] = tiles_of(&c->tris[f->tri_count]);
+    if (f->regions && c->tiles[f->tri_count].ty0 % f->regions != f->region) f->foreign++;
     f->tri_count++;
+}
+
+/* Whether pixel rows y0..y1 reach a tile row of the frame's region
+ * (always, without regions). */
+static inline int region_touches(const persp_frame *f, int64_t y0, int64_t y1)
+{
+    if (!f->regions) return 1;
+    const int64_t t0 = y0 / PERSP_TILE, n = f->regions;
+    return y1 / PERSP_TILE - t0 >= n - 1 || (f->region - t0 % n + n) % n <= y1 / PERSP_TILE - t0;
 }
 
 /* How many attributes (from PERSP_A_U on) a draw reads: u and v when the
@@ -354,6 +366,7 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], con
         vv = &c->fits[f->tri_count];
     }
     if (!setup_record(f, ds, tv, e, col, back, state, cull, t, vv)) return PERSP_OK;
+    if (!region_touches(f, t->ymin, t->ymax)) return PERSP_OK;
     if (ds->method.m->prepare) {
         if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
             PERSP_OK)
@@ -796,7 +809,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                  * viewport, or a small box covering none. Most triangles of a
                  * closed mesh end here, before their attributes are read. */
                 persp_tri_edges e;
-                if (!persp__tri_edges(X, Y, width, height, j->cull, &e)) continue;
+                if (!persp__tri_edges(X, Y, width, height, j->cull, &e) || !region_touches(f, e.by0, e.by1))
+                    continue;
                 persp_winvert tv[3];
                 for (int k = 0; k < 3; k++) {
                     const struct vert_win *w = &c->win[ix[k]];
@@ -1054,7 +1068,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
      * left out of the vertex stage (src/raster/cluster_cull.c): not for a
      * capture, which the analyses read with every vertex. */
     const uint8_t *culled = NULL;
-    if (cull && mesh->clusters && !f->capture && !f->ctx->no_cluster_cull) {
+    if ((cull || f->regions) && mesh->clusters && !f->capture && !f->ctx->no_cluster_cull) {
         const size_t blocks = (mesh->vertex_count + VERTEX_BLOCK - 1) / VERTEX_BLOCK;
         if (persp__reserve(f->ctx, (void **)&c->cluster_culled, &c->cluster_cap, mesh->cluster_count, 1) !=
                 PERSP_OK ||
@@ -1062,14 +1076,19 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
             return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         cluster_job cj = {.mesh = mesh, .culled = c->cluster_culled};
         persp__cluster_view_init(&cj.view, &job.mvp, f->fb->width, f->fb->height, job.gx, job.gy, cull);
+        cj.view.region = f->region;
+        cj.view.regions = f->regions;
         const int ctasks = (int)((mesh->cluster_count + CLUSTER_TASK - 1) / CLUSTER_TASK);
         persp_status cst = persp__pool_run(f->ctx, ctasks, cluster_task, &cj);
         if (cst != PERSP_OK)
             return persp__fail(f->ctx, cst, "render: cannot start worker threads: %s", persp_status_string(cst));
-        size_t n = 0;
-        for (size_t k = 0; k < mesh->cluster_count; k++) n += c->cluster_culled[k];
+        size_t n = 0, any = 0;
+        for (size_t k = 0; k < mesh->cluster_count; k++) {
+            n += c->cluster_culled[k] == 1;
+            any += c->cluster_culled[k] != 0;
+        }
         f->ctx->clusters_culled += n;
-        if (n) {
+        if (any) {
             persp__clusters_vertex_need(mesh, c->cluster_culled, VERTEX_BLOCK, c->vertex_need);
             culled = c->cluster_culled;
             job.need = c->vertex_need;

@@ -34,6 +34,13 @@ typedef struct persp_frame {
     int clear_pending;
     uint32_t clear_color;
     float clear_depth;
+    /* Sort-first (src/render/sort_first.c): with regions > 0 the frame
+     * draws only the tiles whose row is region modulo regions, and sets up
+     * only the triangles whose box reaches one of them; foreign counts
+     * those it set up whose first tile row another region owns, so that
+     * the regions' triangles_drawn add up to the whole frame's. */
+    int region, regions;
+    size_t foreign;
 } persp_frame;
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,

@@ -73,6 +73,11 @@ struct persp_render_cache {
     size_t worker_cap;
     float *uv; /* generated texture coordinates of the mesh being added (persp__frame_uv_buffer) */
     size_t uv_cap;
+    /* Sort first (src/render/sort_first.c): a context a region, kept with
+     * its buffers between frames, and the latest cross-core probe. */
+    persp_context **region_ctx;
+    size_t region_cap, region_count;
+    double probe_ns, probe_at;
 };
 
 /* Draws the frame's binned batch: every tile on the worker threads, then

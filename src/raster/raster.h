@@ -292,15 +292,23 @@ typedef struct persp_cluster_view {
     double row[4][4], row_norm[4], E[4];
     double plane[7][5], plane_norm[7];
     double tx, ty, W2, H2, eps;
+    /* Sort first (persp_frame.region, .regions; 0: none): clusters that
+     * cannot reach a tile row of the region are culled too. */
+    int region, regions;
+    int cull; /* PERSP_CULL_*: none culls no cluster as back-facing */
 } persp_cluster_view;
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,
                               double gy, int cull);
 /* culled[k] = 1 for each of clusters[0..count) every triangle of which the
  * frame, drawing with culling cull (PERSP_CULL_CW or _CCW, as given to
- * persp__cluster_view_init), would cull; 0 for the others. Returns how
- * many. */
+ * persp__cluster_view_init), would cull; with regions, 2 for each other
+ * one whose sphere reaches no tile row of the region (none of its
+ * triangles would); 0 for the others. Returns how many are 1. */
 size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters, size_t count,
                             uint8_t *culled);
+/* 1 when every triangle of cluster cl would be culled as a back face (the
+ * test of persp__clusters_cull). */
+int persp__cluster_back_facing(const persp_cluster_view *cv, const persp_cluster *cl);
 /* need[b] = 1 for each block of `block` vertices that a cluster not culled
  * uses (a superset). */
 void persp__clusters_vertex_need(const persp_mesh *mesh, const uint8_t *culled, size_t block, uint8_t *need);

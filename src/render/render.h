@@ -12,4 +12,21 @@ PERSP_INTERNAL persp_status persp__render_capture(persp_context *ctx, const pers
                                                   int height, persp_capture *cap);
 PERSP_INTERNAL void persp__capture_free(persp_context *ctx, persp_capture *cap);
 
+struct persp_frame;
+/* The settings of desc against their ranges, each named in the error. */
+persp_status persp__check_render_desc(persp_context *ctx, const persp_render_desc *desc);
+/* Draws scene into fb through f (begun here), with a capture when cap is
+ * not NULL; with regions > 0 only the tile rows of region (sort first,
+ * src/render/sort_first.c). */
+persp_status persp__render_frame(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
+                                 persp_framebuffer *fb, struct persp_frame *f, persp_capture *cap, int region,
+                                 int regions);
+/* Draws the frame sort first when desc and the context's workers ask for
+ * it (persp_render_desc.sort_first): returns 1 with the render's status in
+ * *st (and its counts in stats, when not NULL), or 0 where the caller
+ * draws it sort middle (including when a region ran out of memory, which
+ * sort middle, holding one set of buffers, may not). */
+int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
+                             persp_framebuffer *fb, persp_render_stats *stats, persp_status *st);
+
 #endif

@@ -55,7 +55,7 @@ static void eye_lights(const persp_scene *s, const persp_mat4 *view, persp_light
  * sampler's, checked by the sampler's own rule (persp__sampler_desc_problem)
  * on the sampler they would give; a problem is named as persp_render_desc
  * names the field. */
-static persp_status check_render_desc(persp_context *ctx, const persp_render_desc *dd)
+persp_status persp__check_render_desc(persp_context *ctx, const persp_render_desc *dd)
 {
     if ((unsigned)dd->pipeline > PERSP_PIPELINE_OBJECT)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT, "render: persp_render_desc.pipeline is out of range");
@@ -76,6 +76,7 @@ static persp_status check_render_desc(persp_context *ctx, const persp_render_des
                       : (unsigned)dd->shading >= PERSP_SHADING_COUNT        ? "shading"
                       : (unsigned)dd->cull_backfaces > PERSP_TOGGLE_OFF     ? "cull_backfaces"
                       : (unsigned)dd->count_ops > PERSP_TOGGLE_OFF          ? "count_ops"
+                      : (unsigned)dd->sort_first > PERSP_TOGGLE_OFF         ? "sort_first"
                       : dd->depth_mode != PERSP_DEPTH_DEFAULT && dd->depth_mode != PERSP_DEPTH_Z &&
                               dd->depth_mode != PERSP_DEPTH_INVW
                           ? "depth_mode"
@@ -167,14 +168,14 @@ static persp_status draw_object(persp_context *ctx, frame_setup *fs, size_t i, p
     return persp__frame_add_mesh(f, mesh, &o->model, &fs->view, &fs->proj, si, uv, cull);
 }
 
-static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
-                                 const persp_render_desc *desc, persp_framebuffer *fb,
-                                 persp_frame *f, persp_capture *cap)
+persp_status persp__render_frame(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
+                                 persp_framebuffer *fb, persp_frame *f, persp_capture *cap, int region,
+                                 int regions)
 {
     persp_render_desc dd;
     memset(&dd, 0, sizeof dd);
     if (desc) dd = *desc;
-    persp_status st = check_render_desc(ctx, &dd);
+    persp_status st = persp__check_render_desc(ctx, &dd);
     if (st != PERSP_OK) return st;
     frame_setup fs;
     memset(&fs, 0, sizeof fs);
@@ -188,6 +189,8 @@ static persp_status render_frame(persp_context *ctx, const persp_scene *scene,
     if (st != PERSP_OK) return st;
     f->capture = cap;
     f->count_ops = dd.count_ops == PERSP_TOGGLE_ON;
+    f->region = region;
+    f->regions = regions;
     persp__frame_clear(f, scene->clear);
 
     persp_scene_get_camera(scene, fb->width, fb->height, &fs.view, &fs.proj);
@@ -223,7 +226,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
         persp_status st = PERSP_ERR_OUT_OF_MEMORY;
         if (cap.tri && cap.s1 && cap.s2) {
             for (size_t i = 0; i < n; i++) cap.tri[i] = -1;
-            st = render_frame(ctx, scene, desc, fb, &f, &cap);
+            st = persp__render_frame(ctx, scene, desc, fb, &f, &cap, 0, 0);
             persp_objspace_stats os;
             if (st == PERSP_OK) st = persp__objspace_resolve(&f, &cap, &os);
             if (st == PERSP_OK && stats) {
@@ -240,7 +243,9 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
         persp__capture_free(ctx, &cap);
         return st;
     }
-    persp_status st = render_frame(ctx, scene, desc, fb, &f, NULL);
+    persp_status st;
+    if (persp__render_sort_first(ctx, scene, desc, fb, stats, &st)) return st;
+    st = persp__render_frame(ctx, scene, desc, fb, &f, NULL, 0, 0);
     if (st == PERSP_OK && stats) *stats = f.stats;
     return st;
 }
@@ -277,7 +282,7 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
     } else {
         for (size_t i = 0; i < n; i++) cap->tri[i] = -1;
         persp_frame f;
-        st = render_frame(ctx, scene, desc, &fb, &f, cap);
+        st = persp__render_frame(ctx, scene, desc, &fb, &f, cap, 0, 0);
         if (st == PERSP_OK) cap->ops = f.stats.ops;
         if (st == PERSP_OK && f.tri_count) {
             cap->rats = persp__calloc(ctx, f.tri_count, sizeof *cap->rats);

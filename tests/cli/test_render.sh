@@ -5,6 +5,7 @@
 # ctest-labels: threads (persp runs with --threads > 1)
 set -u
 persp="$1"
+src="${PERSP_SOURCE_DIR:-$(cd "$(dirname "$0")/../.." && pwd)}"
 . "$(dirname "$0")/lib.sh"
 
 expect 0 "usage: persp" -- "$persp" --help
@@ -18,6 +19,12 @@ expect 0 "^affine " -- "$persp" methods
 expect 0 "1024x768, method exact, filter bilinear" -- "$persp" render corridor --method exact --filter bilinear -o "$tmp/c.png"
 [ -s "$tmp/c.png" ] && [ "$(head -c 8 "$tmp/c.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && ok || bad "corridor PNG missing or not a PNG"
 expect 0 "64x48" -- "$persp" render floor --size 64x48 --depth invw -o "$tmp/f.png"
+# Sort first (each thread drawing its own tile rows) and sort middle give
+# the same image and counts, and the summary says which drew it.
+expect 0 "3 threads sort first\$" -- "$persp" render "$src/scenes/bench/torus-2k.json" --size 200x150 --threads 3 --sort-first on -o "$tmp/sf-on.png"
+expect 0 "3 threads\$" -- "$persp" render "$src/scenes/bench/torus-2k.json" --size 200x150 --threads 3 --sort-first off -o "$tmp/sf-off.png"
+cmp -s "$tmp/sf-on.png" "$tmp/sf-off.png" && ok || bad "sort first and sort middle drew different images"
+expect 2 "bad --sort-first 'maybe'" -- "$persp" render "$src/scenes/bench/torus-2k.json" --sort-first maybe
 expect 0 "method affine" -- "$persp" render cube --method affine --size 40x30 --threads 3 -o "$tmp/k.png"
 expect 0 "" -- "$persp" render corridor --size 32x24 --pipeline object -q -o "$tmp/o.png"
 # Lit draws keep the screen pipeline's colour, and the user is told so.

@@ -7,8 +7,14 @@
  * once everything is destroyed (the allocator counts live blocks, so a leak
  * fails here, and in the ASan build LeakSanitizer sees it too).
  *
+ * Drawn sort first (persp_render_desc.sort_first), a refused allocation
+ * may instead leave the frame to sort middle, which then succeeds: there
+ * the run may also return PERSP_OK, with the image of a run that refused
+ * nothing, and all else as above.
+ *
  * Covered: every built-in scene, a JSON scene with PNG textures and a glTF
- * model with an embedded texture, each with 1 and 2 threads, and a JSON
+ * model with an embedded texture, each with 1 and 2 threads (2 both sort
+ * middle and sort first), and a JSON
  * scene built on an OBJ model with MTL and texture files (1 thread). What the
  * decoders (libpng, libjpeg, jansson, Assimp) allocate with malloc does not
  * go through persp_allocator and is not injected here. */
@@ -63,14 +69,15 @@ typedef struct outcome {
     persp_status status;
     char error[512];
     const char *left; /* an object handed out by a call that failed */
+    uint64_t hash;    /* of the last frame drawn */
 } outcome;
 
 /* Creates a context on a, loads the scene and renders it twice (the second
  * render reuses the per-frame buffers of the first, at another size so that
  * they grow), then destroys everything. */
-static outcome run(const workload *w, int threads, fail_alloc *a)
+static outcome run(const workload *w, int threads, persp_toggle sort_first, fail_alloc *a)
 {
-    outcome o = {PERSP_OK, "", NULL};
+    outcome o = {PERSP_OK, "", NULL, 0};
     a->owner = pthread_self();
     persp_allocator al = {fa_alloc, fa_free, a};
     persp_context_desc cd = {.allocator = &al, .threads = threads};
@@ -98,7 +105,11 @@ static outcome run(const workload *w, int threads, fail_alloc *a)
         /* The second frame is larger: buffers kept from the first must grow. */
         int shrink = pass == 0 ? 2 : 1;
         persp_framebuffer fb = {w->width / shrink, w->height / shrink, color, depth};
-        o.status = persp_render(ctx, scene, NULL, &fb, NULL);
+        persp_render_desc d;
+        memset(&d, 0, sizeof d);
+        d.sort_first = sort_first;
+        o.status = persp_render(ctx, scene, &d, &fb, NULL);
+        if (o.status == PERSP_OK) o.hash = test_hash(color, (size_t)fb.width * (size_t)fb.height * 4);
     }
     free(color);
     free(depth);
@@ -112,11 +123,12 @@ static outcome run(const workload *w, int threads, fail_alloc *a)
  * one refused; fails the test after listing every run that misbehaved.
  * Returns the count; *pool (may be NULL) receives how many of the refused
  * allocations stopped the worker threads from starting. */
-static size_t check_workload_pool(const workload *w, int threads, size_t *pool)
+static size_t check_workload_pool(const workload *w, int threads, persp_toggle sort_first, size_t *pool)
 {
     size_t pool_refusals = 0;
     fail_alloc ok = {0};
-    outcome o = run(w, threads, &ok);
+    outcome o = run(w, threads, sort_first, &ok);
+    const uint64_t ref = o.hash;
     if (o.status != PERSP_OK) fail_msg("%s: %s", w->scene, o.error);
     assert_int_equal(ok.live, 0);
     assert_int_equal(ok.other_thread, 0);
@@ -125,9 +137,12 @@ static size_t check_workload_pool(const workload *w, int threads, size_t *pool)
     for (size_t n = 1; n <= total; n++) {
         fail_alloc a = {0};
         a.fail_at = n;
-        o = run(w, threads, &a);
+        o = run(w, threads, sort_first, &a);
         const char *why = NULL;
-        if (o.status != PERSP_ERR_OUT_OF_MEMORY)
+        const int recovered = sort_first == PERSP_TOGGLE_ON && o.status == PERSP_OK;
+        if (recovered && o.hash != ref)
+            why = "recovered with another image";
+        else if (o.status != PERSP_ERR_OUT_OF_MEMORY && !recovered)
             why = "wrong status";
         else if (a.live != 0)
             why = "blocks left allocated";
@@ -136,25 +151,28 @@ static size_t check_workload_pool(const workload *w, int threads, size_t *pool)
                                    : "failed call returned a scene";
         else if (a.other_thread)
             why = "allocator called from a worker thread";
-        else if (n > 1 && !strstr(o.error, "out of memory"))
+        else if (n > 1 && !recovered && !strstr(o.error, "out of memory"))
             why = "detail does not say out of memory";
         if (strstr(o.error, "cannot start worker threads")) pool_refusals++;
         if (why) {
             if (bad++ < 20)
-                print_message("%s, %d thread(s), allocation %zu of %zu refused: %s (status %s, "
+                print_message("%s, %d thread(s)%s, allocation %zu of %zu refused: %s (status %s, "
                               "%zu live, detail \"%s\")\n",
-                              w->scene, threads, n, total, why, persp_status_string(o.status),
-                              a.live, o.error);
+                              w->scene, threads, sort_first == PERSP_TOGGLE_ON ? " sort first" : "", n, total,
+                              why, persp_status_string(o.status), a.live, o.error);
         }
     }
-    print_message("%s, %d thread(s): %zu allocations, each refused once, %zu bad\n", w->scene,
-                  threads, total, bad);
+    print_message("%s, %d thread(s)%s: %zu allocations, each refused once, %zu bad\n", w->scene, threads,
+                  sort_first == PERSP_TOGGLE_ON ? " sort first" : "", total, bad);
     if (bad) fail_msg("%zu of %zu refused allocations mishandled", bad, total);
     if (pool) *pool = pool_refusals;
     return total;
 }
 
-static size_t check_workload(const workload *w, int threads) { return check_workload_pool(w, threads, NULL); }
+static size_t check_workload(const workload *w, int threads)
+{
+    return check_workload_pool(w, threads, PERSP_TOGGLE_OFF, NULL);
+}
 
 /* Each workload with 1 and 2 threads. The worker pool's state comes from
  * the allocator too: with 2 threads some refused allocation must have
@@ -164,10 +182,11 @@ static size_t check_workload(const workload *w, int threads) { return check_work
 static void check_threads(const workload *w)
 {
     size_t pool_one = 0, pool_two = 0;
-    (void)check_workload_pool(w, 1, &pool_one);
-    (void)check_workload_pool(w, 2, &pool_two);
+    (void)check_workload_pool(w, 1, PERSP_TOGGLE_OFF, &pool_one);
+    (void)check_workload_pool(w, 2, PERSP_TOGGLE_OFF, &pool_two);
     assert_int_equal(pool_one, 0);
     assert_true(pool_two > 0);
+    (void)check_workload_pool(w, 2, PERSP_TOGGLE_ON, NULL);
 }
 
 static void test_builtin_scenes(void **state)

@@ -253,7 +253,9 @@ static void test_threads_bit_identical_filters(void **state)
 }
 
 /* After the first frame the renderer reuses its buffers: rendering the same
- * scene again allocates nothing (counted through the user allocator). */
+ * scene again allocates nothing (counted through the user allocator), sort
+ * middle and sort first alike (persp_render_desc.sort_first; by default a
+ * two-thread context may take either, so its first frame of each). */
 typedef struct counting_alloc {
     long allocs;
 } counting_alloc;
@@ -275,7 +277,9 @@ static void test_no_allocation_after_first_frame(void **state)
     (void)state;
     counting_alloc counter = {0};
     persp_allocator a = {count_alloc, count_free, &counter};
-    for (int threads = 1; threads <= 2; threads++) {
+    for (int run = 0; run < 3; run++) {
+        const int threads = run ? 2 : 1;
+        const persp_toggle sort_first = run == 2 ? PERSP_TOGGLE_ON : PERSP_TOGGLE_OFF;
         persp_context_desc cd = {.allocator = &a, .threads = threads};
         persp_context *ctx = NULL;
         assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
@@ -286,14 +290,15 @@ static void test_no_allocation_after_first_frame(void **state)
         persp_render_desc d;
         memset(&d, 0, sizeof d);
         d.filter = PERSP_FILTER_TRILINEAR;
+        d.sort_first = sort_first;
         assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
         long first = counter.allocs;
         assert_true(first > 0);
         for (int frame = 0; frame < 3; frame++)
             assert_int_equal(persp_render(ctx, scene, &d, &fb, NULL), PERSP_OK);
         if (counter.allocs != first)
-            fail_msg("%d thread(s): %ld allocations in frames after the first", threads,
-                     counter.allocs - first);
+            fail_msg("%d thread(s)%s: %ld allocations in frames after the first", threads,
+                     sort_first == PERSP_TOGGLE_ON ? " sort first" : "", counter.allocs - first);
         test_framebuffer_free(&fb);
         persp_scene_destroy(scene);
         persp_context_destroy(ctx);
@@ -649,17 +654,29 @@ static void test_batches_bit_identical(void **state)
 
 /* Every benchmark scene of docs/PERFORMANCE.md (scripts/bench.sh), with
  * each shading the table measures, gives the same image on one, two and
- * three worker threads, from the same triangles and fragments: the tori
- * and the soup are set up on the workers in slabs (frame.c,
+ * three worker threads, from the same triangles and fragments, both sort
+ * middle and sort first (persp_render_desc.sort_first). Sort middle: the
+ * tori and the soup are set up on the workers in slabs (frame.c,
  * mesh_triangles_parallel; the 2k torus in chunks smaller than the
  * others'), the corridor serially, and the tiles are drawn in parallel in
- * every case. A triangle set up twice would leave the image as it is
- * (its copy fails the depth test) but not the counts. */
-/* shading: the index of the one shading to check, or -1 for all three. */
-static void bench_scene_thread_independent(const char *scene, int shading)
+ * every case. Sort first (src/render/sort_first.c): each worker draws its
+ * own tile rows from the triangles reaching them, so that those reaching
+ * two regions are set up in both and must be counted once. A triangle set
+ * up twice would leave the image as it is (its copy fails the depth test)
+ * but not the counts. */
+/* shading: the index of the one shading to check, or -1 for all three;
+ * sort_first_3: sort first on three threads too (not only two). */
+static void bench_scene_thread_independent(const char *scene, int shading, int sort_first_3)
 {
     const char *scenes[] = {scene};
     const persp_shading shadings[] = {PERSP_SHADING_NONE, PERSP_SHADING_GOURAUD_PC, PERSP_SHADING_PHONG_PC};
+    /* One thread (the reference), then two and three sort middle, then two
+     * and three sort first. */
+    static const struct {
+        int threads;
+        persp_toggle sort_first;
+    } runs[] = {{1, PERSP_TOGGLE_OFF}, {2, PERSP_TOGGLE_OFF}, {3, PERSP_TOGGLE_OFF},
+                {2, PERSP_TOGGLE_ON},  {3, PERSP_TOGGLE_ON}};
     enum { W = 320, H = 240 };
     for (size_t si = 0; si < sizeof scenes / sizeof *scenes; si++)
         for (size_t sh = 0; sh < sizeof shadings / sizeof *shadings; sh++) {
@@ -670,22 +687,34 @@ static void bench_scene_thread_independent(const char *scene, int shading)
             uint64_t ref = 0;
             persp_render_stats ref_st;
             memset(&ref_st, 0, sizeof ref_st);
-            for (int threads = 1; threads <= 3; threads++) {
+            for (size_t r = 0; r < sizeof runs / sizeof *runs; r++) {
+                const int threads = runs[r].threads;
+                if (runs[r].sort_first == PERSP_TOGGLE_ON && threads == 3 && !sort_first_3) continue;
+                d.sort_first = runs[r].sort_first;
                 persp_render_stats st;
                 const uint64_t h = render_hash_batched(scenes[si], &d, threads, 0, W, H, NULL, &st);
                 assert_true(st.pixels_written > W * H / 4);
-                if (threads == 1) {
+                const uint64_t regions = d.sort_first == PERSP_TOGGLE_ON ? (uint64_t)threads : 0;
+                if (st.sort_first_regions != regions)
+                    fail_msg("%s, %d threads, sort first %d: drawn in %llu regions", scenes[si], threads,
+                             (int)d.sort_first, (unsigned long long)st.sort_first_regions);
+                if (r == 0) {
                     ref = h, ref_st = st;
                     continue;
                 }
+                const char *how = d.sort_first == PERSP_TOGGLE_ON ? "sort first" : "sort middle";
                 if (h != ref)
-                    fail_msg("%s, shading %d, %d threads: hash %016llx, one thread %016llx", scenes[si],
-                             (int)shadings[sh], threads, (unsigned long long)h, (unsigned long long)ref);
-                if (st.triangles_drawn != ref_st.triangles_drawn || st.fragments != ref_st.fragments)
-                    fail_msg("%s, shading %d, %d threads: %llu triangles, %llu fragments; one thread %llu, %llu",
-                             scenes[si], (int)shadings[sh], threads, (unsigned long long)st.triangles_drawn,
-                             (unsigned long long)st.fragments, (unsigned long long)ref_st.triangles_drawn,
-                             (unsigned long long)ref_st.fragments);
+                    fail_msg("%s, shading %d, %d threads %s: hash %016llx, one thread %016llx", scenes[si],
+                             (int)shadings[sh], threads, how, (unsigned long long)h, (unsigned long long)ref);
+                if (st.triangles_in != ref_st.triangles_in || st.triangles_drawn != ref_st.triangles_drawn ||
+                    st.fragments != ref_st.fragments || st.pixels_written != ref_st.pixels_written)
+                    fail_msg("%s, shading %d, %d threads %s: %llu in, %llu triangles, %llu fragments, %llu "
+                             "written; one thread %llu, %llu, %llu, %llu",
+                             scenes[si], (int)shadings[sh], threads, how, (unsigned long long)st.triangles_in,
+                             (unsigned long long)st.triangles_drawn, (unsigned long long)st.fragments,
+                             (unsigned long long)st.pixels_written, (unsigned long long)ref_st.triangles_in,
+                             (unsigned long long)ref_st.triangles_drawn, (unsigned long long)ref_st.fragments,
+                             (unsigned long long)ref_st.pixels_written);
             }
         }
 }
@@ -695,61 +724,61 @@ static void bench_scene_thread_independent(const char *scene, int shading)
 static void test_bench_scenes_thread_independent_corridor(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("corridor", -1);
+    bench_scene_thread_independent("corridor", -1, 1);
 }
 
 static void test_bench_scenes_thread_independent_torus_2k(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/torus-2k.json", -1);
+    bench_scene_thread_independent("scenes/bench/torus-2k.json", -1, 1);
 }
 
 static void test_bench_scenes_thread_independent_torus_20k(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/torus-20k.json", -1);
+    bench_scene_thread_independent("scenes/bench/torus-20k.json", -1, 1);
 }
 
 static void test_bench_scenes_thread_independent_torus_200k(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/torus-200k.json", -1);
+    bench_scene_thread_independent("scenes/bench/torus-200k.json", -1, 1);
 }
 
 static void test_bench_scenes_thread_independent_torus_2m_none(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/torus-2m.json", 0);
+    bench_scene_thread_independent("scenes/bench/torus-2m.json", 0, 0);
 }
 
 static void test_bench_scenes_thread_independent_torus_2m_gouraud(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/torus-2m.json", 1);
+    bench_scene_thread_independent("scenes/bench/torus-2m.json", 1, 0);
 }
 
 static void test_bench_scenes_thread_independent_torus_2m_phong(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/torus-2m.json", 2);
+    bench_scene_thread_independent("scenes/bench/torus-2m.json", 2, 0);
 }
 
 static void test_bench_scenes_thread_independent_soup_200k_none(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/soup-200k.json", 0);
+    bench_scene_thread_independent("scenes/bench/soup-200k.json", 0, 1);
 }
 
 static void test_bench_scenes_thread_independent_soup_200k_gouraud(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/soup-200k.json", 1);
+    bench_scene_thread_independent("scenes/bench/soup-200k.json", 1, 1);
 }
 
 static void test_bench_scenes_thread_independent_soup_200k_phong(void **state)
 {
     (void)state;
-    bench_scene_thread_independent("scenes/bench/soup-200k.json", 2);
+    bench_scene_thread_independent("scenes/bench/soup-200k.json", 2, 1);
 }
 
 /* The default batches adapt to how spread the last batch was (frame.c,

@@ -39,6 +39,7 @@
 typedef struct run_stats {
     int frames, reps;
     double mpix[BENCH_MAX_REPS];
+    int sort_first[BENCH_MAX_REPS]; /* frames of each run drawn sort first (persp_render_desc.sort_first) */
     double median, min, max;
 } run_stats;
 
@@ -75,6 +76,7 @@ typedef struct bench_opts {
     persp_filter filter;
     int max_aniso;
     int threads, peer_threads, width, height, reps, json;
+    persp_toggle sort_first;
     persp_simd simd, simd_asked; /* the context's choice, and what --simd asked for */
     persp_simd simd_lighting;    /* the lighting loops' (persp_context_lighting_simd) */
     long frames; /* 0: calibrate */
@@ -144,11 +146,14 @@ typedef struct persp_bench {
     persp_framebuffer fb;
 } persp_bench;
 
-static persp_status render_frames(persp_bench *b, const persp_render_desc *desc, int frames)
+/* sorted_first (when not NULL): how many of the frames were drawn sort first. */
+static persp_status render_frames(persp_bench *b, const persp_render_desc *desc, int frames, int *sorted_first)
 {
     for (int f = 0; f < frames; f++) {
-        persp_status st = persp_render(b->ctx, b->scene, desc, &b->fb, NULL);
-        if (st != PERSP_OK) return st;
+        persp_render_stats st;
+        persp_status s = persp_render(b->ctx, b->scene, desc, &b->fb, &st);
+        if (s != PERSP_OK) return s;
+        if (sorted_first) *sorted_first += st.sort_first_regions > 0;
     }
     return PERSP_OK;
 }
@@ -168,6 +173,7 @@ static void method_desc(const bench_opts *o, const method_result *r, persp_rende
     desc->filter = o->filter;
     desc->max_aniso = o->max_aniso;
     desc->shading = o->shading;
+    desc->sort_first = o->sort_first;
 }
 
 /* One untimed warm-up frame and one timed frame that sets the frame count
@@ -177,9 +183,9 @@ static void prepare_method(persp_bench *b, const bench_opts *o, method_result *r
     persp_render_desc desc;
     method_desc(o, r, &desc);
     r->ok = 0;
-    persp_status st = render_frames(b, &desc, 1);
+    persp_status st = render_frames(b, &desc, 1, NULL);
     double t0 = cli_now();
-    if (st == PERSP_OK) st = render_frames(b, &desc, 1);
+    if (st == PERSP_OK) st = render_frames(b, &desc, 1, NULL);
     double t1 = cli_now();
     if (st != PERSP_OK) {
         render_error(b, st, r);
@@ -194,9 +200,11 @@ static void run_method(persp_bench *b, const bench_opts *o, method_result *r)
 {
     persp_render_desc desc;
     method_desc(o, r, &desc);
+    int sorted_first = 0;
     double a = cli_now();
-    persp_status st = render_frames(b, &desc, r->stats.frames);
+    persp_status st = render_frames(b, &desc, r->stats.frames, &sorted_first);
     double z = cli_now();
+    r->stats.sort_first[r->stats.reps] = sorted_first;
     if (st != PERSP_OK) {
         render_error(b, st, r);
         return;
@@ -516,6 +524,11 @@ static json_t *json_results(const bench_report *r)
             json_object_set_new(o, "error", json_string(m->error));
         } else {
             json_stats(o, &m->stats);
+            if (r->o->threads > 1) {
+                json_t *sf = json_array();
+                for (int k = 0; k < m->stats.reps; k++) json_array_append_new(sf, json_integer(m->stats.sort_first[k]));
+                json_object_set_new(o, "sort_first_frames", sf);
+            }
             if (r->exact) json_object_set_new(o, "vs_exact", json_num(m->stats.median / r->exact->stats.median));
             if (r->peer && r->peer->ok)
                 json_object_set_new(o, "vs_peer", json_num(m->stats.median / r->peer->stats.median));
@@ -673,6 +686,14 @@ static void print_text_tail(FILE *out, const bench_report *r)
                 fprintf(out, "%s %.0f", k ? "," : "", r->run_xcore[k].max_ns);
             fprintf(out, " ns\n");
         }
+    }
+    if (o->threads > 1 && r->count && r->results[0].ok) {
+        const run_stats *rs = &r->results[0].stats;
+        fprintf(out, "frames drawn sort first (--sort-first %s), each run of %s, of %d:",
+                o->sort_first == PERSP_TOGGLE_ON ? "on" : o->sort_first == PERSP_TOGGLE_OFF ? "off" : "auto",
+                r->results[0].spec, rs->frames);
+        for (int k = 0; k < rs->reps; k++) fprintf(out, "%s %d", k ? "," : "", rs->sort_first[k]);
+        fprintf(out, "\n");
     }
     if (r->diff) {
         const image_diff *d = r->diff;
@@ -845,6 +866,7 @@ static int bench_parse(int argc, char **argv, bench_session *s, size_t *max_memo
         CLI_OPT_HELP(cli_opt_threads, &o->threads, "persp worker threads, 1..256 (default 1)"),
         CLI_OPT(cli_opt_max_memory, max_memory),
         CLI_OPT(cli_opt_simd, &o->simd),
+        CLI_OPT(cli_opt_sort_first, &o->sort_first),
         CLI_OPT(opt_frames, &o->frames),
         CLI_OPT(opt_reps, &o->reps),
         CLI_OPT(opt_time, &o->run_seconds),

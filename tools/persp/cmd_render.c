@@ -105,6 +105,7 @@ static int render_parse(int argc, char **argv, render_job *job, int *lod_given)
         CLI_OPT(cli_opt_max_memory, &job->max_memory),
         CLI_OPT(cli_opt_simd, &job->simd),
         CLI_OPT(cli_opt_cull, &job->desc.cull_backfaces),
+        CLI_OPT(cli_opt_sort_first, &job->desc.sort_first),
         CLI_OPT(cli_opt_count_ops, &job->desc.count_ops),
         CLI_OPT_HELP(cli_opt_quiet, &job->quiet,
                      "print nothing on success (with -o -, the summary goes\n"
@@ -223,10 +224,11 @@ static void render_summary(const render_job *job, const persp_scene *scene, int 
     persp_scene_get_info(scene, &info);
     char scene_filter[64];
     scene_filter_name(&info, scene_filter, sizeof scene_filter);
-    fprintf(f, "rendered %s: %dx%d, method %s, filter %s, shading %s, depth %s, %d thread%s\n", job->scene_name,
+    fprintf(f, "rendered %s: %dx%d, method %s, filter %s, shading %s, depth %s, %d thread%s%s\n", job->scene_name,
             width, height, job->method ? job->method : info.method, job->filter.name ? job->filter.name : scene_filter,
             job->shading.name ? job->shading.name : persp_shading_name(info.shading),
-            job->desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", job->threads, job->threads == 1 ? "" : "s");
+            job->desc.depth_mode == PERSP_DEPTH_INVW ? "1/w" : "z", job->threads, job->threads == 1 ? "" : "s",
+            stats->sort_first_regions ? " sort first" : "");
     fprintf(f, "  %llu triangles in, %llu drawn (clipping may split one), %llu fragments, %llu pixels written\n",
             (unsigned long long)stats->triangles_in, (unsigned long long)stats->triangles_drawn,
             (unsigned long long)stats->fragments, (unsigned long long)stats->pixels_written);

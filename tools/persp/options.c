@@ -546,6 +546,17 @@ const cli_spec cli_opt_cull = {.name = "cull",
                                .names = cull_names,
                                .values = cull_values,
                                .help = "back-face culling (default: the scene's)"};
+static const char *const sort_first_names[] = {"auto", "on", "off", NULL};
+static const int sort_first_values[] = {PERSP_TOGGLE_DEFAULT, PERSP_TOGGLE_ON, PERSP_TOGGLE_OFF};
+const cli_spec cli_opt_sort_first = {.name = "sort-first",
+                                     .kind = CLI_KIND_ENUM,
+                                     .metavar = "auto|on|off",
+                                     .names = sort_first_names,
+                                     .values = sort_first_values,
+                                     .help = "with several threads, each draws the whole frame for\n"
+                                             "its own tile rows (on) or they share every stage (off);\n"
+                                             "auto: on for two threads whose cores hand each other\n"
+                                             "data slowly (same images; default auto)"};
 const cli_spec cli_opt_count_ops = {.name = "count-ops",
                                     .kind = CLI_KIND_FLAG,
                                     .set = PERSP_TOGGLE_ON,

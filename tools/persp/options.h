@@ -144,6 +144,7 @@ extern const cli_spec cli_opt_any_folder; /* --any-folder (persp_toggle) */
 extern const cli_spec cli_opt_threads;  /* --threads N (int) */
 extern const cli_spec cli_opt_simd;     /* --simd V (persp_simd) */
 extern const cli_spec cli_opt_cull;     /* --cull on|off (persp_toggle) */
+extern const cli_spec cli_opt_sort_first; /* --sort-first auto|on|off (persp_toggle) */
 extern const cli_spec cli_opt_up;       /* --up AXIS (persp_model_up) */
 extern const cli_spec cli_opt_count_ops; /* --count-ops (persp_toggle) */
 extern const cli_spec cli_opt_format;    /* --format png|jpeg (persp_image_format) */
