@@ -639,10 +639,13 @@ typedef struct persp_render_desc {
     /* How a context of several threads shares a frame among them. OFF: sort
      * middle, every worker taking vertex ranges, set-up chunks and screen
      * tiles in turn, each reading what another wrote. ON: sort first, each
-     * worker running the whole frame for its own screen region (tile rows
-     * taken in turn), sharing nothing but the scene it reads and the
-     * framebuffer rows it owns, at the price of each transforming every
-     * vertex (docs/DESIGN.md, "Threads"). DEFAULT: sort middle, but sort
+     * worker running the whole frame for its own screen region (a run of
+     * 64x64 tiles in row-major order, moved from frame to frame to balance
+     * the workers' times), sharing nothing but the scene it reads and the
+     * framebuffer tiles it owns, at the price of each running the vertex
+     * stage and the triangle loop for all that may reach its region
+     * (docs/DESIGN.md, "Threads"); at most 16 regions, one a tile (a frame
+     * of one tile is drawn sort middle). DEFAULT: sort middle, but sort
      * first with two workers while handing a cache line between them and
      * back takes longer than PERSP_SORT_FIRST_ROUND_TRIP_NS (measured before
      * a frame, at most every 50 ms). The image and the counts are the same

@@ -67,7 +67,7 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
         cv->E[k] = (k % 2 ? -1.0 : 1.0) * (cull == PERSP_CULL_CCW ? -1.0 : 1.0) * det3(m[0], m[1], m[2]);
     }
     cv->cull = cull;
-    cv->region = cv->regions = 0;
+    cv->regions = cv->tile0 = cv->tile1 = cv->tiles_x = 0;
     cv->tx = fmin(gx, 2.0), cv->ty = fmin(gy, 2.0);
     cv->W2 = 0.5 * width, cv->H2 = 0.5 * height;
     for (int i = 0; i < 4; i++)
@@ -98,33 +98,46 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
     cv->eps = 1.0 / (2.0 * PERSP_SUBPIXEL) + (cv->W2 * cv->tx + cv->H2 * cv->ty) * 4e-7;
 }
 
-/* Whether no point of the cluster's sphere projects onto a pixel row of a
- * tile row of the view's region, with margin: then every triangle of the
- * cluster, and every piece clipping makes of one (its window y lies
- * between those of points of the sphere, y/w being monotonic along a
- * segment with w > 0), has a box the region's frame drops
- * (frame.c, region_touches). The bounds of y and w over the sphere are
- * those of the rows at its centre plus and minus the radius times the
- * rows' lengths; the margin of two pixels and a part in 10^4 covers the
- * float clip coordinates and the snapping to 1/256 pixel. */
-static int outside_region(const persp_cluster_view *cv, const persp_cluster *cl)
+/* The window interval along one axis (row 0 x, 1 y; half the window's
+ * size along it) that the cluster's sphere projects into, widened by a
+ * margin; 0 when the sphere is not wholly in front of the eye. The bounds
+ * of the axis's coordinate and of w over the sphere are those of the rows
+ * at its centre plus and minus the radius times the rows' lengths; the
+ * margin of two pixels and a part in 10^4 covers the float clip
+ * coordinates and the snapping to 1/256 pixel. */
+static int window_span(const persp_cluster_view *cv, const persp_cluster *cl, int axis, double half, double *lo,
+                       double *hi)
 {
     const double(*row)[4] = cv->row;
     const double *c = cl->center, r = cl->radius;
-    const double yc = row[1][0] * c[0] + row[1][1] * c[1] + row[1][2] * c[2] + row[1][3];
+    const double ac = row[axis][0] * c[0] + row[axis][1] * c[1] + row[axis][2] * c[2] + row[axis][3];
     const double wc = row[3][0] * c[0] + row[3][1] * c[1] + row[3][2] * c[2] + row[3][3];
     const double w_lo = wc - cv->row_norm[3] * r, w_hi = wc + cv->row_norm[3] * r;
     if (!(w_lo > PERSP_CLIP_W_EPSILON)) return 0;
-    const double y_lo = yc - cv->row_norm[1] * r, y_hi = yc + cv->row_norm[1] * r;
-    const double ndc_lo = y_lo >= 0.0 ? y_lo / w_hi : y_lo / w_lo;
-    const double ndc_hi = y_hi >= 0.0 ? y_hi / w_lo : y_hi / w_hi;
-    const double margin = 2.0 + 1e-4 * cv->H2 * (1.0 + fmax(fabs(ndc_lo), fabs(ndc_hi)));
-    const double lo = (ndc_lo + 1.0) * cv->H2 - margin, hi = (ndc_hi + 1.0) * cv->H2 + margin;
-    if (!(lo <= hi) || !isfinite(lo) || !isfinite(hi)) return 0;
-    if (hi < 0.0 || lo > 2.0 * cv->H2) return 1; /* beyond the window's rows: nothing to draw */
-    const int64_t t0 = (int64_t)fmax(0.0, lo) / PERSP_TILE, t1 = (int64_t)hi / PERSP_TILE, n = cv->regions;
-    if (t1 - t0 >= n - 1) return 0;
-    return (cv->region - t0 % n + n) % n > t1 - t0;
+    const double a_lo = ac - cv->row_norm[axis] * r, a_hi = ac + cv->row_norm[axis] * r;
+    const double ndc_lo = a_lo >= 0.0 ? a_lo / w_hi : a_lo / w_lo;
+    const double ndc_hi = a_hi >= 0.0 ? a_hi / w_lo : a_hi / w_hi;
+    const double margin = 2.0 + 1e-4 * half * (1.0 + fmax(fabs(ndc_lo), fabs(ndc_hi)));
+    *lo = (ndc_lo + 1.0) * half - margin;
+    *hi = (ndc_hi + 1.0) * half + margin;
+    return *lo <= *hi && isfinite(*lo) && isfinite(*hi);
+}
+
+/* Whether no point of the cluster's sphere projects onto a pixel of a tile
+ * of the view's region: then every triangle of the cluster, and every
+ * piece clipping makes of one (its window position lies between those of
+ * points of the sphere, x/w and y/w being monotonic along a segment with
+ * w > 0), has a box the region's frame drops (frame.c, region_touches). */
+static int outside_region(const persp_cluster_view *cv, const persp_cluster *cl)
+{
+    double xlo, xhi, ylo, yhi;
+    if (!window_span(cv, cl, 0, cv->W2, &xlo, &xhi) || !window_span(cv, cl, 1, cv->H2, &ylo, &yhi)) return 0;
+    /* Beyond the window: nothing of it is drawn. */
+    if (xhi < 0.0 || xlo > 2.0 * cv->W2 || yhi < 0.0 || ylo > 2.0 * cv->H2) return 1;
+    const int64_t tx0 = (int64_t)fmax(0.0, xlo) / PERSP_TILE, ty0 = (int64_t)fmax(0.0, ylo) / PERSP_TILE;
+    const int64_t tx1 = xhi < 2.0 * cv->W2 ? (int64_t)xhi / PERSP_TILE : (int64_t)cv->tiles_x - 1;
+    const int64_t ty1 = (int64_t)yhi / PERSP_TILE;
+    return !persp__box_reaches_tiles(tx0, tx1, ty0, ty1, cv->tiles_x, cv->tile0, cv->tile1);
 }
 
 size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters,

@@ -234,17 +234,21 @@ static void commit_triangle(persp_frame *f)
 {
     struct persp_render_cache *c = f->cache;
     c->tiles[f->tri_count] = tiles_of(&c->tris[f->tri_count]);
-    if (f->regions && c->tiles[f->tri_count].ty0 % f->regions != f->region) f->foreign++;
+    if (f->regions) {
+        const struct tri_tiles *tt = &c->tiles[f->tri_count];
+        const int tiles_x = (f->fb->width + PERSP_TILE - 1) / PERSP_TILE;
+        if (tt->ty0 * tiles_x + tt->tx0 < f->tile0) f->foreign++;
+    }
     f->tri_count++;
 }
 
-/* Whether pixel rows y0..y1 reach a tile row of the frame's region
- * (always, without regions). */
-static inline int region_touches(const persp_frame *f, int64_t y0, int64_t y1)
+/* Whether the pixel box x0..x1 × y0..y1 reaches a tile of the frame's
+ * region (always, without regions). */
+static inline int region_touches(const persp_frame *f, int64_t x0, int64_t x1, int64_t y0, int64_t y1)
 {
-    if (!f->regions) return 1;
-    const int64_t t0 = y0 / PERSP_TILE, n = f->regions;
-    return y1 / PERSP_TILE - t0 >= n - 1 || (f->region - t0 % n + n) % n <= y1 / PERSP_TILE - t0;
+    return !f->regions ||
+           persp__box_reaches_tiles(x0 / PERSP_TILE, x1 / PERSP_TILE, y0 / PERSP_TILE, y1 / PERSP_TILE,
+                                    (f->fb->width + PERSP_TILE - 1) / PERSP_TILE, f->tile0, f->tile1);
 }
 
 /* How many attributes (from PERSP_A_U on) a draw reads: u and v when the
@@ -366,7 +370,7 @@ static persp_status emit_triangle(persp_frame *f, const persp_winvert tv[3], con
         vv = &c->fits[f->tri_count];
     }
     if (!setup_record(f, ds, tv, e, col, back, state, cull, t, vv)) return PERSP_OK;
-    if (!region_touches(f, t->ymin, t->ymax)) return PERSP_OK;
+    if (!region_touches(f, t->xmin, t->xmax, t->ymin, t->ymax)) return PERSP_OK;
     if (ds->method.m->prepare) {
         if (persp__grow(f->ctx, (void **)&c->preps, &c->prep_cap, f->prep_count + 1, sizeof *c->preps) !=
             PERSP_OK)
@@ -809,7 +813,7 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                  * viewport, or a small box covering none. Most triangles of a
                  * closed mesh end here, before their attributes are read. */
                 persp_tri_edges e;
-                if (!persp__tri_edges(X, Y, width, height, j->cull, &e) || !region_touches(f, e.by0, e.by1))
+                if (!persp__tri_edges(X, Y, width, height, j->cull, &e) || !region_touches(f, e.bx0, e.bx1, e.by0, e.by1))
                     continue;
                 persp_winvert tv[3];
                 for (int k = 0; k < 3; k++) {
@@ -1076,8 +1080,10 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
             return persp__fail(f->ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         cluster_job cj = {.mesh = mesh, .culled = c->cluster_culled};
         persp__cluster_view_init(&cj.view, &job.mvp, f->fb->width, f->fb->height, job.gx, job.gy, cull);
-        cj.view.region = f->region;
         cj.view.regions = f->regions;
+        cj.view.tile0 = f->tile0;
+        cj.view.tile1 = f->tile1;
+        cj.view.tiles_x = (f->fb->width + PERSP_TILE - 1) / PERSP_TILE;
         const int ctasks = (int)((mesh->cluster_count + CLUSTER_TASK - 1) / CLUSTER_TASK);
         persp_status cst = persp__pool_run(f->ctx, ctasks, cluster_task, &cj);
         if (cst != PERSP_OK)

@@ -34,12 +34,13 @@ typedef struct persp_frame {
     int clear_pending;
     uint32_t clear_color;
     float clear_depth;
-    /* Sort-first (src/render/sort_first.c): with regions > 0 the frame
-     * draws only the tiles whose row is region modulo regions, and sets up
-     * only the triangles whose box reaches one of them; foreign counts
-     * those it set up whose first tile row another region owns, so that
-     * the regions' triangles_drawn add up to the whole frame's. */
-    int region, regions;
+    /* Sort first (src/render/sort_first.c): with regions > 0 the frame
+     * draws only the tiles tile0 to tile1 - 1 (in row-major order), and
+     * sets up only the triangles whose box reaches one of them; foreign
+     * counts those it set up whose box's first tile comes before tile0
+     * (another region's), so that the regions' triangles_drawn add up to
+     * the whole frame's. */
+    int regions, tile0, tile1;
     size_t foreign;
 } persp_frame;
 

@@ -8,6 +8,11 @@
 
 #include <stdint.h>
 
+/* Regions at most in a frame drawn sort first (src/render/sort_first.c):
+ * beyond a few, each worker's copy of the vertex stage and of the triangle
+ * loop for what reaches its rows outweighs its share of the rest. */
+#define PERSP_SORT_FIRST_MAX 16
+
 /* A vertex's window coordinates, computed once however many triangles share
  * it, with the same arithmetic emit_polygon applies to clipped vertices. */
 struct vert_win {
@@ -74,10 +79,15 @@ struct persp_render_cache {
     float *uv; /* generated texture coordinates of the mesh being added (persp__frame_uv_buffer) */
     size_t uv_cap;
     /* Sort first (src/render/sort_first.c): a context a region, kept with
-     * its buffers between frames, and the latest cross-core probe. */
+     * its buffers between frames; the latest cross-core probe; the regions'
+     * first tiles in row-major order (split[k], split[regions] the frame's
+     * tiles) for split_regions and split_tiles, balanced on the last
+     * frame's times. */
     persp_context **region_ctx;
     size_t region_cap, region_count;
     double probe_ns, probe_at;
+    int split[PERSP_SORT_FIRST_MAX + 1];
+    int split_regions, split_tiles;
 };
 
 /* Draws the frame's binned batch: every tile on the worker threads, then

@@ -283,6 +283,20 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
     return 1;
 }
 
+/* Whether the box of tiles tx0..tx1 × ty0..ty1 (tiles_x a row) holds a
+ * tile of tile0..tile1 - 1: those of row tile0 / tiles_x from its column
+ * on, every row after it up to the row of tile1 - 1, and that row up to
+ * its column. */
+static inline int persp__box_reaches_tiles(int64_t tx0, int64_t tx1, int64_t ty0, int64_t ty1, int64_t tiles_x,
+                                          int64_t tile0, int64_t tile1)
+{
+    const int64_t r0 = tile0 / tiles_x, c0 = tile0 % tiles_x, r1 = (tile1 - 1) / tiles_x,
+                  c1 = (tile1 - 1) % tiles_x;
+    if (r0 == r1) return ty0 <= r0 && r0 <= ty1 && tx1 >= c0 && tx0 <= c1;
+    return (ty0 <= r0 && r0 <= ty1 && tx1 >= c0) || (ty0 <= r1 && r1 <= ty1 && tx0 <= c1) ||
+           (ty0 > r0 ? ty0 : r0 + 1) <= (ty1 < r1 ? ty1 : r1 - 1); /* a whole row between the ends */
+}
+
 /* What culling a cluster whole needs of a frame (src/raster/cluster_cull.c):
  * the model-view-projection rows and their xyz parts' lengths, the centre
  * of projection in object space, the clip planes a cluster must be inside
@@ -292,9 +306,10 @@ typedef struct persp_cluster_view {
     double row[4][4], row_norm[4], E[4];
     double plane[7][5], plane_norm[7];
     double tx, ty, W2, H2, eps;
-    /* Sort first (persp_frame.region, .regions; 0: none): clusters that
-     * cannot reach a tile row of the region are culled too. */
-    int region, regions;
+    /* Sort first (persp_frame.regions, .tile0, .tile1; regions 0: none):
+     * clusters that cannot reach tiles tile0 to tile1 - 1 (tiles_x a row)
+     * are culled too. */
+    int regions, tile0, tile1, tiles_x;
     int cull; /* PERSP_CULL_*: none culls no cluster as back-facing */
 } persp_cluster_view;
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,

@@ -729,7 +729,7 @@ PERSP_SIMD_CLONES static void raster_tile(void *user, int tile, int worker)
     const int y1 = PERSP_MIN(y0 + PERSP_TILE, f->fb->height) - 1;
     const int tw = x1 - x0 + 1, th = y1 - y0 + 1;
     /* Another region's tile (sort-first): its frame clears and draws it. */
-    if (f->regions && ty % f->regions != f->region) return;
+    if (f->regions && (tile < f->tile0 || tile >= f->tile1)) return;
     const size_t W = (size_t)f->fb->width;
     uint32_t *fcolor = (uint32_t *)(void *)f->fb->color;
     float *fdepth = f->fb->depth;

@@ -169,8 +169,8 @@ static persp_status draw_object(persp_context *ctx, frame_setup *fs, size_t i, p
 }
 
 persp_status persp__render_frame(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
-                                 persp_framebuffer *fb, persp_frame *f, persp_capture *cap, int region,
-                                 int regions)
+                                 persp_framebuffer *fb, persp_frame *f, persp_capture *cap, int regions,
+                                 int tile0, int tile1)
 {
     persp_render_desc dd;
     memset(&dd, 0, sizeof dd);
@@ -189,8 +189,9 @@ persp_status persp__render_frame(persp_context *ctx, const persp_scene *scene, c
     if (st != PERSP_OK) return st;
     f->capture = cap;
     f->count_ops = dd.count_ops == PERSP_TOGGLE_ON;
-    f->region = region;
     f->regions = regions;
+    f->tile0 = tile0;
+    f->tile1 = tile1;
     persp__frame_clear(f, scene->clear);
 
     persp_scene_get_camera(scene, fb->width, fb->height, &fs.view, &fs.proj);
@@ -226,7 +227,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
         persp_status st = PERSP_ERR_OUT_OF_MEMORY;
         if (cap.tri && cap.s1 && cap.s2) {
             for (size_t i = 0; i < n; i++) cap.tri[i] = -1;
-            st = persp__render_frame(ctx, scene, desc, fb, &f, &cap, 0, 0);
+            st = persp__render_frame(ctx, scene, desc, fb, &f, &cap, 0, 0, 0);
             persp_objspace_stats os;
             if (st == PERSP_OK) st = persp__objspace_resolve(&f, &cap, &os);
             if (st == PERSP_OK && stats) {
@@ -245,7 +246,7 @@ persp_status persp_render(persp_context *ctx, const persp_scene *scene, const pe
     }
     persp_status st;
     if (persp__render_sort_first(ctx, scene, desc, fb, stats, &st)) return st;
-    st = persp__render_frame(ctx, scene, desc, fb, &f, NULL, 0, 0);
+    st = persp__render_frame(ctx, scene, desc, fb, &f, NULL, 0, 0, 0);
     if (st == PERSP_OK && stats) *stats = f.stats;
     return st;
 }
@@ -282,7 +283,7 @@ persp_status persp__render_capture(persp_context *ctx, const persp_scene *scene,
     } else {
         for (size_t i = 0; i < n; i++) cap->tri[i] = -1;
         persp_frame f;
-        st = persp__render_frame(ctx, scene, desc, &fb, &f, cap, 0, 0);
+        st = persp__render_frame(ctx, scene, desc, &fb, &f, cap, 0, 0, 0);
         if (st == PERSP_OK) cap->ops = f.stats.ops;
         if (st == PERSP_OK && f.tri_count) {
             cap->rats = persp__calloc(ctx, f.tri_count, sizeof *cap->rats);

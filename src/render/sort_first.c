@@ -11,14 +11,14 @@
  * independent one-thread renders each kept their full speed
  * (docs/DESIGN.md, "Threads"). Here each worker, on a context of its own
  * whose buffers nothing else touches, runs the vertex stage for the
- * clusters that can reach its tile rows (rows dealt in turn, so that each
- * region holds a share of every part of the screen), keeps the triangles
- * whose box reaches them, and draws its tiles; the workers share only the
- * scene, read, and the framebuffer rows they own. Each tile is drawn by
+ * clusters that can reach its tiles (a run of consecutive tiles in
+ * row-major order, balance), keeps the triangles whose box reaches them,
+ * and draws its tiles; the workers share only the scene, read, and the
+ * framebuffer tiles they own. Each tile is drawn by
  * the same code from the same records in the same order as in sort
  * middle, so the image is the same bit for bit; the counts are too (a
  * triangle set up in two regions is counted by the one owning its first
- * tile row).
+ * first tile).
  *
  * The allocator is called only from the thread that called into persp
  * (persp_allocator): a region's context is frozen while a worker draws
@@ -38,17 +38,26 @@
  * microseconds; 2k-triangle frames take 2 ms). */
 #define PROBE_EVERY_S 0.05
 
-/* Regions at most: beyond a few, each worker's copy of the vertex stage
- * and of the triangle loop outweighs its share of the rest anyway. */
-#define REGIONS_MAX 16
+#define REGIONS_MAX PERSP_SORT_FIRST_MAX
+
+/* A region's excess over an equal share of the last frame's time below
+ * which the regions are left as they are: frame times vary by a few per
+ * cent from frame to frame. */
+#define BALANCE_SLACK 0.03
+
+typedef struct region_frame {
+    _Alignas(64) persp_frame f;
+} region_frame;
 
 typedef struct region_job {
     const persp_scene *scene;
     const persp_render_desc *desc;
     persp_framebuffer *fb;
     persp_context **ctx;
-    persp_frame *frame;
+    region_frame *frame;
     persp_status *status;
+    const int *split;
+    double *seconds;
     int regions;
 } region_job;
 
@@ -56,8 +65,56 @@ static void region_task(void *user, int task, int worker)
 {
     (void)worker;
     region_job *j = user;
-    j->status[task] =
-        persp__render_frame(j->ctx[task], j->scene, j->desc, j->fb, &j->frame[task], NULL, task, j->regions);
+    const double t0 = persp__now_seconds();
+    j->status[task] = persp__render_frame(j->ctx[task], j->scene, j->desc, j->fb, &j->frame[task].f, NULL, j->regions,
+                                          j->split[task], j->split[task + 1]);
+    j->seconds[task] = persp__now_seconds() - t0;
+}
+
+/* The regions' tiles for the next frame (seconds: the last frame's time of
+ * each region; NULL: only set them up for regions and tiles): runs of
+ * consecutive tiles in row-major order, equal at first, then moved so that
+ * each region would have taken the same time in the last frame, were the
+ * time spread evenly over each region's tiles (what a sort-first renderer
+ * does with frame-to-frame coherence: Mueller, "The Sort-First Rendering
+ * Architecture for High-Performance Graphics", I3D 1995). Runs of rows
+ * rather than tiles dealt in turn, so that a mesh cluster falls in one
+ * region but at a boundary, and the vertex stage and the triangle loop are
+ * split between the regions rather than repeated in each
+ * (src/raster/cluster_cull.c); runs of tiles rather than of whole rows, as
+ * a row of the 2M-triangle torus held a sixth of a frame's work. */
+static void balance(struct persp_render_cache *c, int regions, int tiles, const double *seconds)
+{
+    int *b = c->split;
+    if (c->split_regions != regions || c->split_tiles != tiles) {
+        for (int k = 0; k <= regions; k++) b[k] = (int)((long long)tiles * k / regions);
+        c->split_regions = regions;
+        c->split_tiles = tiles;
+        return;
+    }
+    if (!seconds) return;
+    double total = 0.0, most = 0.0;
+    for (int k = 0; k < regions; k++) {
+        total += seconds[k];
+        most = seconds[k] > most ? seconds[k] : most;
+    }
+    if (!(total > 0.0) || most <= total / regions * (1.0 + BALANCE_SLACK)) return;
+    int nb[PERSP_SORT_FIRST_MAX + 1];
+    nb[0] = 0, nb[regions] = tiles;
+    double acc = 0.0;
+    int k = 0;
+    for (int j = 1; j < regions; j++) {
+        const double target = total * j / regions;
+        while (k < regions - 1 && acc + seconds[k] < target) acc += seconds[k++];
+        const double frac = seconds[k] > 0.0 ? (target - acc) / seconds[k] : 0.0;
+        const int at = (int)(b[k] + frac * (b[k + 1] - b[k]) + 0.5);
+        /* Half way there (rounded away from the boundary): the work is
+         * not spread evenly, and a boundary moved all the way overshot,
+         * back and forth (the 2M torus: 96, 99, 94, 101, 93 tiles). */
+        const int step = at - b[j];
+        nb[j] = PERSP_CLAMP(b[j] + step / 2 + step % 2, nb[j - 1] + 1, tiles - (regions - j));
+    }
+    memcpy(b, nb, (size_t)(regions + 1) * sizeof *b);
 }
 
 /* Whether the context's workers would rather not share this frame's data. */
@@ -133,8 +190,10 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const
     /* AUTO's timings run once, here, rather than in each region. */
     (void)persp_context_simd(ctx);
     (void)persp_context_lighting_simd(ctx);
-    const int regions = PERSP_MIN(persp__pool_workers(ctx), REGIONS_MAX);
-    if (region_contexts(ctx, c, regions) != PERSP_OK) return 0;
+    const int tiles = ((fb->width + PERSP_TILE - 1) / PERSP_TILE) * ((fb->height + PERSP_TILE - 1) / PERSP_TILE);
+    const int regions = PERSP_MIN(PERSP_MIN(persp__pool_workers(ctx), REGIONS_MAX), tiles);
+    if (regions < 2 || region_contexts(ctx, c, regions) != PERSP_OK) return 0;
+    balance(c, regions, tiles, NULL);
 
     /* The budget's free part is shared out between the regions; their
      * buffers, kept between frames, count in the parent's use. */
@@ -149,14 +208,16 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const
         r->frozen = 1;
         r->starved = 0;
     }
-    persp_frame frame[REGIONS_MAX];
+    region_frame frame[REGIONS_MAX];
     persp_status status[REGIONS_MAX];
-    region_job job = {scene, &d, fb, c->region_ctx, frame, status, regions};
+    double seconds[REGIONS_MAX];
+    region_job job = {scene, &d, fb, c->region_ctx, frame, status, c->split, seconds, regions};
     persp_status pst = persp__pool_run(ctx, regions, region_task, &job);
     /* A region whose buffers had to grow (the first frame, a larger one)
      * is drawn again here, where the allocator may be called; from then on
      * its buffers are kept and it runs on its worker. It owns its tiles,
      * and its frame clears them first, so nothing of the try remains. */
+    int drawn_again = 0;
     for (int k = 0; k < regions; k++) {
         persp_context *r = c->region_ctx[k];
         r->frozen = 0;
@@ -164,6 +225,7 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const
             r->starved = 0;
             persp__clear_error(r);
             region_task(&job, k, 0);
+            drawn_again = 1;
         }
     }
     size_t peak_extra = 0;
@@ -190,14 +252,16 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const
         *st = persp__fail(ctx, status[k], "%s", persp_context_error(c->region_ctx[k]));
         return 1;
     }
+    /* A frame drawn again in part was timed in part serially. */
+    if (!drawn_again) balance(c, regions, tiles, seconds);
     ctx->clusters_culled += c->region_ctx[0]->clusters_culled;
     if (stats) {
         memset(stats, 0, sizeof *stats);
-        stats->triangles_in = frame[0].stats.triangles_in;
+        stats->triangles_in = frame[0].f.stats.triangles_in;
         for (int k = 0; k < regions; k++) {
-            stats->triangles_drawn += frame[k].stats.triangles_drawn - frame[k].foreign;
-            stats->fragments += frame[k].stats.fragments;
-            stats->pixels_written += frame[k].stats.pixels_written;
+            stats->triangles_drawn += frame[k].f.stats.triangles_drawn - frame[k].f.foreign;
+            stats->fragments += frame[k].f.stats.fragments;
+            stats->pixels_written += frame[k].f.stats.pixels_written;
         }
         stats->sort_first_regions = (uint64_t)regions;
     }

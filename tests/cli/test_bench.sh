@@ -66,13 +66,13 @@ else bad "bench --json exited non-zero: $(cat "$tmp/err")"; fi
 # --sort-first: on, every frame of every run is drawn sort first, off none;
 # the text names the choice and gives each run's count.
 for m in on off; do
-    if "$persp" bench "$src/scenes/bench/torus-2k.json" --size 64x48 --frames 3 --reps 2 --threads 2 --sort-first $m --json \
+    if "$persp" bench "$src/scenes/bench/torus-2k.json" --size 200x150 --frames 3 --reps 2 --threads 2 --sort-first $m --json \
         >"$tmp/sf-$m.json" 2>"$tmp/err"; then
         want=$([ $m = on ] && echo 3 || echo 0)
         check_json "$tmp/sf-$m.json" "j['results'][0]['sort_first_frames'] == [$want, $want]"
     else bad "bench --sort-first $m exited non-zero: $(cat "$tmp/err")"; fi
 done
-out=$("$persp" bench "$src/scenes/bench/torus-2k.json" --size 64x48 --frames 3 --reps 2 --threads 2 --sort-first on 2>&1)
+out=$("$persp" bench "$src/scenes/bench/torus-2k.json" --size 200x150 --frames 3 --reps 2 --threads 2 --sort-first on 2>&1)
 grep -qE "^frames drawn sort first \(--sort-first on\), each run of exact, of 3: 3, 3$" <<<"$out" && ok \
     || bad "no sort-first line: $out"
 expect 2 "bad --sort-first 'sometimes'" -- "$persp" bench --sort-first sometimes
