@@ -40,7 +40,7 @@ typedef struct dests {
     persp_lod_mode lod;
     float lod_bias, min_lod, max_lod;
     persp_pipeline pipeline;
-    persp_toggle cull, count_ops;
+    persp_toggle cull, count_ops, sort_first;
     persp_image_format format;
     persp_report_format report;
     long long seed;
@@ -114,6 +114,9 @@ static void check(const cli_command *cmd, const dests *d)
         broken("--seed stored a value outside its range");
     if (cli_given(cmd, &cli_opt_cull) && d->cull != PERSP_TOGGLE_ON && d->cull != PERSP_TOGGLE_OFF)
         broken("--cull stored another value");
+    if (cli_given(cmd, &cli_opt_sort_first) && d->sort_first != PERSP_TOGGLE_DEFAULT &&
+        d->sort_first != PERSP_TOGGLE_ON && d->sort_first != PERSP_TOGGLE_OFF)
+        broken("--sort-first stored another value");
     if (cli_given(cmd, &cli_opt_format) && d->format != PERSP_IMAGE_FORMAT_PNG &&
         d->format != PERSP_IMAGE_FORMAT_JPEG)
         broken("--format stored another value");
@@ -155,6 +158,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         CLI_OPT(cli_opt_quality, &d.quality),    CLI_OPT(cli_opt_csv, &d.report),
         CLI_OPT(cli_opt_json, &d.report),        CLI_OPT(cli_opt_heatmap, &d.heatmap),
         CLI_OPT(cli_opt_seed, &d.seed),          CLI_OPT(opt_list, &d.list),
+        CLI_OPT(cli_opt_sort_first, &d.sort_first),
         CLI_OPT_NO_DEST(cli_opt_help),
     };
     cli_command cmd = {"fuzz", "fuzz --help", NULL, opts, sizeof opts / sizeof opts[0],
