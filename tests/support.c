@@ -90,6 +90,38 @@ int test_tmpdir_remove(const char *dir)
     return system(cmd) == 0 ? 0 : -1;
 }
 
+typedef struct tracker_head {
+    size_t size;
+    size_t pad; /* keeps the caller's part 16-byte aligned */
+} tracker_head;
+
+static void *tracker_alloc(void *user, size_t size)
+{
+    test_tracker *t = user;
+    t->calls++;
+    if (size > t->largest) t->largest = size;
+    tracker_head *h = malloc(sizeof *h + size);
+    if (!h) return NULL;
+    h->size = size;
+    t->live += size;
+    if (t->live > t->peak) t->peak = t->live;
+    return h + 1;
+}
+
+static void tracker_free(void *user, void *ptr)
+{
+    test_tracker *t = user;
+    tracker_head *h = (tracker_head *)ptr - 1;
+    t->live -= h->size;
+    free(h);
+}
+
+persp_allocator test_tracker_allocator(test_tracker *t)
+{
+    memset(t, 0, sizeof *t);
+    return (persp_allocator){tracker_alloc, tracker_free, t};
+}
+
 persp_context *test_context(void) { return test_context_threads(1); }
 
 persp_context *test_context_threads(int threads)

@@ -27,6 +27,15 @@ int test_tmpdir_remove(const char *dir);
 /* Writes size bytes to the file name in dir (dir may be NULL: name is the
  * path); the test fails if that cannot be done. */
 void test_write_file(const char *dir, const char *name, const void *data, size_t size);
+/* An allocator that tracks what it hands out (test_tracker_allocator):
+ * calls, bytes live, the most live at once and the largest request; the
+ * bytes are the sizes persp asked for. */
+typedef struct test_tracker {
+    long calls;
+    size_t live, peak, largest;
+} test_tracker;
+persp_allocator test_tracker_allocator(test_tracker *t);
+
 /* A context that fails the test if it cannot be created. */
 persp_context *test_context(void);
 /* A context drawing with the given number of threads. */

@@ -13,43 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* An allocator that tracks the bytes it has handed out: calls, bytes live
- * and the most live at once, and the largest single request. */
-typedef struct tracker {
-    long calls;
-    size_t live, peak, largest;
-} tracker;
-
-typedef struct block_head {
-    size_t size;
-    size_t pad; /* keeps the caller's part 16-byte aligned */
-} block_head;
-
-static void *track_alloc(void *user, size_t size)
+static persp_context *budget_context(test_tracker *t, persp_allocator *al, size_t max_memory)
 {
-    tracker *t = user;
-    t->calls++;
-    if (size > t->largest) t->largest = size;
-    block_head *h = malloc(sizeof *h + size);
-    if (!h) return NULL;
-    h->size = size;
-    t->live += size;
-    if (t->live > t->peak) t->peak = t->live;
-    return h + 1;
-}
-
-static void track_free(void *user, void *ptr)
-{
-    tracker *t = user;
-    block_head *h = (block_head *)ptr - 1;
-    t->live -= h->size;
-    free(h);
-}
-
-static persp_context *budget_context(tracker *t, persp_allocator *al, size_t max_memory)
-{
-    memset(t, 0, sizeof *t);
-    *al = (persp_allocator){track_alloc, track_free, t};
+    *al = test_tracker_allocator(t);
     persp_context_desc cd = {.allocator = al, .threads = 1, .max_memory = max_memory};
     persp_context *ctx = NULL;
     assert_int_equal(persp_context_create(&cd, &ctx), PERSP_OK);
@@ -85,7 +51,7 @@ static unsigned char *read_all(const char *path, size_t *n)
 static void test_refused_before_allocating(void **state)
 {
     (void)state;
-    tracker t;
+    test_tracker t;
     persp_allocator al;
     persp_context *ctx = budget_context(&t, &al, (size_t)6 << 20);
     long calls = t.calls;
@@ -115,7 +81,7 @@ static void test_refused_before_allocating(void **state)
 static void test_scene_over_budget(void **state)
 {
     (void)state;
-    tracker t;
+    test_tracker t;
     persp_allocator al;
     persp_context *ctx = budget_context(&t, &al, (size_t)192 << 10);
     persp_scene *scene = NULL;
@@ -158,7 +124,7 @@ static void test_json_over_budget(void **state)
     write_file(path, text, len);
     free(text);
 
-    tracker t;
+    test_tracker t;
     persp_allocator al;
     persp_context *ctx = budget_context(&t, &al, (size_t)4 << 20);
     persp_scene *scene = NULL;
@@ -196,7 +162,7 @@ static void test_decoders_over_budget(void **state)
     persp_image_free(plain, &img);
     persp_context_destroy(plain);
 
-    tracker t;
+    test_tracker t;
     persp_allocator al;
     persp_context *ctx = budget_context(&t, &al, (size_t)512 << 10);
     persp_image out;
@@ -267,7 +233,7 @@ static void test_grid_memory_proportional(void **state)
     long file_bytes = ftell(f);
     assert_int_equal(fclose(f), 0);
 
-    tracker t;
+    test_tracker t;
     persp_allocator al;
     persp_context *ctx = budget_context(&t, &al, 0);
     /* Triangle records are held per batch (a fixed amount, src/raster/frame.c);

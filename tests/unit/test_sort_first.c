@@ -14,36 +14,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-typedef struct tracker {
-    size_t live, peak;
-} tracker;
-
-typedef struct block_head {
-    size_t size;
-    size_t pad; /* keeps the caller's part 16-byte aligned */
-} block_head;
-
-static void *track_alloc(void *user, size_t size)
-{
-    tracker *t = user;
-    block_head *h = malloc(sizeof *h + size);
-    if (!h) return NULL;
-    h->size = size;
-    t->live += size;
-    if (t->live > t->peak) t->peak = t->live;
-    return h + 1;
-}
-
-static void track_free(void *user, void *ptr)
-{
-    tracker *t = user;
-    block_head *h = (block_head *)ptr - 1;
-    t->live -= h->size;
-    free(h);
-}
-
 typedef struct rig {
-    tracker t;
+    test_tracker t;
     persp_allocator al;
     persp_context *ctx;
     persp_scene *scene;
@@ -55,7 +27,7 @@ enum { W = 256, H = 192 };
 static void rig_open_scene(rig *r, const char *scene, int threads, size_t max_memory)
 {
     memset(r, 0, sizeof *r);
-    r->al = (persp_allocator){track_alloc, track_free, &r->t};
+    r->al = test_tracker_allocator(&r->t);
     persp_context_desc cd = {.allocator = &r->al, .threads = threads, .max_memory = max_memory};
     assert_int_equal(persp_context_create(&cd, &r->ctx), PERSP_OK);
     char path[1024];
