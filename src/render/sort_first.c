@@ -45,6 +45,8 @@
  * cent from frame to frame. */
 #define BALANCE_SLACK 0.03
 
+/* A region's frame on cache lines of its own: its counts are written for
+ * every triangle, and two regions' frames side by side shared a line. */
 typedef struct region_frame {
     _Alignas(64) persp_frame f;
 } region_frame;
@@ -77,12 +79,13 @@ static void region_task(void *user, int task, int worker)
  * each region would have taken the same time in the last frame, were the
  * time spread evenly over each region's tiles (what a sort-first renderer
  * does with frame-to-frame coherence: Mueller, "The Sort-First Rendering
- * Architecture for High-Performance Graphics", I3D 1995). Runs of rows
- * rather than tiles dealt in turn, so that a mesh cluster falls in one
- * region but at a boundary, and the vertex stage and the triangle loop are
- * split between the regions rather than repeated in each
- * (src/raster/cluster_cull.c); runs of tiles rather than of whole rows, as
- * a row of the 2M-triangle torus held a sixth of a frame's work. */
+ * Architecture for High-Performance Graphics", I3D 1995). Runs rather
+ * than tiles dealt in turn, so that a mesh cluster falls in one region but
+ * at a boundary, and the vertex stage and the triangle loop are split
+ * between the regions rather than repeated in each
+ * (src/raster/cluster_cull.c); runs that may end mid-row rather than runs
+ * of whole rows, as a row of the 2M-triangle torus held a sixth of a
+ * frame's work. */
 static void balance(struct persp_render_cache *c, int regions, int tiles, const double *seconds)
 {
     int *b = c->split;
@@ -108,7 +111,7 @@ static void balance(struct persp_render_cache *c, int regions, int tiles, const 
         while (k < regions - 1 && acc + seconds[k] < target) acc += seconds[k++];
         const double frac = seconds[k] > 0.0 ? (target - acc) / seconds[k] : 0.0;
         const int at = (int)(b[k] + frac * (b[k + 1] - b[k]) + 0.5);
-        /* Half way there (rounded away from the boundary): the work is
+        /* Half way there (rounded away from zero): the work is
          * not spread evenly, and a boundary moved all the way overshot,
          * back and forth (the 2M torus: 96, 99, 94, 101, 93 tiles). */
         const int step = at - b[j];
@@ -125,8 +128,8 @@ static int sort_first_wanted(persp_context *ctx, struct persp_render_cache *c, c
         d->count_ops == PERSP_TOGGLE_ON)
         return 0;
     if (d->sort_first == PERSP_TOGGLE_ON) return 1;
-    /* By default only for two: with more, every worker's copy of the vertex
-     * stage and of the triangle loop would outweigh what it saves. */
+    /* By default only for two, the one count measured both ways
+     * (docs/PERFORMANCE.md, "Two threads: sort middle and sort first"). */
     if (workers != 2) return 0;
     const double now = persp__now_seconds();
     if (c->probe_at <= 0.0 || now - c->probe_at > PROBE_EVERY_S) {
@@ -177,6 +180,7 @@ static persp_status region_contexts(persp_context *ctx, struct persp_render_cach
 int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
                              persp_framebuffer *fb, persp_render_stats *stats, persp_status *st)
 {
+    if (persp__pool_workers(ctx) < 2 || (desc && desc->sort_first == PERSP_TOGGLE_OFF)) return 0;
     persp_render_desc d;
     memset(&d, 0, sizeof d);
     if (desc) d = *desc;
