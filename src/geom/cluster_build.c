@@ -175,6 +175,7 @@ static void build_cluster(const persp_mesh *mesh, size_t t0, size_t t1, persp_cl
     if (!(cos_a > 0.0)) return;
     memcpy(cl->center, center, sizeof center);
     cl->radius = sqrt(r2) * (1.0 + 1e-9) + 1e-30;
+    for (int k = 0; k < 3; k++) cl->half[k] = 0.5 * (hi[k] - lo[k]) * (1.0 + 1e-9) + 1e-30;
     memcpy(cl->axis, axis, sizeof axis);
     cl->cos_a = cos_a;
     cl->sin_a = lesser(1.0, sqrt(greater(0.0, 1.0 - cos_a * cos_a)) + 1e-9);

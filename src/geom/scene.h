@@ -28,6 +28,7 @@
 #define PERSP_CLUSTER_RUNS 4
 typedef struct persp_cluster {
     double center[3], radius;  /* every vertex is within radius of center */
+    double half[3];            /* and within half[i] of center along axis i */
     double axis[3];            /* unit; every unit face normal n has n·axis >= cos_a */
     double cos_a, sin_a;       /* the cone's half-angle, cos_a > 0 */
     double alt_min;            /* least height of a triangle over its longest edge, > 0 */

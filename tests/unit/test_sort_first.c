@@ -11,6 +11,7 @@
 #include "raster/frame_cache.h"
 #include "raster/raster.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -171,7 +172,9 @@ static void test_round_trip_probe(void **state)
     double ns = 0.0;
     const double t0 = persp__now_seconds();
     while (ns <= 0.0 && persp__now_seconds() - t0 < 10.0) ns = persp__pool_round_trip_ns(two);
-    assert_true(ns > 0.0 && ns < 1e7);
+    /* No upper bound: on a loaded machine a trip waits for the other
+     * thread to be scheduled. */
+    assert_true(ns > 0.0 && isfinite(ns));
     persp_context_destroy(two);
 }
 
