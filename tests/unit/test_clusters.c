@@ -4,8 +4,10 @@
  * fixed point and all its vertices inside the clip volume. Checked on
  * clusters built to sit at the edge of the bound (slivers, sub-pixel
  * triangles, normals close to edge-on) under random perspective, off-centre
- * and orthographic projections and non-uniform model matrices; and end to
- * end, renders with and without cluster culling are the same bit for bit. */
+ * and orthographic projections and non-uniform model matrices. Clusters
+ * culled for a sort-first region (a random run of tiles) have no triangle
+ * whose pixel box reaches the run. End to end, renders with and without
+ * cluster culling are the same bit for bit. */
 /* ctest-labels: threads (renders with several worker threads) */
 /* ctest-split: each (minutes in all under ThreadSanitizer) */
 #include "support.h"
@@ -153,7 +155,7 @@ static void test_culled_clusters_are_culled_triangles(void **state)
     assert_non_null(where);
     assert_non_null(who);
     test_rng rng = {4242};
-    size_t culled_total = 0, culled_mirrored = 0, checked = 0;
+    size_t culled_total = 0, culled_mirrored = 0, checked = 0, region_culled = 0, region_checked = 0;
     for (int trial = 0; trial < 10000; trial++) {
         /* The eye a few units away, looking near the clusters. */
         const double d = pow(10.0, test_rng_uniform(&rng, -0.3, 1.3));
@@ -240,8 +242,49 @@ static void test_culled_clusters_are_culled_triangles(void **state)
                 checked++;
             }
         }
+        /* Sort first (src/render/sort_first.c): with a random run of
+         * tiles as the region, a cluster culled for the region (2) has no
+         * triangle whose pixel box, as set-up finds it from the snapped
+         * vertices, reaches a tile of the run. */
+        const int tiles_x = (W + PERSP_TILE - 1) / PERSP_TILE, tiles = tiles_x * ((H + PERSP_TILE - 1) / PERSP_TILE);
+        cv.regions = 2;
+        cv.tiles_x = tiles_x;
+        cv.tile0 = (int)(test_rng_next(&rng) % (uint64_t)tiles);
+        cv.tile1 = cv.tile0 + 1 + (int)(test_rng_next(&rng) % (uint64_t)(tiles - cv.tile0));
+        (void)persp__clusters_cull(&cv, mesh.clusters, mesh.cluster_count, culled);
+        for (int k = 0; k < 4; k++) {
+            if (culled[k] != 2) continue;
+            region_culled++;
+            for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
+                int64_t X[3], Y[3];
+                unsigned any = 0;
+                for (int i = 0; i < 3; i++) any |= snap(&mvp, v[idx[3 * t + i]].pos, W, H, gx, gy, &X[i], &Y[i]);
+                if (any) continue; /* clipped: the box of its pieces is not tested here */
+                int64_t lo[2] = {X[0], Y[0]}, hi[2] = {X[0], Y[0]};
+                for (int i = 1; i < 3; i++) {
+                    lo[0] = X[i] < lo[0] ? X[i] : lo[0], hi[0] = X[i] > hi[0] ? X[i] : hi[0];
+                    lo[1] = Y[i] < lo[1] ? Y[i] : lo[1], hi[1] = Y[i] > hi[1] ? Y[i] : hi[1];
+                }
+                const int64_t bx0 = persp__ceil_div(lo[0] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+                const int64_t bx1 = persp__floor_div(hi[0] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+                const int64_t by0 = persp__ceil_div(lo[1] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+                const int64_t by1 = persp__floor_div(hi[1] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+                const int64_t cx0 = bx0 < 0 ? 0 : bx0, cy0 = by0 < 0 ? 0 : by0;
+                const int64_t cx1 = bx1 > W - 1 ? W - 1 : bx1, cy1 = by1 > H - 1 ? H - 1 : by1;
+                if (cx0 > cx1 || cy0 > cy1) continue; /* no pixel centre in the window */
+                if (persp__box_reaches_tiles(cx0 / PERSP_TILE, cx1 / PERSP_TILE, cy0 / PERSP_TILE, cy1 / PERSP_TILE,
+                                             tiles_x, cv.tile0, cv.tile1))
+                    fail_msg("trial %d cluster %d triangle %d: culled for tiles %d..%d but reaches them", trial, k,
+                             t, cv.tile0, cv.tile1 - 1);
+                region_checked++;
+            }
+        }
         persp__free(ctx, mesh.clusters);
     }
+    print_message("culled %zu clusters for a region, %zu of their triangles checked\n", region_culled,
+                  region_checked);
+    assert_true(region_culled > 500);
+    assert_true(region_checked > 20000);
     /* The test means something only if clusters were culled (a bound
      * without the snapping margin culls clusters of small triangles that
      * snap to front faces, and fails it). */
