@@ -813,7 +813,8 @@ static persp_status mesh_triangles(const tri_job *j, size_t a, size_t b, setup_s
                  * viewport, or a small box covering none. Most triangles of a
                  * closed mesh end here, before their attributes are read. */
                 persp_tri_edges e;
-                if (!persp__tri_edges(X, Y, width, height, j->cull, &e) || !region_touches(f, e.bx0, e.bx1, e.by0, e.by1))
+                if (!persp__tri_edges(X, Y, width, height, j->cull, &e) ||
+                    !region_touches(f, e.bx0, e.bx1, e.by0, e.by1))
                     continue;
                 persp_winvert tv[3];
                 for (int k = 0; k < 3; k++) {

@@ -68,8 +68,8 @@ static void region_task(void *user, int task, int worker)
     (void)worker;
     region_job *j = user;
     const double t0 = persp__now_seconds();
-    j->status[task] = persp__render_frame(j->ctx[task], j->scene, j->desc, j->fb, &j->frame[task].f, NULL, j->regions,
-                                          j->split[task], j->split[task + 1]);
+    j->status[task] = persp__render_frame(j->ctx[task], j->scene, j->desc, j->fb, &j->frame[task].f,
+                                          NULL, j->regions, j->split[task], j->split[task + 1]);
     j->seconds[task] = persp__now_seconds() - t0;
 }
 
@@ -90,7 +90,8 @@ static void balance(struct persp_render_cache *c, int regions, int tiles, const 
 {
     int *b = c->split;
     if (c->split_regions != regions || c->split_tiles != tiles) {
-        for (int k = 0; k <= regions; k++) b[k] = (int)((long long)tiles * k / regions);
+        for (int k = 0; k <= regions; k++)
+            b[k] = (int)((long long)tiles * k / regions);
         c->split_regions = regions;
         c->split_tiles = tiles;
         return;
@@ -108,7 +109,8 @@ static void balance(struct persp_render_cache *c, int regions, int tiles, const 
     int k = 0;
     for (int j = 1; j < regions; j++) {
         const double target = total * j / regions;
-        while (k < regions - 1 && acc + seconds[k] < target) acc += seconds[k++];
+        while (k < regions - 1 && acc + seconds[k] < target)
+            acc += seconds[k++];
         const double frac = seconds[k] > 0.0 ? (target - acc) / seconds[k] : 0.0;
         const int at = (int)(b[k] + frac * (b[k + 1] - b[k]) + 0.5);
         /* Half way there (rounded away from zero): the work is
@@ -121,7 +123,8 @@ static void balance(struct persp_render_cache *c, int regions, int tiles, const 
 }
 
 /* Whether the context's workers would rather not share this frame's data. */
-static int sort_first_wanted(persp_context *ctx, struct persp_render_cache *c, const persp_render_desc *d)
+static int sort_first_wanted(persp_context *ctx, struct persp_render_cache *c,
+                             const persp_render_desc *d)
 {
     const int workers = persp__pool_workers(ctx);
     if (workers < 2 || d->sort_first == PERSP_TOGGLE_OFF || d->pipeline == PERSP_PIPELINE_OBJECT ||
@@ -136,13 +139,15 @@ static int sort_first_wanted(persp_context *ctx, struct persp_render_cache *c, c
         c->probe_ns = persp__pool_round_trip_ns(ctx);
         c->probe_at = now;
     }
-    return c->probe_ns > (ctx->sort_first_ns > 0.0 ? ctx->sort_first_ns : PERSP_SORT_FIRST_ROUND_TRIP_NS);
+    return c->probe_ns >
+           (ctx->sort_first_ns > 0.0 ? ctx->sort_first_ns : PERSP_SORT_FIRST_ROUND_TRIP_NS);
 }
 
 /* Gives back the region contexts and their buffers. */
 static void release_regions(persp_context *ctx, struct persp_render_cache *c)
 {
-    for (size_t k = 0; k < c->region_count; k++) persp__context_child_free(ctx, c->region_ctx[k]);
+    for (size_t k = 0; k < c->region_count; k++)
+        persp__context_child_free(ctx, c->region_ctx[k]);
     c->region_count = 0;
 }
 
@@ -150,8 +155,8 @@ static void release_regions(persp_context *ctx, struct persp_render_cache *c)
 static persp_status region_contexts(persp_context *ctx, struct persp_render_cache *c, int regions)
 {
     if ((size_t)regions > c->region_count) {
-        if (persp__grow(ctx, (void **)&c->region_ctx, &c->region_cap, (size_t)regions, sizeof *c->region_ctx) !=
-            PERSP_OK)
+        if (persp__grow(ctx, (void **)&c->region_ctx, &c->region_cap, (size_t)regions,
+                        sizeof *c->region_ctx) != PERSP_OK)
             return PERSP_ERR_OUT_OF_MEMORY;
         for (size_t k = c->region_count; k < (size_t)regions; k++) {
             if (!(c->region_ctx[k] = persp__context_child(ctx))) {
@@ -177,8 +182,9 @@ static persp_status region_contexts(persp_context *ctx, struct persp_render_cach
     return PERSP_OK;
 }
 
-int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const persp_render_desc *desc,
-                             persp_framebuffer *fb, persp_render_stats *stats, persp_status *st)
+int persp__render_sort_first(persp_context *ctx, const persp_scene *scene,
+                             const persp_render_desc *desc, persp_framebuffer *fb,
+                             persp_render_stats *stats, persp_status *st)
 {
     if (persp__pool_workers(ctx) < 2 || (desc && desc->sort_first == PERSP_TOGGLE_OFF)) return 0;
     persp_render_desc d;
@@ -194,7 +200,8 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const
     /* AUTO's timings run once, here, rather than in each region. */
     (void)persp_context_simd(ctx);
     (void)persp_context_lighting_simd(ctx);
-    const int tiles = ((fb->width + PERSP_TILE - 1) / PERSP_TILE) * ((fb->height + PERSP_TILE - 1) / PERSP_TILE);
+    const int tiles =
+        ((fb->width + PERSP_TILE - 1) / PERSP_TILE) * ((fb->height + PERSP_TILE - 1) / PERSP_TILE);
     const int regions = PERSP_MIN(PERSP_MIN(persp__pool_workers(ctx), REGIONS_MAX), tiles);
     if (regions < 2 || region_contexts(ctx, c, regions) != PERSP_OK) return 0;
     balance(c, regions, tiles, NULL);
@@ -240,7 +247,8 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene, const
     }
     if (used_before + peak_extra > ctx->mem_peak) ctx->mem_peak = used_before + peak_extra;
     if (pst != PERSP_OK) {
-        *st = persp__fail(ctx, pst, "render: cannot start worker threads: %s", persp_status_string(pst));
+        *st = persp__fail(ctx, pst, "render: cannot start worker threads: %s",
+                          persp_status_string(pst));
         return 1;
     }
     /* The first region's failure, as a one-thread render would give it;

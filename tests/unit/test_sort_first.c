@@ -155,7 +155,8 @@ static void test_default_choice(void **state)
     for (size_t k = 0; k < sizeof threads / sizeof *threads; k++) {
         rig_open(&r, threads[k], 0);
         r.ctx->sort_first_ns = threads[k] == 2 ? 1e12 : 1e-9;
-        for (int f = 0; f < 3; f++) assert_int_equal(rig_render(&r, PERSP_TOGGLE_DEFAULT, NULL).sort_first_regions, 0);
+        for (int f = 0; f < 3; f++)
+            assert_int_equal(rig_render(&r, PERSP_TOGGLE_DEFAULT, NULL).sort_first_regions, 0);
         rig_close(&r);
     }
 }
@@ -171,7 +172,8 @@ static void test_round_trip_probe(void **state)
     persp_context *two = test_context_threads(2);
     double ns = 0.0;
     const double t0 = persp__now_seconds();
-    while (ns <= 0.0 && persp__now_seconds() - t0 < 10.0) ns = persp__pool_round_trip_ns(two);
+    while (ns <= 0.0 && persp__now_seconds() - t0 < 10.0)
+        ns = persp__pool_round_trip_ns(two);
     /* No upper bound: on a loaded machine a trip waits for the other
      * thread to be scheduled. */
     assert_true(ns > 0.0 && isfinite(ns));
@@ -196,10 +198,12 @@ static void test_bands_move_image_stays(void **state)
             if (h != ref) fail_msg("%d threads, frame %d: the image changed", threads, frame);
             const struct persp_render_cache *c = r.ctx->render;
             assert_int_equal(c->split_regions, threads);
-            assert_int_equal(c->split_tiles, ((W + PERSP_TILE - 1) / PERSP_TILE) * ((H + PERSP_TILE - 1) / PERSP_TILE));
+            assert_int_equal(c->split_tiles, ((W + PERSP_TILE - 1) / PERSP_TILE) *
+                                                 ((H + PERSP_TILE - 1) / PERSP_TILE));
             assert_int_equal(c->split[0], 0);
             assert_int_equal(c->split[threads], c->split_tiles);
-            for (int k = 0; k < threads; k++) assert_true(c->split[k] < c->split[k + 1]);
+            for (int k = 0; k < threads; k++)
+                assert_true(c->split[k] < c->split[k + 1]);
         }
         rig_close(&r);
     }
@@ -222,10 +226,11 @@ static void test_box_reaches_tiles(void **state)
                                 for (int y1 = y0; y1 < h; y1++) {
                                     int want = 0;
                                     for (int y = y0; y <= y1; y++)
-                                        for (int x = x0; x <= x1; x++) want |= y * w + x >= a && y * w + x < b;
+                                        for (int x = x0; x <= x1; x++)
+                                            want |= y * w + x >= a && y * w + x < b;
                                     if (persp__box_reaches_tiles(x0, x1, y0, y1, w, a, b) != want)
-                                        fail_msg("%dx%d tiles, run %d..%d, box %d..%d x %d..%d: %d", w, h, a, b - 1,
-                                                 x0, x1, y0, y1, !want);
+                                        fail_msg("%dx%d tiles, run %d..%d, box %d..%d x %d..%d: %d",
+                                                 w, h, a, b - 1, x0, x1, y0, y1, !want);
                                     checked++;
                                 }
     assert_true(checked > 100000);
