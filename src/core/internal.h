@@ -45,6 +45,10 @@ struct persp_context {
      * PERSP_SORT_FIRST_ROUND_TRIP_NS. Changed only by tests, to reach
      * either choice on any machine. */
     double sort_first_ns;
+    /* Nonzero: sort first keeps its regions' equal runs of tiles rather
+     * than moving them to balance their times. Changed only by tests, to
+     * draw frames with the same shares. */
+    int sort_first_static;
     /* A region context while a worker thread draws with it (sort first):
      * frozen, persp__alloc and persp__reserve refuse every request without
      * calling the allocator, which is called only from the thread that

@@ -265,7 +265,7 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene,
         return 1;
     }
     /* A frame drawn again in part was timed in part serially. */
-    if (!drawn_again) balance(c, regions, tiles, seconds);
+    if (!drawn_again && !ctx->sort_first_static) balance(c, regions, tiles, seconds);
     ctx->clusters_culled += c->region_ctx[0]->clusters_culled;
     if (stats) {
         memset(stats, 0, sizeof *stats);
