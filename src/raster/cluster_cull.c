@@ -98,45 +98,53 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
     cv->eps = 1.0 / (2.0 * PERSP_SUBPIXEL) + (cv->W2 * cv->tx + cv->H2 * cv->ty) * 4e-7;
 }
 
-/* Whether no point of the cluster's box (center ± half) projects onto a
- * pixel of a tile of the view's region: then every triangle of the
- * cluster, and every piece clipping makes of one, has a box the region's
- * frame drops (frame.c, region_touches). With w > 0 at the eight corners
- * it is positive over the box, and x/w and y/w, linear-fractional, take
- * their extremes over the box at corners (and are monotonic along any
- * segment in it, on which clipping's pieces lie). The margin of two
- * pixels and a part in 10^4 covers the float clip coordinates and the
- * snapping to 1/256 pixel. A box rather than the sphere: a cluster of a
- * fine mesh is a strip of quads, whose sphere's projection is a square
- * about as wide as the strip is long. */
-static int outside_region(const persp_cluster_view *cv, const persp_cluster *cl)
+/* The window interval along one axis (row 0 x, 1 y; half the window's
+ * size along it) that the cluster projects into, widened by a margin; 0
+ * when the cluster is not wholly in front of the eye. The bounds of the
+ * axis's coordinate and of w over the cluster are those of the rows at its
+ * centre plus and minus the lesser of two reaches: the radius times the
+ * row's length (its sphere), and the sum of the row's entries' magnitudes
+ * times the box's half sizes (its box; for a strip of quads, which a
+ * cluster of a fine mesh is, much the tighter: its sphere projects to a
+ * square as wide as the strip is long). x/w and y/w are monotonic along a
+ * segment with w > 0, so every triangle of the cluster and every piece
+ * clipping makes of one lies within. The margin of two pixels and a part in
+ * 10^4 covers the float clip coordinates and the snapping to 1/256 pixel. */
+static int window_span(const persp_cluster_view *cv, const persp_cluster *cl, int axis, double half, double *lo,
+                       double *hi)
 {
     const double(*row)[4] = cv->row;
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (int k = 0; k < 8; k++) {
-        double p[3];
-        for (int i = 0; i < 3; i++) p[i] = cl->center[i] + ((k >> i) & 1 ? cl->half[i] : -cl->half[i]);
-        const double w = row[3][0] * p[0] + row[3][1] * p[1] + row[3][2] * p[2] + row[3][3];
-        if (!(w > PERSP_CLIP_W_EPSILON)) return 0;
-        for (int a = 0; a < 2; a++) {
-            const double v = (row[a][0] * p[0] + row[a][1] * p[1] + row[a][2] * p[2] + row[a][3]) / w;
-            lo[a] = fmin(lo[a], v);
-            hi[a] = fmax(hi[a], v);
-        }
+    const double *c = cl->center, r = cl->radius, *h = cl->half;
+    double at[2], reach[2];
+    const int rows[2] = {axis, 3};
+    for (int i = 0; i < 2; i++) {
+        const double *m = row[rows[i]];
+        at[i] = m[0] * c[0] + m[1] * c[1] + m[2] * c[2] + m[3];
+        reach[i] = fmin(cv->row_norm[rows[i]] * r, fabs(m[0]) * h[0] + fabs(m[1]) * h[1] + fabs(m[2]) * h[2]);
     }
-    const double half_size[2] = {cv->W2, cv->H2};
-    double wlo[2], whi[2];
-    for (int a = 0; a < 2; a++) {
-        const double margin = 2.0 + 1e-4 * half_size[a] * (1.0 + fmax(fabs(lo[a]), fabs(hi[a])));
-        wlo[a] = (lo[a] + 1.0) * half_size[a] - margin;
-        whi[a] = (hi[a] + 1.0) * half_size[a] + margin;
-        if (!(wlo[a] <= whi[a]) || !isfinite(wlo[a]) || !isfinite(whi[a])) return 0;
-    }
+    const double w_lo = at[1] - reach[1], w_hi = at[1] + reach[1];
+    if (!(w_lo > PERSP_CLIP_W_EPSILON)) return 0;
+    const double a_lo = at[0] - reach[0], a_hi = at[0] + reach[0];
+    const double ndc_lo = a_lo >= 0.0 ? a_lo / w_hi : a_lo / w_lo;
+    const double ndc_hi = a_hi >= 0.0 ? a_hi / w_lo : a_hi / w_hi;
+    const double margin = 2.0 + 1e-4 * half * (1.0 + fmax(fabs(ndc_lo), fabs(ndc_hi)));
+    *lo = (ndc_lo + 1.0) * half - margin;
+    *hi = (ndc_hi + 1.0) * half + margin;
+    return *lo <= *hi && isfinite(*lo) && isfinite(*hi);
+}
+
+/* Whether no point of the cluster projects onto a pixel of a tile of the
+ * view's region: then every triangle of it has a box the region's frame
+ * drops (frame.c, region_touches). */
+static int outside_region(const persp_cluster_view *cv, const persp_cluster *cl)
+{
+    double xlo, xhi, ylo, yhi;
+    if (!window_span(cv, cl, 0, cv->W2, &xlo, &xhi) || !window_span(cv, cl, 1, cv->H2, &ylo, &yhi)) return 0;
     /* Beyond the window: nothing of it is drawn. */
-    if (whi[0] < 0.0 || wlo[0] > 2.0 * cv->W2 || whi[1] < 0.0 || wlo[1] > 2.0 * cv->H2) return 1;
-    const int64_t tx0 = (int64_t)fmax(0.0, wlo[0]) / PERSP_TILE, ty0 = (int64_t)fmax(0.0, wlo[1]) / PERSP_TILE;
-    const int64_t tx1 = whi[0] < 2.0 * cv->W2 ? (int64_t)whi[0] / PERSP_TILE : (int64_t)cv->tiles_x - 1;
-    const int64_t ty1 = (int64_t)whi[1] / PERSP_TILE;
+    if (xhi < 0.0 || xlo > 2.0 * cv->W2 || yhi < 0.0 || ylo > 2.0 * cv->H2) return 1;
+    const int64_t tx0 = (int64_t)fmax(0.0, xlo) / PERSP_TILE, ty0 = (int64_t)fmax(0.0, ylo) / PERSP_TILE;
+    const int64_t tx1 = xhi < 2.0 * cv->W2 ? (int64_t)xhi / PERSP_TILE : (int64_t)cv->tiles_x - 1;
+    const int64_t ty1 = (int64_t)yhi / PERSP_TILE;
     return !persp__box_reaches_tiles(tx0, tx1, ty0, ty1, cv->tiles_x, cv->tile0, cv->tile1);
 }
 
