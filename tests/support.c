@@ -103,6 +103,7 @@ static void *tracker_alloc(void *user, size_t size)
     tracker_head *h = malloc(sizeof *h + size);
     if (!h) return NULL;
     h->size = size;
+    t->blocks++;
     t->live += size;
     if (t->live > t->peak) t->peak = t->live;
     return h + 1;
@@ -111,7 +112,9 @@ static void *tracker_alloc(void *user, size_t size)
 static void tracker_free(void *user, void *ptr)
 {
     test_tracker *t = user;
+    if (!ptr) return;
     tracker_head *h = (tracker_head *)ptr - 1;
+    t->blocks--;
     t->live -= h->size;
     free(h);
 }

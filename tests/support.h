@@ -28,10 +28,10 @@ int test_tmpdir_remove(const char *dir);
  * path); the test fails if that cannot be done. */
 void test_write_file(const char *dir, const char *name, const void *data, size_t size);
 /* An allocator that tracks what it hands out (test_tracker_allocator):
- * calls, bytes live, the most live at once and the largest request; the
- * bytes are the sizes persp asked for. */
+ * calls, blocks and bytes live, the most bytes live at once and the
+ * largest request; the bytes are the sizes persp asked for. */
 typedef struct test_tracker {
-    long calls;
+    long calls, blocks;
     size_t live, peak, largest;
 } test_tracker;
 persp_allocator test_tracker_allocator(test_tracker *t);

@@ -69,40 +69,6 @@ typedef struct hostile_case {
 
 static const char *cases_arg;
 
-/* ------------------------------------------------------ counting allocator */
-
-typedef struct counting {
-    long allocs, frees;
-    size_t live, peak;
-} counting;
-
-typedef struct block_head {
-    size_t size;
-    size_t pad; /* keeps the caller's part 16-byte aligned */
-} block_head;
-
-static void *count_alloc(void *user, size_t size)
-{
-    counting *c = user;
-    block_head *h = malloc(sizeof *h + size);
-    if (!h) return NULL;
-    h->size = size;
-    c->allocs++;
-    c->live += size;
-    if (c->live > c->peak) c->peak = c->live;
-    return h + 1;
-}
-
-static void count_free(void *user, void *ptr)
-{
-    counting *c = user;
-    if (!ptr) return;
-    block_head *h = (block_head *)ptr - 1;
-    c->frees++;
-    c->live -= h->size;
-    free(h);
-}
-
 /* --------------------------------------------------------------- the cases */
 
 static void write_text(const char *dir, const char *name, const char *text)
@@ -266,9 +232,8 @@ static int load_case(const hostile_case *c, persp_model_import import, unsigned 
 {
     char path[PATH_BYTES + sizeof c->file + 1], why[1024] = "";
     snprintf(path, sizeof path, "%s/%.127s", c->dir, c->file);
-    counting cnt;
-    memset(&cnt, 0, sizeof cnt);
-    persp_allocator al = {count_alloc, count_free, &cnt};
+    test_tracker cnt;
+    persp_allocator al = test_tracker_allocator(&cnt);
     persp_context_desc cd = {.allocator = &al, .threads = 1, .max_memory = BUDGET};
     persp_context *ctx = NULL;
     if (persp_context_create(&cd, &ctx) != PERSP_OK) {
@@ -323,9 +288,8 @@ static int load_case(const hostile_case *c, persp_model_import import, unsigned 
         WHY("blames the missing optional .md5anim; ");
     if (ms > CASE_LIMIT_MS) WHY("took %.1f s; ", (double)ms / 1000.0);
     persp_context_destroy(ctx);
-    if (cnt.live != 0 || cnt.allocs != cnt.frees)
-        WHY("%zu bytes in %ld blocks still held after persp_context_destroy; ", cnt.live,
-            cnt.allocs - cnt.frees);
+    if (cnt.live != 0 || cnt.blocks != 0)
+        WHY("%zu bytes in %ld blocks still held after persp_context_destroy; ", cnt.live, cnt.blocks);
 #undef WHY
     printf("%s %-28s %6.2f s  %s: %s%s%s\n", good ? "PASS" : "FAIL", c->file, (double)ms / 1000.0,
            st == PERSP_OK ? "loaded" : persp_status_string(st), st == PERSP_OK ? warn.first : msg,
