@@ -67,7 +67,7 @@ void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int
         cv->E[k] = (k % 2 ? -1.0 : 1.0) * (cull == PERSP_CULL_CCW ? -1.0 : 1.0) * det3(m[0], m[1], m[2]);
     }
     cv->cull = cull;
-    cv->regions = cv->tile0 = cv->tile1 = cv->tiles_x = 0;
+    cv->regions = cv->tiles_x = 0;
     cv->tx = fmin(gx, 2.0), cv->ty = fmin(gy, 2.0);
     cv->W2 = 0.5 * width, cv->H2 = 0.5 * height;
     for (int i = 0; i < 4; i++)
@@ -145,7 +145,7 @@ static int outside_region(const persp_cluster_view *cv, const persp_cluster *cl)
     const int64_t tx0 = (int64_t)fmax(0.0, xlo) / PERSP_TILE, ty0 = (int64_t)fmax(0.0, ylo) / PERSP_TILE;
     const int64_t tx1 = xhi < 2.0 * cv->W2 ? (int64_t)xhi / PERSP_TILE : (int64_t)cv->tiles_x - 1;
     const int64_t ty1 = (int64_t)yhi / PERSP_TILE;
-    return !persp__box_reaches_tiles(tx0, tx1, ty0, ty1, cv->tiles_x, cv->tile0, cv->tile1);
+    return !persp__box_reaches_run(&cv->run, tx0, tx1, ty0, ty1);
 }
 
 size_t persp__clusters_cull(const persp_cluster_view *cv, const persp_cluster *clusters,

@@ -98,10 +98,8 @@ persp_simd persp_context_lighting_simd(persp_context *ctx)
     return persp__simd_from_isa(ctx->shade_isa);
 }
 
-persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
-                                persp_frame *f)
+persp_status persp__frame_cache(persp_context *ctx, const persp_framebuffer *fb, struct persp_render_cache **out)
 {
-    memset(f, 0, sizeof *f);
     if (!ctx || !fb || !fb->color || !fb->depth || fb->width <= 0 || fb->height <= 0)
         return persp__fail(ctx, PERSP_ERR_INVALID_ARGUMENT,
                            "framebuffer: needs a size of at least 1x1 and colour and depth buffers");
@@ -113,10 +111,21 @@ persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp
         if (!ctx->render) return persp__fail(ctx, PERSP_ERR_OUT_OF_MEMORY, "render: out of memory");
         ctx->render_free = render_cache_free;
     }
+    *out = ctx->render;
+    return PERSP_OK;
+}
+
+persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
+                                persp_frame *f)
+{
+    memset(f, 0, sizeof *f);
+    struct persp_render_cache *cache = NULL;
+    persp_status st = persp__frame_cache(ctx, fb, &cache);
+    if (st != PERSP_OK) return st;
     f->ctx = ctx;
     f->fb = fb;
     f->depth_mode = mode;
-    f->cache = ctx->render;
+    f->cache = cache;
     f->batch = ctx->frame_batch ? ctx->frame_batch
                                 : PERSP_MIN(PERSP_FRAME_BATCH_MAX,
                                             PERSP_FRAME_BATCH_PER_WORKER * (size_t)persp__pool_workers(ctx));
@@ -169,14 +178,15 @@ static size_t frame_batch_limit(const persp_frame *f)
 
 /* Room for need records in the frame's array, its first tri_count kept;
  * whole: grow to a batch's slots for in-place set-up at once, twice a
- * batch (mesh_triangles_parallel), rather than by doubling (serial set-up, whatever the scene's size, so
- * that a small scene holds little of the memory budget). Unlike
- * persp__grow nothing is zeroed and only the kept records are copied: the
- * slots that in-place set-up leaves as gaps (mesh_triangles_parallel; most
- * of a batch on a culled mesh) are never written, so their pages stay out
- * of the resident set, and no doubling holds two copies of a batch
- * (docs/PERFORMANCE_HISTORY.md, item 56). Nothing reads a slot before set-up
- * writes it: binning skips gaps by their tile range. */
+ * batch (mesh_triangles_parallel), rather than by doubling (serial set-up,
+ * whatever the scene's size, so that a small scene holds little of the
+ * memory budget). Unlike persp__grow nothing is zeroed and only the kept
+ * records are copied: the slots that in-place set-up leaves as gaps
+ * (mesh_triangles_parallel; most of a batch on a culled mesh) are never
+ * written, so their pages stay out of the resident set, and no doubling
+ * holds two copies of a batch (docs/PERFORMANCE_HISTORY.md, item 56).
+ * Nothing reads a slot before set-up writes it: binning skips gaps by their
+ * tile range. */
 static persp_status grow_records(persp_frame *f, size_t need, int whole)
 {
     struct persp_render_cache *c = f->cache;
@@ -236,8 +246,7 @@ static void commit_triangle(persp_frame *f)
     c->tiles[f->tri_count] = tiles_of(&c->tris[f->tri_count]);
     if (f->regions) {
         const struct tri_tiles *tt = &c->tiles[f->tri_count];
-        const int tiles_x = (f->fb->width + PERSP_TILE - 1) / PERSP_TILE;
-        if (tt->ty0 * tiles_x + tt->tx0 < f->tile0) f->foreign++;
+        f->foreign += tt->ty0 < f->run.r0 || (tt->ty0 == f->run.r0 && tt->tx0 < f->run.c0);
     }
     f->tri_count++;
 }
@@ -246,9 +255,8 @@ static void commit_triangle(persp_frame *f)
  * region (always, without regions). */
 static inline int region_touches(const persp_frame *f, int64_t x0, int64_t x1, int64_t y0, int64_t y1)
 {
-    return !f->regions ||
-           persp__box_reaches_tiles(x0 / PERSP_TILE, x1 / PERSP_TILE, y0 / PERSP_TILE, y1 / PERSP_TILE,
-                                    (f->fb->width + PERSP_TILE - 1) / PERSP_TILE, f->tile0, f->tile1);
+    return !f->regions || persp__box_reaches_run(&f->run, x0 / PERSP_TILE, x1 / PERSP_TILE, y0 / PERSP_TILE,
+                                                 y1 / PERSP_TILE);
 }
 
 /* How many attributes (from PERSP_A_U on) a draw reads: u and v when the
@@ -1082,8 +1090,7 @@ persp_status persp__frame_add_mesh(persp_frame *f, const persp_mesh *mesh, const
         cluster_job cj = {.mesh = mesh, .culled = c->cluster_culled};
         persp__cluster_view_init(&cj.view, &job.mvp, f->fb->width, f->fb->height, job.gx, job.gy, cull);
         cj.view.regions = f->regions;
-        cj.view.tile0 = f->tile0;
-        cj.view.tile1 = f->tile1;
+        cj.view.run = f->run;
         cj.view.tiles_x = (f->fb->width + PERSP_TILE - 1) / PERSP_TILE;
         const int ctasks = (int)((mesh->cluster_count + CLUSTER_TASK - 1) / CLUSTER_TASK);
         persp_status cst = persp__pool_run(f->ctx, ctasks, cluster_task, &cj);

@@ -35,17 +35,21 @@ typedef struct persp_frame {
     uint32_t clear_color;
     float clear_depth;
     /* Sort first (src/render/sort_first.c): with regions > 0 the frame
-     * draws only the tiles tile0 to tile1 - 1 (in row-major order), and
-     * sets up only the triangles whose box reaches one of them; foreign
-     * counts those it set up whose box's first tile comes before tile0
-     * (another region's), so that the regions' triangles_drawn add up to
-     * the whole frame's. */
+     * draws only the tiles tile0 to tile1 - 1 (in row-major order; run,
+     * the same as rows and columns), and sets up only the triangles whose
+     * box reaches one of them; foreign counts those it set up whose box's
+     * first tile comes before tile0 (another region's), so that the
+     * regions' triangles_drawn add up to the whole frame's. */
     int regions, tile0, tile1;
+    persp_tile_run run;
     size_t foreign;
 } persp_frame;
 
 persp_status persp__frame_begin(persp_context *ctx, persp_framebuffer *fb, persp_depth_mode mode,
                                 persp_frame *f);
+/* fb checked as a frame's target, and the context's buffers kept between
+ * frames in *out, made at the first call. */
+persp_status persp__frame_cache(persp_context *ctx, const persp_framebuffer *fb, struct persp_render_cache **out);
 /* Clears fb to rgba (NULL: opaque black) and the far depth of the frame's
  * mode, tile by tile during persp__frame_flush. */
 void persp__frame_clear(persp_frame *f, const uint8_t rgba[4]);

@@ -283,15 +283,24 @@ static inline int persp__row_walk_next(persp_row_walk *w, int *lo, int *hi)
     return 1;
 }
 
-/* Whether the box of tiles tx0..tx1 × ty0..ty1 (tiles_x a row) holds a
- * tile of tile0..tile1 - 1: those of row tile0 / tiles_x from its column
- * on, every row after it up to the row of tile1 - 1, and that row up to
- * its column. */
-static inline int persp__box_reaches_tiles(int64_t tx0, int64_t tx1, int64_t ty0, int64_t ty1, int64_t tiles_x,
-                                          int64_t tile0, int64_t tile1)
+/* The run of tiles tile0..tile1 - 1 in row-major order (tiles_x a row)
+ * as rows and columns: row r0 from column c0 on, every row after it up to
+ * row r1, and that row up to column c1 (one row: columns c0..c1). Worked
+ * out once a frame, so that the test of each triangle divides nothing. */
+typedef struct persp_tile_run {
+    int64_t r0, c0, r1, c1;
+} persp_tile_run;
+
+static inline persp_tile_run persp__tile_run(int64_t tiles_x, int64_t tile0, int64_t tile1)
 {
-    const int64_t r0 = tile0 / tiles_x, c0 = tile0 % tiles_x, r1 = (tile1 - 1) / tiles_x,
-                  c1 = (tile1 - 1) % tiles_x;
+    return (persp_tile_run){tile0 / tiles_x, tile0 % tiles_x, (tile1 - 1) / tiles_x, (tile1 - 1) % tiles_x};
+}
+
+/* Whether the box of tiles tx0..tx1 × ty0..ty1 holds a tile of the run. */
+static inline int persp__box_reaches_run(const persp_tile_run *run, int64_t tx0, int64_t tx1, int64_t ty0,
+                                         int64_t ty1)
+{
+    const int64_t r0 = run->r0, c0 = run->c0, r1 = run->r1, c1 = run->c1;
     if (r0 == r1) return ty0 <= r0 && r0 <= ty1 && tx1 >= c0 && tx0 <= c1;
     return (ty0 <= r0 && r0 <= ty1 && tx1 >= c0) || (ty0 <= r1 && r1 <= ty1 && tx0 <= c1) ||
            (ty0 > r0 ? ty0 : r0 + 1) <= (ty1 < r1 ? ty1 : r1 - 1); /* a whole row between the ends */
@@ -306,10 +315,10 @@ typedef struct persp_cluster_view {
     double row[4][4], row_norm[4], E[4];
     double plane[7][5], plane_norm[7];
     double tx, ty, W2, H2, eps;
-    /* Sort first (persp_frame.regions, .tile0, .tile1; regions 0: none):
-     * clusters that cannot reach tiles tile0 to tile1 - 1 (tiles_x a row)
-     * are culled too. */
-    int regions, tile0, tile1, tiles_x;
+    /* Sort first (persp_frame.regions, .run; regions 0: none): clusters
+     * that cannot reach a tile of the run (tiles_x a row) are culled too. */
+    int regions, tiles_x;
+    persp_tile_run run;
     int cull; /* PERSP_CULL_*: none culls no cluster as back-facing */
 } persp_cluster_view;
 void persp__cluster_view_init(persp_cluster_view *cv, const persp_mat4 *mvp, int width, int height, double gx,

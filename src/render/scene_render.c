@@ -192,6 +192,7 @@ persp_status persp__render_frame(persp_context *ctx, const persp_scene *scene, c
     f->regions = regions;
     f->tile0 = tile0;
     f->tile1 = tile1;
+    if (regions) f->run = persp__tile_run((fb->width + PERSP_TILE - 1) / PERSP_TILE, tile0, tile1);
     persp__frame_clear(f, scene->clear);
 
     persp_scene_get_camera(scene, fb->width, fb->height, &fs.view, &fs.proj);

@@ -192,10 +192,9 @@ int persp__render_sort_first(persp_context *ctx, const persp_scene *scene,
     if (desc) d = *desc;
     /* Settings out of range fail here, on the caller's context. */
     if ((*st = persp__check_render_desc(ctx, &d)) != PERSP_OK) return 1;
-    /* The render cache holds the region contexts (persp__frame_begin makes it). */
-    persp_frame probe_frame;
-    if ((*st = persp__frame_begin(ctx, fb, PERSP_DEPTH_Z, &probe_frame)) != PERSP_OK) return 1;
-    struct persp_render_cache *c = ctx->render;
+    /* The render cache holds the region contexts. */
+    struct persp_render_cache *c = NULL;
+    if ((*st = persp__frame_cache(ctx, fb, &c)) != PERSP_OK) return 1;
     if (!sort_first_wanted(ctx, c, &d)) return 0;
     /* AUTO's timings run once, here, rather than in each region. */
     (void)persp_context_simd(ctx);

@@ -142,6 +142,125 @@ static void random_mesh(test_rng *rng, const double eye[3], persp_vertex *v, uin
     }
 }
 
+/* The mesh's vertices stored in a random order: a cluster's indices then
+ * spread over the whole array (sorted into runs, then merged). Each swap of
+ * two slots is recorded in where[] (slot of each vertex as first stored)
+ * and the indices are renamed once at the end: the order of renaming all
+ * of them at every swap, without its n² cost (minutes under
+ * ThreadSanitizer). */
+static void shuffle_vertices(test_rng *rng, persp_vertex *v, uint32_t *idx, uint32_t *where, uint32_t *who, int n)
+{
+    for (int i = 0; i < n; i++) where[i] = who[i] = (uint32_t)i;
+    for (int i = n - 1; i > 0; i--) {
+        const int j = (int)(test_rng_next(rng) % (uint64_t)(i + 1));
+        const persp_vertex tv = v[i];
+        v[i] = v[j], v[j] = tv;
+        const uint32_t oi = who[i], oj = who[j];
+        who[i] = oj, who[j] = oi;
+        where[oi] = (uint32_t)j, where[oj] = (uint32_t)i;
+    }
+    for (int k = 0; k < n; k++) idx[k] = where[idx[k]];
+}
+
+/* Every vertex a cluster uses lies in one of its runs (the frame leaves
+ * the others out of the vertex stage). */
+static void check_runs(const persp_mesh *mesh, int trial)
+{
+    for (size_t k = 0; k < mesh->cluster_count; k++) {
+        const persp_cluster *cl = &mesh->clusters[k];
+        assert_true(cl->runs >= 1 && cl->runs <= PERSP_CLUSTER_RUNS);
+        for (size_t i = 3 * k * PERSP_CLUSTER_TRIANGLES; i < 3 * (k + 1) * PERSP_CLUSTER_TRIANGLES; i++) {
+            const uint32_t ix = mesh->indices[i];
+            int in = 0;
+            for (int r = 0; r < cl->runs; r++) in |= ix >= cl->run[r][0] && ix < cl->run[r][1];
+            if (!in) fail_msg("trial %d cluster %zu: vertex %u in no run", trial, k, ix);
+        }
+    }
+}
+
+/* One trial's frame: its view of the mesh and how it snaps vertices. */
+typedef struct trial_view {
+    const persp_mesh *mesh;
+    persp_mat4 mvp;
+    int W, H, cull, trial;
+    double gx, gy;
+} trial_view;
+
+/* Every triangle of a cluster culled as back-facing has all its vertices
+ * inside the clip volume and a back-facing (or zero) snapped area; returns
+ * the clusters culled, and adds the triangles checked to *checked. */
+static size_t check_back_faces(const trial_view *tv, const persp_cluster_view *cv, size_t *checked)
+{
+    uint8_t culled[4];
+    const size_t n = persp__clusters_cull(cv, tv->mesh->clusters, tv->mesh->cluster_count, culled);
+    for (int k = 0; k < 4; k++) {
+        if (!culled[k]) continue;
+        for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
+            int64_t X[3], Y[3];
+            for (int i = 0; i < 3; i++) {
+                const unsigned code = snap(&tv->mvp, tv->mesh->vertices[tv->mesh->indices[3 * t + i]].pos, tv->W,
+                                           tv->H, tv->gx, tv->gy, &X[i], &Y[i]);
+                if (code)
+                    fail_msg("trial %d cluster %d triangle %d: vertex outside the clip volume", tv->trial, k, t);
+            }
+            const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
+            if (tv->cull == PERSP_CULL_CW ? area > 0 : area < 0)
+                fail_msg("trial %d cluster %d triangle %d: culled whole but its area is %lld "
+                         "(front)",
+                         tv->trial, k, t, (long long)area);
+            (*checked)++;
+        }
+    }
+    return n;
+}
+
+/* Sort first (src/render/sort_first.c): with a random run of tiles as the
+ * region, a cluster culled for the region (2) has no triangle whose pixel
+ * box, as set-up finds it from the snapped vertices, reaches a tile of the
+ * run. Adds the clusters culled so and their triangles checked. */
+static void check_region(test_rng *rng, const trial_view *tv, persp_cluster_view *cv, size_t *clusters,
+                         size_t *checked)
+{
+    const int W = tv->W, H = tv->H;
+    const int tiles_x = (W + PERSP_TILE - 1) / PERSP_TILE, tiles = tiles_x * ((H + PERSP_TILE - 1) / PERSP_TILE);
+    const int tile0 = (int)(test_rng_next(rng) % (uint64_t)tiles);
+    const int tile1 = tile0 + 1 + (int)(test_rng_next(rng) % (uint64_t)(tiles - tile0));
+    cv->regions = 2;
+    cv->tiles_x = tiles_x;
+    cv->run = persp__tile_run(tiles_x, tile0, tile1);
+    uint8_t culled[4];
+    (void)persp__clusters_cull(cv, tv->mesh->clusters, tv->mesh->cluster_count, culled);
+    for (int k = 0; k < 4; k++) {
+        if (culled[k] != 2) continue;
+        (*clusters)++;
+        for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
+            int64_t X[3], Y[3];
+            unsigned any = 0;
+            for (int i = 0; i < 3; i++)
+                any |= snap(&tv->mvp, tv->mesh->vertices[tv->mesh->indices[3 * t + i]].pos, W, H, tv->gx, tv->gy,
+                            &X[i], &Y[i]);
+            if (any) continue; /* clipped: the box of its pieces is not tested here */
+            int64_t lo[2] = {X[0], Y[0]}, hi[2] = {X[0], Y[0]};
+            for (int i = 1; i < 3; i++) {
+                lo[0] = X[i] < lo[0] ? X[i] : lo[0], hi[0] = X[i] > hi[0] ? X[i] : hi[0];
+                lo[1] = Y[i] < lo[1] ? Y[i] : lo[1], hi[1] = Y[i] > hi[1] ? Y[i] : hi[1];
+            }
+            const int64_t bx0 = persp__ceil_div(lo[0] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+            const int64_t bx1 = persp__floor_div(hi[0] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+            const int64_t by0 = persp__ceil_div(lo[1] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+            const int64_t by1 = persp__floor_div(hi[1] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
+            const int64_t cx0 = bx0 < 0 ? 0 : bx0, cy0 = by0 < 0 ? 0 : by0;
+            const int64_t cx1 = bx1 > W - 1 ? W - 1 : bx1, cy1 = by1 > H - 1 ? H - 1 : by1;
+            if (cx0 > cx1 || cy0 > cy1) continue; /* no pixel centre in the window */
+            if (persp__box_reaches_run(&cv->run, cx0 / PERSP_TILE, cx1 / PERSP_TILE, cy0 / PERSP_TILE,
+                                       cy1 / PERSP_TILE))
+                fail_msg("trial %d cluster %d triangle %d: culled for tiles %d..%d but reaches them", tv->trial, k,
+                         t, tile0, tile1 - 1);
+            (*checked)++;
+        }
+    }
+}
+
 static void test_culled_clusters_are_culled_triangles(void **state)
 {
     (void)state;
@@ -168,117 +287,33 @@ static void test_culled_clusters_are_culled_triangles(void **state)
         memset(&mesh, 0, sizeof mesh);
         mesh.vertices = v, mesh.indices = idx;
         mesh.vertex_count = 3 * TRIS, mesh.index_count = 3 * TRIS;
-        if (trial % 5 == 4) {
-            /* The vertices stored in a random order: a cluster's indices
-             * spread over the whole array (sorted into runs, then merged).
-             * Each swap of two slots is recorded in where[] (slot of each
-             * vertex as first stored) and the indices are renamed once at
-             * the end: the order of renaming all of them at every swap,
-             * without its n² cost (minutes under ThreadSanitizer). */
-            for (int i = 0; i < 3 * TRIS; i++) where[i] = who[i] = (uint32_t)i;
-            for (int i = 3 * TRIS - 1; i > 0; i--) {
-                const int j = (int)(test_rng_next(&rng) % (uint64_t)(i + 1));
-                const persp_vertex tv = v[i];
-                v[i] = v[j], v[j] = tv;
-                const uint32_t oi = who[i], oj = who[j];
-                who[i] = oj, who[j] = oi;
-                where[oi] = (uint32_t)j, where[oj] = (uint32_t)i;
-            }
-            for (int k = 0; k < 3 * TRIS; k++) idx[k] = where[idx[k]];
-        }
+        if (trial % 5 == 4) shuffle_vertices(&rng, v, idx, where, who, 3 * TRIS);
         assert_int_equal(persp__mesh_build_clusters(ctx, &mesh), PERSP_OK);
         assert_int_equal(mesh.cluster_count, 4);
-        /* Every vertex a cluster uses lies in one of its runs (the frame
-         * leaves the others out of the vertex stage). */
-        for (int k = 0; k < 4; k++) {
-            const persp_cluster *cl = &mesh.clusters[k];
-            assert_true(cl->runs >= 1 && cl->runs <= PERSP_CLUSTER_RUNS);
-            for (int i = 3 * k * PERSP_CLUSTER_TRIANGLES; i < 3 * (k + 1) * PERSP_CLUSTER_TRIANGLES;
-                 i++) {
-                int in = 0;
-                for (int r = 0; r < cl->runs; r++)
-                    in |= idx[i] >= cl->run[r][0] && idx[i] < cl->run[r][1];
-                if (!in) fail_msg("trial %d cluster %d: vertex %u in no run", trial, k, idx[i]);
-            }
-        }
-        const int W = 64 + (int)(test_rng_next(&rng) % 2000),
-                  H = 64 + (int)(test_rng_next(&rng) % 1500);
-        const double gx = PERSP_GUARD_PIXELS / (0.5 * W), gy = PERSP_GUARD_PIXELS / (0.5 * H);
+        check_runs(&mesh, trial);
+        trial_view tv = {.mesh = &mesh, .trial = trial};
+        tv.W = 64 + (int)(test_rng_next(&rng) % 2000);
+        tv.H = 64 + (int)(test_rng_next(&rng) % 1500);
+        tv.gx = PERSP_GUARD_PIXELS / (0.5 * tv.W), tv.gy = PERSP_GUARD_PIXELS / (0.5 * tv.H);
         const persp_mat4 view =
             persp_look_at((persp_vec3){(float)eye[0], (float)eye[1], (float)eye[2]},
                           (persp_vec3){(float)test_rng_uniform(&rng, -0.3, 0.3),
                                        (float)test_rng_uniform(&rng, -0.3, 0.3), 0},
                           (persp_vec3){0, 1, 0});
-        const persp_mat4 proj = random_projection(&rng, trial % 3, (double)W / H);
+        const persp_mat4 proj = random_projection(&rng, trial % 3, (double)tv.W / tv.H);
         /* One trial in four mirrors the object: its front faces wind
          * clockwise, and culling drops counter-clockwise ones. */
         persp_mat4 model = trial % 2 ? random_model(&rng) : persp_mat4_identity();
         if (trial % 4 == 3) model = persp_mat4_mul(model, persp_mat4_scale(-1, 1, 1));
-        const int cull = persp_mat4_det3(model) < 0.0 ? PERSP_CULL_CCW : PERSP_CULL_CW;
-        assert_int_equal(cull == PERSP_CULL_CCW, trial % 4 == 3);
-        const persp_mat4 mvp = persp_mat4_mul(proj, persp_mat4_mul(view, model));
-        uint8_t culled[4];
+        tv.cull = persp_mat4_det3(model) < 0.0 ? PERSP_CULL_CCW : PERSP_CULL_CW;
+        assert_int_equal(tv.cull == PERSP_CULL_CCW, trial % 4 == 3);
+        tv.mvp = persp_mat4_mul(proj, persp_mat4_mul(view, model));
         persp_cluster_view cv;
-        persp__cluster_view_init(&cv, &mvp, W, H, gx, gy, cull);
-        const size_t n = persp__clusters_cull(&cv, mesh.clusters, mesh.cluster_count, culled);
+        persp__cluster_view_init(&cv, &tv.mvp, tv.W, tv.H, tv.gx, tv.gy, tv.cull);
+        const size_t n = check_back_faces(&tv, &cv, &checked);
         culled_total += n;
-        if (cull == PERSP_CULL_CCW) culled_mirrored += n;
-        for (int k = 0; k < 4; k++) {
-            if (!culled[k]) continue;
-            for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
-                int64_t X[3], Y[3];
-                for (int i = 0; i < 3; i++) {
-                    const unsigned code =
-                        snap(&mvp, v[idx[3 * t + i]].pos, W, H, gx, gy, &X[i], &Y[i]);
-                    if (code)
-                        fail_msg("trial %d cluster %d triangle %d: vertex outside the clip volume",
-                                 trial, k, t);
-                }
-                const int64_t area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
-                if (cull == PERSP_CULL_CW ? area > 0 : area < 0)
-                    fail_msg("trial %d cluster %d triangle %d: culled whole but its area is %lld "
-                             "(front)",
-                             trial, k, t, (long long)area);
-                checked++;
-            }
-        }
-        /* Sort first (src/render/sort_first.c): with a random run of
-         * tiles as the region, a cluster culled for the region (2) has no
-         * triangle whose pixel box, as set-up finds it from the snapped
-         * vertices, reaches a tile of the run. */
-        const int tiles_x = (W + PERSP_TILE - 1) / PERSP_TILE, tiles = tiles_x * ((H + PERSP_TILE - 1) / PERSP_TILE);
-        cv.regions = 2;
-        cv.tiles_x = tiles_x;
-        cv.tile0 = (int)(test_rng_next(&rng) % (uint64_t)tiles);
-        cv.tile1 = cv.tile0 + 1 + (int)(test_rng_next(&rng) % (uint64_t)(tiles - cv.tile0));
-        (void)persp__clusters_cull(&cv, mesh.clusters, mesh.cluster_count, culled);
-        for (int k = 0; k < 4; k++) {
-            if (culled[k] != 2) continue;
-            region_culled++;
-            for (int t = k * PERSP_CLUSTER_TRIANGLES; t < (k + 1) * PERSP_CLUSTER_TRIANGLES; t++) {
-                int64_t X[3], Y[3];
-                unsigned any = 0;
-                for (int i = 0; i < 3; i++) any |= snap(&mvp, v[idx[3 * t + i]].pos, W, H, gx, gy, &X[i], &Y[i]);
-                if (any) continue; /* clipped: the box of its pieces is not tested here */
-                int64_t lo[2] = {X[0], Y[0]}, hi[2] = {X[0], Y[0]};
-                for (int i = 1; i < 3; i++) {
-                    lo[0] = X[i] < lo[0] ? X[i] : lo[0], hi[0] = X[i] > hi[0] ? X[i] : hi[0];
-                    lo[1] = Y[i] < lo[1] ? Y[i] : lo[1], hi[1] = Y[i] > hi[1] ? Y[i] : hi[1];
-                }
-                const int64_t bx0 = persp__ceil_div(lo[0] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
-                const int64_t bx1 = persp__floor_div(hi[0] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
-                const int64_t by0 = persp__ceil_div(lo[1] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
-                const int64_t by1 = persp__floor_div(hi[1] - PERSP_SUBPIXEL / 2, PERSP_SUBPIXEL);
-                const int64_t cx0 = bx0 < 0 ? 0 : bx0, cy0 = by0 < 0 ? 0 : by0;
-                const int64_t cx1 = bx1 > W - 1 ? W - 1 : bx1, cy1 = by1 > H - 1 ? H - 1 : by1;
-                if (cx0 > cx1 || cy0 > cy1) continue; /* no pixel centre in the window */
-                if (persp__box_reaches_tiles(cx0 / PERSP_TILE, cx1 / PERSP_TILE, cy0 / PERSP_TILE, cy1 / PERSP_TILE,
-                                             tiles_x, cv.tile0, cv.tile1))
-                    fail_msg("trial %d cluster %d triangle %d: culled for tiles %d..%d but reaches them", trial, k,
-                             t, cv.tile0, cv.tile1 - 1);
-                region_checked++;
-            }
-        }
+        if (tv.cull == PERSP_CULL_CCW) culled_mirrored += n;
+        check_region(&rng, &tv, &cv, &region_culled, &region_checked);
         persp__free(ctx, mesh.clusters);
     }
     print_message("culled %zu clusters for a region, %zu of their triangles checked\n", region_culled,

@@ -210,7 +210,7 @@ static void test_bands_move_image_stays(void **state)
 }
 
 /* The test a region's frame drops triangles and clusters by
- * (persp__box_reaches_tiles) against the tiles themselves, for every box
+ * (persp__box_reaches_run) against the tiles themselves, for every box
  * and run of tiles of frames up to 5 × 5 tiles. */
 static void test_box_reaches_tiles(void **state)
 {
@@ -228,7 +228,8 @@ static void test_box_reaches_tiles(void **state)
                                     for (int y = y0; y <= y1; y++)
                                         for (int x = x0; x <= x1; x++)
                                             want |= y * w + x >= a && y * w + x < b;
-                                    if (persp__box_reaches_tiles(x0, x1, y0, y1, w, a, b) != want)
+                                    const persp_tile_run run = persp__tile_run(w, a, b);
+                                    if (persp__box_reaches_run(&run, x0, x1, y0, y1) != want)
                                         fail_msg("%dx%d tiles, run %d..%d, box %d..%d x %d..%d: %d",
                                                  w, h, a, b - 1, x0, x1, y0, y1, !want);
                                     checked++;
